@@ -1,0 +1,2 @@
+//! The full finite-element model of the bellow actuator.
+pub mod material;

@@ -1,0 +1,22 @@
+//! # surrogate
+//!
+//! Finite-element model, snapshot generator and reduced-order surrogate of 3D-printed soft
+//! pneumatic bellow actuators (see `SPEC.md` of the project for the physical contract).
+//!
+//! ```text
+//!   Design (N, T, dims) ─► fe::mesh ─► fe::assembly + fe::solver ─► Response (markers, tip, angle, force)
+//!                                                         │
+//!   sampling plan ─► snapshots (resumable, sharded) ◄─────┘
+//!                         │
+//!                         ▼
+//!   rom: POD of marker fields + regression ─► Surrogate (library, CLI, embedded predictor)
+//!                         │
+//!                         ▼
+//!   calibrate (fit material to experiments, verify with FE) ─► diagnose (missing physics)
+//! ```
+#![warn(missing_docs)]
+
+pub mod error;
+pub mod fe;
+
+pub use error::{Error, Result};
