@@ -1,0 +1,461 @@
+//! Global assembly: degrees of freedom, the sparse pattern (lower triangle, CSC) and the
+//! parallel, thread-count-independent assembly of residual and tangent.
+//!
+//! The residual is `r(u) = f_int(u) + f_pressure(u) − λ_g f_gravity − λ_t f_traction`
+//! (pressure enters `r` with its follower sign, see [`super::loads`]). Elements are assembled
+//! colour by colour: two elements of one colour share no node, so their writes never collide
+//! and every matrix entry receives its contributions in the same order whatever the number of
+//! threads.
+
+use rayon::prelude::*;
+use serde::{Deserialize, Serialize};
+
+use super::element::{self, ElementError, ElementGeometry, ElementWork, DOFS};
+use super::loads;
+use super::material::Material;
+use super::mesh::{face_local_nodes, Face, Mesh};
+
+/// A prescribed displacement component: `u[node][comp] = λ_u · value`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Constraint {
+    /// Node id.
+    pub node: usize,
+    /// Component 0..3.
+    pub comp: usize,
+    /// Prescribed value at full load.
+    pub value: f64,
+}
+
+/// Map from global dofs (3·node + comp) to free equation numbers.
+#[derive(Clone, Debug)]
+pub struct DofMap {
+    /// Free equation number of each dof (`u32::MAX` if constrained).
+    pub free: Vec<u32>,
+    /// Number of free equations.
+    pub n_free: usize,
+    /// Constrained dofs with their full-load values.
+    pub constrained: Vec<(usize, f64)>,
+}
+
+impl DofMap {
+    /// Numbers the free dofs node by node.
+    pub fn new(n_nodes: usize, constraints: &[Constraint]) -> Self {
+        let mut value = vec![None; 3 * n_nodes];
+        for c in constraints {
+            value[3 * c.node + c.comp] = Some(c.value);
+        }
+        let mut free = vec![u32::MAX; 3 * n_nodes];
+        let mut n_free = 0;
+        let mut constrained = Vec::new();
+        for (d, v) in value.iter().enumerate() {
+            match v {
+                None => {
+                    free[d] = n_free as u32;
+                    n_free += 1;
+                }
+                Some(v) => constrained.push((d, *v)),
+            }
+        }
+        Self {
+            free,
+            n_free,
+            constrained,
+        }
+    }
+    /// Free equation of dof `d`, if free.
+    #[inline]
+    pub fn eq(&self, d: usize) -> Option<usize> {
+        let f = self.free[d];
+        (f != u32::MAX).then_some(f as usize)
+    }
+}
+
+/// Lower-triangular CSC pattern of the free equations with per-element scatter maps.
+#[derive(Clone, Debug)]
+pub struct Pattern {
+    /// Column pointers.
+    pub col_ptr: Vec<usize>,
+    /// Row indices (sorted within each column, rows ≥ column).
+    pub row_idx: Vec<usize>,
+    /// For each element, position in the value array of local entry (r, c) (row-major 81×81),
+    /// `u32::MAX` if not stored (constrained, or above the diagonal).
+    pub element_map: Vec<Vec<u32>>,
+}
+
+impl Pattern {
+    /// Builds the pattern of a mesh plus extra node couplings (e.g. contact pairs).
+    pub fn new(mesh: &Mesh, dofs: &DofMap, extra: &[(usize, usize)]) -> Self {
+        let n_nodes = mesh.n_nodes();
+        let mut adj: Vec<Vec<usize>> = vec![Vec::new(); n_nodes];
+        for conn in &mesh.elements {
+            for &a in conn {
+                adj[a].extend_from_slice(conn);
+            }
+        }
+        for &(a, b) in extra {
+            adj[a].push(b);
+            adj[b].push(a);
+        }
+        for l in adj.iter_mut() {
+            l.sort_unstable();
+            l.dedup();
+        }
+        let mut col_ptr = vec![0usize; dofs.n_free + 1];
+        let mut row_idx = Vec::new();
+        // columns in increasing free order: free numbering is node-major, so iterate nodes.
+        let mut rows = Vec::new();
+        for n in 0..n_nodes {
+            for c in 0..3 {
+                let Some(col) = dofs.eq(3 * n + c) else { continue };
+                rows.clear();
+                for &m in &adj[n] {
+                    for k in 0..3 {
+                        if let Some(r) = dofs.eq(3 * m + k) {
+                            if r >= col {
+                                rows.push(r);
+                            }
+                        }
+                    }
+                }
+                rows.sort_unstable();
+                row_idx.extend_from_slice(&rows);
+                col_ptr[col + 1] = row_idx.len();
+            }
+        }
+        let mut pat = Self {
+            col_ptr,
+            row_idx,
+            element_map: Vec::new(),
+        };
+        pat.element_map = mesh
+            .elements
+            .par_iter()
+            .map(|conn| {
+                let mut map = vec![u32::MAX; DOFS * DOFS];
+                for (r, slot_row) in map.chunks_mut(DOFS).enumerate() {
+                    let Some(gr) = dofs.eq(3 * conn[r / 3] + r % 3) else { continue };
+                    for (c, slot) in slot_row.iter_mut().enumerate() {
+                        let Some(gc) = dofs.eq(3 * conn[c / 3] + c % 3) else { continue };
+                        if gr >= gc {
+                            *slot = pat.position(gr, gc).unwrap_or(u32::MAX as usize) as u32;
+                        }
+                    }
+                }
+                map
+            })
+            .collect();
+        pat
+    }
+
+    /// Position of entry (row, col) (row ≥ col) in the value array.
+    pub fn position(&self, row: usize, col: usize) -> Option<usize> {
+        let (s, e) = (self.col_ptr[col], self.col_ptr[col + 1]);
+        self.row_idx[s..e].binary_search(&row).ok().map(|p| s + p)
+    }
+
+    /// Number of stored entries.
+    pub fn nnz(&self) -> usize {
+        self.row_idx.len()
+    }
+}
+
+/// A pressurised face attached to its element.
+#[derive(Clone, Copy, Debug)]
+pub struct PressureFace {
+    /// Element-local node indices of the face (outward order).
+    pub local: [usize; 9],
+    /// Pressure multiplier of this face (1 for the nominal pressure).
+    pub scale: f64,
+}
+
+/// Load factors of one state.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+pub struct LoadLevel {
+    /// Cavity pressure (MPa).
+    pub pressure: f64,
+    /// Gravity factor (1 = full self-weight).
+    pub gravity: f64,
+    /// Dead-traction factor.
+    pub traction: f64,
+    /// Prescribed-displacement factor.
+    pub prescribed: f64,
+}
+
+impl LoadLevel {
+    /// Linear interpolation between two levels.
+    pub fn lerp(&self, other: &Self, s: f64) -> Self {
+        let l = |a: f64, b: f64| a + s * (b - a);
+        Self {
+            pressure: l(self.pressure, other.pressure),
+            gravity: l(self.gravity, other.gravity),
+            traction: l(self.traction, other.traction),
+            prescribed: l(self.prescribed, other.prescribed),
+        }
+    }
+}
+
+/// The discretised model: mesh, material, constraints and loads, ready to assemble.
+pub struct FeModel {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// Reference data per element.
+    pub geometry: Vec<ElementGeometry>,
+    /// The material.
+    pub material: Material,
+    /// Degrees of freedom.
+    pub dofs: DofMap,
+    /// Sparse pattern.
+    pub pattern: Pattern,
+    /// Pressure faces per element.
+    pub pressure_faces: Vec<Vec<PressureFace>>,
+    /// Gravity load vector (all dofs) at factor 1.
+    pub f_gravity: Vec<f64>,
+    /// Dead-traction load vector (all dofs) at factor 1.
+    pub f_traction: Vec<f64>,
+}
+
+/// Information returned by an assembly.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AssemblyInfo {
+    /// Stored strain energy.
+    pub energy: f64,
+    /// Euclidean norm of the external forces (pressure + dead loads) on the free dofs.
+    pub external_norm: f64,
+}
+
+struct SharedMut(*mut f64);
+// SAFETY: used only for writes that are disjoint within one colour (see `assemble`).
+unsafe impl Send for SharedMut {}
+unsafe impl Sync for SharedMut {}
+
+impl SharedMut {
+    /// Adds `v` at offset `i`.
+    ///
+    /// # Safety
+    /// `i` must be in bounds and no other thread may access offset `i` concurrently.
+    #[inline]
+    unsafe fn add(&self, i: usize, v: f64) {
+        *self.0.add(i) += v;
+    }
+}
+
+impl FeModel {
+    /// Builds a model.
+    ///
+    /// # Errors
+    /// [`ElementError::Degenerate`] if an element's reference geometry is invalid.
+    pub fn new(
+        mesh: Mesh,
+        material: Material,
+        constraints: &[Constraint],
+        pressure_faces: &[(Face, f64)],
+        extra_couplings: &[(usize, usize)],
+    ) -> Result<Self, ElementError> {
+        let geometry = mesh
+            .elements
+            .par_iter()
+            .enumerate()
+            .map(|(e, conn)| ElementGeometry::new(e, &conn.map(|n| mesh.nodes[n])))
+            .collect::<Result<Vec<_>, _>>()?;
+        let dofs = DofMap::new(mesh.n_nodes(), constraints);
+        let pattern = Pattern::new(&mesh, &dofs, extra_couplings);
+        let mut per_elem = vec![Vec::new(); mesh.n_elements()];
+        for (f, scale) in pressure_faces {
+            per_elem[f.element].push(PressureFace {
+                local: face_local_nodes(f.axis, f.positive),
+                scale: *scale,
+            });
+        }
+        let n = 3 * mesh.n_nodes();
+        Ok(Self {
+            geometry,
+            material,
+            dofs,
+            pattern,
+            pressure_faces: per_elem,
+            f_gravity: vec![0.0; n],
+            f_traction: vec![0.0; n],
+            mesh,
+        })
+    }
+
+    /// Sets the gravity load from a body force per unit reference volume (ρ·g vector).
+    pub fn set_body_force(&mut self, b: [f64; 3]) {
+        self.f_gravity.iter_mut().for_each(|v| *v = 0.0);
+        for (conn, geo) in self.mesh.elements.iter().zip(&self.geometry) {
+            for (a, &n) in conn.iter().enumerate() {
+                for i in 0..3 {
+                    self.f_gravity[3 * n + i] += geo.node_volume[a] * b[i];
+                }
+            }
+        }
+    }
+
+    /// Adds a dead traction `t` (force per reference area) on a face.
+    pub fn add_dead_traction(&mut self, face: &Face, t: [f64; 3]) {
+        let x: [[f64; 3]; 9] = face.nodes.map(|n| self.mesh.nodes[n]);
+        let mut r = [0.0; 27];
+        // |x,s × x,t| at the reference state gives dA: reuse the pressure integrator per direction
+        let mut area = [0.0; 9];
+        for (jt, &tt) in element::GAUSS3.0.iter().enumerate() {
+            for (js, &s) in element::GAUSS3.0.iter().enumerate() {
+                let w = element::GAUSS3.1[js] * element::GAUSS3.1[jt];
+                let (ls, ds) = element::lagrange2(s);
+                let (lt, dt) = element::lagrange2(tt);
+                let mut xs = [0.0; 3];
+                let mut xt = [0.0; 3];
+                for j in 0..3 {
+                    for i in 0..3 {
+                        for c in 0..3 {
+                            xs[c] += ds[i] * lt[j] * x[i + 3 * j][c];
+                            xt[c] += ls[i] * dt[j] * x[i + 3 * j][c];
+                        }
+                    }
+                }
+                let n = [
+                    xs[1] * xt[2] - xs[2] * xt[1],
+                    xs[2] * xt[0] - xs[0] * xt[2],
+                    xs[0] * xt[1] - xs[1] * xt[0],
+                ];
+                let da = (n[0] * n[0] + n[1] * n[1] + n[2] * n[2]).sqrt();
+                for j in 0..3 {
+                    for i in 0..3 {
+                        area[i + 3 * j] += w * ls[i] * lt[j] * da;
+                    }
+                }
+            }
+        }
+        for a in 0..9 {
+            for c in 0..3 {
+                r[3 * a + c] = area[a] * t[c];
+            }
+        }
+        for (a, &n) in face.nodes.iter().enumerate() {
+            for c in 0..3 {
+                self.f_traction[3 * n + c] += r[3 * a + c];
+            }
+        }
+    }
+
+    /// Full displacement vector from the free unknowns and the prescribed values.
+    pub fn expand(&self, free: &[f64], level: &LoadLevel, out: &mut [f64]) {
+        for (d, o) in out.iter_mut().enumerate() {
+            if let Some(e) = self.dofs.eq(d) {
+                *o = free[e];
+            }
+        }
+        for &(d, v) in &self.dofs.constrained {
+            out[d] = level.prescribed * v;
+        }
+    }
+
+    /// Assembles the residual over all dofs (`r_full`, reactions at constrained dofs) and,
+    /// if `k_values` is given, the lower-triangular tangent on the free equations.
+    ///
+    /// # Errors
+    /// [`ElementError::Inverted`] of the lowest-numbered inverted element.
+    pub fn assemble(
+        &self,
+        u: &[f64],
+        level: &LoadLevel,
+        r_full: &mut [f64],
+        mut k_values: Option<&mut [f64]>,
+    ) -> Result<AssemblyInfo, ElementError> {
+        r_full.iter_mut().for_each(|v| *v = 0.0);
+        if let Some(k) = k_values.as_deref_mut() {
+            k.iter_mut().for_each(|v| *v = 0.0);
+        }
+        let with_k = k_values.is_some();
+        let k_ptr = SharedMut(k_values.map_or(std::ptr::null_mut(), |k| k.as_mut_ptr()));
+        let r_ptr = SharedMut(r_full.as_mut_ptr());
+        let mut p_full = vec![0.0; r_full.len()];
+        let p_ptr = SharedMut(p_full.as_mut_ptr());
+        let mut energy = 0.0;
+        for color in &self.mesh.colors {
+            let results: Vec<Result<f64, ElementError>> = color
+                .par_iter()
+                .map_init(ElementWork::default, |work, &e| {
+                    let conn = &self.mesh.elements[e];
+                    let ue: [[f64; 3]; 27] = conn.map(|n| [u[3 * n], u[3 * n + 1], u[3 * n + 2]]);
+                    let en = element::residual_tangent(
+                        e,
+                        &self.geometry[e],
+                        &ue,
+                        &self.material,
+                        with_k,
+                        work,
+                    )?;
+                    let mut fp = [0.0; DOFS];
+                    for pf in &self.pressure_faces[e] {
+                        let xf: [[f64; 3]; 9] = pf.local.map(|l| {
+                            let x0 = self.mesh.nodes[conn[l]];
+                            [x0[0] + ue[l][0], x0[1] + ue[l][1], x0[2] + ue[l][2]]
+                        });
+                        let mut rf = [0.0; 27];
+                        let mut kf = [0.0; 729];
+                        let p = level.pressure * pf.scale;
+                        loads::pressure_face(p, &xf, &mut rf, with_k.then_some(&mut kf));
+                        for (a, &la) in pf.local.iter().enumerate() {
+                            for i in 0..3 {
+                                work.r[3 * la + i] += rf[3 * a + i];
+                                fp[3 * la + i] += rf[3 * a + i];
+                                if with_k {
+                                    for (b, &lb) in pf.local.iter().enumerate() {
+                                        for c in 0..3 {
+                                            work.k[(3 * la + i) * DOFS + 3 * lb + c] +=
+                                                kf[(3 * a + i) * 27 + 3 * b + c];
+                                        }
+                                    }
+                                }
+                            }
+                        }
+                    }
+                    // SAFETY: elements of one colour share no node, so the dofs and matrix
+                    // entries written here are written by no other task of this colour.
+                    unsafe {
+                        for (l, &n) in conn.iter().enumerate() {
+                            for i in 0..3 {
+                                r_ptr.add(3 * n + i, work.r[3 * l + i]);
+                                p_ptr.add(3 * n + i, fp[3 * l + i]);
+                            }
+                        }
+                        if with_k {
+                            let map = &self.pattern.element_map[e];
+                            for (pos, kv) in map.iter().zip(work.k.iter()) {
+                                if *pos != u32::MAX {
+                                    k_ptr.add(*pos as usize, *kv);
+                                }
+                            }
+                        }
+                    }
+                    Ok(en)
+                })
+                .collect();
+            for r in results {
+                energy += r?;
+            }
+        }
+        let mut ext2 = 0.0;
+        for d in 0..r_full.len() {
+            let dead = level.gravity * self.f_gravity[d] + level.traction * self.f_traction[d];
+            r_full[d] -= dead;
+            if self.dofs.eq(d).is_some() {
+                let f = dead - p_full[d];
+                ext2 += f * f;
+            }
+        }
+        Ok(AssemblyInfo {
+            energy,
+            external_norm: ext2.sqrt(),
+        })
+    }
+
+    /// Free part of a full residual.
+    pub fn restrict(&self, r_full: &[f64], out: &mut [f64]) {
+        for (d, v) in r_full.iter().enumerate() {
+            if let Some(e) = self.dofs.eq(d) {
+                out[e] = *v;
+            }
+        }
+    }
+}

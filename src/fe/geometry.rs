@@ -1,0 +1,375 @@
+//! The actuator's design: the SPEC's dimensions live here and only here.
+//!
+//! Axes: `z` along the actuator from the support (z = 0) to the free tip (z = Lf), `y` vertical
+//! with the strain-limiting base at the bottom (y ∈ [0, b]) and the bellows on top, `x` across the
+//! width. Bellow `i` (0-based) is the box z ∈ [i·p + g/2, (i+1)·p − g/2], x ∈ [0, W], y ∈ [b, H]
+//! with walls of thickness `T`; its cavity is z ∈ [i·p + g/2 + T, (i+1)·p − g/2 − T],
+//! x ∈ [T, W − T], y ∈ [b, H − T]. The air duct in the base is
+//! x ∈ [W/2 − d, W/2 + d], y ∈ [y₀, y₁], z ∈ [0, Lf − p/2].
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+/// Errors of design parameters.
+#[derive(Debug, Error, PartialEq)]
+pub enum GeometryError {
+    /// A parameter outside its allowed range.
+    #[error("design parameter {field} = {value} is out of range: expected {expected}")]
+    OutOfRange {
+        /// Parameter name.
+        field: &'static str,
+        /// Offending value.
+        value: f64,
+        /// The allowed range.
+        expected: String,
+    },
+    /// The walls leave no cavity (or one too short to pressurise).
+    #[error(
+        "design N = {n}, T = {t} mm has no usable cavity: its cavity is {length:.3} mm long along z \
+         (pitch {pitch:.3} − gap {gap} − 2·T), expected at least {min} mm"
+    )]
+    NoCavity {
+        /// Number of bellows.
+        n: usize,
+        /// Wall thickness.
+        t: f64,
+        /// Cavity length along z.
+        length: f64,
+        /// Bellow pitch.
+        pitch: f64,
+        /// Gap between bellows.
+        gap: f64,
+        /// Minimum cavity length.
+        min: f64,
+    },
+}
+
+/// Smallest cavity length along z accepted by the SPEC (mm).
+pub const MIN_CAVITY_LENGTH: f64 = 0.5;
+/// Range of the number of bellows.
+pub const N_RANGE: (usize, usize) = (7, 15);
+/// Range of the wall thickness (mm).
+pub const T_RANGE: (f64, f64) = (1.2, 2.8);
+
+/// Raw design parameters (all lengths in mm). Defaults are the SPEC's pinned values.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DesignParams {
+    /// Number of bellows N.
+    pub n_bellows: usize,
+    /// Wall thickness T.
+    pub wall_thickness: f64,
+    /// Free length Lf (support face to tip).
+    pub free_length: f64,
+    /// Total height H.
+    pub height: f64,
+    /// Width W.
+    pub width: f64,
+    /// Base (strain-limiting layer) thickness b.
+    pub base_thickness: f64,
+    /// Gap g between neighbouring bellows.
+    pub gap: f64,
+    /// Half-width d of the air duct (duct spans W/2 ± d).
+    pub duct_half_width: f64,
+    /// Lower face y₀ of the air duct.
+    pub duct_bottom: f64,
+    /// Upper face y₁ of the air duct.
+    pub duct_top: f64,
+}
+
+impl Default for DesignParams {
+    fn default() -> Self {
+        Self {
+            n_bellows: 11,
+            wall_thickness: 2.0,
+            free_length: 92.0,
+            height: 22.0,
+            width: 16.0,
+            base_thickness: 4.0,
+            gap: 1.0,
+            duct_half_width: 2.0,
+            duct_bottom: 1.0,
+            duct_top: 3.0,
+        }
+    }
+}
+
+impl DesignParams {
+    /// The SPEC's default design with the given N and T.
+    pub fn new(n_bellows: usize, wall_thickness: f64) -> Self {
+        Self {
+            n_bellows,
+            wall_thickness,
+            ..Self::default()
+        }
+    }
+
+    /// Validates the parameters.
+    ///
+    /// # Errors
+    /// [`GeometryError::OutOfRange`] naming the first parameter outside its range, or
+    /// [`GeometryError::NoCavity`] when the walls leave a cavity shorter than
+    /// [`MIN_CAVITY_LENGTH`] along z (or none across x or y).
+    pub fn validate(self) -> Result<Design, GeometryError> {
+        let p = &self;
+        let n = p.n_bellows;
+        if n < N_RANGE.0 || n > N_RANGE.1 {
+            return Err(GeometryError::OutOfRange {
+                field: "n_bellows",
+                value: n as f64,
+                expected: format!("an integer in {}..={}", N_RANGE.0, N_RANGE.1),
+            });
+        }
+        check_range("wall_thickness", p.wall_thickness, T_RANGE.0, T_RANGE.1)?;
+        check_positive("free_length", p.free_length)?;
+        check_positive("height", p.height)?;
+        check_positive("width", p.width)?;
+        check_range("base_thickness", p.base_thickness, 1e-3, p.height)?;
+        check_range("gap", p.gap, 0.0, p.free_length / n as f64)?;
+        check_range("duct_half_width", p.duct_half_width, 0.0, p.width / 2.0)?;
+        check_range("duct_bottom", p.duct_bottom, 0.0, p.base_thickness)?;
+        check_range("duct_top", p.duct_top, p.duct_bottom, p.base_thickness)?;
+        if p.duct_half_width > 0.0 && !(p.duct_top > p.duct_bottom && p.duct_bottom > 0.0) {
+            return Err(GeometryError::OutOfRange {
+                field: "duct_top",
+                value: p.duct_top,
+                expected: format!(
+                    "duct_bottom ({}) < duct_top < base_thickness ({}), duct_bottom > 0",
+                    p.duct_bottom, p.base_thickness
+                ),
+            });
+        }
+        let t = p.wall_thickness;
+        let pitch = p.free_length / n as f64;
+        let length = pitch - p.gap - 2.0 * t;
+        if length < MIN_CAVITY_LENGTH || p.width - 2.0 * t <= 0.0 || p.height - t <= p.base_thickness
+        {
+            return Err(GeometryError::NoCavity {
+                n,
+                t,
+                length,
+                pitch,
+                gap: p.gap,
+                min: MIN_CAVITY_LENGTH,
+            });
+        }
+        Ok(Design { params: self })
+    }
+}
+
+fn check_positive(field: &'static str, value: f64) -> Result<(), GeometryError> {
+    if value.is_finite() && value > 0.0 {
+        Ok(())
+    } else {
+        Err(GeometryError::OutOfRange {
+            field,
+            value,
+            expected: "a finite positive length in mm".into(),
+        })
+    }
+}
+
+fn check_range(field: &'static str, value: f64, lo: f64, hi: f64) -> Result<(), GeometryError> {
+    if value.is_finite() && value >= lo && value <= hi {
+        Ok(())
+    } else {
+        Err(GeometryError::OutOfRange {
+            field,
+            value,
+            expected: format!("a value in [{lo}, {hi}] mm"),
+        })
+    }
+}
+
+/// A validated design. Construct with [`DesignParams::validate`].
+#[derive(Clone, Debug, PartialEq, Serialize)]
+pub struct Design {
+    params: DesignParams,
+}
+
+/// An axis-aligned box `[lo, hi]` in (x, y, z).
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Aabb {
+    /// Lower corner.
+    pub lo: [f64; 3],
+    /// Upper corner.
+    pub hi: [f64; 3],
+}
+
+impl Aabb {
+    /// Whether the point lies strictly inside the box.
+    pub fn contains(&self, p: [f64; 3]) -> bool {
+        (0..3).all(|i| p[i] > self.lo[i] && p[i] < self.hi[i])
+    }
+}
+
+impl Design {
+    /// The validated parameters.
+    pub fn params(&self) -> &DesignParams {
+        &self.params
+    }
+    /// Number of bellows N.
+    pub fn n_bellows(&self) -> usize {
+        self.params.n_bellows
+    }
+    /// Wall thickness T (mm).
+    pub fn wall_thickness(&self) -> f64 {
+        self.params.wall_thickness
+    }
+    /// Free length Lf (mm).
+    pub fn free_length(&self) -> f64 {
+        self.params.free_length
+    }
+    /// Width W (mm).
+    pub fn width(&self) -> f64 {
+        self.params.width
+    }
+    /// Base thickness b (mm).
+    pub fn base_thickness(&self) -> f64 {
+        self.params.base_thickness
+    }
+    /// Bellow pitch p = Lf / N (mm).
+    pub fn pitch(&self) -> f64 {
+        self.params.free_length / self.params.n_bellows as f64
+    }
+
+    /// The box of bellow `i` (outer faces).
+    pub fn bellow(&self, i: usize) -> Aabb {
+        let p = &self.params;
+        let pitch = self.pitch();
+        Aabb {
+            lo: [0.0, p.base_thickness, i as f64 * pitch + p.gap / 2.0],
+            hi: [p.width, p.height, (i + 1) as f64 * pitch - p.gap / 2.0],
+        }
+    }
+
+    /// The cavity of bellow `i`.
+    pub fn cavity(&self, i: usize) -> Aabb {
+        let p = &self.params;
+        let b = self.bellow(i);
+        let t = p.wall_thickness;
+        Aabb {
+            lo: [t, p.base_thickness, b.lo[2] + t],
+            hi: [p.width - t, p.height - t, b.hi[2] - t],
+        }
+    }
+
+    /// The air duct in the base, if any.
+    pub fn duct(&self) -> Option<Aabb> {
+        let p = &self.params;
+        (p.duct_half_width > 0.0).then(|| Aabb {
+            lo: [p.width / 2.0 - p.duct_half_width, p.duct_bottom, 0.0],
+            hi: [
+                p.width / 2.0 + p.duct_half_width,
+                p.duct_top,
+                p.free_length - self.pitch() / 2.0,
+            ],
+        })
+    }
+
+    /// The base (strain-limiting layer) box.
+    pub fn base(&self) -> Aabb {
+        let p = &self.params;
+        Aabb {
+            lo: [0.0, 0.0, 0.0],
+            hi: [p.width, p.base_thickness, p.free_length],
+        }
+    }
+
+    /// Reference positions of the 9 markers (x = W/2, y = 0, z = k·Lf/9, k = 1..9).
+    pub fn markers(&self) -> [[f64; 3]; 9] {
+        let p = &self.params;
+        std::array::from_fn(|k| [p.width / 2.0, 0.0, (k + 1) as f64 * p.free_length / 9.0])
+    }
+
+    /// The support point (W/2, 0, 0).
+    pub fn support_point(&self) -> [f64; 3] {
+        [self.params.width / 2.0, 0.0, 0.0]
+    }
+
+    /// Classifies a point (away from interfaces) of the full design.
+    pub fn region(&self, x: [f64; 3]) -> Region {
+        let p = &self.params;
+        let base = self.base();
+        if base.contains(x) {
+            return match self.duct() {
+                Some(d) if d.contains(x) => Region::Duct,
+                _ => Region::Solid,
+            };
+        }
+        if x[1] <= p.base_thickness || x[1] >= p.height || x[0] <= 0.0 || x[0] >= p.width {
+            return Region::Exterior;
+        }
+        let pitch = self.pitch();
+        let i = ((x[2] / pitch).floor().max(0.0) as usize).min(p.n_bellows - 1);
+        let bellow = self.bellow(i);
+        if x[2] < bellow.lo[2] {
+            return if i == 0 {
+                Region::ClampGap
+            } else {
+                Region::Gap(i - 1)
+            };
+        }
+        if x[2] > bellow.hi[2] {
+            return if i + 1 < p.n_bellows {
+                Region::Gap(i)
+            } else {
+                Region::Exterior
+            };
+        }
+        if self.cavity(i).contains(x) {
+            Region::Cavity(i)
+        } else {
+            Region::Solid
+        }
+    }
+}
+
+/// What occupies a point of the design's bounding box.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Region {
+    /// TPU.
+    Solid,
+    /// The pressurised cavity of bellow `i`.
+    Cavity(usize),
+    /// The pressurised air duct in the base.
+    Duct,
+    /// The gap between bellow `i` and bellow `i + 1`.
+    Gap(usize),
+    /// The gap between the first bellow and the clamp block (z ∈ [0, g/2], y > b).
+    ClampGap,
+    /// Outside the actuator.
+    Exterior,
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn default_design_is_valid_and_classifies_points() {
+        let d = DesignParams::new(11, 2.0).validate().unwrap();
+        assert_eq!(d.region([1.0, 2.0, 10.0]), Region::Solid);
+        assert_eq!(d.region([8.0, 2.0, 10.0]), Region::Duct);
+        assert_eq!(d.region([8.0, 2.0, 91.0]), Region::Solid);
+        let p = d.pitch();
+        assert_eq!(d.region([8.0, 10.0, 0.5 * p]), Region::Cavity(0));
+        assert_eq!(d.region([8.0, 10.0, p]), Region::Gap(0));
+        assert_eq!(d.region([8.0, 10.0, 0.2]), Region::ClampGap);
+        assert_eq!(d.region([1.0, 10.0, 0.5 * p]), Region::Solid);
+        assert_eq!(d.region([8.0, 21.0, 0.5 * p]), Region::Solid);
+    }
+
+    #[test]
+    fn bad_designs_are_named_errors() {
+        let e = DesignParams::new(16, 2.0).validate().unwrap_err();
+        assert!(matches!(e, GeometryError::OutOfRange { field: "n_bellows", .. }));
+        let e = DesignParams::new(11, 3.0).validate().unwrap_err();
+        assert!(matches!(e, GeometryError::OutOfRange { field: "wall_thickness", .. }));
+        let e = DesignParams::new(15, 2.8).validate().unwrap_err();
+        assert!(matches!(e, GeometryError::NoCavity { .. }), "{e}");
+        assert!(e.to_string().contains("cavity"));
+        let mut p = DesignParams::new(11, 2.0);
+        p.gap = f64::NAN;
+        assert!(p.validate().is_err());
+    }
+}

@@ -1,0 +1,594 @@
+//! Structured 27-node (triquadratic) hexahedral meshes.
+//!
+//! A mesh is generated on a non-uniform tensor grid of cells, some of which are void; the
+//! actuator is a union of boxes, so its cells are classified by [`Design::region`] at their
+//! centres. Node numbering inside an element is the tensor order
+//! `local = i + 3 j + 9 k`, `i, j, k ∈ {0, 1, 2}` along (ξ, η, ζ).
+//!
+//! Test geometries (Cook's membrane, cylinders) are made the same way in a parameter space and
+//! mapped node by node with [`GridMesh::map_nodes`].
+
+use std::collections::BTreeMap;
+
+use super::geometry::{Design, Region};
+use serde::{Deserialize, Serialize};
+
+/// Nodes per element.
+pub const NODES_PER_ELEMENT: usize = 27;
+
+/// A face of an element: 9 nodes in tensor order (s, t) with ∂x/∂s × ∂x/∂t pointing out of the
+/// element.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Face {
+    /// The element the face belongs to.
+    pub element: usize,
+    /// Local axis normal to the face (0 = ξ, 1 = η, 2 = ζ).
+    pub axis: usize,
+    /// Whether the face is at +1 (true) or −1 (false) along `axis`.
+    pub positive: bool,
+    /// Global node ids in face tensor order.
+    pub nodes: [usize; 9],
+}
+
+/// A mesh of triquadratic hexahedra.
+#[derive(Clone, Debug)]
+pub struct Mesh {
+    /// Reference node coordinates.
+    pub nodes: Vec<[f64; 3]>,
+    /// Element connectivity (tensor order).
+    pub elements: Vec<[usize; NODES_PER_ELEMENT]>,
+    /// Element colours: no two elements of one colour share a node.
+    pub colors: Vec<Vec<usize>>,
+}
+
+impl Mesh {
+    /// Number of nodes.
+    pub fn n_nodes(&self) -> usize {
+        self.nodes.len()
+    }
+    /// Number of elements.
+    pub fn n_elements(&self) -> usize {
+        self.elements.len()
+    }
+
+    /// Greedy element colouring (deterministic: elements in order, smallest free colour).
+    pub fn compute_colors(&mut self) {
+        let mut node_elems: Vec<Vec<usize>> = vec![Vec::new(); self.nodes.len()];
+        for (e, conn) in self.elements.iter().enumerate() {
+            for &n in conn {
+                node_elems[n].push(e);
+            }
+        }
+        let mut color_of = vec![usize::MAX; self.elements.len()];
+        let mut colors: Vec<Vec<usize>> = Vec::new();
+        let mut used = Vec::new();
+        for e in 0..self.elements.len() {
+            used.clear();
+            for &n in &self.elements[e] {
+                for &o in &node_elems[n] {
+                    if color_of[o] != usize::MAX {
+                        used.push(color_of[o]);
+                    }
+                }
+            }
+            let c = (0..).find(|c| !used.contains(c)).unwrap_or(0);
+            color_of[e] = c;
+            if c == colors.len() {
+                colors.push(Vec::new());
+            }
+            colors[c].push(e);
+        }
+        self.colors = colors;
+    }
+}
+
+/// Local node index of tensor position (i, j, k).
+#[inline]
+pub fn local_index(i: usize, j: usize, k: usize) -> usize {
+    i + 3 * j + 9 * k
+}
+
+/// The 9 local node indices of a face in outward tensor order.
+pub fn face_local_nodes(axis: usize, positive: bool) -> [usize; 9] {
+    let d1 = (axis + 1) % 3;
+    let d2 = (axis + 2) % 3;
+    let fixed = if positive { 2 } else { 0 };
+    let mut out = [0; 9];
+    for t in 0..3 {
+        for s in 0..3 {
+            // for the negative face swap s and t so that the normal points outwards
+            let (a, b) = if positive { (s, t) } else { (t, s) };
+            let mut ijk = [0; 3];
+            ijk[axis] = fixed;
+            ijk[d1] = a;
+            ijk[d2] = b;
+            out[s + 3 * t] = local_index(ijk[0], ijk[1], ijk[2]);
+        }
+    }
+    out
+}
+
+/// A tensor grid of cells: the element boundaries along each axis.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TensorGrid {
+    /// Cell boundaries along x, y, z (strictly increasing).
+    pub lines: [Vec<f64>; 3],
+}
+
+impl TensorGrid {
+    /// Subdivides the intervals between `breaks` so that no element is longer than `h`
+    /// (at least `min_div` elements in each interval).
+    pub fn subdivide(breaks: &[f64], h: f64, min_div: usize) -> Vec<f64> {
+        let mut b: Vec<f64> = breaks.to_vec();
+        b.sort_by(f64::total_cmp);
+        b.dedup_by(|a, c| (*a - *c).abs() < 1e-9);
+        let mut out = vec![b[0]];
+        for w in b.windows(2) {
+            let len = w[1] - w[0];
+            let n = ((len / h - 1e-9).ceil() as usize).max(min_div).max(1);
+            for s in 1..=n {
+                out.push(w[0] + len * s as f64 / n as f64);
+            }
+        }
+        out
+    }
+
+    /// Number of cells along each axis.
+    pub fn cells(&self) -> [usize; 3] {
+        [
+            self.lines[0].len() - 1,
+            self.lines[1].len() - 1,
+            self.lines[2].len() - 1,
+        ]
+    }
+
+    /// Coordinate of grid node `g` (0..=2·cells) along `axis` (odd indices are mid-points).
+    pub fn node_coord(&self, axis: usize, g: usize) -> f64 {
+        let l = &self.lines[axis];
+        if g % 2 == 0 {
+            l[g / 2]
+        } else {
+            0.5 * (l[g / 2] + l[g / 2 + 1])
+        }
+    }
+
+    /// Centre of cell (i, j, k).
+    pub fn cell_center(&self, c: [usize; 3]) -> [f64; 3] {
+        std::array::from_fn(|a| 0.5 * (self.lines[a][c[a]] + self.lines[a][c[a] + 1]))
+    }
+}
+
+/// A mesh generated on a tensor grid, with the bookkeeping to find faces and nodes by position.
+#[derive(Clone, Debug)]
+pub struct GridMesh<K> {
+    /// The mesh.
+    pub mesh: Mesh,
+    /// The grid in parameter space.
+    pub grid: TensorGrid,
+    /// Cell kind of every cell (x fastest).
+    pub cell_kinds: Vec<K>,
+    /// Element id of every cell (None for void cells).
+    pub cell_element: Vec<Option<usize>>,
+    /// Cell of each element.
+    pub element_cell: Vec<[usize; 3]>,
+    /// Node id of each grid node (None if no solid cell touches it).
+    pub grid_node: Vec<Option<usize>>,
+    /// Grid position of each node.
+    pub node_grid: Vec<[usize; 3]>,
+}
+
+impl<K: Copy + PartialEq> GridMesh<K> {
+    /// Builds the mesh of the cells for which `is_solid(kind)` holds.
+    pub fn new(grid: TensorGrid, classify: impl Fn([f64; 3]) -> K, is_solid: impl Fn(K) -> bool) -> Self {
+        let [nx, ny, nz] = grid.cells();
+        let gdim = [2 * nx + 1, 2 * ny + 1, 2 * nz + 1];
+        let gidx = |g: [usize; 3]| g[0] + gdim[0] * (g[1] + gdim[1] * g[2]);
+        let mut cell_kinds = Vec::with_capacity(nx * ny * nz);
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    cell_kinds.push(classify(grid.cell_center([i, j, k])));
+                }
+            }
+        }
+        let mut grid_node = vec![None; gdim[0] * gdim[1] * gdim[2]];
+        let mut node_grid = Vec::new();
+        let mut nodes = Vec::new();
+        let mut elements = Vec::new();
+        let mut cell_element = vec![None; nx * ny * nz];
+        let mut element_cell = Vec::new();
+        for k in 0..nz {
+            for j in 0..ny {
+                for i in 0..nx {
+                    let c = i + nx * (j + ny * k);
+                    if !is_solid(cell_kinds[c]) {
+                        continue;
+                    }
+                    let mut conn = [0usize; NODES_PER_ELEMENT];
+                    for (l, slot) in conn.iter_mut().enumerate() {
+                        let g = [2 * i + l % 3, 2 * j + (l / 3) % 3, 2 * k + l / 9];
+                        let id = *grid_node[gidx(g)].get_or_insert_with(|| {
+                            nodes.push(std::array::from_fn(|a| grid.node_coord(a, g[a])));
+                            node_grid.push(g);
+                            nodes.len() - 1
+                        });
+                        *slot = id;
+                    }
+                    cell_element[c] = Some(elements.len());
+                    elements.push(conn);
+                    element_cell.push([i, j, k]);
+                }
+            }
+        }
+        let mut mesh = Mesh {
+            nodes,
+            elements,
+            colors: Vec::new(),
+        };
+        mesh.compute_colors();
+        Self {
+            mesh,
+            grid,
+            cell_kinds,
+            cell_element,
+            element_cell,
+            grid_node,
+            node_grid,
+        }
+    }
+
+    /// Kind of cell `c` (None outside the grid).
+    pub fn cell_kind(&self, c: [isize; 3]) -> Option<K> {
+        let n = self.grid.cells();
+        if (0..3).any(|a| c[a] < 0 || c[a] as usize >= n[a]) {
+            return None;
+        }
+        let (i, j, k) = (c[0] as usize, c[1] as usize, c[2] as usize);
+        Some(self.cell_kinds[i + n[0] * (j + n[1] * k)])
+    }
+
+    /// All element faces whose neighbouring cell (across the face) satisfies `pred`
+    /// (`None` = outside the grid). Returns the faces with the neighbour's kind.
+    pub fn boundary_faces(&self, pred: impl Fn(Option<K>) -> bool) -> Vec<(Face, Option<K>)> {
+        let mut out = Vec::new();
+        for (e, cell) in self.element_cell.iter().enumerate() {
+            for axis in 0..3 {
+                for positive in [false, true] {
+                    let mut nb = [cell[0] as isize, cell[1] as isize, cell[2] as isize];
+                    nb[axis] += if positive { 1 } else { -1 };
+                    let kind = self.cell_kind(nb);
+                    if pred(kind) {
+                        let local = face_local_nodes(axis, positive);
+                        let conn = &self.mesh.elements[e];
+                        out.push((
+                            Face {
+                                element: e,
+                                axis,
+                                positive,
+                                nodes: local.map(|l| conn[l]),
+                            },
+                            kind,
+                        ));
+                    }
+                }
+            }
+        }
+        out
+    }
+
+    /// Nodes whose parameter coordinate along `axis` equals `value`.
+    pub fn nodes_on_plane(&self, axis: usize, value: f64) -> Vec<usize> {
+        (0..self.mesh.nodes.len())
+            .filter(|&n| (self.grid.node_coord(axis, self.node_grid[n][axis]) - value).abs() < 1e-9)
+            .collect()
+    }
+
+    /// Maps every node from parameter space to physical space.
+    pub fn map_nodes(&mut self, f: impl Fn([f64; 3]) -> [f64; 3]) {
+        for x in &mut self.mesh.nodes {
+            *x = f(*x);
+        }
+    }
+
+    /// The element containing parameter point `x` and its local coordinates ξ ∈ [−1, 1]³
+    /// (None if the point is not in a solid cell).
+    pub fn locate(&self, x: [f64; 3]) -> Option<(usize, [f64; 3])> {
+        let n = self.grid.cells();
+        let mut cell = [0usize; 3];
+        let mut xi = [0.0; 3];
+        for a in 0..3 {
+            let l = &self.grid.lines[a];
+            if x[a] < l[0] - 1e-9 || x[a] > l[n[a]] + 1e-9 {
+                return None;
+            }
+            let c = l.partition_point(|&v| v <= x[a]).saturating_sub(1).min(n[a] - 1);
+            cell[a] = c;
+            xi[a] = (2.0 * (x[a] - l[c]) / (l[c + 1] - l[c]) - 1.0).clamp(-1.0, 1.0);
+        }
+        let idx = cell[0] + n[0] * (cell[1] + n[1] * cell[2]);
+        self.cell_element[idx].map(|e| (e, xi))
+    }
+}
+
+/// Mesh refinement levels of the actuator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum MeshLevel {
+    /// Quick looks and tests.
+    Coarse,
+    /// Production level (within 1 % of the extrapolated tip displacement).
+    Standard,
+    /// Convergence studies.
+    Fine,
+}
+
+impl MeshLevel {
+    /// Target element size h (mm) and minimum number of elements through a wall.
+    pub fn sizing(self) -> (f64, usize) {
+        match self {
+            MeshLevel::Coarse => (6.0, 1),
+            MeshLevel::Standard => (3.0, 1),
+            MeshLevel::Fine => (1.5, 2),
+        }
+    }
+    /// Name as used on the command line.
+    pub fn name(self) -> &'static str {
+        match self {
+            MeshLevel::Coarse => "coarse",
+            MeshLevel::Standard => "standard",
+            MeshLevel::Fine => "fine",
+        }
+    }
+}
+
+impl std::str::FromStr for MeshLevel {
+    type Err = String;
+    fn from_str(s: &str) -> Result<Self, Self::Err> {
+        match s.to_ascii_lowercase().as_str() {
+            "coarse" => Ok(Self::Coarse),
+            "standard" => Ok(Self::Standard),
+            "fine" => Ok(Self::Fine),
+            _ => Err(format!(
+                "unknown mesh level '{s}': expected coarse, standard or fine"
+            )),
+        }
+    }
+}
+
+/// Mesh options: a level, optionally overridden by an explicit element size.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MeshOptions {
+    /// Refinement level.
+    pub level: MeshLevel,
+    /// Element size override (mm); through-wall count becomes ceil(T / h).
+    pub element_size: Option<f64>,
+}
+
+impl MeshOptions {
+    /// Options of a level without override.
+    pub fn level(level: MeshLevel) -> Self {
+        Self {
+            level,
+            element_size: None,
+        }
+    }
+    fn sizing(&self) -> (f64, usize) {
+        match self.element_size {
+            Some(h) => (h, 1),
+            None => self.level.sizing(),
+        }
+    }
+}
+
+/// The pressurised surfaces a face can belong to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum PressureSurface {
+    /// Cavity of bellow `i`.
+    Cavity(usize),
+    /// The air duct.
+    Duct,
+}
+
+/// Which side of a gap a contact face is on.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord)]
+pub enum GapSide {
+    /// Back wall (z = (i+1)p − g/2, normal +z) of bellow `i` facing gap `i`.
+    Back(usize),
+    /// Front wall (normal −z) of bellow `i + 1` facing gap `i`.
+    Front(usize),
+    /// Front wall of the first bellow facing the clamp block.
+    Clamp,
+}
+
+/// A marker: where it sits in the mesh.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct MarkerLocation {
+    /// Reference position.
+    pub position: [f64; 3],
+    /// Element containing it.
+    pub element: usize,
+    /// Local coordinates in that element.
+    pub xi: [f64; 3],
+}
+
+/// The half-model mesh of an actuator design, with its node and face sets.
+#[derive(Clone, Debug)]
+pub struct ActuatorMesh {
+    /// The grid mesh.
+    pub grid: GridMesh<Region>,
+    /// Nodes fixed in all directions (base face z = 0).
+    pub support: Vec<usize>,
+    /// Nodes on the symmetry plane x = W/2 (u_x = 0).
+    pub symmetry: Vec<usize>,
+    /// Pressurised faces grouped by surface.
+    pub pressure_faces: BTreeMap<PressureSurface, Vec<Face>>,
+    /// Faces bounding a gap between bellows (or the clamp gap).
+    pub gap_faces: BTreeMap<GapSide, Vec<Face>>,
+    /// The 9 markers; the last one is the tip.
+    pub markers: Vec<MarkerLocation>,
+    /// The support point (W/2, 0, 0).
+    pub support_point: [f64; 3],
+}
+
+impl ActuatorMesh {
+    /// Meshes the half model x ∈ [0, W/2] of a design.
+    pub fn new(design: &Design, options: &MeshOptions) -> Self {
+        let p = design.params();
+        let (h, wall_div) = options.sizing();
+        let t = p.wall_thickness;
+        let w2 = p.width / 2.0;
+        let wall_div = wall_div.max((t / h - 1e-9).ceil() as usize);
+        let duct = design.duct();
+        // x: walls resolved with `wall_div` elements, the rest by size.
+        let mut xb = vec![0.0, t, w2];
+        if let Some(d) = duct {
+            xb.push(d.lo[0]);
+        }
+        let xs = subdivide_walls(&xb, &[(0.0, t)], h, wall_div);
+        let mut yb = vec![0.0, p.base_thickness, p.height - t, p.height];
+        if duct.is_some() {
+            yb.extend([p.duct_bottom, p.duct_top]);
+        }
+        let ys = subdivide_walls(&yb, &[(p.height - t, p.height)], h, wall_div);
+        let mut zb = vec![0.0, p.free_length];
+        let mut walls = Vec::new();
+        for i in 0..p.n_bellows {
+            let b = design.bellow(i);
+            zb.extend([b.lo[2], b.lo[2] + t, b.hi[2] - t, b.hi[2]]);
+            walls.push((b.lo[2], b.lo[2] + t));
+            walls.push((b.hi[2] - t, b.hi[2]));
+        }
+        if let Some(d) = duct {
+            zb.push(d.hi[2]);
+        }
+        let zs = subdivide_walls(&zb, &walls, h, wall_div);
+        let grid = TensorGrid {
+            lines: [xs, ys, zs],
+        };
+        let gm = GridMesh::new(grid, |c| design.region(c), |r| r == Region::Solid);
+        let support = gm.nodes_on_plane(2, 0.0);
+        let symmetry = gm.nodes_on_plane(0, w2);
+        let mut pressure_faces: BTreeMap<PressureSurface, Vec<Face>> = BTreeMap::new();
+        let mut gap_faces: BTreeMap<GapSide, Vec<Face>> = BTreeMap::new();
+        for (face, kind) in gm.boundary_faces(|k| k.is_some_and(|k| k != Region::Solid)) {
+            match kind {
+                Some(Region::Cavity(i)) => pressure_faces
+                    .entry(PressureSurface::Cavity(i))
+                    .or_default()
+                    .push(face),
+                Some(Region::Duct) => pressure_faces
+                    .entry(PressureSurface::Duct)
+                    .or_default()
+                    .push(face),
+                Some(Region::Gap(i)) if face.axis == 2 => {
+                    let side = if face.positive {
+                        GapSide::Back(i)
+                    } else {
+                        GapSide::Front(i)
+                    };
+                    gap_faces.entry(side).or_default().push(face);
+                }
+                Some(Region::ClampGap) if face.axis == 2 => {
+                    gap_faces.entry(GapSide::Clamp).or_default().push(face)
+                }
+                _ => {}
+            }
+        }
+        let markers = design
+            .markers()
+            .iter()
+            .map(|&m| {
+                let (element, xi) = gm
+                    .locate(m)
+                    .expect("markers lie on the bottom face of the base, which is always solid"); // ok: geometry invariant
+                MarkerLocation {
+                    position: m,
+                    element,
+                    xi,
+                }
+            })
+            .collect();
+        Self {
+            grid: gm,
+            support,
+            symmetry,
+            pressure_faces,
+            gap_faces,
+            markers,
+            support_point: design.support_point(),
+        }
+    }
+
+    /// The finite-element mesh.
+    pub fn mesh(&self) -> &Mesh {
+        &self.grid.mesh
+    }
+}
+
+/// Subdivides breakpoints by size `h`, giving intervals inside `walls` at least `wall_div`
+/// elements.
+fn subdivide_walls(breaks: &[f64], walls: &[(f64, f64)], h: f64, wall_div: usize) -> Vec<f64> {
+    let mut b: Vec<f64> = breaks.to_vec();
+    b.sort_by(f64::total_cmp);
+    b.dedup_by(|a, c| (*a - *c).abs() < 1e-9);
+    let mut out = vec![b[0]];
+    for w in b.windows(2) {
+        let len = w[1] - w[0];
+        let mid = 0.5 * (w[0] + w[1]);
+        let in_wall = walls.iter().any(|&(lo, hi)| mid > lo && mid < hi);
+        let min_div = if in_wall { wall_div } else { 1 };
+        let n = ((len / h - 1e-9).ceil() as usize).max(min_div).max(1);
+        for s in 1..=n {
+            out.push(w[0] + len * s as f64 / n as f64);
+        }
+    }
+    out
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::geometry::DesignParams;
+
+    #[test]
+    fn face_nodes_are_outward() {
+        // reference element node coordinates in tensor order
+        let pos = |l: usize| [(l % 3) as f64 - 1.0, ((l / 3) % 3) as f64 - 1.0, (l / 9) as f64 - 1.0];
+        for axis in 0..3 {
+            for positive in [false, true] {
+                let f = face_local_nodes(axis, positive);
+                let x0 = pos(f[0]);
+                let xs = pos(f[1]);
+                let xt = pos(f[3]);
+                let a = [xs[0] - x0[0], xs[1] - x0[1], xs[2] - x0[2]];
+                let b = [xt[0] - x0[0], xt[1] - x0[1], xt[2] - x0[2]];
+                let n = [
+                    a[1] * b[2] - a[2] * b[1],
+                    a[2] * b[0] - a[0] * b[2],
+                    a[0] * b[1] - a[1] * b[0],
+                ];
+                let sign = if positive { 1.0 } else { -1.0 };
+                assert!(n[axis] * sign > 0.0, "axis {axis} positive {positive}");
+                assert!(f.iter().all(|&l| pos(l)[axis] == sign));
+            }
+        }
+    }
+
+    #[test]
+    fn actuator_mesh_has_all_sets() {
+        let d = DesignParams::new(11, 2.0).validate().unwrap();
+        let m = ActuatorMesh::new(&d, &MeshOptions::level(MeshLevel::Coarse));
+        assert_eq!(m.pressure_faces.len(), 12); // 11 cavities + duct
+        assert_eq!(m.gap_faces.len(), 21); // 10 gaps × 2 sides + clamp
+        assert_eq!(m.markers.len(), 9);
+        assert!(!m.support.is_empty() && !m.symmetry.is_empty());
+        for c in &m.mesh().colors {
+            let mut seen = std::collections::HashSet::new();
+            for &e in c {
+                for &n in &m.mesh().elements[e] {
+                    assert!(seen.insert(n), "colour shares node {n}");
+                }
+            }
+        }
+    }
+}

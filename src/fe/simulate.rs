@@ -1,0 +1,330 @@
+//! `simulate(&Case) -> Response`: mesh → model → load path → measurements.
+//!
+//! The load path: gravity is applied first (the state reported at P = 0), then the pressure is
+//! ramped through the requested values. Outputs follow the SPEC's conventions:
+//! `Uz = −Δz`, `Uy = Δy` of the tip (marker 9), bending angle `α = atan2(−y_tip, z_tip)`
+//! measured from the support point (W/2, 0, 0).
+
+use std::time::Instant;
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use super::assembly::{Constraint, FeModel, LoadLevel};
+use super::element::{shape, ElementError};
+use super::geometry::{Design, GeometryError};
+use super::material::Material;
+use super::mesh::{ActuatorMesh, GapSide, MeshOptions};
+use super::solver::{solve_path, PathState, SolverError, SolverSettings, StepReport};
+
+/// TPU density (t/mm³).
+pub const DENSITY: f64 = 1.19e-9;
+/// Gravitational acceleration (mm/s²), acting along −y.
+pub const GRAVITY: f64 = 9810.0;
+/// 1 bar in MPa.
+pub const BAR: f64 = 0.1;
+/// Largest pressure accepted (bar).
+pub const MAX_PRESSURE_BAR: f64 = 10.0;
+
+/// Errors of a simulation.
+#[derive(Debug, Error)]
+pub enum SimulateError {
+    /// Invalid design.
+    #[error(transparent)]
+    Geometry(#[from] GeometryError),
+    /// Invalid mesh.
+    #[error(transparent)]
+    Element(#[from] ElementError),
+    /// The solver stopped.
+    #[error(transparent)]
+    Solver(#[from] SolverError),
+    /// Invalid pressure list.
+    #[error("pressure {value} bar at position {index} is invalid: expected {expected}")]
+    Pressure {
+        /// Position in the list.
+        index: usize,
+        /// The value.
+        value: f64,
+        /// What was expected.
+        expected: String,
+    },
+}
+
+/// One simulation: design, material, pressures and discretisation.
+#[derive(Clone, Debug, Serialize)]
+pub struct Case {
+    /// The design.
+    pub design: Design,
+    /// The material.
+    pub material: Material,
+    /// Pressures (bar) at which results are reported, increasing, ≥ 0.
+    pub pressures_bar: Vec<f64>,
+    /// Self-weight on/off.
+    pub gravity: bool,
+    /// Mesh options.
+    pub mesh: MeshOptions,
+    /// Solver settings.
+    pub solver: SolverSettings,
+}
+
+/// Results of one pressure step.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StepResult {
+    /// Pressure (bar).
+    pub pressure_bar: f64,
+    /// Tip Uz = −Δz (mm).
+    pub tip_uz_mm: f64,
+    /// Tip Uy = Δy (mm).
+    pub tip_uy_mm: f64,
+    /// Bending angle (deg).
+    pub angle_deg: f64,
+    /// Markers 1..9: [Uz, Uy] (mm).
+    pub markers: Vec<[f64; 2]>,
+    /// Newton iterations to reach this step.
+    pub newton_iterations: usize,
+    /// Load substeps.
+    pub substeps: usize,
+    /// Cut-backs.
+    pub cutbacks: usize,
+    /// Final normalised residual.
+    pub residual: f64,
+    /// Whether the step converged.
+    pub converged: bool,
+    /// Smallest deformed gap between neighbouring bellows (mm; negative = interpenetration).
+    pub min_gap_mm: f64,
+    /// Gap (or clamp gap) where it occurs.
+    pub min_gap_at: String,
+}
+
+/// Results of a simulation.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Response {
+    /// One entry per requested pressure.
+    pub steps: Vec<StepResult>,
+    /// Mesh nodes.
+    pub nodes: usize,
+    /// Mesh elements.
+    pub elements: usize,
+    /// Free degrees of freedom.
+    pub dofs: usize,
+    /// Wall time (s).
+    pub wall_time_s: f64,
+    /// Time spent in factorisations (s).
+    pub factor_time_s: f64,
+    /// Time spent in assembly (s).
+    pub assembly_time_s: f64,
+}
+
+/// The actuator's FE model with its mesh bookkeeping.
+pub struct ActuatorModel {
+    /// Mesh with node/face sets.
+    pub mesh: ActuatorMesh,
+    /// Assembled model.
+    pub fe: FeModel,
+}
+
+impl ActuatorModel {
+    /// Meshes a design and sets up constraints and loads.
+    ///
+    /// # Errors
+    /// [`SimulateError::Element`] if the mesh is degenerate.
+    pub fn new(design: &Design, material: &Material, options: &MeshOptions) -> Result<Self, SimulateError> {
+        let mesh = ActuatorMesh::new(design, options);
+        let mut constraints = Vec::new();
+        for &n in &mesh.support {
+            for comp in 0..3 {
+                constraints.push(Constraint { node: n, comp, value: 0.0 });
+            }
+        }
+        for &n in &mesh.symmetry {
+            constraints.push(Constraint { node: n, comp: 0, value: 0.0 });
+        }
+        let faces: Vec<_> = mesh
+            .pressure_faces
+            .values()
+            .flat_map(|fs| fs.iter().map(|f| (*f, 1.0)))
+            .collect();
+        let mut fe = FeModel::new(mesh.mesh().clone(), material.clone(), &constraints, &faces, &[])?;
+        fe.set_body_force([0.0, -DENSITY * GRAVITY, 0.0]);
+        Ok(Self { mesh, fe })
+    }
+
+    /// Displacement of marker `k` (0-based) in a full displacement vector.
+    pub fn marker_displacement(&self, k: usize, u: &[f64]) -> [f64; 3] {
+        let m = &self.mesh.markers[k];
+        let (n, _) = shape(m.xi);
+        let conn = &self.fe.mesh.elements[m.element];
+        let mut d = [0.0; 3];
+        for (a, &node) in conn.iter().enumerate() {
+            for i in 0..3 {
+                d[i] += n[a] * u[3 * node + i];
+            }
+        }
+        d
+    }
+
+    /// Smallest deformed gap between facing bellow walls (and the first wall and the clamp).
+    pub fn min_gap(&self, u: &[f64]) -> (f64, String) {
+        let pos = |n: usize| {
+            let x = self.fe.mesh.nodes[n];
+            [x[0] + u[3 * n], x[1] + u[3 * n + 1], x[2] + u[3 * n + 2]]
+        };
+        let mut best = (f64::INFINITY, String::new());
+        for (side, faces) in &self.mesh.gap_faces {
+            match side {
+                GapSide::Back(i) => {
+                    let Some(front) = self.mesh.gap_faces.get(&GapSide::Front(*i)) else { continue };
+                    let mut lookup = std::collections::HashMap::new();
+                    for f in front {
+                        for &n in &f.nodes {
+                            let x = self.fe.mesh.nodes[n];
+                            lookup.insert(key(x[0], x[1]), n);
+                        }
+                    }
+                    for f in faces {
+                        for &n in &f.nodes {
+                            let x = self.fe.mesh.nodes[n];
+                            if let Some(&m) = lookup.get(&key(x[0], x[1])) {
+                                let (a, b) = (pos(n), pos(m));
+                                let x0m = self.fe.mesh.nodes[m];
+                                // signed distance along the reference gap direction, rotated
+                                // with the local wall: use the chord between the two walls
+                                let g0 = x0m[2] - x[2];
+                                let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+                                let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
+                                let gap = if d[2] * g0 >= 0.0 { len } else { -len };
+                                if gap < best.0 {
+                                    best = (gap, format!("gap {}-{}", i + 1, i + 2));
+                                }
+                            }
+                        }
+                    }
+                }
+                GapSide::Clamp => {
+                    for f in faces {
+                        for &n in &f.nodes {
+                            let z = pos(n)[2];
+                            if z < best.0 {
+                                best = (z, "clamp".into());
+                            }
+                        }
+                    }
+                }
+                GapSide::Front(_) => {}
+            }
+        }
+        best
+    }
+}
+
+fn key(x: f64, y: f64) -> (i64, i64) {
+    ((x * 1e6).round() as i64, (y * 1e6).round() as i64)
+}
+
+/// Validates a pressure list (bar): finite, ≥ 0, strictly increasing, ≤ [`MAX_PRESSURE_BAR`].
+///
+/// # Errors
+/// [`SimulateError::Pressure`] naming the first bad entry.
+pub fn validate_pressures(p: &[f64]) -> Result<(), SimulateError> {
+    if p.is_empty() {
+        return Err(SimulateError::Pressure {
+            index: 0,
+            value: f64::NAN,
+            expected: "at least one pressure".into(),
+        });
+    }
+    for (i, &v) in p.iter().enumerate() {
+        if !v.is_finite() || !(0.0..=MAX_PRESSURE_BAR).contains(&v) {
+            return Err(SimulateError::Pressure {
+                index: i,
+                value: v,
+                expected: format!("a gauge pressure in [0, {MAX_PRESSURE_BAR}] bar"),
+            });
+        }
+        if i > 0 && v <= p[i - 1] {
+            return Err(SimulateError::Pressure {
+                index: i,
+                value: v,
+                expected: format!("pressures in increasing order (previous {})", p[i - 1]),
+            });
+        }
+    }
+    Ok(())
+}
+
+/// Runs one case, calling `progress(step, total)` after each converged output step.
+///
+/// # Errors
+/// Invalid pressures, degenerate mesh, or a solver that did not converge (carrying the
+/// reports of the steps that did).
+pub fn simulate_with_progress(case: &Case, mut progress: impl FnMut(usize, usize)) -> Result<Response, SimulateError> {
+    let start = Instant::now();
+    validate_pressures(&case.pressures_bar)?;
+    let model = ActuatorModel::new(&case.design, &case.material, &case.mesh)?;
+    let g = if case.gravity { 1.0 } else { 0.0 };
+    let mut levels = vec![LoadLevel { gravity: g, ..Default::default() }];
+    let first_is_zero = case.pressures_bar[0] == 0.0;
+    let skip = usize::from(first_is_zero);
+    levels.extend(case.pressures_bar[skip..].iter().map(|&p| LoadLevel {
+        pressure: p * BAR,
+        gravity: g,
+        ..Default::default()
+    }));
+    let total = levels.len();
+    let lf = case.design.free_length();
+    let mut steps = Vec::new();
+    let reports = solve_path(&model.fe, case.solver.clone(), &levels, |i, state: &PathState, rep: &StepReport| {
+        progress(i + 1, total);
+        if i == 0 && !first_is_zero {
+            return;
+        }
+        steps.push(measure(&model, state, rep, lf));
+    })?;
+    let factor_time_s = reports.iter().map(|r| r.factor_seconds).sum();
+    let assembly_time_s = reports.iter().map(|r| r.assembly_seconds).sum();
+    Ok(Response {
+        steps,
+        nodes: model.fe.mesh.n_nodes(),
+        elements: model.fe.mesh.n_elements(),
+        dofs: model.fe.dofs.n_free,
+        wall_time_s: start.elapsed().as_secs_f64(),
+        factor_time_s,
+        assembly_time_s,
+    })
+}
+
+/// Runs one case.
+///
+/// # Errors
+/// See [`simulate_with_progress`].
+pub fn simulate(case: &Case) -> Result<Response, SimulateError> {
+    simulate_with_progress(case, |_, _| {})
+}
+
+fn measure(model: &ActuatorModel, state: &PathState, rep: &StepReport, lf: f64) -> StepResult {
+    let u = &state.u_full;
+    let markers: Vec<[f64; 2]> = (0..9)
+        .map(|k| {
+            let d = model.marker_displacement(k, u);
+            [-d[2], d[1]]
+        })
+        .collect();
+    let tip = markers[8];
+    let z_tip = lf - tip[0];
+    let y_tip = tip[1];
+    let (min_gap_mm, min_gap_at) = model.min_gap(u);
+    StepResult {
+        pressure_bar: state.level.pressure / BAR,
+        tip_uz_mm: tip[0],
+        tip_uy_mm: tip[1],
+        angle_deg: (-y_tip).atan2(z_tip).to_degrees(),
+        markers,
+        newton_iterations: rep.newton_iterations,
+        substeps: rep.substeps,
+        cutbacks: rep.cutbacks,
+        residual: rep.residual,
+        converged: rep.converged,
+        min_gap_mm,
+        min_gap_at,
+    }
+}
