@@ -106,7 +106,9 @@ impl Pattern {
         let mut rows = Vec::new();
         for n in 0..n_nodes {
             for c in 0..3 {
-                let Some(col) = dofs.eq(3 * n + c) else { continue };
+                let Some(col) = dofs.eq(3 * n + c) else {
+                    continue;
+                };
                 rows.clear();
                 for &m in &adj[n] {
                     for k in 0..3 {
@@ -133,9 +135,13 @@ impl Pattern {
             .map(|conn| {
                 let mut map = vec![u32::MAX; DOFS * DOFS];
                 for (r, slot_row) in map.chunks_mut(DOFS).enumerate() {
-                    let Some(gr) = dofs.eq(3 * conn[r / 3] + r % 3) else { continue };
+                    let Some(gr) = dofs.eq(3 * conn[r / 3] + r % 3) else {
+                        continue;
+                    };
                     for (c, slot) in slot_row.iter_mut().enumerate() {
-                        let Some(gc) = dofs.eq(3 * conn[c / 3] + c % 3) else { continue };
+                        let Some(gc) = dofs.eq(3 * conn[c / 3] + c % 3) else {
+                            continue;
+                        };
                         if gr >= gc {
                             *slot = pat.position(gr, gc).unwrap_or(u32::MAX as usize) as u32;
                         }

@@ -75,7 +75,11 @@ pub fn shape(xi: [f64; 3]) -> ([f64; 27], [[f64; 3]; 27]) {
             for i in 0..3 {
                 let a = i + 3 * j + 9 * k;
                 n[a] = l0[i] * l1[j] * l2[k];
-                dn[a] = [d0[i] * l1[j] * l2[k], l0[i] * d1[j] * l2[k], l0[i] * l1[j] * d2[k]];
+                dn[a] = [
+                    d0[i] * l1[j] * l2[k],
+                    l0[i] * d1[j] * l2[k],
+                    l0[i] * l1[j] * d2[k],
+                ];
             }
         }
     }
@@ -321,8 +325,10 @@ pub fn residual_tangent(
         let d = &geo.dndx[q];
         for a in 0..27 {
             for i in 0..3 {
-                work.r[3 * a + i] +=
-                    w * (stress[(i, 0)] * d[a][0] + stress[(i, 1)] * d[a][1] + stress[(i, 2)] * d[a][2]);
+                work.r[3 * a + i] += w
+                    * (stress[(i, 0)] * d[a][0]
+                        + stress[(i, 1)] * d[a][1]
+                        + stress[(i, 2)] * d[a][2]);
             }
         }
         if !with_tangent {
@@ -381,7 +387,8 @@ pub fn residual_tangent(
             for b in (a + 1)..27 {
                 for i in 0..3 {
                     for k in 0..3 {
-                        work.k[(3 * b + k) * DOFS + 3 * a + i] = work.k[(3 * a + i) * DOFS + 3 * b + k];
+                        work.k[(3 * b + k) * DOFS + 3 * a + i] =
+                            work.k[(3 * a + i) * DOFS + 3 * b + k];
                     }
                 }
             }

@@ -141,7 +141,9 @@ impl DesignParams {
         let t = p.wall_thickness;
         let pitch = p.free_length / n as f64;
         let length = pitch - p.gap - 2.0 * t;
-        if length < MIN_CAVITY_LENGTH || p.width - 2.0 * t <= 0.0 || p.height - t <= p.base_thickness
+        if length < MIN_CAVITY_LENGTH
+            || p.width - 2.0 * t <= 0.0
+            || p.height - t <= p.base_thickness
         {
             return Err(GeometryError::NoCavity {
                 n,
@@ -362,9 +364,21 @@ mod tests {
     #[test]
     fn bad_designs_are_named_errors() {
         let e = DesignParams::new(16, 2.0).validate().unwrap_err();
-        assert!(matches!(e, GeometryError::OutOfRange { field: "n_bellows", .. }));
+        assert!(matches!(
+            e,
+            GeometryError::OutOfRange {
+                field: "n_bellows",
+                ..
+            }
+        ));
         let e = DesignParams::new(11, 3.0).validate().unwrap_err();
-        assert!(matches!(e, GeometryError::OutOfRange { field: "wall_thickness", .. }));
+        assert!(matches!(
+            e,
+            GeometryError::OutOfRange {
+                field: "wall_thickness",
+                ..
+            }
+        ));
         let e = DesignParams::new(15, 2.8).validate().unwrap_err();
         assert!(matches!(e, GeometryError::NoCavity { .. }), "{e}");
         assert!(e.to_string().contains("cavity"));

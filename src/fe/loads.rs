@@ -69,13 +69,8 @@ pub fn pressure_face(p: f64, x: &[[f64; 3]; 9], r: &mut [f64; 27], k: Option<&mu
             }
             if let Some(k) = kk.as_deref_mut() {
                 // [v]× as a matrix: ([v]× d)_i = (v × d)_i
-                let skew = |v: [f64; 3]| {
-                    [
-                        [0.0, -v[2], v[1]],
-                        [v[2], 0.0, -v[0]],
-                        [-v[1], v[0], 0.0],
-                    ]
-                };
+                let skew =
+                    |v: [f64; 3]| [[0.0, -v[2], v[1]], [v[2], 0.0, -v[0]], [-v[1], v[0], 0.0]];
                 let sxs = skew(xs);
                 let sxt = skew(xt);
                 for a in 0..9 {

@@ -179,7 +179,11 @@ pub struct GridMesh<K> {
 
 impl<K: Copy + PartialEq> GridMesh<K> {
     /// Builds the mesh of the cells for which `is_solid(kind)` holds.
-    pub fn new(grid: TensorGrid, classify: impl Fn([f64; 3]) -> K, is_solid: impl Fn(K) -> bool) -> Self {
+    pub fn new(
+        grid: TensorGrid,
+        classify: impl Fn([f64; 3]) -> K,
+        is_solid: impl Fn(K) -> bool,
+    ) -> Self {
         let [nx, ny, nz] = grid.cells();
         let gdim = [2 * nx + 1, 2 * ny + 1, 2 * nz + 1];
         let gidx = |g: [usize; 3]| g[0] + gdim[0] * (g[1] + gdim[1] * g[2]);
@@ -301,7 +305,10 @@ impl<K: Copy + PartialEq> GridMesh<K> {
             if x[a] < l[0] - 1e-9 || x[a] > l[n[a]] + 1e-9 {
                 return None;
             }
-            let c = l.partition_point(|&v| v <= x[a]).saturating_sub(1).min(n[a] - 1);
+            let c = l
+                .partition_point(|&v| v <= x[a])
+                .saturating_sub(1)
+                .min(n[a] - 1);
             cell[a] = c;
             xi[a] = (2.0 * (x[a] - l[c]) / (l[c + 1] - l[c]) - 1.0).clamp(-1.0, 1.0);
         }
@@ -553,7 +560,13 @@ mod tests {
     #[test]
     fn face_nodes_are_outward() {
         // reference element node coordinates in tensor order
-        let pos = |l: usize| [(l % 3) as f64 - 1.0, ((l / 3) % 3) as f64 - 1.0, (l / 9) as f64 - 1.0];
+        let pos = |l: usize| {
+            [
+                (l % 3) as f64 - 1.0,
+                ((l / 3) % 3) as f64 - 1.0,
+                (l / 9) as f64 - 1.0,
+            ]
+        };
         for axis in 0..3 {
             for positive in [false, true] {
                 let f = face_local_nodes(axis, positive);

@@ -128,23 +128,41 @@ impl ActuatorModel {
     ///
     /// # Errors
     /// [`SimulateError::Element`] if the mesh is degenerate.
-    pub fn new(design: &Design, material: &Material, options: &MeshOptions) -> Result<Self, SimulateError> {
+    pub fn new(
+        design: &Design,
+        material: &Material,
+        options: &MeshOptions,
+    ) -> Result<Self, SimulateError> {
         let mesh = ActuatorMesh::new(design, options);
         let mut constraints = Vec::new();
         for &n in &mesh.support {
             for comp in 0..3 {
-                constraints.push(Constraint { node: n, comp, value: 0.0 });
+                constraints.push(Constraint {
+                    node: n,
+                    comp,
+                    value: 0.0,
+                });
             }
         }
         for &n in &mesh.symmetry {
-            constraints.push(Constraint { node: n, comp: 0, value: 0.0 });
+            constraints.push(Constraint {
+                node: n,
+                comp: 0,
+                value: 0.0,
+            });
         }
         let faces: Vec<_> = mesh
             .pressure_faces
             .values()
             .flat_map(|fs| fs.iter().map(|f| (*f, 1.0)))
             .collect();
-        let mut fe = FeModel::new(mesh.mesh().clone(), material.clone(), &constraints, &faces, &[])?;
+        let mut fe = FeModel::new(
+            mesh.mesh().clone(),
+            material.clone(),
+            &constraints,
+            &faces,
+            &[],
+        )?;
         fe.set_body_force([0.0, -DENSITY * GRAVITY, 0.0]);
         Ok(Self { mesh, fe })
     }
@@ -173,7 +191,9 @@ impl ActuatorModel {
         for (side, faces) in &self.mesh.gap_faces {
             match side {
                 GapSide::Back(i) => {
-                    let Some(front) = self.mesh.gap_faces.get(&GapSide::Front(*i)) else { continue };
+                    let Some(front) = self.mesh.gap_faces.get(&GapSide::Front(*i)) else {
+                        continue;
+                    };
                     let mut lookup = std::collections::HashMap::new();
                     for f in front {
                         for &n in &f.nodes {
@@ -257,12 +277,18 @@ pub fn validate_pressures(p: &[f64]) -> Result<(), SimulateError> {
 /// # Errors
 /// Invalid pressures, degenerate mesh, or a solver that did not converge (carrying the
 /// reports of the steps that did).
-pub fn simulate_with_progress(case: &Case, mut progress: impl FnMut(usize, usize)) -> Result<Response, SimulateError> {
+pub fn simulate_with_progress(
+    case: &Case,
+    mut progress: impl FnMut(usize, usize),
+) -> Result<Response, SimulateError> {
     let start = Instant::now();
     validate_pressures(&case.pressures_bar)?;
     let model = ActuatorModel::new(&case.design, &case.material, &case.mesh)?;
     let g = if case.gravity { 1.0 } else { 0.0 };
-    let mut levels = vec![LoadLevel { gravity: g, ..Default::default() }];
+    let mut levels = vec![LoadLevel {
+        gravity: g,
+        ..Default::default()
+    }];
     let first_is_zero = case.pressures_bar[0] == 0.0;
     let skip = usize::from(first_is_zero);
     levels.extend(case.pressures_bar[skip..].iter().map(|&p| LoadLevel {
@@ -273,13 +299,18 @@ pub fn simulate_with_progress(case: &Case, mut progress: impl FnMut(usize, usize
     let total = levels.len();
     let lf = case.design.free_length();
     let mut steps = Vec::new();
-    let reports = solve_path(&model.fe, case.solver.clone(), &levels, |i, state: &PathState, rep: &StepReport| {
-        progress(i + 1, total);
-        if i == 0 && !first_is_zero {
-            return;
-        }
-        steps.push(measure(&model, state, rep, lf));
-    })?;
+    let reports = solve_path(
+        &model.fe,
+        case.solver.clone(),
+        &levels,
+        |i, state: &PathState, rep: &StepReport| {
+            progress(i + 1, total);
+            if i == 0 && !first_is_zero {
+                return;
+            }
+            steps.push(measure(&model, state, rep, lf));
+        },
+    )?;
     let factor_time_s = reports.iter().map(|r| r.factor_seconds).sum();
     let assembly_time_s = reports.iter().map(|r| r.assembly_seconds).sum();
     Ok(Response {

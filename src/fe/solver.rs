@@ -7,10 +7,11 @@
 //! state with an inverted element (det F ≤ 0) halves `α`. A step that does not converge is
 //! cut back (halved) and retried from the last converged state.
 
-use faer::prelude::*;
-use faer::sparse::linalg::solvers::{Llt, Lu, SymbolicLlt, SymbolicLu};
-use faer::sparse::{SparseColMatRef, SymbolicSparseColMat, SymbolicSparseColMatRef};
-use faer::{Mat, Side};
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::sparse::linalg::cholesky::{factorize_symbolic_cholesky, SymbolicCholesky};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, Mat, Side};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -28,6 +29,8 @@ pub struct SolverSettings {
     pub max_cutbacks: usize,
     /// Initial load increment as a fraction of an output step.
     pub initial_fraction: f64,
+    /// First pressure increment of a step (MPa); later increments adapt.
+    pub initial_pressure_increment: f64,
     /// Largest pressure increment in one substep (MPa).
     pub max_pressure_increment: f64,
     /// Line-search on/off.
@@ -41,11 +44,12 @@ impl Default for SolverSettings {
     fn default() -> Self {
         Self {
             rtol: 1e-8,
-            max_iterations: 25,
+            max_iterations: 15,
             max_cutbacks: 10,
             initial_fraction: 1.0,
+            initial_pressure_increment: 0.01,
             max_pressure_increment: 0.05,
-            line_search: true,
+            line_search: false,
             trace: false,
         }
     }
@@ -104,27 +108,24 @@ pub enum SolverError {
     Element(#[from] ElementError),
 }
 
-/// Sparse direct solver with a reusable symbolic analysis.
+/// Sparse direct solver with a reusable symbolic analysis: supernodal LDLᵀ (faer) on the
+/// lower triangle. LDLᵀ needs no positive definiteness: the tangent of a pressurised
+/// structure away from equilibrium may be indefinite.
 pub struct LinearSolver {
     n: usize,
     col_ptr: Vec<usize>,
     row_idx: Vec<usize>,
-    llt: SymbolicLlt<usize>,
-    lu: Option<FullPattern>,
-    /// Number of factorisations that needed the LU fallback.
-    pub lu_fallbacks: usize,
-}
-
-/// Full (both triangles) pattern for the LU fallback, with the source of each value.
-struct FullPattern {
-    symbolic: SymbolicSparseColMat<usize>,
-    lu: SymbolicLu<usize>,
-    source: Vec<usize>,
-    values: Vec<f64>,
+    symbolic: SymbolicCholesky<usize>,
+    l_values: Vec<f64>,
+    factor_buf: MemBuffer,
+    solve_buf: MemBuffer,
+    rhs: Mat<f64>,
+    /// Number of factorisations performed.
+    pub factorizations: usize,
 }
 
 impl LinearSolver {
-    /// Symbolic analysis of the model's pattern.
+    /// Symbolic analysis (fill-reducing ordering, elimination tree) of the model's pattern.
     ///
     /// # Errors
     /// [`SolverError::Factorization`] if faer rejects the pattern.
@@ -133,89 +134,70 @@ impl LinearSolver {
         let col_ptr = model.pattern.col_ptr.clone();
         let row_idx = model.pattern.row_idx.clone();
         let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
-        let llt = SymbolicLlt::try_new(sym, Side::Lower)
-            .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
+        let symbolic =
+            factorize_symbolic_cholesky(sym, Side::Lower, Default::default(), Default::default())
+                .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
+        let par = faer::get_global_parallelism();
+        let factor_buf =
+            MemBuffer::new(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()));
+        let solve_buf = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
         Ok(Self {
             n,
+            l_values: vec![0.0; symbolic.len_val()],
             col_ptr,
             row_idx,
-            llt,
-            lu: None,
-            lu_fallbacks: 0,
+            symbolic,
+            factor_buf,
+            solve_buf,
+            rhs: Mat::zeros(n, 1),
+            factorizations: 0,
         })
     }
 
-    /// Solves `K x = b` in place (K given by its lower triangle). Falls back to LU on the
-    /// full symmetric matrix when K is not positive definite.
+    /// Solves `K x = b` in place, K given by its lower triangle.
     ///
     /// # Errors
-    /// [`SolverError::Factorization`] if both factorisations fail.
+    /// [`SolverError::Factorization`] on a zero pivot (singular tangent) or non-finite result.
     pub fn solve(&mut self, values: &[f64], b: &mut [f64]) -> Result<(), SolverError> {
-        let sym = SymbolicSparseColMatRef::new_checked(self.n, self.n, &self.col_ptr, None, &self.row_idx);
+        let sym = SymbolicSparseColMatRef::new_checked(
+            self.n,
+            self.n,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        );
         let mat = SparseColMatRef::new(sym, values);
-        let mut rhs = Mat::<f64>::from_fn(self.n, 1, |i, _| b[i]);
-        match Llt::try_new_with_symbolic(self.llt.clone(), mat, Side::Lower) {
-            Ok(f) => f.solve_in_place(rhs.as_mut()),
-            Err(_) => {
-                self.lu_fallbacks += 1;
-                self.solve_lu(values, rhs.as_mut())?
-            }
+        let par = faer::get_global_parallelism();
+        self.factorizations += 1;
+        let ldlt = self
+            .symbolic
+            .factorize_numeric_ldlt(
+                &mut self.l_values,
+                mat,
+                Side::Lower,
+                LdltRegularization::default(),
+                par,
+                MemStack::new(&mut self.factor_buf),
+                Default::default(),
+            )
+            .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
+        for (i, v) in b.iter().enumerate() {
+            self.rhs[(i, 0)] = *v;
         }
+        ldlt.solve_in_place_with_conj(
+            Conj::No,
+            self.rhs.as_mut(),
+            par,
+            MemStack::new(&mut self.solve_buf),
+        );
         for (i, v) in b.iter_mut().enumerate() {
-            *v = rhs[(i, 0)];
-        }
-        Ok(())
-    }
-
-    fn full_pattern(&self) -> Result<FullPattern, SolverError> {
-        let mut trip = Vec::with_capacity(2 * self.row_idx.len());
-        for c in 0..self.n {
-            for p in self.col_ptr[c]..self.col_ptr[c + 1] {
-                let r = self.row_idx[p];
-                trip.push((c, r, p));
-                if r != c {
-                    trip.push((r, c, p));
-                }
+            *v = self.rhs[(i, 0)];
+            if !v.is_finite() {
+                return Err(SolverError::Factorization(format!(
+                    "non-finite solution at equation {i}"
+                )));
             }
         }
-        trip.sort_unstable();
-        let mut cp = vec![0usize; self.n + 1];
-        let mut ri = Vec::with_capacity(trip.len());
-        let mut source = Vec::with_capacity(trip.len());
-        for &(c, r, p) in &trip {
-            cp[c + 1] += 1;
-            ri.push(r);
-            source.push(p);
-        }
-        for c in 0..self.n {
-            cp[c + 1] += cp[c];
-        }
-        let symbolic = SymbolicSparseColMat::new_checked(self.n, self.n, cp, None, ri);
-        let lu = SymbolicLu::try_new(symbolic.as_ref())
-            .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
-        let values = vec![0.0; source.len()];
-        Ok(FullPattern {
-            symbolic,
-            lu,
-            source,
-            values,
-        })
-    }
-
-    fn solve_lu(&mut self, values: &[f64], rhs: faer::MatMut<'_, f64>) -> Result<(), SolverError> {
-        if self.lu.is_none() {
-            self.lu = Some(self.full_pattern()?);
-        }
-        let Some(full) = self.lu.as_mut() else {
-            return Err(SolverError::Factorization("LU pattern unavailable".into()));
-        };
-        for (v, &p) in full.values.iter_mut().zip(&full.source) {
-            *v = values[p];
-        }
-        let mat = SparseColMatRef::new(full.symbolic.as_ref(), &full.values);
-        let lu = Lu::try_new_with_symbolic(full.lu.clone(), mat)
-            .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
-        lu.solve_in_place(rhs);
         Ok(())
     }
 }
@@ -264,6 +246,8 @@ pub struct Solver<'m> {
     assembly_seconds: f64,
     /// Floor of the force scale: 1e-3 · μ0 · V^(2/3) (a characteristic internal force).
     force_scale: f64,
+    /// Pressure increment of the last converged substep.
+    last_increment: Option<f64>,
 }
 
 impl<'m> Solver<'m> {
@@ -284,6 +268,7 @@ impl<'m> Solver<'m> {
             trial: vec![0.0; n],
             factor_seconds: 0.0,
             assembly_seconds: 0.0,
+            last_increment: None,
             force_scale: {
                 let v: f64 = model.geometry.iter().map(|g| g.volume()).sum();
                 1e-3 * model.material.mu0() * v.powf(2.0 / 3.0)
@@ -301,12 +286,19 @@ impl<'m> Solver<'m> {
     /// # Errors
     /// [`SolverError::NotConverged`] (with `completed = 0` and no reports: the caller fills
     /// them in) if the step fails after all cut-backs.
-    pub fn advance(&mut self, state: &mut PathState, target: LoadLevel) -> Result<StepReport, SolverError> {
+    pub fn advance(
+        &mut self,
+        state: &mut PathState,
+        target: LoadLevel,
+    ) -> Result<StepReport, SolverError> {
         let start = state.level;
         let dp = (target.pressure - start.pressure).abs();
         let mut frac = self.settings.initial_fraction.min(1.0);
         if dp > 0.0 {
-            frac = frac.min(self.settings.max_pressure_increment / dp);
+            let first = self
+                .last_increment
+                .unwrap_or(self.settings.initial_pressure_increment);
+            frac = frac.min(first.min(self.settings.max_pressure_increment) / dp);
         }
         let mut s = 0.0;
         let mut report = StepReport {
@@ -337,7 +329,10 @@ impl<'m> Solver<'m> {
                 s = s_next;
                 report.substeps += 1;
                 consecutive_cuts = 0;
-                if out.iterations <= 5 {
+                if dp > 0.0 {
+                    self.last_increment = Some(frac * dp);
+                }
+                if out.iterations <= 6 {
                     frac *= 1.5;
                 }
                 if dp > 0.0 {
@@ -348,8 +343,10 @@ impl<'m> Solver<'m> {
                 report.cutbacks += 1;
                 consecutive_cuts += 1;
                 frac *= 0.5;
+                self.last_increment = None;
                 if consecutive_cuts > self.settings.max_cutbacks {
-                    self.model.expand(&state.u_free, &state.level, &mut state.u_full);
+                    self.model
+                        .expand(&state.u_free, &state.level, &mut state.u_full);
                     return Err(SolverError::NotConverged {
                         target,
                         reached: state.level,
@@ -361,7 +358,8 @@ impl<'m> Solver<'m> {
                 }
             }
         }
-        self.model.expand(&state.u_free, &state.level, &mut state.u_full);
+        self.model
+            .expand(&state.u_free, &state.level, &mut state.u_full);
         report.converged = true;
         report.factor_seconds = self.factor_seconds - f0;
         report.assembly_seconds = self.assembly_seconds - a0;
@@ -370,7 +368,9 @@ impl<'m> Solver<'m> {
 
     /// Secant predictor from the previous converged increment.
     fn predict(&mut self, state: &mut PathState, level: &LoadLevel) {
-        let Some((prev, prev_level)) = &state.prev_u_free else { return };
+        let Some((prev, prev_level)) = &state.prev_u_free else {
+            return;
+        };
         let d_now = level_distance(&state.level, level);
         let d_prev = level_distance(prev_level, &state.level);
         if d_prev <= 0.0 {
@@ -383,7 +383,11 @@ impl<'m> Solver<'m> {
         // reject a predictor that inverts an element
         let mut u_full = std::mem::take(&mut state.u_full);
         self.model.expand(&state.u_free, level, &mut u_full);
-        if self.model.assemble(&u_full, level, &mut self.r_full, None).is_err() {
+        if self
+            .model
+            .assemble(&u_full, level, &mut self.r_full, None)
+            .is_err()
+        {
             for (u, p) in state.u_free.iter_mut().zip(prev) {
                 *u = (*u + ratio * p) / (1.0 + ratio);
             }
@@ -391,7 +395,12 @@ impl<'m> Solver<'m> {
         state.u_full = u_full;
     }
 
-    fn assemble(&mut self, u_full: &[f64], level: &LoadLevel, with_k: bool) -> Result<f64, ElementError> {
+    fn assemble(
+        &mut self,
+        u_full: &[f64],
+        level: &LoadLevel,
+        with_k: bool,
+    ) -> Result<f64, ElementError> {
         let t = std::time::Instant::now();
         let info = self.model.assemble(
             u_full,
@@ -404,7 +413,11 @@ impl<'m> Solver<'m> {
         Ok(info.external_norm)
     }
 
-    fn newton(&mut self, state: &mut PathState, level: &LoadLevel) -> Result<NewtonOutcome, SolverError> {
+    fn newton(
+        &mut self,
+        state: &mut PathState,
+        level: &LoadLevel,
+    ) -> Result<NewtonOutcome, SolverError> {
         let mut u_full = std::mem::take(&mut state.u_full);
         let out = self.newton_inner(state, level, &mut u_full);
         state.u_full = u_full;
@@ -423,6 +436,7 @@ impl<'m> Solver<'m> {
             residual: f64::INFINITY,
             update: f64::INFINITY,
         };
+        let mut first_residual = f64::INFINITY;
         for it in 0..=self.settings.max_iterations {
             self.model.expand(&state.u_free, level, u_full);
             let ext = match self.assemble(u_full, level, true) {
@@ -443,11 +457,18 @@ impl<'m> Solver<'m> {
             if !rn.is_finite() {
                 return Ok(out);
             }
-            if rn <= self.settings.rtol * scale && (it > 0 || level_is_zero_increment(state, level)) {
+            if rn <= self.settings.rtol * scale && (it > 0 || level_is_zero_increment(state, level))
+            {
                 out.converged = true;
                 return Ok(out);
             }
             if it == self.settings.max_iterations {
+                return Ok(out);
+            }
+            if it == 0 {
+                first_residual = out.residual;
+            } else if it >= 4 && out.residual > 10.0 * first_residual.max(1e-3) {
+                // diverging: give up early and let the step be cut back
                 return Ok(out);
             }
             for (d, r) in self.du.iter_mut().zip(&self.r_free) {
@@ -456,10 +477,19 @@ impl<'m> Solver<'m> {
             let t = std::time::Instant::now();
             let solved = self.linear.solve(&self.k, &mut self.du);
             self.factor_seconds += t.elapsed().as_secs_f64();
-            if solved.is_err() {
+            if let Err(e) = solved {
+                if self.settings.trace {
+                    eprintln!("           {e}: cutting back");
+                }
                 return Ok(out);
             }
             let alpha = self.line_search(state, level, u_full);
+            if self.settings.trace {
+                eprintln!(
+                    "           step |du|max = {:.3e}, alpha = {alpha:.3}",
+                    self.du.iter().fold(0.0f64, |m, v| m.max(v.abs()))
+                );
+            }
             let un = norm(&state.u_free).max(1e-12);
             out.update = alpha * norm(&self.du) / un;
             if alpha == 0.0 {

@@ -17,7 +17,11 @@ pub fn parse_pressures(s: &str) -> Result<Vec<f64>> {
         .enumerate()
         .map(|(i, v)| {
             v.trim().parse::<f64>().with_context(|| {
-                format!("--pressures: entry {} '{}' is not a number (expected e.g. 0,1,2,3)", i + 1, v.trim())
+                format!(
+                    "--pressures: entry {} '{}' is not a number (expected e.g. 0,1,2,3)",
+                    i + 1,
+                    v.trim()
+                )
             })
         })
         .collect()
@@ -27,15 +31,24 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
     let design = DesignParams::new(a.n, a.t).validate()?;
     let material = Material::from_spec(&a.material, a.bulk_ratio)?;
     if let Some(h) = a.element_size {
-        anyhow::ensure!(h.is_finite() && h > 0.05 && h <= 50.0, "--element-size {h}: expected a size in (0.05, 50] mm");
+        anyhow::ensure!(
+            h.is_finite() && h > 0.05 && h <= 50.0,
+            "--element-size {h}: expected a size in (0.05, 50] mm"
+        );
     }
     Ok(Case {
         design,
         material,
         pressures_bar: pressures,
         gravity: !a.no_gravity,
-        mesh: MeshOptions { level, element_size: a.element_size },
-        solver: SolverSettings { trace: std::env::var_os("SURROGATE_TRACE").is_some(), ..SolverSettings::default() },
+        mesh: MeshOptions {
+            level,
+            element_size: a.element_size,
+        },
+        solver: SolverSettings {
+            trace: std::env::var_os("SURROGATE_TRACE").is_some(),
+            ..SolverSettings::default()
+        },
     })
 }
 
@@ -45,7 +58,9 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     let pressures = parse_pressures(&a.pressures)?;
     let case = build_case(&a, level, pressures)?;
     let bar = ProgressBar::new(case.pressures_bar.len() as u64 + 1);
-    bar.set_style(ProgressStyle::with_template("{spinner} simulate [{bar:30}] {pos}/{len} steps {elapsed_precise}")?);
+    bar.set_style(ProgressStyle::with_template(
+        "{spinner} simulate [{bar:30}] {pos}/{len} steps {elapsed_precise}",
+    )?);
     let response = simulate_with_progress(&case, |i, _| bar.set_position(i as u64))?;
     bar.finish_and_clear();
     let json = serde_json::to_string_pretty(&response)?;
