@@ -51,6 +51,7 @@ fn element_residual_is_energy_gradient_and_tangent_is_residual_jacobian() {
         let (x, u) = element_setup(7);
         let geo = ElementGeometry::new(0, &x).unwrap();
         let mut w = ElementWork::default();
+        w.with_energy = true;
         residual_tangent(0, &geo, &u, &mat, true, &mut w).unwrap();
         let r0 = w.r.clone();
         let k0 = w.k.clone();

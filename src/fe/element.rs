@@ -216,6 +216,9 @@ impl ElementGeometry {
 
 /// Per-thread work space of the element kernel (allocated once, reused).
 pub struct ElementWork {
+    /// Whether [`residual_tangent`] evaluates the strain energy (costs one more material
+    /// evaluation per point; off in the Newton loop).
+    pub with_energy: bool,
     f: [Matrix3<f64>; QP],
     j: [f64; QP],
     /// Element residual (internal forces), length 81.
@@ -229,6 +232,7 @@ pub struct ElementWork {
 impl Default for ElementWork {
     fn default() -> Self {
         Self {
+            with_energy: false,
             f: [Matrix3::zeros(); QP],
             j: [0.0; QP],
             r: vec![0.0; DOFS],
@@ -240,7 +244,7 @@ impl Default for ElementWork {
 }
 
 /// Evaluates the internal-force residual (and optionally the tangent) of one element into
-/// `work.r` / `work.k`; returns the element's strain energy.
+/// `work.r` / `work.k`; returns the element's strain energy if `work.with_energy` (else 0).
 ///
 /// `u` are the element's nodal displacements in tensor order.
 ///
@@ -292,7 +296,9 @@ pub fn residual_tangent(
         if with_tangent {
             h += qv * qv.transpose() * (material.vol_stiffness(theta) * geo.wdet[q]);
         }
-        energy += (material.vol_energy(theta) + material.iso_energy(&work.f[q])) * geo.wdet[q];
+        if work.with_energy {
+            energy += (material.vol_energy(theta) + material.iso_energy(&work.f[q])) * geo.wdet[q];
+        }
     }
     let pi = geo.minv * pv;
 

@@ -11,3 +11,4 @@ pub mod material;
 pub mod mesh;
 pub mod simulate;
 pub mod solver;
+pub mod vtk;

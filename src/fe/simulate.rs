@@ -279,7 +279,21 @@ pub fn validate_pressures(p: &[f64]) -> Result<(), SimulateError> {
 /// reports of the steps that did).
 pub fn simulate_with_progress(
     case: &Case,
+    progress: impl FnMut(usize, usize),
+) -> Result<Response, SimulateError> {
+    simulate_with(case, progress, |_, _, _| {})
+}
+
+/// Runs one case, calling `progress(step, total)` after each converged load level and
+/// `on_result(model, result, u)` with the full displacement vector of every reported step
+/// (e.g. to write VTK files).
+///
+/// # Errors
+/// See [`simulate_with_progress`].
+pub fn simulate_with(
+    case: &Case,
     mut progress: impl FnMut(usize, usize),
+    mut on_result: impl FnMut(&ActuatorModel, &StepResult, &[f64]),
 ) -> Result<Response, SimulateError> {
     let start = Instant::now();
     validate_pressures(&case.pressures_bar)?;
@@ -308,7 +322,9 @@ pub fn simulate_with_progress(
             if i == 0 && !first_is_zero {
                 return;
             }
-            steps.push(measure(&model, state, rep, lf));
+            let result = measure(&model, state, rep, lf);
+        on_result(&model, &result, &state.u_full);
+        steps.push(result);
         },
     )?;
     let factor_time_s = reports.iter().map(|r| r.factor_seconds).sum();

@@ -41,7 +41,7 @@ pub struct SimulateArgs {
     /// Switch self-weight off.
     #[arg(long)]
     pub no_gravity: bool,
-    /// Mesh level: coarse | standard | fine.
+    /// Mesh level: coarse | standard | fine (with --bench: a comma list or "all").
     #[arg(long, default_value = "standard")]
     pub mesh: String,
     /// Element size override in mm.

@@ -1,13 +1,16 @@
-//! `surrogate simulate`: one design, one pressure ramp.
+//! `surrogate simulate`: one design, one pressure ramp (or `--bench`: the FE benchmark).
 use std::io::Write;
+use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
+use serde::Serialize;
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
-use surrogate::fe::simulate::{simulate_with_progress, Case};
+use surrogate::fe::simulate::{simulate_with, Case, Response};
 use surrogate::fe::solver::SolverSettings;
+use surrogate::fe::vtk;
 
 use crate::args::SimulateArgs;
 
@@ -18,7 +21,7 @@ pub fn parse_pressures(s: &str) -> Result<Vec<f64>> {
         .map(|(i, v)| {
             v.trim().parse::<f64>().with_context(|| {
                 format!(
-                    "--pressures: entry {} '{}' is not a number (expected e.g. 0,1,2,3)",
+                    "--pressures: entry {} '{}' is not a number (expected bar values such as 0,1,2,3)",
                     i + 1,
                     v.trim()
                 )
@@ -32,19 +35,17 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
     let material = Material::from_spec(&a.material, a.bulk_ratio)?;
     if let Some(h) = a.element_size {
         anyhow::ensure!(
-            h.is_finite() && h > 0.05 && h <= 50.0,
-            "--element-size {h}: expected a size in (0.05, 50] mm"
+            h.is_finite() && h > 0.2 && h <= 50.0,
+            "--element-size {h}: expected an element size in (0.2, 50] mm"
         );
     }
+    surrogate::fe::simulate::validate_pressures(&pressures)?;
     Ok(Case {
         design,
         material,
         pressures_bar: pressures,
         gravity: !a.no_gravity,
-        mesh: MeshOptions {
-            level,
-            element_size: a.element_size,
-        },
+        mesh: MeshOptions { level, element_size: a.element_size },
         solver: SolverSettings {
             trace: std::env::var_os("SURROGATE_TRACE").is_some(),
             ..SolverSettings::default()
@@ -52,21 +53,118 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
     })
 }
 
-/// Runs the subcommand.
-pub fn run(a: SimulateArgs) -> Result<()> {
-    let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
-    let pressures = parse_pressures(&a.pressures)?;
-    let case = build_case(&a, level, pressures)?;
+fn run_case(case: &Case, vtk_dir: Option<&PathBuf>, label: &str) -> Result<Response> {
     let bar = ProgressBar::new(case.pressures_bar.len() as u64 + 1);
     bar.set_style(ProgressStyle::with_template(
-        "{spinner} simulate [{bar:30}] {pos}/{len} steps {elapsed_precise}",
+        "{spinner} {msg} [{bar:30}] {pos}/{len} load steps, {elapsed_precise}",
     )?);
-    let response = simulate_with_progress(&case, |i, _| bar.set_position(i as u64))?;
+    bar.set_message(label.to_string());
+    let mut written = Vec::new();
+    let mut vtk_error = None;
+    let response = simulate_with(
+        case,
+        |i, _| bar.set_position(i as u64),
+        |model, result, u| {
+            if let Some(dir) = vtk_dir {
+                match vtk::write_step(dir, written.len(), model, u) {
+                    Ok(p) => written.push((result.pressure_bar, p)),
+                    Err(e) => vtk_error = Some(e),
+                }
+            }
+        },
+    )?;
     bar.finish_and_clear();
-    let json = serde_json::to_string_pretty(&response)?;
-    match &a.out {
-        Some(p) => std::fs::write(p, json).with_context(|| format!("writing {}", p.display()))?,
+    if let Some(e) = vtk_error {
+        return Err(e).context("writing VTK output");
+    }
+    if let Some(dir) = vtk_dir {
+        vtk::write_collection(dir, &written).with_context(|| format!("writing {}", dir.display()))?;
+        eprintln!("wrote {} steps to {}/steps.pvd", written.len(), dir.display());
+    }
+    Ok(response)
+}
+
+#[derive(Serialize)]
+struct BenchRow {
+    mesh: &'static str,
+    nodes: usize,
+    elements: usize,
+    dofs: usize,
+    wall_time_s: f64,
+    factor_time_s: f64,
+    assembly_time_s: f64,
+    factor_share: f64,
+    newton_iterations: usize,
+    substeps: usize,
+    newton_per_substep: f64,
+    tip_uz_mm_3bar: f64,
+    tip_uy_mm_3bar: f64,
+}
+
+fn write_output(out: Option<&PathBuf>, json: &str) -> Result<()> {
+    match out {
+        Some(p) => {
+            let tmp = p.with_extension("json.tmp");
+            std::fs::write(&tmp, json).with_context(|| format!("writing {}", tmp.display()))?;
+            std::fs::rename(&tmp, p).with_context(|| format!("writing {}", p.display()))?;
+        }
         None => writeln!(std::io::stdout(), "{json}")?,
     }
     Ok(())
+}
+
+/// Runs the subcommand.
+pub fn run(a: SimulateArgs) -> Result<()> {
+    if a.bench {
+        return bench(&a);
+    }
+    let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
+    let pressures = parse_pressures(&a.pressures)?;
+    let case = build_case(&a, level, pressures)?;
+    let response = run_case(&case, a.vtk.as_ref(), "simulate")?;
+    write_output(a.out.as_ref(), &serde_json::to_string_pretty(&response)?)
+}
+
+/// `--bench`: the full ramp 0 → 3 bar on each mesh level (or the one given with --mesh if it
+/// is not the default), one JSON row per level.
+fn bench(a: &SimulateArgs) -> Result<()> {
+    let levels: Vec<MeshLevel> = if a.mesh == "all" {
+        vec![MeshLevel::Coarse, MeshLevel::Standard, MeshLevel::Fine]
+    } else {
+        a.mesh.split(',').map(|m| m.parse().map_err(anyhow::Error::msg)).collect::<Result<_>>()?
+    };
+    let mut rows = Vec::new();
+    for level in levels {
+        let case = build_case(a, level, vec![0.0, 0.5, 1.0, 1.5, 2.0, 2.5, 3.0])?;
+        let r = run_case(&case, None, level.name())?;
+        let iters: usize = r.steps.iter().map(|s| s.newton_iterations).sum();
+        let substeps: usize = r.steps.iter().map(|s| s.substeps).sum();
+        let last = r.steps.last().context("no step")?;
+        let row = BenchRow {
+            mesh: level.name(),
+            nodes: r.nodes,
+            elements: r.elements,
+            dofs: r.dofs,
+            wall_time_s: r.wall_time_s,
+            factor_time_s: r.factor_time_s,
+            assembly_time_s: r.assembly_time_s,
+            factor_share: r.factor_time_s / r.wall_time_s,
+            newton_iterations: iters,
+            substeps,
+            newton_per_substep: iters as f64 / substeps.max(1) as f64,
+            tip_uz_mm_3bar: last.tip_uz_mm,
+            tip_uy_mm_3bar: last.tip_uy_mm,
+        };
+        eprintln!(
+            "{:>8}: {} dofs, {:.1} s ({:.0} % factorisation), {} Newton iterations in {} substeps",
+            row.mesh,
+            row.dofs,
+            row.wall_time_s,
+            100.0 * row.factor_share,
+            row.newton_iterations,
+            row.substeps
+        );
+        rows.push(row);
+    }
+    write_output(a.out.as_ref(), &serde_json::to_string_pretty(&rows)?)
 }
