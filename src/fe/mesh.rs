@@ -335,7 +335,7 @@ impl MeshLevel {
         match self {
             MeshLevel::Coarse => (6.0, 1),
             MeshLevel::Standard => (3.0, 1),
-            MeshLevel::Fine => (1.5, 2),
+            MeshLevel::Fine => (2.0, 2),
         }
     }
     /// Name as used on the command line.
