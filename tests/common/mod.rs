@@ -7,6 +7,9 @@
 //! the tolerance.
 #![allow(dead_code)] // each test binary uses only some of the cases
 
+pub mod cantilever;
+pub mod cook;
+pub mod cylinder;
 pub mod homogeneous;
 pub mod patch;
 
@@ -97,7 +100,7 @@ impl Check {
             (Some(_), false) => "FAIL",
         };
         format!(
-            "{:<20} {:<12} {:<42} {:>14.7e} {:>14.7e} {:>10.2e} {:>6} {}",
+            "{:<30} {:<12} {:<42} {:>14.7e} {:>14.7e} {:>10.2e} {:>6} {}",
             self.case,
             self.refinement,
             self.quantity,
