@@ -21,10 +21,9 @@
 //! 2 % tolerance on the tip deflection and shortening. `k = 3` gives a tip rotation of 56.5°
 //! (elastica: δ/L = 0.3017, 0.4935, 0.6033 at k = 1, 2, 3, the classical Bisshopp–Drucker values).
 
-use super::{fix, node_at, ramp, solve, Check};
+use super::{fix, node_at, plane_strain_layer, ramp, solve, uniform, Check};
 use surrogate::fe::assembly::{FeModel, LoadLevel};
 use surrogate::fe::material::Material;
-use surrogate::fe::mesh::{GridMesh, TensorGrid};
 use surrogate::fe::solver::SolverSettings;
 
 /// Case name.
@@ -83,22 +82,12 @@ pub fn elastica(k: f64) -> (f64, f64, f64) {
 
 /// FE tip `(deflection, shortening)` (centre of the tip face) at every output level.
 pub fn tip_displacements(nx: usize, ny: usize) -> Vec<(f64, f64)> {
-    let xs: Vec<f64> = (0..=nx).map(|i| LENGTH * i as f64 / nx as f64).collect();
-    let ys: Vec<f64> = (0..=ny).map(|j| THICKNESS * j as f64 / ny as f64).collect();
-    let gm = GridMesh::new(
-        TensorGrid {
-            lines: [xs, ys, vec![0.0, 1.0]],
-        },
-        |_| true,
-        |s| s,
-    );
+    let (gm, mut cons) = plane_strain_layer(uniform(0.0, LENGTH, nx), uniform(0.0, THICKNESS, ny));
     let e = 2.0 * MU * (1.0 + NU);
     let kappa = e / (3.0 * (1.0 - 2.0 * NU));
     let material = Material::from_spec(&format!("neo_hookean:{MU}"), kappa / MU).expect("mu > 0");
     let ei = e / (1.0 - NU * NU) * THICKNESS.powi(3) / 12.0;
     let force = LOAD * ei / (LENGTH * LENGTH);
-    let all: Vec<usize> = (0..gm.mesh.n_nodes()).collect();
-    let mut cons = fix(&all, &[2], 0.0);
     cons.extend(fix(&gm.nodes_on_plane(0, 0.0), &[0, 1], 0.0));
     let mut model =
         FeModel::new(gm.mesh.clone(), material, &cons, &[], &[]).expect("valid beam mesh");

@@ -27,10 +27,9 @@
 //! ≲ 5 μ0/κ (observed: 3.4 μ0/κ at κ = 10³, 10⁴ and 10⁵ μ0, confirming the scaling), so the
 //! bound is `10 μ0/κ = 10⁻⁴`.
 
-use super::{fix, node_at, ramp, residual, solve, Check};
+use super::{block, fix, node_at, ramp, residual, solve, Check};
 use surrogate::fe::assembly::{FeModel, LoadLevel};
 use surrogate::fe::material::Material;
-use surrogate::fe::mesh::{GridMesh, TensorGrid};
 use surrogate::fe::solver::SolverSettings;
 
 /// Case name.
@@ -105,13 +104,7 @@ pub fn run(mode: Mode, stretch: f64) -> Vec<Check> {
     let material = Material::from_spec(&spec, BULK_RATIO).expect("Ogden 002 is admissible");
     let kappa = material.kappa;
     let unit = vec![0.0, 1.0];
-    let gm = GridMesh::new(
-        TensorGrid {
-            lines: [unit.clone(), unit.clone(), unit],
-        },
-        |_| true,
-        |s| s,
-    );
+    let gm = block([unit.clone(), unit.clone(), unit]);
     // symmetry planes, then the prescribed faces
     let mut cons = Vec::new();
     for axis in 0..3 {

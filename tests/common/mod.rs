@@ -15,7 +15,7 @@ pub mod patch;
 
 use serde::Serialize;
 use surrogate::fe::assembly::{Constraint, FeModel, LoadLevel};
-use surrogate::fe::mesh::GridMesh;
+use surrogate::fe::mesh::{GridMesh, TensorGrid};
 use surrogate::fe::solver::{solve_path, SolverSettings};
 
 /// One verified quantity.
@@ -144,6 +144,25 @@ pub fn fix(nodes: &[usize], comps: &[usize], value: f64) -> Vec<Constraint> {
                 .map(move |&comp| Constraint { node, comp, value })
         })
         .collect()
+}
+
+/// `n + 1` evenly spaced grid lines from `a` to `b`.
+pub fn uniform(a: f64, b: f64, n: usize) -> Vec<f64> {
+    (0..=n).map(|i| a + (b - a) * i as f64 / n as f64).collect()
+}
+
+/// A solid block meshed on the grid `lines` (parameter space; map the nodes afterwards).
+pub fn block(lines: [Vec<f64>; 3]) -> GridMesh<bool> {
+    GridMesh::new(TensorGrid { lines }, |_| true, |s| s)
+}
+
+/// Plane strain in the x–y plane: one element layer `z ∈ [0, 1]` over the grid `(xs, ys)`,
+/// with the constraints `u_z = 0` on every node.
+pub fn plane_strain_layer(xs: Vec<f64>, ys: Vec<f64>) -> (GridMesh<bool>, Vec<Constraint>) {
+    let gm = block([xs, ys, vec![0.0, 1.0]]);
+    let all: Vec<usize> = (0..gm.mesh.n_nodes()).collect();
+    let cons = fix(&all, &[2], 0.0);
+    (gm, cons)
 }
 
 /// Node ids on the intersection of parameter planes `(axis, value)`.

@@ -9,11 +9,11 @@
 //! `max |u − s A X| / max |s A X|`) is the Newton precision, and the stress must be uniform to
 //! the same order (`10⁻⁸`, stress being a derivative).
 
-use super::{fix, ramp, solve, Check};
+use super::{block, fix, ramp, solve, Check};
 use nalgebra::Matrix3;
 use surrogate::fe::assembly::{FeModel, LoadLevel};
 use surrogate::fe::material::Material;
-use surrogate::fe::mesh::{GridMesh, TensorGrid};
+use surrogate::fe::mesh::GridMesh;
 use surrogate::fe::solver::SolverSettings;
 
 /// Case name.
@@ -38,13 +38,7 @@ pub fn distorted_mesh(n: usize) -> GridMesh<bool> {
             t + 0.15 * (std::f64::consts::PI * t).sin() * (t - 0.5)
         })
         .collect();
-    let mut gm = GridMesh::new(
-        TensorGrid {
-            lines: [line.clone(), line.clone(), line],
-        },
-        |_| true,
-        |s| s,
-    );
+    let mut gm = block([line.clone(), line.clone(), line]);
     let pi = std::f64::consts::PI;
     gm.map_nodes(|[x, y, z]| {
         let b = 0.12 * (pi * x).sin() * (pi * y).sin() * (pi * z).sin();
