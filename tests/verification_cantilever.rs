@@ -1,0 +1,24 @@
+//! Issue item 6: large rotation of a slender cantilever under a dead tip load against the
+//! elastica (see `common::cantilever`).
+
+mod common;
+
+use common::cantilever::{elastica, run, ASSERTED};
+
+#[test]
+fn elastica_shooting_reproduces_small_load_beam_theory() {
+    // k → 0: δ/L = k/3, shortening/L = k²/15 (from y = k(s²/2 − s³/6)), rotation k/2
+    let k = 1e-3;
+    let (rotation, deflection, shortening) = elastica(k);
+    assert!((rotation / (k / 2.0) - 1.0).abs() < 1e-3, "{rotation}");
+    assert!((deflection / (k / 3.0) - 1.0).abs() < 1e-3, "{deflection}");
+    assert!(
+        (shortening / (k * k / 15.0) - 1.0).abs() < 1e-3,
+        "{shortening}"
+    );
+}
+
+#[test]
+fn cantilever_tip_follows_the_elastica_at_large_rotation() {
+    common::assert_checks(&run(ASSERTED.0, ASSERTED.1));
+}
