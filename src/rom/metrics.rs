@@ -1,0 +1,141 @@
+//! Error statistics of held-out predictions: RMSE, max |error|, R², and the split of the
+//! total error `y − ŷ` into the projection part `y − Πy` and the regression part `Πy − ŷ`.
+
+use serde::{Deserialize, Serialize};
+
+/// Summary of errors of one output over a held-out set.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+pub struct ErrorStats {
+    /// Number of compared values.
+    pub count: usize,
+    /// Root mean square error.
+    pub rmse: f64,
+    /// Largest absolute error.
+    pub max_abs: f64,
+    /// Coefficient of determination `1 − SSE/SST`.
+    pub r2: f64,
+    /// Range `max y − min y` of the true values.
+    pub range: f64,
+}
+
+/// Streaming accumulator for [`ErrorStats`].
+#[derive(Debug, Clone, Default)]
+pub struct ErrorAccumulator {
+    n: usize,
+    sse: f64,
+    max_abs: f64,
+    sum_y: f64,
+    sum_y2: f64,
+    min_y: f64,
+    max_y: f64,
+}
+
+impl ErrorAccumulator {
+    /// Adds one (truth, prediction) pair.
+    pub fn add(&mut self, truth: f64, pred: f64) {
+        if self.n == 0 {
+            self.min_y = truth;
+            self.max_y = truth;
+        }
+        let e = truth - pred;
+        self.n += 1;
+        self.sse += e * e;
+        self.max_abs = self.max_abs.max(e.abs());
+        self.sum_y += truth;
+        self.sum_y2 += truth * truth;
+        self.min_y = self.min_y.min(truth);
+        self.max_y = self.max_y.max(truth);
+    }
+
+    /// Merges another accumulator (for per-fold partial sums).
+    pub fn merge(&mut self, o: &ErrorAccumulator) {
+        if o.n == 0 {
+            return;
+        }
+        if self.n == 0 {
+            *self = o.clone();
+            return;
+        }
+        self.n += o.n;
+        self.sse += o.sse;
+        self.max_abs = self.max_abs.max(o.max_abs);
+        self.sum_y += o.sum_y;
+        self.sum_y2 += o.sum_y2;
+        self.min_y = self.min_y.min(o.min_y);
+        self.max_y = self.max_y.max(o.max_y);
+    }
+
+    /// Root mean square error so far.
+    pub fn rmse(&self) -> f64 {
+        if self.n == 0 {
+            0.0
+        } else {
+            (self.sse / self.n as f64).sqrt()
+        }
+    }
+
+    /// The statistics.
+    pub fn finish(&self) -> ErrorStats {
+        let n = self.n.max(1) as f64;
+        let sst = self.sum_y2 - self.sum_y * self.sum_y / n;
+        ErrorStats {
+            count: self.n,
+            rmse: self.rmse(),
+            max_abs: self.max_abs,
+            r2: if sst > 0.0 { 1.0 - self.sse / sst } else { f64::NAN },
+            range: self.max_y - self.min_y,
+        }
+    }
+}
+
+/// Held-out validation of one output as stored in the model file.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct OutputValidation {
+    /// Output name (`tip_uz_mm`, …, `markers_mm`).
+    pub name: String,
+    /// How it is predicted: `field/gp`, `direct/poly`, ….
+    pub source: String,
+    /// Errors of the prediction (projection + regression).
+    pub total: ErrorStats,
+    /// RMSE of the projection onto the POD basis alone.
+    pub projection_rmse: f64,
+    /// RMSE of the regression alone (`Πy − ŷ`).
+    pub regression_rmse: f64,
+}
+
+/// Cross-validation table stored in a model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Validation {
+    /// Scheme, e.g. `5-fold by case`.
+    pub scheme: String,
+    /// Number of held-out cases in total.
+    pub n_cases: usize,
+    /// The chosen predictor of each output.
+    pub outputs: Vec<OutputValidation>,
+    /// Every candidate that was compared (for the record).
+    pub candidates: Vec<OutputValidation>,
+}
+
+impl Validation {
+    /// Human-readable table.
+    pub fn table(&self) -> String {
+        let mut s = format!(
+            "validation: {} ({} cases), errors at the pressure nodes\n{:<12} {:<12} {:>9} {:>9} {:>8} {:>9} {:>9} {:>9}\n",
+            self.scheme, self.n_cases, "output", "source", "rmse", "max", "R2", "proj", "regr", "range"
+        );
+        for o in &self.outputs {
+            s.push_str(&format!(
+                "{:<12} {:<12} {:>9.4} {:>9.4} {:>8.5} {:>9.4} {:>9.4} {:>9.3}\n",
+                o.name,
+                o.source,
+                o.total.rmse,
+                o.total.max_abs,
+                o.total.r2,
+                o.projection_rmse,
+                o.regression_rmse,
+                o.total.range
+            ));
+        }
+        s
+    }
+}
