@@ -82,7 +82,8 @@ impl ErrorAccumulator {
             count: self.n,
             rmse: self.rmse(),
             max_abs: self.max_abs,
-            r2: if sst > 0.0 { 1.0 - self.sse / sst } else { f64::NAN },
+            // a constant truth has no variance to explain: report 0 (JSON has no NaN)
+            r2: if sst > 0.0 { 1.0 - self.sse / sst } else { 0.0 },
             range: self.max_y - self.min_y,
         }
     }

@@ -68,8 +68,6 @@ pub struct Gp {
     pub sigma2: Vec<f64>,
     /// Lower Cholesky factor of `R`, `n × n` row-major.
     pub chol: Vec<f64>,
-    /// Profiled log-likelihood at the optimum.
-    pub log_likelihood: f64,
 }
 
 struct Eval {
@@ -274,7 +272,6 @@ impl Regressor for Gp {
             alpha,
             sigma2,
             chol: l,
-            log_likelihood: f64::NAN,
         })
     }
 

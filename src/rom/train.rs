@@ -1,0 +1,331 @@
+//! Training: fit the pipeline, cross-validate by case, choose the predictor of each output.
+//!
+//! Stages: features → POD blocks → coefficients → GP and polynomial fits ([`fit_pipeline`]);
+//! k-fold cross-validation by case runs the same pipeline per fold (folds in parallel; each
+//! fold is deterministic, so results do not depend on the thread count); the held-out errors
+//! choose the regressor of the field block (by marker RMSE) and the source of each scalar
+//! (field or direct block, GP or polynomial, by its RMSE); the final model is fitted on all cases.
+
+use rand::seq::SliceRandom;
+use rand::SeedableRng;
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rayon::prelude::*;
+
+use super::data::{CaseRamp, CaseSet};
+use super::metrics::{ErrorAccumulator, OutputValidation, Validation};
+use super::pod::PodBasis;
+use super::regression::gp::{Gp, GpParams};
+use super::regression::poly::{Poly, PolyParams};
+use super::regression::{raw_features, Data, FeatureScaler, Regressor, RegressorKind};
+use super::surrogate::{Block, InputSpec, Surrogate, TrainingInfo};
+use super::{RomError, N_MARKER_COMPONENTS, QUANTITY_NAMES, Q_TIP_UZ};
+use crate::predict::N_FEATURES;
+
+/// Training settings.
+#[derive(Debug, Clone)]
+pub struct TrainConfig {
+    /// Number of cross-validation folds (by case); clamped to the number of cases.
+    pub folds: usize,
+    /// Seed of the fold assignment.
+    pub seed: u64,
+    /// POD energy tolerance (discarded fraction).
+    pub pod_tol: f64,
+    /// Largest number of modes of the field block.
+    pub max_field_modes: usize,
+    /// Largest number of modes of each direct block.
+    pub max_direct_modes: usize,
+    /// Gaussian-process settings.
+    pub gp: GpParams,
+    /// Polynomial settings.
+    pub poly: PolyParams,
+    /// Restrict the choice to one regressor family (tests, export checks).
+    pub only: Option<RegressorKind>,
+}
+
+impl Default for TrainConfig {
+    fn default() -> Self {
+        TrainConfig {
+            folds: 5,
+            seed: 2024,
+            pod_tol: 1e-7,
+            max_field_modes: 24,
+            max_direct_modes: 8,
+            gp: GpParams::default(),
+            poly: PolyParams::default(),
+            only: None,
+        }
+    }
+}
+
+/// What training produced, besides the model.
+#[derive(Debug, Clone)]
+pub struct TrainReport {
+    /// The trained surrogate.
+    pub surrogate: Surrogate,
+    /// Cases dropped (id, reason).
+    pub dropped: Vec<(String, String)>,
+    /// Wall time, seconds.
+    pub seconds: f64,
+}
+
+/// A fitted pipeline (one fold or the final model).
+pub struct Fitted {
+    features: FeatureScaler,
+    blocks: Vec<(String, PodBasis, usize)>,
+    gp: Gp,
+    poly: Poly,
+}
+
+const SCALARS: [(&str, usize); 4] = [("tip_uz_mm", 18), ("tip_uy_mm", 19), ("angle_deg", 20), ("force_n", 21)];
+
+/// Fits features, POD blocks and both regressors to `cases`.
+///
+/// # Errors
+/// Too few cases or a numerical failure.
+pub fn fit_pipeline(cases: &[CaseRamp], cfg: &TrainConfig) -> Result<Fitted, RomError> {
+    let z: Vec<[f64; N_FEATURES]> = cases.iter().map(|c| raw_features(&c.inputs)).collect();
+    let features = FeatureScaler::fit(&z);
+    let d = features.dim();
+    if d == 0 {
+        return Err(RomError::InsufficientData("every input is constant over the cases".into()));
+    }
+    let n = cases.len();
+    let mut x = vec![0.0; n * d];
+    for (i, zi) in z.iter().enumerate() {
+        features.scale_into(zi, &mut x[i * d..(i + 1) * d]);
+    }
+    let max_modes = |m: usize| m.min(n - 1).max(1);
+    let mut blocks = Vec::new();
+    let field: Vec<usize> = (0..22).collect();
+    let mut offset = 0;
+    let pod = PodBasis::fit(cases, &field, cfg.pod_tol, max_modes(cfg.max_field_modes))?;
+    offset += pod.n_modes;
+    blocks.push(("field".to_string(), pod, 0));
+    for (name, q) in SCALARS {
+        let pod = PodBasis::fit(cases, &[q], cfg.pod_tol, max_modes(cfg.max_direct_modes))?;
+        let r = pod.n_modes;
+        blocks.push((name.to_string(), pod, offset));
+        offset += r;
+    }
+    let m = offset;
+    let mut y = vec![0.0; n * m];
+    let mut weights = vec![0.0; m];
+    for (_, pod, off) in &blocks {
+        let energy: f64 = pod.singular_values.iter().map(|s| s * s).sum::<f64>() / n as f64;
+        for k in 0..pod.n_modes {
+            weights[off + k] = 1.0 / energy.max(1e-300).sqrt();
+        }
+        for (i, c) in cases.iter().enumerate() {
+            let snap = PodBasis::snapshot_of(&pod.quantities, c);
+            pod.project_into(&snap, &mut y[i * m + off..i * m + off + pod.n_modes]);
+        }
+    }
+    let data = Data { x: &x, y: &y, n, d, m, weights: &weights };
+    let gp = Gp::fit(&data, &cfg.gp)?;
+    let poly = Poly::fit(&data, &cfg.poly)?;
+    Ok(Fitted { features, blocks, gp, poly })
+}
+
+/// Held-out error accumulators of one candidate (output × block × regressor).
+#[derive(Debug, Clone, Default)]
+struct CandidateErrors {
+    total: ErrorAccumulator,
+    projection: ErrorAccumulator,
+    regression: ErrorAccumulator,
+}
+
+/// Candidates: markers from the field block; each scalar from the field or its direct block.
+/// Index: `output (0 markers, 1..=4 scalars) × block kind (0 field, 1 direct) × regressor`.
+type Table = Vec<CandidateErrors>;
+
+fn cand_index(output: usize, direct: usize, kind: usize) -> usize {
+    (output * 2 + direct) * 2 + kind
+}
+
+fn evaluate_fold(fit: &Fitted, test: &[CaseRamp]) -> Table {
+    let mut table = vec![CandidateErrors::default(); 5 * 2 * 2];
+    let (d, m) = (fit.features.dim(), fit.gp.m);
+    let mut x = vec![0.0; d];
+    let mut scratch = vec![0.0; fit.gp.scratch_len().max(fit.poly.scratch_len())];
+    let mut coef = [vec![0.0; m], vec![0.0; m]];
+    for case in test {
+        fit.features.scale_into(&raw_features(&case.inputs), &mut x);
+        fit.gp.predict_into(&x, &mut coef[0], &mut scratch);
+        fit.poly.predict_into(&x, &mut coef[1], &mut scratch);
+        for (bi, (_, pod, off)) in fit.blocks.iter().enumerate() {
+            let r = pod.n_modes;
+            let truth = PodBasis::snapshot_of(&pod.quantities, case);
+            let mut proj = vec![0.0; r];
+            pod.project_into(&truth, &mut proj);
+            let nq = pod.quantities.len();
+            for e in 0..pod.dim() {
+                let q = pod.quantities[e % nq];
+                let output = if q < N_MARKER_COMPONENTS { 0 } else { q - Q_TIP_UZ + 1 };
+                let y_proj = pod.entry(e, &proj);
+                for (kind, c) in coef.iter().enumerate() {
+                    let y_hat = pod.entry(e, &c[*off..off + r]);
+                    let t = &mut table[cand_index(output, usize::from(bi > 0), kind)];
+                    t.total.add(truth[e], y_hat);
+                    t.projection.add(truth[e], y_proj);
+                    t.regression.add(y_proj, y_hat);
+                }
+            }
+        }
+    }
+    table
+}
+
+fn fold_assignment(n: usize, k: usize, seed: u64) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..n).collect();
+    order.shuffle(&mut Xoshiro256PlusPlus::seed_from_u64(seed));
+    let mut fold = vec![0; n];
+    for (pos, &i) in order.iter().enumerate() {
+        fold[i] = pos % k;
+    }
+    fold
+}
+
+fn validation_entry(name: &str, output: usize, direct: usize, kind: usize, t: &Table) -> OutputValidation {
+    let c = &t[cand_index(output, direct, kind)];
+    let block = if direct == 1 { "direct" } else { "field" };
+    let reg = if kind == 0 { "gp" } else { "poly" };
+    OutputValidation {
+        name: name.to_string(),
+        source: format!("{block}/{reg}"),
+        total: c.total.finish(),
+        projection_rmse: c.projection.rmse(),
+        regression_rmse: c.regression.rmse(),
+    }
+}
+
+/// Chooses the regressors; returns (field regressor, per scalar (direct?, kind)), validation.
+fn choose(table: &Table, only: Option<RegressorKind>, scheme: String, n_cases: usize) -> (usize, [(usize, usize); 4], Validation) {
+    let kinds: Vec<usize> = match only {
+        Some(RegressorKind::Gp) => vec![0],
+        Some(RegressorKind::Poly) => vec![1],
+        None => vec![0, 1],
+    };
+    let rmse = |o: usize, dir: usize, k: usize| table[cand_index(o, dir, k)].total.rmse();
+    let field_kind = *kinds.iter().min_by(|&&a, &&b| rmse(0, 0, a).total_cmp(&rmse(0, 0, b))).unwrap_or(&0);
+    let mut outputs = vec![validation_entry("markers_mm", 0, 0, field_kind, table)];
+    let mut candidates = Vec::new();
+    let mut scalar_choice = [(0, field_kind); 4];
+    for (si, (name, _)) in SCALARS.iter().enumerate() {
+        let o = si + 1;
+        let mut options = vec![(0, field_kind)];
+        options.extend(kinds.iter().map(|&k| (1, k)));
+        let best = *options.iter().min_by(|a, b| rmse(o, a.0, a.1).total_cmp(&rmse(o, b.0, b.1))).unwrap_or(&(0, field_kind));
+        scalar_choice[si] = best;
+        outputs.push(validation_entry(name, o, best.0, best.1, table));
+    }
+    for o in 0..5 {
+        let name = if o == 0 { "markers_mm" } else { SCALARS[o - 1].0 };
+        for dir in 0..(if o == 0 { 1 } else { 2 }) {
+            for &k in &kinds {
+                candidates.push(validation_entry(name, o, dir, k, table));
+            }
+        }
+    }
+    (field_kind, scalar_choice, Validation { scheme, n_cases, outputs, candidates })
+}
+
+fn input_specs(cases: &[CaseRamp], pressures: &[f64]) -> Vec<InputSpec> {
+    let get: [(&str, &str, fn(&CaseRamp) -> f64); 6] = [
+        ("n_bellows", "1", |c| c.inputs.n_bellows as f64),
+        ("wall_thickness_mm", "mm", |c| c.inputs.wall_thickness_mm),
+        ("mu1_mpa", "MPa", |c| c.inputs.mu1_mpa),
+        ("alpha1", "1", |c| c.inputs.alpha1),
+        ("mu2_mpa", "MPa", |c| c.inputs.mu2_mpa),
+        ("alpha2", "1", |c| c.inputs.alpha2),
+    ];
+    let spec = |(name, unit, f): (&str, &str, fn(&CaseRamp) -> f64)| InputSpec {
+        name: name.into(),
+        unit: unit.into(),
+        min: cases.iter().map(f).fold(f64::INFINITY, f64::min),
+        max: cases.iter().map(f).fold(f64::NEG_INFINITY, f64::max),
+    };
+    let mut v: Vec<InputSpec> = get.into_iter().map(spec).collect();
+    v.insert(2, InputSpec { name: "pressure_bar".into(), unit: "bar".into(), min: pressures[0], max: pressures[pressures.len() - 1] });
+    v
+}
+
+/// Trains a surrogate on a case set: cross-validation, choice, final fit.
+/// `progress(done, total)` is called after each fold and after the final fit.
+///
+/// # Errors
+/// Fewer than 4 cases, or a numerical failure.
+pub fn train(set: &CaseSet, source: &str, skipped_unconverged: usize, cfg: &TrainConfig, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<TrainReport, RomError> {
+    let start = std::time::Instant::now();
+    let n = set.cases.len();
+    if n < 4 {
+        return Err(RomError::InsufficientData(format!("{n} complete cases; at least 4 are needed")));
+    }
+    let k = cfg.folds.clamp(2, n);
+    let fold = fold_assignment(n, k, cfg.seed);
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let tables: Vec<Result<Table, RomError>> = (0..k)
+        .into_par_iter()
+        .map(|f| {
+            let (mut tr, mut te) = (Vec::new(), Vec::new());
+            for (i, c) in set.cases.iter().enumerate() {
+                if fold[i] == f { te.push(c.clone()) } else { tr.push(c.clone()) }
+            }
+            let fitted = fit_pipeline(&tr, cfg)?;
+            let t = evaluate_fold(&fitted, &te);
+            progress(done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1, k + 1);
+            Ok(t)
+        })
+        .collect();
+    let mut table = vec![CandidateErrors::default(); 20];
+    for t in tables {
+        for (acc, part) in table.iter_mut().zip(t?) {
+            acc.total.merge(&part.total);
+            acc.projection.merge(&part.projection);
+            acc.regression.merge(&part.regression);
+        }
+    }
+    let (field_kind, scalar_choice, validation) = choose(&table, cfg.only, format!("{k}-fold by case"), n);
+    let fitted = fit_pipeline(&set.cases, cfg)?;
+    progress(k + 1, k + 1);
+    let kind_of = |i: usize| if i == 0 { RegressorKind::Gp } else { RegressorKind::Poly };
+    let mut blocks: Vec<Block> = fitted
+        .blocks
+        .into_iter()
+        .map(|(name, pod, coef_offset)| Block { name, pod, coef_offset, regressor: kind_of(field_kind) })
+        .collect();
+    let mut output_block: Vec<usize> = vec![0; 22];
+    let output_slot: Vec<usize> = (0..22).collect();
+    let mut output_slot = output_slot;
+    for (si, &(direct, kind)) in scalar_choice.iter().enumerate() {
+        if direct == 1 {
+            blocks[si + 1].regressor = kind_of(kind);
+            output_block[Q_TIP_UZ + si] = si + 1;
+            output_slot[Q_TIP_UZ + si] = 0;
+        }
+    }
+    let mut n_allowed: Vec<u32> = set.cases.iter().map(|c| c.inputs.n_bellows).collect();
+    n_allowed.sort_unstable();
+    n_allowed.dedup();
+    let surrogate = Surrogate {
+        inputs: input_specs(&set.cases, &set.pressures),
+        outputs: QUANTITY_NAMES.iter().map(|s| s.to_string()).collect(),
+        n_allowed,
+        pressures: set.pressures.clone(),
+        features: fitted.features,
+        blocks,
+        gp: fitted.gp,
+        poly: fitted.poly,
+        output_block,
+        output_slot,
+        validation,
+        training: TrainingInfo {
+            source: source.to_string(),
+            n_cases: n,
+            dropped_cases: set.dropped.len(),
+            skipped_unconverged,
+            code_version: env!("CARGO_PKG_VERSION").to_string(),
+            n_treatment: "numeric regression input; predictions only at trained N".into(),
+        },
+    };
+    Ok(TrainReport { surrogate, dropped: set.dropped.clone(), seconds: start.elapsed().as_secs_f64() })
+}
