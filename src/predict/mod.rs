@@ -132,7 +132,11 @@ pub fn ln(x: f64) -> f64 {
 /// `√x` with `core` only (Newton iterations from the exponent-halved guess).
 pub fn sqrt(x: f64) -> f64 {
     if x <= 0.0 || x.is_nan() || x == f64::INFINITY {
-        return if x == 0.0 || x == f64::INFINITY { x } else { f64::NAN };
+        return if x == 0.0 || x == f64::INFINITY {
+            x
+        } else {
+            f64::NAN
+        };
     }
     let bits = x.to_bits();
     let mut y = f64::from_bits((bits >> 1) + (0x3ff0_0000_0000_0000 >> 1));

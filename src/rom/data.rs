@@ -19,11 +19,37 @@ use super::{RomError, N_MARKER_COMPONENTS, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ}
 
 /// The required columns, in order.
 pub const REQUIRED_COLUMNS: [&str; 31] = [
-    "case_id", "n_bellows", "wall_thickness_mm", "mu1_mpa", "alpha1", "mu2_mpa", "alpha2",
-    "pressure_bar", "converged", "tip_uz_mm", "tip_uy_mm", "angle_deg", "force_n", "m1_uz_mm",
-    "m1_uy_mm", "m2_uz_mm", "m2_uy_mm", "m3_uz_mm", "m3_uy_mm", "m4_uz_mm", "m4_uy_mm",
-    "m5_uz_mm", "m5_uy_mm", "m6_uz_mm", "m6_uy_mm", "m7_uz_mm", "m7_uy_mm", "m8_uz_mm",
-    "m8_uy_mm", "m9_uz_mm", "m9_uy_mm",
+    "case_id",
+    "n_bellows",
+    "wall_thickness_mm",
+    "mu1_mpa",
+    "alpha1",
+    "mu2_mpa",
+    "alpha2",
+    "pressure_bar",
+    "converged",
+    "tip_uz_mm",
+    "tip_uy_mm",
+    "angle_deg",
+    "force_n",
+    "m1_uz_mm",
+    "m1_uy_mm",
+    "m2_uz_mm",
+    "m2_uy_mm",
+    "m3_uz_mm",
+    "m3_uy_mm",
+    "m4_uz_mm",
+    "m4_uy_mm",
+    "m5_uz_mm",
+    "m5_uy_mm",
+    "m6_uz_mm",
+    "m6_uy_mm",
+    "m7_uz_mm",
+    "m7_uy_mm",
+    "m8_uz_mm",
+    "m8_uy_mm",
+    "m9_uz_mm",
+    "m9_uy_mm",
 ];
 
 /// Design and material of a case (everything but the pressure).
@@ -207,7 +233,9 @@ struct RowCells<'a> {
 
 impl RowCells<'_> {
     fn text(&self, col: usize) -> Result<&str, RomError> {
-        self.rec.get(col).ok_or_else(|| self.err(col, "", "a value (row too short)"))
+        self.rec
+            .get(col)
+            .ok_or_else(|| self.err(col, "", "a value (row too short)"))
     }
 
     fn err(&self, col: usize, value: &str, expected: &str) -> RomError {
@@ -344,7 +372,10 @@ fn group_by_case(set: &SnapshotSet) -> Result<Groups<'_>, RomError> {
                     ),
                 });
             }
-            if rows.iter().any(|r| same_pressure(r.pressure_bar, row.pressure_bar)) {
+            if rows
+                .iter()
+                .any(|r| same_pressure(r.pressure_bar, row.pressure_bar))
+            {
                 return Err(RomError::Cell {
                     source_name: set.source.clone(),
                     line: row.line,
@@ -366,7 +397,10 @@ fn common_grid(groups: &Groups<'_>) -> Vec<f64> {
     let mut counts: Vec<(f64, usize)> = Vec::new();
     for (_, rows) in groups {
         for r in rows {
-            match counts.iter_mut().find(|(p, _)| same_pressure(*p, r.pressure_bar)) {
+            match counts
+                .iter_mut()
+                .find(|(p, _)| same_pressure(*p, r.pressure_bar))
+            {
                 Some(c) => c.1 += 1,
                 None => counts.push((r.pressure_bar, 1)),
             }

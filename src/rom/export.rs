@@ -50,7 +50,11 @@ impl<F: Real> EmbeddedTables<F> {
     /// More regression outputs than [`MAX_COEFS`].
     pub fn from_surrogate(s: &Surrogate) -> Result<Self, RomError> {
         if s.gp.m > MAX_COEFS {
-            return Err(RomError::invalid("number of POD coefficients", s.gp.m, &format!("≤ {MAX_COEFS} for the embedded predictor")));
+            return Err(RomError::invalid(
+                "number of POD coefficients",
+                s.gp.m,
+                &format!("≤ {MAX_COEFS} for the embedded predictor"),
+            ));
         }
         let uses = |k| s.blocks.iter().any(|b| b.regressor == k);
         let use_gp = uses(super::regression::RegressorKind::Gp);
@@ -80,9 +84,21 @@ impl<F: Real> EmbeddedTables<F> {
             n_coefs: s.gp.m,
             gp_inv_len: conv(&s.gp.inv_len),
             gp_x: if use_gp { conv(&s.gp.x) } else { Vec::new() },
-            gp_alpha: if use_gp { conv(&s.gp.alpha) } else { Vec::new() },
-            poly_exponents: if use_poly { s.poly.exponents.clone() } else { Vec::new() },
-            poly_coef: if use_poly { conv(&s.poly.coef) } else { Vec::new() },
+            gp_alpha: if use_gp {
+                conv(&s.gp.alpha)
+            } else {
+                Vec::new()
+            },
+            poly_exponents: if use_poly {
+                s.poly.exponents.clone()
+            } else {
+                Vec::new()
+            },
+            poly_coef: if use_poly {
+                conv(&s.poly.coef)
+            } else {
+                Vec::new()
+            },
             blocks,
             output_block: s.output_block.iter().map(|&b| b as u8).collect(),
             output_slot: s.output_slot.iter().map(|&b| b as u8).collect(),
@@ -114,8 +130,15 @@ impl<F: Real> EmbeddedTables<F> {
             feature_inv_half: &self.feature_inv_half,
             pressures: &self.pressures,
             n_coefs: self.n_coefs,
-            gp: GpTables { inv_len: &self.gp_inv_len, x: &self.gp_x, alpha: &self.gp_alpha },
-            poly: PolyTables { exponents: &self.poly_exponents, coef: &self.poly_coef },
+            gp: GpTables {
+                inv_len: &self.gp_inv_len,
+                x: &self.gp_x,
+                alpha: &self.gp_alpha,
+            },
+            poly: PolyTables {
+                exponents: &self.poly_exponents,
+                coef: &self.poly_coef,
+            },
             blocks,
             output_block: &self.output_block,
             output_slot: &self.output_slot,
@@ -177,7 +200,11 @@ fn rust_body<F: Real + std::fmt::Debug>(t: &EmbeddedTables<F>, p: Precision, out
         array(out, &format!("B{i}_SCALE"), ty, &b.scale);
         array(out, &format!("B{i}_MODES"), ty, &b.modes);
     }
-    let _ = writeln!(out, "static BLOCKS: [BlockTables<'static, {ty}>; {}] = [", t.blocks.len());
+    let _ = writeln!(
+        out,
+        "static BLOCKS: [BlockTables<'static, {ty}>; {}] = [",
+        t.blocks.len()
+    );
     for (i, b) in t.blocks.iter().enumerate() {
         let _ = writeln!(
             out,

@@ -50,11 +50,31 @@ impl Surrogate {
     /// # Errors
     /// Serialisation failure (non-finite numbers).
     pub fn to_json(&self) -> Result<String, RomError> {
-        let err = |e: serde_json::Error| RomError::ModelFile { path: "<memory>".into(), message: e.to_string() };
+        let err = |e: serde_json::Error| RomError::ModelFile {
+            path: "<memory>".into(),
+            message: e.to_string(),
+        };
         let model = serde_json::to_string(self).map_err(err)?;
         let raw = RawValue::from_string(model).map_err(err)?;
-        let env = EnvelopeOut { format: FORMAT_NAME, format_version: FORMAT_VERSION, checksum: checksum(raw.get()), model: &raw };
+        let env = EnvelopeOut {
+            format: FORMAT_NAME,
+            format_version: FORMAT_VERSION,
+            checksum: checksum(raw.get()),
+            model: &raw,
+        };
         serde_json::to_string(&env).map_err(err)
+    }
+
+    /// The checksum (`crc32:…`) the model file of this model carries.
+    ///
+    /// # Errors
+    /// Serialisation failure.
+    pub fn checksum(&self) -> Result<String, RomError> {
+        let model = serde_json::to_string(self).map_err(|e| RomError::ModelFile {
+            path: "<memory>".into(),
+            message: e.to_string(),
+        })?;
+        Ok(checksum(&model))
     }
 
     /// Parses model file text (`path` is only used in messages).
@@ -62,10 +82,20 @@ impl Surrogate {
     /// # Errors
     /// See the module docs.
     pub fn from_json(text: &str, path: &str) -> Result<Self, RomError> {
-        let fail = |message: String| RomError::ModelFile { path: path.to_string(), message };
-        let env: EnvelopeIn<'_> = serde_json::from_str(text).map_err(|e| fail(format!("not a valid model file (corrupt or truncated JSON): {e}")))?;
+        let fail = |message: String| RomError::ModelFile {
+            path: path.to_string(),
+            message,
+        };
+        let env: EnvelopeIn<'_> = serde_json::from_str(text).map_err(|e| {
+            fail(format!(
+                "not a valid model file (corrupt or truncated JSON): {e}"
+            ))
+        })?;
         if env.format != FORMAT_NAME {
-            return Err(fail(format!("format is {:?}, expected {FORMAT_NAME:?}", env.format)));
+            return Err(fail(format!(
+                "format is {:?}, expected {FORMAT_NAME:?}",
+                env.format
+            )));
         }
         if env.format_version != FORMAT_VERSION {
             return Err(fail(format!("format version {} is not supported: this build reads version {FORMAT_VERSION} (retrain or convert the model)", env.format_version)));
@@ -74,8 +104,14 @@ impl Surrogate {
         if actual != env.checksum {
             return Err(fail(format!("checksum mismatch: file says {}, content gives {actual} (file modified or corrupt)", env.checksum)));
         }
-        let model: Surrogate = serde_json::from_str(env.model.get()).map_err(|e| fail(format!("model content does not match format {FORMAT_VERSION}: {e}")))?;
-        model.check_consistency().map_err(|m| fail(format!("inconsistent model: {m}")))?;
+        let model: Surrogate = serde_json::from_str(env.model.get()).map_err(|e| {
+            fail(format!(
+                "model content does not match format {FORMAT_VERSION}: {e}"
+            ))
+        })?;
+        model
+            .check_consistency()
+            .map_err(|m| fail(format!("inconsistent model: {m}")))?;
         Ok(model)
     }
 
@@ -84,7 +120,10 @@ impl Surrogate {
     /// # Errors
     /// I/O or serialisation failure.
     pub fn save(&self, path: &Path) -> Result<(), RomError> {
-        let io = |source| RomError::Io { path: path.display().to_string(), source };
+        let io = |source| RomError::Io {
+            path: path.display().to_string(),
+            source,
+        };
         if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
             std::fs::create_dir_all(dir).map_err(io)?;
         }
@@ -96,7 +135,10 @@ impl Surrogate {
     /// # Errors
     /// I/O, corrupt file, wrong format or version, checksum mismatch, inconsistent model.
     pub fn load(path: &Path) -> Result<Self, RomError> {
-        let text = std::fs::read_to_string(path).map_err(|source| RomError::Io { path: path.display().to_string(), source })?;
+        let text = std::fs::read_to_string(path).map_err(|source| RomError::Io {
+            path: path.display().to_string(),
+            source,
+        })?;
         Self::from_json(&text, &path.display().to_string())
     }
 }

@@ -74,7 +74,10 @@ impl PodBasis {
         let n_p = cases[0].values.len();
         let nq = quantities.len();
         let dim = n_p * nq;
-        let snaps: Vec<Vec<f64>> = cases.iter().map(|c| Self::snapshot_of(quantities, c)).collect();
+        let snaps: Vec<Vec<f64>> = cases
+            .iter()
+            .map(|c| Self::snapshot_of(quantities, c))
+            .collect();
         let mut mean = vec![0.0; dim];
         for s in &snaps {
             for (m, v) in mean.iter_mut().zip(s) {
@@ -163,7 +166,10 @@ impl PodBasis {
     /// Fraction of the snapshot energy discarded by the kept modes.
     pub fn discarded_energy(&self) -> f64 {
         let total: f64 = self.singular_values.iter().map(|s| s * s).sum();
-        let kept: f64 = self.singular_values[..self.n_modes].iter().map(|s| s * s).sum();
+        let kept: f64 = self.singular_values[..self.n_modes]
+            .iter()
+            .map(|s| s * s)
+            .sum();
         if total > 0.0 {
             ((total - kept) / total).max(0.0)
         } else {

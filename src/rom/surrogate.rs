@@ -21,8 +21,14 @@ use crate::predict::{stencil, N_FEATURES};
 /// Number of differentiable inputs: `T, P, μ₁, α₁, μ₂, α₂` (N is discrete).
 pub const N_GRAD_INPUTS: usize = 6;
 /// Names of the differentiable inputs.
-pub const GRAD_INPUT_NAMES: [&str; N_GRAD_INPUTS] =
-    ["wall_thickness_mm", "pressure_bar", "mu1_mpa", "alpha1", "mu2_mpa", "alpha2"];
+pub const GRAD_INPUT_NAMES: [&str; N_GRAD_INPUTS] = [
+    "wall_thickness_mm",
+    "pressure_bar",
+    "mu1_mpa",
+    "alpha1",
+    "mu2_mpa",
+    "alpha2",
+];
 
 /// A surrogate query (the public inputs; the material as the four Ogden parameters).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -70,7 +76,15 @@ impl Query {
 
     /// The inputs as `[N, T, P, μ₁, α₁, μ₂, α₂]`.
     pub fn as_array(&self) -> [f64; 7] {
-        [self.n as f64, self.t_mm, self.p_bar, self.mu1, self.alpha1, self.mu2, self.alpha2]
+        [
+            self.n as f64,
+            self.t_mm,
+            self.p_bar,
+            self.mu1,
+            self.alpha1,
+            self.mu2,
+            self.alpha2,
+        ]
     }
 }
 
@@ -175,7 +189,11 @@ pub struct DomainViolation {
 
 impl std::fmt::Display for DomainViolation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{} = {} outside the training domain [{}, {}]", self.name, self.value, self.min, self.max)
+        write!(
+            f,
+            "{} = {} outside the training domain [{}, {}]",
+            self.name, self.value, self.min, self.max
+        )
     }
 }
 
@@ -243,7 +261,8 @@ impl Surrogate {
     fn ensure_workspace(&self, w: &mut Workspace) {
         let (d, m) = (self.features.dim(), self.gp.m);
         let s = self.gp.scratch_len().max(self.poly.scratch_len());
-        if w.x.len() != d || w.coef[0].len() != m || w.scratch.len() != s || w.jac[0].len() != m * d {
+        if w.x.len() != d || w.coef[0].len() != m || w.scratch.len() != s || w.jac[0].len() != m * d
+        {
             w.x = vec![0.0; d];
             w.coef = [vec![0.0; m], vec![0.0; m]];
             w.var = [vec![0.0; m], vec![0.0; m]];
@@ -264,13 +283,25 @@ impl Surrogate {
             }
         }
         if !self.n_allowed.contains(&q.n) {
-            return Err(RomError::invalid("n", q.n, &format!("one of the trained numbers of bellows {:?}", self.n_allowed)));
+            return Err(RomError::invalid(
+                "n",
+                q.n,
+                &format!("one of the trained numbers of bellows {:?}", self.n_allowed),
+            ));
         }
         if q.mu1 * q.alpha1 <= 0.0 {
-            return Err(RomError::invalid("mu1*alpha1", q.mu1 * q.alpha1, "> 0 (admissible Ogden term)"));
+            return Err(RomError::invalid(
+                "mu1*alpha1",
+                q.mu1 * q.alpha1,
+                "> 0 (admissible Ogden term)",
+            ));
         }
         if q.mu2 * q.alpha2 <= 0.0 {
-            return Err(RomError::invalid("mu2*alpha2", q.mu2 * q.alpha2, "> 0 (admissible Ogden term)"));
+            return Err(RomError::invalid(
+                "mu2*alpha2",
+                q.mu2 * q.alpha2,
+                "> 0 (admissible Ogden term)",
+            ));
         }
         Ok(())
     }
@@ -280,14 +311,22 @@ impl Surrogate {
         let mut out = Vec::new();
         for (spec, v) in self.inputs.iter().zip(q.as_array()) {
             if v < spec.min - 1e-9 * spec.min.abs() || v > spec.max + 1e-9 * spec.max.abs() {
-                out.push(DomainViolation { name: spec.name.clone(), value: v, min: spec.min, max: spec.max });
+                out.push(DomainViolation {
+                    name: spec.name.clone(),
+                    value: v,
+                    min: spec.min,
+                    max: spec.max,
+                });
             }
         }
         if q.mu1 * q.alpha1 > 0.0 && q.mu2 * q.alpha2 > 0.0 {
             let z = raw_features(&q.case());
             for (j, &f) in self.features.index.iter().enumerate() {
                 let half = 1.0 / self.features.inv_half[j];
-                let (lo, hi) = (self.features.center[j] - half, self.features.center[j] + half);
+                let (lo, hi) = (
+                    self.features.center[j] - half,
+                    self.features.center[j] + half,
+                );
                 if (f == 2 || f == 4) && (z[f] < lo - 1e-9 || z[f] > hi + 1e-9) {
                     out.push(DomainViolation {
                         name: super::regression::FEATURE_NAMES[f].to_string(),
@@ -341,7 +380,12 @@ impl Surrogate {
         Ok(p)
     }
 
-    fn predict_range_into(&self, q: &Query, pred: &mut Prediction, range: std::ops::Range<usize>) -> Result<(), RomError> {
+    fn predict_range_into(
+        &self,
+        q: &Query,
+        pred: &mut Prediction,
+        range: std::ops::Range<usize>,
+    ) -> Result<(), RomError> {
         self.check_query(q)?;
         self.ensure_workspace(&mut pred.work);
         let w = &mut pred.work;
@@ -356,11 +400,14 @@ impl Surrogate {
         let st = stencil(&self.pressures, q.p_bar);
         for qi in range {
             let b = &self.blocks[self.output_block[qi]];
-            let coef = &w.coef[kind_index(b.regressor)][b.coef_offset..b.coef_offset + b.pod.n_modes];
+            let coef =
+                &w.coef[kind_index(b.regressor)][b.coef_offset..b.coef_offset + b.pod.n_modes];
             let nq = b.pod.quantities.len();
             let mut v = 0.0;
             for s in 0..st.len {
-                v += st.w[s] * b.pod.entry((st.start + s) * nq + self.output_slot[qi], coef);
+                v += st.w[s]
+                    * b.pod
+                        .entry((st.start + s) * nq + self.output_slot[qi], coef);
             }
             pred.values[qi] = v;
         }
@@ -401,13 +448,20 @@ impl Surrogate {
     ///
     /// # Errors
     /// Invalid query.
-    pub fn gradient_into(&self, q: &Query, pred: &mut Prediction, jac: &mut Jacobian) -> Result<(), RomError> {
+    pub fn gradient_into(
+        &self,
+        q: &Query,
+        pred: &mut Prediction,
+        jac: &mut Jacobian,
+    ) -> Result<(), RomError> {
         self.check_query(q)?;
         self.ensure_workspace(&mut pred.work);
         let w = &mut pred.work;
         self.features_into(q, w);
-        self.gp.jacobian_into(&w.x, &mut w.coef[0], &mut w.jac[0], &mut w.scratch);
-        self.poly.jacobian_into(&w.x, &mut w.coef[1], &mut w.jac[1], &mut w.scratch);
+        self.gp
+            .jacobian_into(&w.x, &mut w.coef[0], &mut w.jac[0], &mut w.scratch);
+        self.poly
+            .jacobian_into(&w.x, &mut w.coef[1], &mut w.jac[1], &mut w.scratch);
         // dz_f/du_i for u = (T, P, μ1, α1, μ2, α2), z = (N, T, ln μ1α1, α1, ln μ2α2, α2)
         let mut dz = [[0.0; N_GRAD_INPUTS]; N_FEATURES];
         dz[1][0] = 1.0;
@@ -462,9 +516,15 @@ impl Surrogate {
     pub fn check_consistency(&self) -> Result<(), String> {
         let (d, m) = (self.features.dim(), self.gp.m);
         if self.poly.m != m || self.gp.d != d || self.poly.d != d {
-            return Err(format!("regressor dimensions (gp {}x{}, poly {}x{}) do not match {d} features", self.gp.d, self.gp.m, self.poly.d, self.poly.m));
+            return Err(format!(
+                "regressor dimensions (gp {}x{}, poly {}x{}) do not match {d} features",
+                self.gp.d, self.gp.m, self.poly.d, self.poly.m
+            ));
         }
-        if self.gp.x.len() != self.gp.n * d || self.gp.alpha.len() != self.gp.n * m || self.gp.chol.len() != self.gp.n * self.gp.n {
+        if self.gp.x.len() != self.gp.n * d
+            || self.gp.alpha.len() != self.gp.n * m
+            || self.gp.chol.len() != self.gp.n * self.gp.n
+        {
             return Err("Gaussian-process tables have inconsistent sizes".into());
         }
         if self.poly.coef.len() != self.poly.n_terms() * m {
@@ -479,14 +539,25 @@ impl Surrogate {
         for b in &self.blocks {
             let p = &b.pod;
             let dim = p.dim();
-            if p.n_pressures != self.pressures.len() || p.mean.len() != dim || p.scale.len() != dim || p.modes.len() != dim * p.n_modes || b.coef_offset + p.n_modes > m {
+            if p.n_pressures != self.pressures.len()
+                || p.mean.len() != dim
+                || p.scale.len() != dim
+                || p.modes.len() != dim * p.n_modes
+                || b.coef_offset + p.n_modes > m
+            {
                 return Err(format!("block {} has inconsistent sizes", b.name));
             }
         }
         for q in 0..22 {
-            let b = self.blocks.get(self.output_block[q]).ok_or("output block index out of range")?;
+            let b = self
+                .blocks
+                .get(self.output_block[q])
+                .ok_or("output block index out of range")?;
             if b.pod.quantities.get(self.output_slot[q]) != Some(&q) {
-                return Err(format!("output {} is not mapped to its block", QUANTITY_NAMES[q]));
+                return Err(format!(
+                    "output {} is not mapped to its block",
+                    QUANTITY_NAMES[q]
+                ));
             }
         }
         Ok(())

@@ -79,7 +79,10 @@ pub fn response(c: &CaseInputs, p: f64) -> [f64; 22] {
     let (z9, y9) = (L - v[16], v[17]);
     v[Q_ANGLE] = (-y9).atan2(z9).to_degrees();
     let p_eff = p.max(0.0);
-    v[Q_FORCE] = 1.2 * (mu0 / 5.708).powf(0.3) * (t / 2.0).powf(0.8) * (n / 11.0).powf(0.2)
+    v[Q_FORCE] = 1.2
+        * (mu0 / 5.708).powf(0.3)
+        * (t / 2.0).powf(0.8)
+        * (n / 11.0).powf(0.2)
         * p_eff.powf(1.3)
         / (1.0 + 0.15 * p_eff);
     v

@@ -76,7 +76,12 @@ pub struct Fitted {
     poly: Poly,
 }
 
-const SCALARS: [(&str, usize); 4] = [("tip_uz_mm", 18), ("tip_uy_mm", 19), ("angle_deg", 20), ("force_n", 21)];
+const SCALARS: [(&str, usize); 4] = [
+    ("tip_uz_mm", 18),
+    ("tip_uy_mm", 19),
+    ("angle_deg", 20),
+    ("force_n", 21),
+];
 
 /// Fits features, POD blocks and both regressors to `cases`.
 ///
@@ -87,7 +92,9 @@ pub fn fit_pipeline(cases: &[CaseRamp], cfg: &TrainConfig) -> Result<Fitted, Rom
     let features = FeatureScaler::fit(&z);
     let d = features.dim();
     if d == 0 {
-        return Err(RomError::InsufficientData("every input is constant over the cases".into()));
+        return Err(RomError::InsufficientData(
+            "every input is constant over the cases".into(),
+        ));
     }
     let n = cases.len();
     let mut x = vec![0.0; n * d];
@@ -120,10 +127,22 @@ pub fn fit_pipeline(cases: &[CaseRamp], cfg: &TrainConfig) -> Result<Fitted, Rom
             pod.project_into(&snap, &mut y[i * m + off..i * m + off + pod.n_modes]);
         }
     }
-    let data = Data { x: &x, y: &y, n, d, m, weights: &weights };
+    let data = Data {
+        x: &x,
+        y: &y,
+        n,
+        d,
+        m,
+        weights: &weights,
+    };
     let gp = Gp::fit(&data, &cfg.gp)?;
     let poly = Poly::fit(&data, &cfg.poly)?;
-    Ok(Fitted { features, blocks, gp, poly })
+    Ok(Fitted {
+        features,
+        blocks,
+        gp,
+        poly,
+    })
 }
 
 /// Held-out error accumulators of one candidate (output × block × regressor).
@@ -160,7 +179,11 @@ fn evaluate_fold(fit: &Fitted, test: &[CaseRamp]) -> Table {
             let nq = pod.quantities.len();
             for e in 0..pod.dim() {
                 let q = pod.quantities[e % nq];
-                let output = if q < N_MARKER_COMPONENTS { 0 } else { q - Q_TIP_UZ + 1 };
+                let output = if q < N_MARKER_COMPONENTS {
+                    0
+                } else {
+                    q - Q_TIP_UZ + 1
+                };
                 let y_proj = pod.entry(e, &proj);
                 for (kind, c) in coef.iter().enumerate() {
                     let y_hat = pod.entry(e, &c[*off..off + r]);
@@ -185,7 +208,13 @@ fn fold_assignment(n: usize, k: usize, seed: u64) -> Vec<usize> {
     fold
 }
 
-fn validation_entry(name: &str, output: usize, direct: usize, kind: usize, t: &Table) -> OutputValidation {
+fn validation_entry(
+    name: &str,
+    output: usize,
+    direct: usize,
+    kind: usize,
+    t: &Table,
+) -> OutputValidation {
     let c = &t[cand_index(output, direct, kind)];
     let block = if direct == 1 { "direct" } else { "field" };
     let reg = if kind == 0 { "gp" } else { "poly" };
@@ -199,14 +228,22 @@ fn validation_entry(name: &str, output: usize, direct: usize, kind: usize, t: &T
 }
 
 /// Chooses the regressors; returns (field regressor, per scalar (direct?, kind)), validation.
-fn choose(table: &Table, only: Option<RegressorKind>, scheme: String, n_cases: usize) -> (usize, [(usize, usize); 4], Validation) {
+fn choose(
+    table: &Table,
+    only: Option<RegressorKind>,
+    scheme: String,
+    n_cases: usize,
+) -> (usize, [(usize, usize); 4], Validation) {
     let kinds: Vec<usize> = match only {
         Some(RegressorKind::Gp) => vec![0],
         Some(RegressorKind::Poly) => vec![1],
         None => vec![0, 1],
     };
     let rmse = |o: usize, dir: usize, k: usize| table[cand_index(o, dir, k)].total.rmse();
-    let field_kind = *kinds.iter().min_by(|&&a, &&b| rmse(0, 0, a).total_cmp(&rmse(0, 0, b))).unwrap_or(&0);
+    let field_kind = *kinds
+        .iter()
+        .min_by(|&&a, &&b| rmse(0, 0, a).total_cmp(&rmse(0, 0, b)))
+        .unwrap_or(&0);
     let mut outputs = vec![validation_entry("markers_mm", 0, 0, field_kind, table)];
     let mut candidates = Vec::new();
     let mut scalar_choice = [(0, field_kind); 4];
@@ -214,19 +251,35 @@ fn choose(table: &Table, only: Option<RegressorKind>, scheme: String, n_cases: u
         let o = si + 1;
         let mut options = vec![(0, field_kind)];
         options.extend(kinds.iter().map(|&k| (1, k)));
-        let best = *options.iter().min_by(|a, b| rmse(o, a.0, a.1).total_cmp(&rmse(o, b.0, b.1))).unwrap_or(&(0, field_kind));
+        let best = *options
+            .iter()
+            .min_by(|a, b| rmse(o, a.0, a.1).total_cmp(&rmse(o, b.0, b.1)))
+            .unwrap_or(&(0, field_kind));
         scalar_choice[si] = best;
         outputs.push(validation_entry(name, o, best.0, best.1, table));
     }
     for o in 0..5 {
-        let name = if o == 0 { "markers_mm" } else { SCALARS[o - 1].0 };
+        let name = if o == 0 {
+            "markers_mm"
+        } else {
+            SCALARS[o - 1].0
+        };
         for dir in 0..(if o == 0 { 1 } else { 2 }) {
             for &k in &kinds {
                 candidates.push(validation_entry(name, o, dir, k, table));
             }
         }
     }
-    (field_kind, scalar_choice, Validation { scheme, n_cases, outputs, candidates })
+    (
+        field_kind,
+        scalar_choice,
+        Validation {
+            scheme,
+            n_cases,
+            outputs,
+            candidates,
+        },
+    )
 }
 
 fn input_specs(cases: &[CaseRamp], pressures: &[f64]) -> Vec<InputSpec> {
@@ -245,7 +298,15 @@ fn input_specs(cases: &[CaseRamp], pressures: &[f64]) -> Vec<InputSpec> {
         max: cases.iter().map(f).fold(f64::NEG_INFINITY, f64::max),
     };
     let mut v: Vec<InputSpec> = get.into_iter().map(spec).collect();
-    v.insert(2, InputSpec { name: "pressure_bar".into(), unit: "bar".into(), min: pressures[0], max: pressures[pressures.len() - 1] });
+    v.insert(
+        2,
+        InputSpec {
+            name: "pressure_bar".into(),
+            unit: "bar".into(),
+            min: pressures[0],
+            max: pressures[pressures.len() - 1],
+        },
+    );
     v
 }
 
@@ -254,44 +315,83 @@ fn input_specs(cases: &[CaseRamp], pressures: &[f64]) -> Vec<InputSpec> {
 ///
 /// # Errors
 /// Fewer than 4 cases, or a numerical failure.
-pub fn train(set: &CaseSet, source: &str, skipped_unconverged: usize, cfg: &TrainConfig, progress: &(dyn Fn(usize, usize) + Sync)) -> Result<TrainReport, RomError> {
+pub fn train(
+    set: &CaseSet,
+    source: &str,
+    skipped_unconverged: usize,
+    cfg: &TrainConfig,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<TrainReport, RomError> {
     let start = std::time::Instant::now();
     let n = set.cases.len();
     if n < 4 {
-        return Err(RomError::InsufficientData(format!("{n} complete cases; at least 4 are needed")));
+        return Err(RomError::InsufficientData(format!(
+            "{n} complete cases; at least 4 are needed"
+        )));
     }
     let k = cfg.folds.clamp(2, n);
     let fold = fold_assignment(n, k, cfg.seed);
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let tables: Vec<Result<Table, RomError>> = (0..k)
+    // folds 0..k, then the final fit on all cases (task k), all in parallel
+    let results: Vec<Result<(Option<Table>, Option<Fitted>), RomError>> = (0..=k)
         .into_par_iter()
         .map(|f| {
-            let (mut tr, mut te) = (Vec::new(), Vec::new());
-            for (i, c) in set.cases.iter().enumerate() {
-                if fold[i] == f { te.push(c.clone()) } else { tr.push(c.clone()) }
-            }
-            let fitted = fit_pipeline(&tr, cfg)?;
-            let t = evaluate_fold(&fitted, &te);
-            progress(done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1, k + 1);
-            Ok(t)
+            let out = if f == k {
+                (None, Some(fit_pipeline(&set.cases, cfg)?))
+            } else {
+                let (mut tr, mut te) = (Vec::new(), Vec::new());
+                for (i, c) in set.cases.iter().enumerate() {
+                    if fold[i] == f {
+                        te.push(c.clone())
+                    } else {
+                        tr.push(c.clone())
+                    }
+                }
+                let fitted = fit_pipeline(&tr, cfg)?;
+                (Some(evaluate_fold(&fitted, &te)), None)
+            };
+            progress(
+                done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1,
+                k + 1,
+            );
+            Ok(out)
         })
         .collect();
     let mut table = vec![CandidateErrors::default(); 20];
-    for t in tables {
-        for (acc, part) in table.iter_mut().zip(t?) {
-            acc.total.merge(&part.total);
-            acc.projection.merge(&part.projection);
-            acc.regression.merge(&part.regression);
+    let mut final_fit = None;
+    for r in results {
+        let (t, fitted) = r?;
+        if let Some(t) = t {
+            for (acc, part) in table.iter_mut().zip(t) {
+                acc.total.merge(&part.total);
+                acc.projection.merge(&part.projection);
+                acc.regression.merge(&part.regression);
+            }
         }
+        final_fit = fitted.or(final_fit);
     }
-    let (field_kind, scalar_choice, validation) = choose(&table, cfg.only, format!("{k}-fold by case"), n);
-    let fitted = fit_pipeline(&set.cases, cfg)?;
-    progress(k + 1, k + 1);
-    let kind_of = |i: usize| if i == 0 { RegressorKind::Gp } else { RegressorKind::Poly };
+    let fitted = final_fit.ok_or_else(|| RomError::Numerical {
+        stage: "training".into(),
+        message: "final fit missing".into(),
+    })?;
+    let (field_kind, scalar_choice, validation) =
+        choose(&table, cfg.only, format!("{k}-fold by case"), n);
+    let kind_of = |i: usize| {
+        if i == 0 {
+            RegressorKind::Gp
+        } else {
+            RegressorKind::Poly
+        }
+    };
     let mut blocks: Vec<Block> = fitted
         .blocks
         .into_iter()
-        .map(|(name, pod, coef_offset)| Block { name, pod, coef_offset, regressor: kind_of(field_kind) })
+        .map(|(name, pod, coef_offset)| Block {
+            name,
+            pod,
+            coef_offset,
+            regressor: kind_of(field_kind),
+        })
         .collect();
     let mut output_block: Vec<usize> = vec![0; 22];
     let output_slot: Vec<usize> = (0..22).collect();
@@ -327,5 +427,9 @@ pub fn train(set: &CaseSet, source: &str, skipped_unconverged: usize, cfg: &Trai
             n_treatment: "numeric regression input; predictions only at trained N".into(),
         },
     };
-    Ok(TrainReport { surrogate, dropped: set.dropped.clone(), seconds: start.elapsed().as_secs_f64() })
+    Ok(TrainReport {
+        surrogate,
+        dropped: set.dropped.clone(),
+        seconds: start.elapsed().as_secs_f64(),
+    })
 }

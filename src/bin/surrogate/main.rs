@@ -1,2 +1,25 @@
-//! The `surrogate` command-line tool.
-fn main() {}
+//! The `surrogate` command-line tool: parse → validated config → one library call per subcommand.
+mod args;
+mod export;
+mod predict;
+mod train;
+
+use std::process::ExitCode;
+
+use clap::Parser;
+
+fn main() -> ExitCode {
+    let cli = args::Cli::parse();
+    let result = match cli.command {
+        args::Command::Train(a) => train::run(a),
+        args::Command::Predict(a) => predict::run(a),
+        args::Command::Export(a) => export::run(a),
+    };
+    match result {
+        Ok(()) => ExitCode::SUCCESS,
+        Err(e) => {
+            eprintln!("error: {e:#}");
+            ExitCode::FAILURE
+        }
+    }
+}

@@ -36,9 +36,9 @@ pub struct GpParams {
 impl Default for GpParams {
     fn default() -> Self {
         GpParams {
-            n_start: 3,
+            n_start: 2,
             seed: 11,
-            max_iter: 60,
+            max_iter: 40,
             theta: None,
         }
     }
@@ -83,7 +83,12 @@ fn correlation(x: &[f64], n: usize, d: usize, theta: &[f64]) -> Vec<f64> {
     for i in 0..n {
         r[i * n + i] = 1.0 + eta;
         for j in 0..i {
-            let k = matern52(scaled_dist(&x[i * d..(i + 1) * d], &x[j * d..(j + 1) * d], &inv_len)).0;
+            let k = matern52(scaled_dist(
+                &x[i * d..(i + 1) * d],
+                &x[j * d..(j + 1) * d],
+                &inv_len,
+            ))
+            .0;
             r[i * n + j] = k;
             r[j * n + i] = k;
         }
@@ -128,18 +133,18 @@ fn neg_log_likelihood(data: &Data<'_>, yw: &[f64], theta: &[f64]) -> Option<Eval
     let mut grad = vec![0.0; d + 1];
     for i in 0..n {
         let xi = &data.x[i * d..(i + 1) * d];
-        for j in 0..n {
+        let wii = dot(&a[i * m..(i + 1) * m], &a[i * m..(i + 1) * m]) / sigma2
+            - m as f64 * rinv[i * n + i];
+        grad[d] -= 0.5 * wii * theta[d].exp();
+        for j in 0..i {
+            // symmetric pair (i, j) and (j, i)
             let w = dot(&a[i * m..(i + 1) * m], &a[j * m..(j + 1) * m]) / sigma2
                 - m as f64 * rinv[i * n + j];
-            if i == j {
-                grad[d] -= 0.5 * w * theta[d].exp();
-                continue;
-            }
             let xj = &data.x[j * d..(j + 1) * d];
             let (_, g) = matern52(scaled_dist(xi, xj, &inv_len));
             for k in 0..d {
                 let t = (xi[k] - xj[k]) * inv_len[k];
-                grad[k] -= 0.5 * w * g * t * t;
+                grad[k] -= w * g * t * t;
             }
         }
     }
@@ -155,7 +160,12 @@ fn project(theta: &mut [f64]) {
 }
 
 /// Projected Barzilai–Borwein descent with Armijo backtracking from `theta0`.
-fn minimise(data: &Data<'_>, yw: &[f64], theta0: Vec<f64>, max_iter: usize) -> Option<(Vec<f64>, f64)> {
+fn minimise(
+    data: &Data<'_>,
+    yw: &[f64],
+    theta0: Vec<f64>,
+    max_iter: usize,
+) -> Option<(Vec<f64>, f64)> {
     let mut theta = theta0;
     project(&mut theta);
     let mut cur = neg_log_likelihood(data, yw, &theta)?;
@@ -165,9 +175,18 @@ fn minimise(data: &Data<'_>, yw: &[f64], theta0: Vec<f64>, max_iter: usize) -> O
         let mut accepted = None;
         let mut trial_step = step;
         for _ in 0..12 {
-            let mut t: Vec<f64> = theta.iter().zip(&cur.grad).map(|(t, g)| t - trial_step * g).collect();
+            let mut t: Vec<f64> = theta
+                .iter()
+                .zip(&cur.grad)
+                .map(|(t, g)| t - trial_step * g)
+                .collect();
             project(&mut t);
-            let decrease: f64 = theta.iter().zip(&t).zip(&cur.grad).map(|((a, b), g)| g * (a - b)).sum();
+            let decrease: f64 = theta
+                .iter()
+                .zip(&t)
+                .zip(&cur.grad)
+                .map(|((a, b), g)| g * (a - b))
+                .sum();
             if let Some(e) = neg_log_likelihood(data, yw, &t) {
                 if e.nll <= cur.nll - 1e-4 * decrease {
                     accepted = Some((t, e));
@@ -183,7 +202,11 @@ fn minimise(data: &Data<'_>, yw: &[f64], theta0: Vec<f64>, max_iter: usize) -> O
         let ss = dot(&s, &s);
         let small = s.iter().fold(0.0f64, |a, v| a.max(v.abs())) < 1e-5
             || (cur.nll - e.nll).abs() < 1e-9 * (1.0 + cur.nll.abs());
-        step = if sy > 0.0 { (ss / sy).clamp(1e-8, 1e4) } else { trial_step * 2.0 };
+        step = if sy > 0.0 {
+            (ss / sy).clamp(1e-8, 1e4)
+        } else {
+            trial_step * 2.0
+        };
         theta = t;
         cur = e;
         if small {
@@ -230,11 +253,19 @@ impl Regressor for Gp {
     fn fit(data: &Data<'_>, params: &GpParams) -> Result<Self, RomError> {
         let (n, d, m) = (data.n, data.d, data.m);
         if n < 2 {
-            return Err(RomError::InsufficientData(format!("GP needs ≥ 2 points, got {n}")));
+            return Err(RomError::InsufficientData(format!(
+                "GP needs ≥ 2 points, got {n}"
+            )));
         }
         let theta = match &params.theta {
             Some(t) if t.len() == d + 1 => t.clone(),
-            Some(t) => return Err(RomError::invalid("GP theta length", t.len(), &format!("{}", d + 1))),
+            Some(t) => {
+                return Err(RomError::invalid(
+                    "GP theta length",
+                    t.len(),
+                    &format!("{}", d + 1),
+                ))
+            }
             None => optimise(data, params)?,
         };
         let mut l = correlation(data.x, n, d, &theta);
@@ -345,8 +376,22 @@ mod tests {
         let d = 2;
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
         let x: Vec<f64> = (0..n * d).map(|_| rng.gen_range(-1.0..1.0)).collect();
-        let y: Vec<f64> = (0..n).flat_map(|i| [(2.0 * x[2 * i]).sin() + x[2 * i + 1], x[2 * i] * x[2 * i + 1]]).collect();
-        let data = Data { x: &x, y: &y, n, d, m: 2, weights: &[] };
+        let y: Vec<f64> = (0..n)
+            .flat_map(|i| {
+                [
+                    (2.0 * x[2 * i]).sin() + x[2 * i + 1],
+                    x[2 * i] * x[2 * i + 1],
+                ]
+            })
+            .collect();
+        let data = Data {
+            x: &x,
+            y: &y,
+            n,
+            d,
+            m: 2,
+            weights: &[],
+        };
         let theta = vec![-0.3, 0.2, -6.0];
         let e = neg_log_likelihood(&data, &y, &theta).unwrap();
         for k in 0..3 {
@@ -355,8 +400,14 @@ mod tests {
             tp[k] += h;
             let mut tm = theta.clone();
             tm[k] -= h;
-            let fd = (neg_log_likelihood(&data, &y, &tp).unwrap().nll - neg_log_likelihood(&data, &y, &tm).unwrap().nll) / (2.0 * h);
-            assert!((fd - e.grad[k]).abs() < 1e-4 * (1.0 + fd.abs()), "k={k} fd={fd} an={}", e.grad[k]);
+            let fd = (neg_log_likelihood(&data, &y, &tp).unwrap().nll
+                - neg_log_likelihood(&data, &y, &tm).unwrap().nll)
+                / (2.0 * h);
+            assert!(
+                (fd - e.grad[k]).abs() < 1e-4 * (1.0 + fd.abs()),
+                "k={k} fd={fd} an={}",
+                e.grad[k]
+            );
         }
     }
 }

@@ -92,8 +92,14 @@ pub struct FeatureScaler {
 }
 
 /// Raw feature names.
-pub const FEATURE_NAMES: [&str; N_FEATURES] =
-    ["n_bellows", "wall_thickness_mm", "ln_mu1_alpha1", "alpha1", "ln_mu2_alpha2", "alpha2"];
+pub const FEATURE_NAMES: [&str; N_FEATURES] = [
+    "n_bellows",
+    "wall_thickness_mm",
+    "ln_mu1_alpha1",
+    "alpha1",
+    "ln_mu2_alpha2",
+    "alpha2",
+];
 
 /// Raw features of a case (`μᵢαᵢ > 0` is assumed validated).
 pub fn raw_features(c: &CaseInputs) -> [f64; N_FEATURES] {
@@ -203,26 +209,22 @@ pub(crate) fn solve_lower_t(l: &[f64], n: usize, b: &mut [f64]) {
 }
 
 /// Inverse `(LLᵀ)⁻¹` (full symmetric, row-major) from the lower factor.
+///
+/// Row `c` of `V = L⁻ᵀ` solves `L v = e_c` (contiguous dots), then `A⁻¹_ij = V_i · V_j`.
 pub(crate) fn spd_inverse(l: &[f64], n: usize) -> Vec<f64> {
-    // W = L⁻¹ (lower), then A⁻¹ = Wᵀ W
-    let mut w = vec![0.0; n * n];
+    let mut v = vec![0.0; n * n];
     for c in 0..n {
-        w[c * n + c] = 1.0 / l[c * n + c];
+        let row = &mut v[c * n..(c + 1) * n];
+        row[c] = 1.0 / l[c * n + c];
         for i in (c + 1)..n {
-            let mut s = 0.0;
-            for k in c..i {
-                s -= l[i * n + k] * w[k * n + c];
-            }
-            w[i * n + c] = s / l[i * n + i];
+            let s = dot(&l[i * n + c..i * n + i], &row[c..i]);
+            row[i] = -s / l[i * n + i];
         }
     }
     let mut inv = vec![0.0; n * n];
     for i in 0..n {
         for j in 0..=i {
-            let mut s = 0.0;
-            for k in i..n {
-                s += w[k * n + i] * w[k * n + j];
-            }
+            let s = dot(&v[i * n + i..(i + 1) * n], &v[j * n + i..(j + 1) * n]);
             inv[i * n + j] = s;
             inv[j * n + i] = s;
         }

@@ -100,7 +100,11 @@ struct Candidate {
 fn design(data: &Data<'_>, exps: &[u8], n_terms: usize) -> Vec<f64> {
     let mut phi = vec![0.0; data.n * n_terms];
     for i in 0..data.n {
-        basis_into(exps, &data.x[i * data.d..(i + 1) * data.d], &mut phi[i * n_terms..(i + 1) * n_terms]);
+        basis_into(
+            exps,
+            &data.x[i * data.d..(i + 1) * data.d],
+            &mut phi[i * n_terms..(i + 1) * n_terms],
+        );
     }
     phi
 }
@@ -129,7 +133,12 @@ fn normal_matrix(phi: &[f64], n: usize, p: usize, ridge: f64) -> Vec<f64> {
 }
 
 /// Solves for the coefficients; returns `(β, A⁻¹, LOO residual mean squares)`.
-fn solve(data: &Data<'_>, phi: &[f64], p: usize, ridge: f64) -> Option<(Vec<f64>, Vec<f64>, Vec<f64>)> {
+fn solve(
+    data: &Data<'_>,
+    phi: &[f64],
+    p: usize,
+    ridge: f64,
+) -> Option<(Vec<f64>, Vec<f64>, Vec<f64>)> {
     let (n, m) = (data.n, data.m);
     let mut l = normal_matrix(phi, n, p, ridge);
     cholesky_in_place(&mut l, p).ok()?;
@@ -185,23 +194,35 @@ impl Regressor for Poly {
             let phi = design(data, &exps, p);
             for &ridge in &params.ridges {
                 if let Some((_, _, s2)) = solve(data, &phi, p, ridge) {
-                    let press: f64 = s2.iter().enumerate().map(|(c, s)| s * weight(c).powi(2)).sum();
+                    let press: f64 = s2
+                        .iter()
+                        .enumerate()
+                        .map(|(c, s)| s * weight(c).powi(2))
+                        .sum();
                     if best.as_ref().map_or(true, |b| press < b.press) {
-                        best = Some(Candidate { press, degree, ridge });
+                        best = Some(Candidate {
+                            press,
+                            degree,
+                            ridge,
+                        });
                     }
                 }
             }
         }
         let best = best.ok_or_else(|| {
-            RomError::InsufficientData(format!("polynomial regression: no solvable fit with {} points", data.n))
+            RomError::InsufficientData(format!(
+                "polynomial regression: no solvable fit with {} points",
+                data.n
+            ))
         })?;
         let exps = monomials(data.d, best.degree);
         let p = exps.len() / data.d.max(1);
         let phi = design(data, &exps, p);
-        let (coef, a_inv, s2) = solve(data, &phi, p, best.ridge).ok_or_else(|| RomError::Numerical {
-            stage: "polynomial fit".into(),
-            message: "normal matrix not positive definite".into(),
-        })?;
+        let (coef, a_inv, s2) =
+            solve(data, &phi, p, best.ridge).ok_or_else(|| RomError::Numerical {
+                stage: "polynomial fit".into(),
+                message: "normal matrix not positive definite".into(),
+            })?;
         Ok(Poly {
             d: data.d,
             m: data.m,
