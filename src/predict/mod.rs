@@ -15,7 +15,8 @@
 //!    `y_q(P) = Σ_j w_j(P) y_{j,q}`.
 //!
 //! Transcendentals (`exp`, `ln`, `sqrt`) are evaluated in `f64` by the portable routines below
-//! (accurate to a few ulp), the sums in the model's precision `F` (`f32` or `f64`).
+//! (accurate to a few ulp); the Gaussian-process sum is always `f64` (see [`GpTables`]); the
+//! polynomial and the POD reconstruction run in the model's precision `F` (`f32` or `f64`).
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
@@ -282,14 +283,17 @@ pub fn stencil(grid: &[f64], p: f64) -> Stencil<f64> {
 }
 
 /// Gaussian-process tables of an embedded model (Matérn 5/2, zero prior mean).
+///
+/// Always `f64`, also in `f32` models: the weights of an interpolating GP cancel
+/// (`|α|` is 10³–10⁵ times the outputs), so `f32` weights would lose 4–5 digits.
 #[derive(Debug, Clone, Copy)]
-pub struct GpTables<'a, F> {
+pub struct GpTables<'a> {
     /// Inverse length scales `1/ℓ_d` (scaled features), length `d`.
-    pub inv_len: &'a [F],
+    pub inv_len: &'a [f64],
     /// Training inputs, row-major `n × d`.
-    pub x: &'a [F],
+    pub x: &'a [f64],
     /// Weights `α = R⁻¹Y`, row-major `n × n_coefs`.
-    pub alpha: &'a [F],
+    pub alpha: &'a [f64],
 }
 
 /// Polynomial tables of an embedded model.
@@ -336,7 +340,7 @@ pub struct EmbeddedModel<'a, F> {
     /// Number of regression outputs.
     pub n_coefs: usize,
     /// Gaussian process (empty tables when unused).
-    pub gp: GpTables<'a, F>,
+    pub gp: GpTables<'a>,
     /// Polynomial (empty tables when unused).
     pub poly: PolyTables<'a, F>,
     /// POD blocks.
@@ -414,9 +418,11 @@ pub fn evaluate<F: Real>(
         return Err(EmbeddedError::BadModel);
     }
     let mut x = [F::ZERO; N_FEATURES];
+    let mut x64 = [0.0f64; N_FEATURES];
     for (j, &fi) in model.feature_index.iter().enumerate() {
-        let zf = F::from_f64(*z.get(fi as usize).ok_or(EmbeddedError::BadModel)?);
-        x[j] = (zf - model.feature_center[j]) * model.feature_inv_half[j];
+        let zf = *z.get(fi as usize).ok_or(EmbeddedError::BadModel)?;
+        x64[j] = (zf - model.feature_center[j].to_f64()) * model.feature_inv_half[j].to_f64();
+        x[j] = F::from_f64(x64[j]);
     }
     let mut use_gp = false;
     let mut use_poly = false;
@@ -431,7 +437,11 @@ pub fn evaluate<F: Real>(
     let mut coef_poly = [F::ZERO; MAX_COEFS];
     let m = model.n_coefs;
     if use_gp {
-        gp_mean(&model.gp, &x[..d], m, &mut coef_gp[..m]);
+        let mut c64 = [0.0f64; MAX_COEFS];
+        gp_mean(&model.gp, &x64[..d], m, &mut c64[..m]);
+        for k in 0..m {
+            coef_gp[k] = F::from_f64(c64[k]);
+        }
     }
     if use_poly {
         poly_mean(&model.poly, &x[..d], m, &mut coef_poly[..m]);
@@ -464,21 +474,20 @@ pub fn evaluate<F: Real>(
     Ok(())
 }
 
-fn gp_mean<F: Real>(gp: &GpTables<'_, F>, x: &[F], m: usize, out: &mut [F]) {
+fn gp_mean(gp: &GpTables<'_>, x: &[f64], m: usize, out: &mut [f64]) {
     let d = x.len();
     let n = if d == 0 { 0 } else { gp.x.len() / d };
     for i in 0..n {
         let xi = &gp.x[i * d..(i + 1) * d];
-        let mut r2 = F::ZERO;
+        let mut r2 = 0.0;
         for j in 0..d {
             let t = (x[j] - xi[j]) * gp.inv_len[j];
-            r2 = r2 + t * t;
+            r2 += t * t;
         }
-        let (k, _) = matern52(sqrt(r2.to_f64()));
-        let k = F::from_f64(k);
+        let (k, _) = matern52(sqrt(r2));
         let a = &gp.alpha[i * m..(i + 1) * m];
         for c in 0..m {
-            out[c] = out[c] + k * a[c];
+            out[c] += k * a[c];
         }
     }
 }

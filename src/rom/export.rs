@@ -29,9 +29,9 @@ pub struct EmbeddedTables<F> {
     feature_inv_half: Vec<F>,
     pressures: Vec<f64>,
     n_coefs: usize,
-    gp_inv_len: Vec<F>,
-    gp_x: Vec<F>,
-    gp_alpha: Vec<F>,
+    gp_inv_len: Vec<f64>,
+    gp_x: Vec<f64>,
+    gp_alpha: Vec<f64>,
     poly_exponents: Vec<u8>,
     poly_coef: Vec<F>,
     blocks: Vec<OwnedBlock<F>>,
@@ -188,9 +188,9 @@ fn rust_body<F: Real + std::fmt::Debug>(t: &EmbeddedTables<F>, p: Precision, out
     array(out, "FEATURE_CENTER", ty, &t.feature_center);
     array(out, "FEATURE_INV_HALF", ty, &t.feature_inv_half);
     array(out, "PRESSURES", "f64", &t.pressures);
-    array(out, "GP_INV_LEN", ty, &t.gp_inv_len);
-    array(out, "GP_X", ty, &t.gp_x);
-    array(out, "GP_ALPHA", ty, &t.gp_alpha);
+    array(out, "GP_INV_LEN", "f64", &t.gp_inv_len);
+    array(out, "GP_X", "f64", &t.gp_x);
+    array(out, "GP_ALPHA", "f64", &t.gp_alpha);
     array(out, "POLY_EXPONENTS", "u8", &t.poly_exponents);
     array(out, "POLY_COEF", ty, &t.poly_coef);
     array(out, "OUTPUT_BLOCK", "u8", &t.output_block);

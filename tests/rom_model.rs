@@ -1,0 +1,156 @@
+//! Model files (round trip, version, corruption, checksum), validation, queries and domain.
+use surrogate::rom::{Query, RomError, Surrogate};
+
+mod rom_common;
+
+fn q(n: u32, p: f64) -> Query {
+    Query {
+        n,
+        t_mm: 2.0,
+        p_bar: p,
+        mu1: 1.13,
+        alpha1: 3.11,
+        mu2: -13.17,
+        alpha2: -0.6,
+    }
+}
+
+#[test]
+fn save_load_predict_is_bit_identical() {
+    let m = rom_common::small_model(None);
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rom_model_roundtrip");
+    let path = dir.join("m.json");
+    m.save(&path).unwrap();
+    let back = Surrogate::load(&path).unwrap();
+    assert_eq!(back, m);
+    for p in [0.0, 0.3, 1.7, 3.5] {
+        let (a, b) = (
+            m.predict(&q(11, p)).unwrap(),
+            back.predict(&q(11, p)).unwrap(),
+        );
+        for k in 0..22 {
+            assert_eq!(a.values[k].to_bits(), b.values[k].to_bits());
+        }
+    }
+}
+
+#[test]
+fn load_rejects_version_corruption_and_checksum_mismatch() {
+    let m = rom_common::small_model(None);
+    let text = m.to_json().unwrap();
+    let wrong_version = text.replacen("\"format_version\":1", "\"format_version\":99", 1);
+    let e = Surrogate::from_json(&wrong_version, "m.json")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("format version 99 is not supported") && e.contains("m.json"),
+        "{e}"
+    );
+    let truncated = &text[..text.len() / 2];
+    let e = Surrogate::from_json(truncated, "m.json")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("corrupt or truncated"), "{e}");
+    // change one value inside the model: the checksum no longer matches
+    let pos = text.find("\"pressures\":[0.0,0.25").unwrap();
+    let tampered = format!(
+        "{}\"pressures\":[0.0,0.26{}",
+        &text[..pos],
+        &text[pos + 21..]
+    );
+    let e = Surrogate::from_json(&tampered, "m.json")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("checksum mismatch"), "{e}");
+    let other = text.replacen("surrogate-rom", "something-else", 1);
+    assert!(Surrogate::from_json(&other, "m.json")
+        .unwrap_err()
+        .to_string()
+        .contains("format is"));
+}
+
+#[test]
+fn validation_is_stored_with_every_output() {
+    let m = rom_common::small_model(None);
+    let names: Vec<&str> = m
+        .validation
+        .outputs
+        .iter()
+        .map(|o| o.name.as_str())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "markers_mm",
+            "tip_uz_mm",
+            "tip_uy_mm",
+            "angle_deg",
+            "force_n"
+        ]
+    );
+    for o in &m.validation.outputs {
+        assert!(
+            o.total.rmse > 0.0 && o.total.max_abs >= o.total.rmse && o.total.r2 > 0.99,
+            "{o:?}"
+        );
+        // total² ≈ projection² + regression² (orthogonality in the scaled norm, per block)
+        assert!(o.total.rmse <= o.projection_rmse + o.regression_rmse + 1e-12);
+    }
+    assert!(m.validation.candidates.len() >= 9);
+    assert!(m.validation.table().contains("tip_uz_mm"));
+}
+
+#[test]
+fn bad_queries_are_errors_and_out_of_domain_is_flagged() {
+    let m = rom_common::small_model(None);
+    let e = m.predict(&q(12, 1.0)).unwrap_err();
+    assert!(
+        matches!(e, RomError::InvalidInput { ref field, .. } if field == "n"),
+        "{e}"
+    );
+    assert!(e.to_string().contains("[9, 11, 13]"));
+    let mut bad = q(11, 1.0);
+    bad.p_bar = f64::NAN;
+    assert!(m.predict(&bad).unwrap_err().to_string().contains("p_bar"));
+    bad = q(11, 1.0);
+    bad.alpha2 = 0.6;
+    assert!(m
+        .predict(&bad)
+        .unwrap_err()
+        .to_string()
+        .contains("mu2*alpha2"));
+    assert!(m.domain_violations(&q(11, 1.0)).is_empty());
+    let far = Query {
+        t_mm: 3.5,
+        p_bar: 4.0,
+        ..q(11, 1.0)
+    };
+    let v: Vec<String> = m
+        .domain_violations(&far)
+        .iter()
+        .map(|d| d.name.clone())
+        .collect();
+    assert_eq!(v, ["wall_thickness_mm", "pressure_bar"]);
+}
+
+#[test]
+fn predictions_track_the_synthetic_truth_and_std_is_available() {
+    let m = rom_common::small_model(None);
+    let held_out = rom_common::synthetic_cases(10, 99);
+    let mut pred = m.new_prediction();
+    let mut worst: f64 = 0.0;
+    for c in &held_out.cases {
+        let qq = Query::from_case(&c.inputs, 1.25);
+        if !m.domain_violations(&qq).is_empty() {
+            continue;
+        }
+        m.predict_with_std_into(&qq, &mut pred).unwrap();
+        let truth = surrogate::rom::synthetic::response(&c.inputs, 1.25);
+        worst = worst.max((pred.tip_uz_mm() - truth[18]).abs());
+        assert!(pred.has_std && pred.std.iter().all(|s| s.is_finite() && *s >= 0.0));
+    }
+    assert!(
+        worst < 2.0,
+        "tip Uz error {worst} mm with 40 training cases"
+    );
+}
