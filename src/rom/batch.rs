@@ -85,6 +85,7 @@ pub fn read_queries<R: Read>(
 ) -> Result<Vec<QueryRow>, RomError> {
     let mut rdr = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
+        .flexible(true)
         .from_reader(reader);
     let csv_err = |e: csv::Error| RomError::Csv {
         source_name: source.into(),
@@ -116,10 +117,15 @@ pub fn read_queries<R: Read>(
         }
     }
     let mut col = Vec::new();
+    let hint = if has_material {
+        ""
+    } else {
+        " (or a `material` column instead of the four Ogden columns)"
+    };
     for w in &wanted {
         col.push(header.iter().position(|h| h == w).ok_or_else(|| {
             header_err(format!(
-                "missing column `{w}` (expected {})",
+                "missing column `{w}`: expected {}{hint}",
                 wanted.join(", ")
             ))
         })?);
@@ -136,6 +142,15 @@ pub fn read_queries<R: Read>(
             expected: expected.to_string(),
         };
         let text = |c: usize| rec.get(col[c]).unwrap_or("");
+        if rec.len() > header.len() {
+            return Err(RomError::Cell {
+                source_name: source.into(),
+                line,
+                column: format!("#{}", header.len() + 1),
+                value: rec.get(header.len()).unwrap_or("").to_string(),
+                expected: format!("no cell beyond the {} header columns", header.len()),
+            });
+        }
         let num = |c: usize| -> Result<f64, RomError> {
             match text(c).parse::<f64>() {
                 Ok(v) if v.is_finite() => Ok(v),

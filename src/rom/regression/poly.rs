@@ -188,7 +188,8 @@ impl Regressor for Poly {
         for degree in 1..=params.max_degree.clamp(1, 3) {
             let exps = monomials(data.d, degree);
             let p = exps.len() / data.d.max(1);
-            if p > data.n {
+            // degree 1 is always tried (the ridge makes it solvable); higher ones need n ≥ P
+            if p > data.n && degree > 1 {
                 break;
             }
             let phi = design(data, &exps, p);
