@@ -346,12 +346,16 @@ impl Surrogate {
         z
     }
 
-    fn used_kinds(&self, quantities: std::ops::Range<usize>) -> [bool; 2] {
-        let mut used = [false; 2];
-        for q in quantities {
-            used[kind_index(self.blocks[self.output_block[q]].regressor)] = true;
+    /// For each regressor kind, the coefficient columns the quantities `range` need.
+    fn needed_cols(&self, range: std::ops::Range<usize>) -> [std::ops::Range<usize>; 2] {
+        let mut cols = [usize::MAX..0, usize::MAX..0];
+        for q in range {
+            let b = &self.blocks[self.output_block[q]];
+            let c = &mut cols[kind_index(b.regressor)];
+            c.start = c.start.min(b.coef_offset);
+            c.end = c.end.max(b.coef_offset + b.pod.n_modes);
         }
-        used
+        cols
     }
 
     /// Predicts all 22 quantities into `pred` (no allocation once `pred` is sized).
@@ -390,12 +394,14 @@ impl Surrogate {
         self.ensure_workspace(&mut pred.work);
         let w = &mut pred.work;
         self.features_into(q, w);
-        let used = self.used_kinds(range.clone());
-        if used[0] {
-            self.gp.predict_into(&w.x, &mut w.coef[0], &mut w.scratch);
+        let [gp_cols, poly_cols] = self.needed_cols(range.clone());
+        if gp_cols.start < gp_cols.end {
+            self.gp
+                .predict_cols_into(&w.x, gp_cols, &mut w.coef[0], &mut w.scratch);
         }
-        if used[1] {
-            self.poly.predict_into(&w.x, &mut w.coef[1], &mut w.scratch);
+        if poly_cols.start < poly_cols.end {
+            self.poly
+                .predict_cols_into(&w.x, poly_cols, &mut w.coef[1], &mut w.scratch);
         }
         let st = stencil(&self.pressures, q.p_bar);
         for qi in range {

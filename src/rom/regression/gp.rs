@@ -16,6 +16,8 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
+use std::ops::Range;
+
 use super::{cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse, Data, Regressor};
 use crate::predict::matern52;
 use crate::rom::RomError;
@@ -94,6 +96,14 @@ fn correlation(x: &[f64], n: usize, d: usize, theta: &[f64]) -> Vec<f64> {
         }
     }
     r
+}
+
+/// Matérn-5/2 value with `std` maths (the library's hot path; the embedded predictor uses
+/// [`matern52`] with its `core`-only `exp`).
+#[inline]
+fn kernel(r: f64) -> f64 {
+    const S5: f64 = 2.236_067_977_499_79;
+    (1.0 + S5 * r + 5.0 / 3.0 * r * r) * (-S5 * r).exp()
 }
 
 #[inline]
@@ -314,14 +324,20 @@ impl Regressor for Gp {
         self.n
     }
 
-    fn predict_into(&self, x: &[f64], out: &mut [f64], _scratch: &mut [f64]) {
+    fn predict_cols_into(
+        &self,
+        x: &[f64],
+        cols: Range<usize>,
+        out: &mut [f64],
+        _scratch: &mut [f64],
+    ) {
         let (d, m) = (self.d, self.m);
-        out[..m].iter_mut().for_each(|o| *o = 0.0);
+        out[cols.clone()].iter_mut().for_each(|o| *o = 0.0);
         for i in 0..self.n {
-            let k = matern52(scaled_dist(x, &self.x[i * d..(i + 1) * d], &self.inv_len)).0;
-            let a = &self.alpha[i * m..(i + 1) * m];
-            for c in 0..m {
-                out[c] += k * a[c];
+            let k = kernel(scaled_dist(x, &self.x[i * d..(i + 1) * d], &self.inv_len));
+            let a = &self.alpha[i * m + cols.start..i * m + cols.end];
+            for (o, ac) in out[cols.clone()].iter_mut().zip(a) {
+                *o += k * ac;
             }
         }
     }

@@ -9,6 +9,8 @@
 pub mod gp;
 pub mod poly;
 
+use std::ops::Range;
+
 use serde::{Deserialize, Serialize};
 
 use super::data::CaseInputs;
@@ -49,8 +51,20 @@ pub trait Regressor: Sized {
     /// Length of the scratch buffer the `*_into` methods need.
     fn scratch_len(&self) -> usize;
 
-    /// Predicted outputs at `x` (length `d`) into `out` (length `m`). No allocation.
-    fn predict_into(&self, x: &[f64], out: &mut [f64], scratch: &mut [f64]);
+    /// Predicted outputs `cols` at `x` (length `d`) into `out[cols]` (other entries untouched).
+    /// No allocation.
+    fn predict_cols_into(
+        &self,
+        x: &[f64],
+        cols: Range<usize>,
+        out: &mut [f64],
+        scratch: &mut [f64],
+    );
+
+    /// All predicted outputs at `x` into `out` (length `m`). No allocation.
+    fn predict_into(&self, x: &[f64], out: &mut [f64], scratch: &mut [f64]) {
+        self.predict_cols_into(x, 0..self.n_outputs(), out, scratch);
+    }
 
     /// Outputs and their Jacobian `jac[c·d + j] = ∂out_c/∂x_j`. No allocation.
     fn jacobian_into(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], scratch: &mut [f64]);

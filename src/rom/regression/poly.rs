@@ -6,6 +6,8 @@
 //! (exact leave-one-out residuals `e_i/(1 − h_ii)` of the linear smoother), shared by all outputs.
 //! Predictive variance (approximate): `s_c² (1 + φᵀA⁻¹φ)/(1 + P/n)`, `s_c²` the LOO mean square.
 
+use std::ops::Range;
+
 use serde::{Deserialize, Serialize};
 
 use super::{cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse, Data, Regressor};
@@ -79,13 +81,18 @@ fn push_degree(out: &mut Vec<u8>, e: &mut Vec<u8>, j: usize, left: usize) {
     }
 }
 
-/// Values of all monomials at `x` into `phi`.
+/// Values of all monomials at `x` into `phi` (powers from a table, degree ≤ 3).
 fn basis_into(exps: &[u8], x: &[f64], phi: &mut [f64]) {
     let d = x.len();
+    let mut pw = [[1.0f64; 4]; 8];
+    for (j, &xj) in x.iter().enumerate() {
+        pw[j] = [1.0, xj, xj * xj, xj * xj * xj];
+    }
     for (p, ph) in phi.iter_mut().enumerate() {
+        let e = &exps[p * d..(p + 1) * d];
         let mut v = 1.0;
         for j in 0..d {
-            v *= x[j].powi(exps[p * d + j] as i32);
+            v *= pw[j][e[j] as usize];
         }
         *ph = v;
     }
@@ -245,16 +252,22 @@ impl Regressor for Poly {
         2 * self.n_terms()
     }
 
-    fn predict_into(&self, x: &[f64], out: &mut [f64], scratch: &mut [f64]) {
+    fn predict_cols_into(
+        &self,
+        x: &[f64],
+        cols: Range<usize>,
+        out: &mut [f64],
+        scratch: &mut [f64],
+    ) {
         let p = self.n_terms();
         let m = self.m;
         let phi = &mut scratch[..p];
         basis_into(&self.exponents, x, phi);
-        out[..m].iter_mut().for_each(|o| *o = 0.0);
+        out[cols.clone()].iter_mut().for_each(|o| *o = 0.0);
         for (k, ph) in phi.iter().enumerate() {
-            let c = &self.coef[k * m..(k + 1) * m];
-            for j in 0..m {
-                out[j] += ph * c[j];
+            let c = &self.coef[k * m + cols.start..k * m + cols.end];
+            for (o, cj) in out[cols.clone()].iter_mut().zip(c) {
+                *o += ph * cj;
             }
         }
     }
