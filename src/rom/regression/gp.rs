@@ -19,7 +19,6 @@ use serde::{Deserialize, Serialize};
 use std::ops::Range;
 
 use super::{cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse, Data, Regressor};
-use crate::predict::matern52;
 use crate::rom::RomError;
 
 /// Fit settings of the Gaussian process.
@@ -85,12 +84,11 @@ fn correlation(x: &[f64], n: usize, d: usize, theta: &[f64]) -> Vec<f64> {
     for i in 0..n {
         r[i * n + i] = 1.0 + eta;
         for j in 0..i {
-            let k = matern52(scaled_dist(
+            let k = kernel(scaled_dist(
                 &x[i * d..(i + 1) * d],
                 &x[j * d..(j + 1) * d],
                 &inv_len,
-            ))
-            .0;
+            ));
             r[i * n + j] = k;
             r[j * n + i] = k;
         }
@@ -99,11 +97,21 @@ fn correlation(x: &[f64], n: usize, d: usize, theta: &[f64]) -> Vec<f64> {
 }
 
 /// Matérn-5/2 value with `std` maths (the library's hot path; the embedded predictor uses
-/// [`matern52`] with its `core`-only `exp`).
+/// [`crate::predict::matern52`] with its `core`-only `exp`).
 #[inline]
 fn kernel(r: f64) -> f64 {
+    kernel_and_g(r).0
+}
+
+/// Matérn-5/2 value and `g = −(1/r) dk/dr` with `std` maths (see [`crate::predict::matern52`]).
+#[inline]
+fn kernel_and_g(r: f64) -> (f64, f64) {
     const S5: f64 = 2.236_067_977_499_79;
-    (1.0 + S5 * r + 5.0 / 3.0 * r * r) * (-S5 * r).exp()
+    let e = (-S5 * r).exp();
+    (
+        (1.0 + S5 * r + 5.0 / 3.0 * r * r) * e,
+        5.0 / 3.0 * (1.0 + S5 * r) * e,
+    )
 }
 
 #[inline]
@@ -151,7 +159,7 @@ fn neg_log_likelihood(data: &Data<'_>, yw: &[f64], theta: &[f64]) -> Option<Eval
             let w = dot(&a[i * m..(i + 1) * m], &a[j * m..(j + 1) * m]) / sigma2
                 - m as f64 * rinv[i * n + j];
             let xj = &data.x[j * d..(j + 1) * d];
-            let (_, g) = matern52(scaled_dist(xi, xj, &inv_len));
+            let (_, g) = kernel_and_g(scaled_dist(xi, xj, &inv_len));
             for k in 0..d {
                 let t = (xi[k] - xj[k]) * inv_len[k];
                 grad[k] -= w * g * t * t;
@@ -348,7 +356,7 @@ impl Regressor for Gp {
         jac[..m * d].iter_mut().for_each(|o| *o = 0.0);
         for i in 0..self.n {
             let xi = &self.x[i * d..(i + 1) * d];
-            let (k, g) = matern52(scaled_dist(x, xi, &self.inv_len));
+            let (k, g) = kernel_and_g(scaled_dist(x, xi, &self.inv_len));
             let a = &self.alpha[i * m..(i + 1) * m];
             for c in 0..m {
                 out[c] += k * a[c];
@@ -364,7 +372,7 @@ impl Regressor for Gp {
         let (n, d) = (self.n, self.d);
         let v = &mut scratch[..n];
         for (i, vi) in v.iter_mut().enumerate() {
-            *vi = matern52(scaled_dist(x, &self.x[i * d..(i + 1) * d], &self.inv_len)).0;
+            *vi = kernel(scaled_dist(x, &self.x[i * d..(i + 1) * d], &self.inv_len));
         }
         solve_lower(&self.chol, n, v);
         let explained = dot(v, v);
