@@ -35,6 +35,9 @@
 //! scalar, the best of {field, direct} × {GP, polynomial}. The held-out errors (RMSE, max, R²,
 //! projection and regression parts) are stored in the model file ([`model`]).
 
+// index loops mirror the equations and the table layouts
+#![allow(clippy::needless_range_loop)]
+
 pub mod batch;
 pub mod data;
 pub mod export;

@@ -348,14 +348,15 @@ impl Surrogate {
 
     /// For each regressor kind, the coefficient columns the quantities `range` need.
     fn needed_cols(&self, range: std::ops::Range<usize>) -> [std::ops::Range<usize>; 2] {
-        let mut cols = [usize::MAX..0, usize::MAX..0];
+        let (mut lo, mut hi) = ([usize::MAX; 2], [0usize; 2]);
         for q in range {
             let b = &self.blocks[self.output_block[q]];
-            let c = &mut cols[kind_index(b.regressor)];
-            c.start = c.start.min(b.coef_offset);
-            c.end = c.end.max(b.coef_offset + b.pod.n_modes);
+            let k = kind_index(b.regressor);
+            lo[k] = lo[k].min(b.coef_offset);
+            hi[k] = hi[k].max(b.coef_offset + b.pod.n_modes);
         }
-        cols
+        // an unused kind gets an empty range
+        [lo[0].min(hi[0])..hi[0], lo[1].min(hi[1])..hi[1]]
     }
 
     /// Predicts all 22 quantities into `pred` (no allocation once `pred` is sized).
@@ -428,8 +429,13 @@ impl Surrogate {
     pub fn predict_with_std_into(&self, q: &Query, pred: &mut Prediction) -> Result<(), RomError> {
         self.predict_into(q, pred)?;
         let w = &mut pred.work;
-        self.gp.variance_into(&w.x, &mut w.var[0], &mut w.scratch);
-        self.poly.variance_into(&w.x, &mut w.var[1], &mut w.scratch);
+        let [gp_cols, poly_cols] = self.needed_cols(0..22);
+        if gp_cols.start < gp_cols.end {
+            self.gp.variance_into(&w.x, &mut w.var[0], &mut w.scratch);
+        }
+        if poly_cols.start < poly_cols.end {
+            self.poly.variance_into(&w.x, &mut w.var[1], &mut w.scratch);
+        }
         let st = stencil(&self.pressures, q.p_bar);
         for qi in 0..22 {
             let b = &self.blocks[self.output_block[qi]];
@@ -464,10 +470,15 @@ impl Surrogate {
         self.ensure_workspace(&mut pred.work);
         let w = &mut pred.work;
         self.features_into(q, w);
-        self.gp
-            .jacobian_into(&w.x, &mut w.coef[0], &mut w.jac[0], &mut w.scratch);
-        self.poly
-            .jacobian_into(&w.x, &mut w.coef[1], &mut w.jac[1], &mut w.scratch);
+        let [gp_cols, poly_cols] = self.needed_cols(0..22);
+        if gp_cols.start < gp_cols.end {
+            self.gp
+                .jacobian_into(&w.x, &mut w.coef[0], &mut w.jac[0], &mut w.scratch);
+        }
+        if poly_cols.start < poly_cols.end {
+            self.poly
+                .jacobian_into(&w.x, &mut w.coef[1], &mut w.jac[1], &mut w.scratch);
+        }
         // dz_f/du_i for u = (T, P, μ1, α1, μ2, α2), z = (N, T, ln μ1α1, α1, ln μ2α2, α2)
         let mut dz = [[0.0; N_GRAD_INPUTS]; N_FEATURES];
         dz[1][0] = 1.0;

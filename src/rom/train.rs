@@ -283,7 +283,8 @@ fn choose(
 }
 
 fn input_specs(cases: &[CaseRamp], pressures: &[f64]) -> Vec<InputSpec> {
-    let get: [(&str, &str, fn(&CaseRamp) -> f64); 6] = [
+    type Getter = fn(&CaseRamp) -> f64;
+    let get: [(&str, &str, Getter); 6] = [
         ("n_bellows", "1", |c| c.inputs.n_bellows as f64),
         ("wall_thickness_mm", "mm", |c| c.inputs.wall_thickness_mm),
         ("mu1_mpa", "MPa", |c| c.inputs.mu1_mpa),
@@ -291,7 +292,7 @@ fn input_specs(cases: &[CaseRamp], pressures: &[f64]) -> Vec<InputSpec> {
         ("mu2_mpa", "MPa", |c| c.inputs.mu2_mpa),
         ("alpha2", "1", |c| c.inputs.alpha2),
     ];
-    let spec = |(name, unit, f): (&str, &str, fn(&CaseRamp) -> f64)| InputSpec {
+    let spec = |(name, unit, f): (&str, &str, Getter)| InputSpec {
         name: name.into(),
         unit: unit.into(),
         min: cases.iter().map(f).fold(f64::INFINITY, f64::min),
@@ -333,7 +334,8 @@ pub fn train(
     let fold = fold_assignment(n, k, cfg.seed);
     let done = std::sync::atomic::AtomicUsize::new(0);
     // folds 0..k, then the final fit on all cases (task k), all in parallel
-    let results: Vec<Result<(Option<Table>, Option<Fitted>), RomError>> = (0..=k)
+    type Task = (Option<Table>, Option<Fitted>);
+    let results: Vec<Result<Task, RomError>> = (0..=k)
         .into_par_iter()
         .map(|f| {
             let out = if f == k {

@@ -276,16 +276,20 @@ impl Regressor for Poly {
         let (p, m, d) = (self.n_terms(), self.m, self.d);
         self.predict_into(x, out, scratch);
         jac[..m * d].iter_mut().for_each(|o| *o = 0.0);
+        let mut pw = [[1.0f64; 4]; 8];
+        for (j, &xj) in x.iter().enumerate() {
+            pw[j] = [1.0, xj, xj * xj, xj * xj * xj];
+        }
         for k in 0..p {
             let e = &self.exponents[k * d..(k + 1) * d];
             for j in 0..d {
                 if e[j] == 0 {
                     continue;
                 }
-                let mut dv = e[j] as f64 * x[j].powi(e[j] as i32 - 1);
+                let mut dv = e[j] as f64 * pw[j][e[j] as usize - 1];
                 for (jj, &ej) in e.iter().enumerate() {
                     if jj != j {
-                        dv *= x[jj].powi(ej as i32);
+                        dv *= pw[jj][ej as usize];
                     }
                 }
                 let c = &self.coef[k * m..(k + 1) * m];
@@ -313,11 +317,7 @@ impl Regressor for Poly {
 impl Poly {
     /// Number of monomials.
     pub fn n_terms(&self) -> usize {
-        if self.d == 0 {
-            1
-        } else {
-            self.exponents.len() / self.d
-        }
+        self.exponents.len().checked_div(self.d).unwrap_or(1)
     }
 }
 
