@@ -154,3 +154,28 @@ fn predictions_track_the_synthetic_truth_and_std_is_available() {
         "tip Uz error {worst} mm with 40 training cases"
     );
 }
+
+#[test]
+fn training_does_not_depend_on_the_thread_count() {
+    let cases = rom_common::synthetic_cases(24, 3);
+    let cfg = surrogate::rom::TrainConfig {
+        folds: 3,
+        ..Default::default()
+    };
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            surrogate::rom::train(&cases, "s", 0, &cfg, &|_, _| {})
+                .unwrap()
+                .surrogate
+        })
+    };
+    // the POD SVD runs with Par::Seq and the folds are independent tasks
+    assert!(
+        run(1) == run(2),
+        "models trained with 1 and 2 threads differ"
+    );
+}
