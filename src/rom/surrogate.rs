@@ -539,6 +539,8 @@ impl Surrogate {
             ));
         }
         if self.gp.x.len() != self.gp.n * d
+            || self.gp.xs.len() != self.gp.n * d
+            || d > 8
             || self.gp.alpha.len() != self.gp.n * m
             || self.gp.chol.len() != self.gp.n * self.gp.n
         {

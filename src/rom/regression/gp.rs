@@ -59,6 +59,8 @@ pub struct Gp {
     pub m: usize,
     /// Training inputs, `n × d`.
     pub x: Vec<f64>,
+    /// Training inputs divided by the length scales, `n × d` (prediction hot path).
+    pub xs: Vec<f64>,
     /// Hyperparameters `(ln ℓ, ln η)`.
     pub theta: Vec<f64>,
     /// Inverse length scales.
@@ -310,12 +312,14 @@ impl Regressor for Gp {
                 l[i * n + j] = 0.0;
             }
         }
-        let inv_len = theta[..d].iter().map(|t| (-t).exp()).collect();
+        let inv_len: Vec<f64> = theta[..d].iter().map(|t| (-t).exp()).collect();
+        let xs = (0..n * d).map(|e| data.x[e] * inv_len[e % d]).collect();
         Ok(Gp {
             d,
             n,
             m,
             x: data.x.to_vec(),
+            xs,
             theta,
             inv_len,
             alpha,
@@ -337,15 +341,30 @@ impl Regressor for Gp {
         x: &[f64],
         cols: Range<usize>,
         out: &mut [f64],
-        _scratch: &mut [f64],
+        scratch: &mut [f64],
     ) {
-        let (d, m) = (self.d, self.m);
+        let (d, m, n) = (self.d, self.m, self.n);
+        // phase 1: the kernel vector (independent exps pipeline well)
+        let mut xq = [0.0; 8];
+        for j in 0..d {
+            xq[j] = x[j] * self.inv_len[j];
+        }
+        let k = &mut scratch[..n];
+        for (i, ki) in k.iter_mut().enumerate() {
+            let xi = &self.xs[i * d..(i + 1) * d];
+            let mut r2 = 0.0;
+            for j in 0..d {
+                let t = xq[j] - xi[j];
+                r2 += t * t;
+            }
+            *ki = kernel(r2.sqrt());
+        }
+        // phase 2: out[cols] = αᵀ k
         out[cols.clone()].iter_mut().for_each(|o| *o = 0.0);
-        for i in 0..self.n {
-            let k = kernel(scaled_dist(x, &self.x[i * d..(i + 1) * d], &self.inv_len));
+        for (i, ki) in k.iter().enumerate() {
             let a = &self.alpha[i * m + cols.start..i * m + cols.end];
             for (o, ac) in out[cols.clone()].iter_mut().zip(a) {
-                *o += k * ac;
+                *o += ki * ac;
             }
         }
     }
