@@ -12,6 +12,7 @@
 //! Prediction: mean `μ_c(x) = k(x)ᵀα_c`, `α_c = R⁻¹y_c`; variance
 //! `σ_c²(1 − k(x)ᵀR⁻¹k(x))` with `σ_c² = y_cᵀR⁻¹y_c/n` (latent, no nugget).
 
+use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
@@ -32,6 +33,9 @@ pub struct GpParams {
     pub max_iter: usize,
     /// Fixed hyperparameters `(ln ℓ_1..ln ℓ_d, ln η)`: skips the optimisation when given.
     pub theta: Option<Vec<f64>>,
+    /// Largest number of points used in the hyperparameter search (a seeded subset above it;
+    /// the weights always use every point).
+    pub max_points: usize,
 }
 
 impl Default for GpParams {
@@ -41,6 +45,7 @@ impl Default for GpParams {
             seed: 11,
             max_iter: 40,
             theta: None,
+            max_points: 400,
         }
     }
 }
@@ -238,13 +243,35 @@ fn minimise(
 
 fn optimise(data: &Data<'_>, params: &GpParams) -> Result<Vec<f64>, RomError> {
     let (n, d, m) = (data.n, data.d, data.m);
-    let mut yw = data.y.to_vec();
-    for i in 0..n {
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(params.seed);
+    // the likelihood costs O(n³) per step: above `max_points`, search on a seeded subset
+    let mut rows: Vec<usize> = (0..n).collect();
+    if n > params.max_points {
+        rows.shuffle(&mut rng);
+        rows.truncate(params.max_points);
+        rows.sort_unstable();
+    }
+    let ns = rows.len();
+    let xs: Vec<f64> = rows
+        .iter()
+        .flat_map(|&i| data.x[i * d..(i + 1) * d].iter().copied())
+        .collect();
+    let ys: Vec<f64> = rows
+        .iter()
+        .flat_map(|&i| data.y[i * m..(i + 1) * m].iter().copied())
+        .collect();
+    let mut yw = ys.clone();
+    for i in 0..ns {
         for c in 0..m {
             yw[i * m + c] *= data.weights.get(c).copied().unwrap_or(1.0);
         }
     }
-    let mut rng = Xoshiro256PlusPlus::seed_from_u64(params.seed);
+    let data = &Data {
+        x: &xs,
+        y: &ys,
+        n: ns,
+        ..*data
+    };
     let mut best: Option<(Vec<f64>, f64)> = None;
     for s in 0..params.n_start.max(1) {
         let mut t0 = vec![(0.7f64).ln(); d + 1];
