@@ -87,6 +87,36 @@ fn train_from_csv_file_reports_skipped_rows() {
         stdout.contains("direct/poly") || stdout.contains("field/poly"),
         "{stdout}"
     );
+    assert!(!stdout.contains("/gp "), "{stdout}");
+}
+
+#[test]
+fn prefer_poly_within_a_large_margin_selects_the_polynomial() {
+    let out = dir().join("fast.json");
+    let o = bin()
+        .args(["train", "--synthetic", "20", "--folds", "2", "--quiet"])
+        .args(["--prefer-poly-within", "1000", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let (stdout, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        stdout.contains("/poly") && !stdout.contains("/gp "),
+        "{stdout}"
+    );
+    let o = bin()
+        .args([
+            "train",
+            "--synthetic",
+            "20",
+            "--prefer-poly-within=-1",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && text(&o).1.contains("--prefer-poly-within"));
 }
 
 #[test]

@@ -40,6 +40,9 @@ pub struct TrainConfig {
     pub poly: PolyParams,
     /// Restrict the choice to one regressor family (tests, export checks).
     pub only: Option<RegressorKind>,
+    /// Latency preference: the polynomial (≈ 1–2 µs) is kept unless the GP's held-out RMSE is
+    /// smaller by more than this relative margin (0: pure accuracy).
+    pub prefer_poly_within: f64,
 }
 
 impl Default for TrainConfig {
@@ -53,6 +56,7 @@ impl Default for TrainConfig {
             gp: GpParams::default(),
             poly: PolyParams::default(),
             only: None,
+            prefer_poly_within: 0.0,
         }
     }
 }
@@ -230,16 +234,24 @@ fn validation_entry(
 /// Chooses the regressors; returns (field regressor, per scalar (direct?, kind)), validation.
 fn choose(
     table: &Table,
-    only: Option<RegressorKind>,
+    cfg: &TrainConfig,
     scheme: String,
     n_cases: usize,
 ) -> (usize, [(usize, usize); 4], Validation) {
-    let kinds: Vec<usize> = match only {
+    let kinds: Vec<usize> = match cfg.only {
         Some(RegressorKind::Gp) => vec![0],
         Some(RegressorKind::Poly) => vec![1],
         None => vec![0, 1],
     };
-    let rmse = |o: usize, dir: usize, k: usize| table[cand_index(o, dir, k)].total.rmse();
+    // the GP must beat the (faster) polynomial by the factor 1 + prefer_poly_within
+    let rmse = |o: usize, dir: usize, k: usize| {
+        let penalty = if k == 0 {
+            1.0 + cfg.prefer_poly_within
+        } else {
+            1.0
+        };
+        table[cand_index(o, dir, k)].total.rmse() * penalty
+    };
     let field_kind = *kinds
         .iter()
         .min_by(|&&a, &&b| rmse(0, 0, a).total_cmp(&rmse(0, 0, b)))
@@ -377,7 +389,7 @@ pub fn train(
         message: "final fit missing".into(),
     })?;
     let (field_kind, scalar_choice, validation) =
-        choose(&table, cfg.only, format!("{k}-fold by case"), n);
+        choose(&table, cfg, format!("{k}-fold by case"), n);
     let kind_of = |i: usize| {
         if i == 0 {
             RegressorKind::Gp

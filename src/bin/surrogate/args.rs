@@ -56,6 +56,10 @@ pub struct TrainArgs {
     /// Restrict the regressor to one family.
     #[arg(long, value_enum)]
     pub only: Option<OnlyArg>,
+    /// Keep the faster polynomial unless the GP's held-out RMSE is smaller by more than this
+    /// relative margin (e.g. 0.2); 0 chooses by accuracy alone.
+    #[arg(long, default_value_t = 0.0)]
+    pub prefer_poly_within: f64,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,

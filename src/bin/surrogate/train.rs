@@ -9,6 +9,11 @@ use surrogate::rom::{train, TrainConfig};
 use crate::args::{OnlyArg, TrainArgs};
 
 pub fn run(a: TrainArgs) -> Result<()> {
+    anyhow::ensure!(
+        a.prefer_poly_within >= 0.0 && a.prefer_poly_within.is_finite(),
+        "invalid --prefer-poly-within {}: expected a finite number ≥ 0",
+        a.prefer_poly_within
+    );
     let set = match (&a.data, a.synthetic) {
         (_, Some(n_cases)) => {
             let cfg = SyntheticConfig {
@@ -44,6 +49,7 @@ pub fn run(a: TrainArgs) -> Result<()> {
             OnlyArg::Gp => RegressorKind::Gp,
             OnlyArg::Poly => RegressorKind::Poly,
         }),
+        prefer_poly_within: a.prefer_poly_within,
         ..Default::default()
     };
     let bar = if a.quiet {
