@@ -137,3 +137,95 @@ fn no_std_module_compiles() {
     let header = c_header(Precision::F32, &sum);
     assert!(header.contains("int32_t surrogate_predict_f32(uint32_t n, float t_mm, float p_bar"));
 }
+
+/// The exported `extern "C"` entry point, built as a `#![no_std]` static library and called
+/// from C through the generated header, gives the library's values.
+#[test]
+fn c_entry_point_links_and_agrees() {
+    let cc = std::env::var("CC").unwrap_or_else(|_| "cc".into());
+    if std::process::Command::new(&cc)
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        eprintln!("skipped: no C compiler ({cc})");
+        return;
+    }
+    let m = rom_common::small_model(None);
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rom_c_check");
+    std::fs::create_dir_all(&dir).unwrap();
+    let sum = m.checksum().unwrap();
+    std::fs::copy(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/src/predict/mod.rs"),
+        dir.join("predict.rs"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("model32.rs"),
+        rust_source(&m, Precision::F32, &sum).unwrap(),
+    )
+    .unwrap();
+    std::fs::write(dir.join("model.h"), c_header(Precision::F32, &sum)).unwrap();
+    std::fs::write(
+        dir.join("lib.rs"),
+        "#![no_std]\npub mod predict;\npub mod model32;\n#[panic_handler]\nfn panic(_: &core::panic::PanicInfo) -> ! {\n    loop {}\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("main.c"),
+        "#include <stdio.h>\n#include \"model.h\"\n/* the precompiled libcore refers to it even with panic=abort; never called */\nvoid rust_eh_personality(void) {}\nint main(void) {\n  float out[SURROGATE_N_OUTPUTS];\n  int rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  int bad = surrogate_predict_f32(12, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out + 0);\n  printf(\"%d %d\", rc, bad);\n  rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", out[i]);\n  printf(\"\\n\");\n  return 0;\n}\n",
+    )
+    .unwrap();
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    let run = |cmd: &mut std::process::Command| {
+        let o = cmd.output().unwrap();
+        assert!(
+            o.status.success(),
+            "{cmd:?}:\n{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    run(std::process::Command::new(rustc)
+        .args([
+            "--edition",
+            "2021",
+            "--crate-type",
+            "staticlib",
+            "--crate-name",
+            "surrogate_c",
+            "-O",
+            "-C",
+            "panic=abort",
+        ])
+        .arg("--out-dir")
+        .arg(&dir)
+        .arg(dir.join("lib.rs")));
+    run(std::process::Command::new(&cc)
+        .arg(dir.join("main.c"))
+        .arg(dir.join("libsurrogate_c.a"))
+        .arg("-o")
+        .arg(dir.join("main"))
+        .arg("-lm"));
+    let out = run(&mut std::process::Command::new(dir.join("main")));
+    let v: Vec<f64> = out.split_whitespace().map(|t| t.parse().unwrap()).collect();
+    assert_eq!((v[0], v[1]), (0.0, 2.0), "return codes");
+    let q = Query {
+        n: 11,
+        t_mm: 2.0,
+        p_bar: 1.5,
+        mu1: 1.13f32 as f64,
+        alpha1: 3.11f32 as f64,
+        mu2: -13.17f32 as f64,
+        alpha2: -0.6f32 as f64,
+    };
+    let lib = m.predict(&q).unwrap().values;
+    for k in 0..22 {
+        assert!(
+            (v[2 + k] - lib[k]).abs() <= 1e-5 * lib[k].abs().max(1.0),
+            "output {k}: C {} vs library {}",
+            v[2 + k],
+            lib[k]
+        );
+    }
+}
