@@ -115,6 +115,19 @@ pub struct Validation {
     pub outputs: Vec<OutputValidation>,
     /// Every candidate that was compared (for the record).
     pub candidates: Vec<OutputValidation>,
+    /// Error of the pressure interpolation alone, on the training ramps.
+    pub pressure_interpolation: Vec<InterpolationCheck>,
+}
+
+/// Pressure-interpolation error of one output: each interior node of every training ramp is
+/// left out and interpolated from the others (local spacing doubled, so an upper bound of the
+/// error between nodes of the full grid).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InterpolationCheck {
+    /// Output name.
+    pub name: String,
+    /// Errors of the leave-one-node-out interpolation.
+    pub stats: ErrorStats,
 }
 
 impl Validation {
@@ -136,6 +149,15 @@ impl Validation {
                 o.regression_rmse,
                 o.total.range
             ));
+        }
+        if !self.pressure_interpolation.is_empty() {
+            s.push_str("pressure interpolation (leave-one-node-out on the ramps, upper bound between nodes): rmse / max\n");
+            for c in &self.pressure_interpolation {
+                s.push_str(&format!(
+                    "{:<12} {:>9.4} {:>9.4}\n",
+                    c.name, c.stats.rmse, c.stats.max_abs
+                ));
+            }
         }
         s
     }

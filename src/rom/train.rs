@@ -12,7 +12,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
 use super::data::{CaseRamp, CaseSet};
-use super::metrics::{ErrorAccumulator, OutputValidation, Validation};
+use super::metrics::{ErrorAccumulator, InterpolationCheck, OutputValidation, Validation};
 use super::pod::PodBasis;
 use super::regression::gp::{Gp, GpParams};
 use super::regression::poly::{Poly, PolyParams};
@@ -231,6 +231,58 @@ fn validation_entry(
     }
 }
 
+/// Leave-one-node-out check of the pressure interpolation on the training ramps.
+fn interpolation_check(set: &CaseSet) -> Vec<InterpolationCheck> {
+    let grid = &set.pressures;
+    let n_p = grid.len();
+    if n_p < 4 {
+        return Vec::new();
+    }
+    let mut acc = vec![ErrorAccumulator::default(); 5];
+    for j in 1..n_p - 1 {
+        let reduced: Vec<f64> = grid
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != j)
+            .map(|(_, &p)| p)
+            .collect();
+        let st = crate::predict::stencil(&reduced, grid[j]);
+        let node = |s: usize| {
+            if st.start + s < j {
+                st.start + s
+            } else {
+                st.start + s + 1
+            }
+        };
+        for case in &set.cases {
+            for q in 0..22 {
+                let y: f64 = (0..st.len).map(|s| st.w[s] * case.values[node(s)][q]).sum();
+                let output = if q < N_MARKER_COMPONENTS {
+                    0
+                } else {
+                    q - Q_TIP_UZ + 1
+                };
+                acc[output].add(case.values[j][q], y);
+            }
+        }
+    }
+    let names = [
+        "markers_mm",
+        "tip_uz_mm",
+        "tip_uy_mm",
+        "angle_deg",
+        "force_n",
+    ];
+    names
+        .iter()
+        .zip(acc)
+        .map(|(n, a)| InterpolationCheck {
+            name: n.to_string(),
+            stats: a.finish(),
+        })
+        .collect()
+}
+
 /// Chooses the regressors; returns (field regressor, per scalar (direct?, kind)), validation.
 fn choose(
     table: &Table,
@@ -290,6 +342,7 @@ fn choose(
             n_cases,
             outputs,
             candidates,
+            pressure_interpolation: Vec::new(),
         },
     )
 }
@@ -388,8 +441,9 @@ pub fn train(
         stage: "training".into(),
         message: "final fit missing".into(),
     })?;
-    let (field_kind, scalar_choice, validation) =
+    let (field_kind, scalar_choice, mut validation) =
         choose(&table, cfg, format!("{k}-fold by case"), n);
+    validation.pressure_interpolation = interpolation_check(set);
     let kind_of = |i: usize| {
         if i == 0 {
             RegressorKind::Gp
