@@ -316,8 +316,8 @@ pub fn stencil(grid: &[f64], p: f64) -> Stencil<f64> {
 pub struct GpTables<'a> {
     /// Inverse length scales `1/ℓ_d` (scaled features), length `d`.
     pub inv_len: &'a [f64],
-    /// Training inputs, row-major `n × d`.
-    pub x: &'a [f64],
+    /// Training inputs divided by the length scales, row-major `n × d`.
+    pub xs: &'a [f64],
     /// Weights `α = R⁻¹Y`, row-major `n × n_coefs`.
     pub alpha: &'a [f64],
 }
@@ -502,12 +502,16 @@ pub fn evaluate<F: Real>(
 
 fn gp_mean(gp: &GpTables<'_>, x: &[f64], m: usize, out: &mut [f64]) {
     let d = x.len();
-    let n = gp.x.len().checked_div(d).unwrap_or(0);
+    let n = gp.xs.len().checked_div(d).unwrap_or(0);
+    let mut xq = [0.0f64; N_FEATURES];
+    for j in 0..d {
+        xq[j] = x[j] * gp.inv_len[j];
+    }
     for i in 0..n {
-        let xi = &gp.x[i * d..(i + 1) * d];
+        let xi = &gp.xs[i * d..(i + 1) * d];
         let mut r2 = 0.0;
         for j in 0..d {
-            let t = (x[j] - xi[j]) * gp.inv_len[j];
+            let t = xq[j] - xi[j];
             r2 += t * t;
         }
         let (k, _) = matern52(sqrt(r2));

@@ -30,7 +30,7 @@ pub struct EmbeddedTables<F> {
     pressures: Vec<f64>,
     n_coefs: usize,
     gp_inv_len: Vec<f64>,
-    gp_x: Vec<f64>,
+    gp_xs: Vec<f64>,
     gp_alpha: Vec<f64>,
     poly_exponents: Vec<u8>,
     poly_coef: Vec<F>,
@@ -83,7 +83,7 @@ impl<F: Real> EmbeddedTables<F> {
             pressures: s.pressures.clone(),
             n_coefs: s.gp.m,
             gp_inv_len: conv(&s.gp.inv_len),
-            gp_x: if use_gp { conv(&s.gp.x) } else { Vec::new() },
+            gp_xs: if use_gp { s.gp.xs.clone() } else { Vec::new() },
             gp_alpha: if use_gp {
                 conv(&s.gp.alpha)
             } else {
@@ -132,7 +132,7 @@ impl<F: Real> EmbeddedTables<F> {
             n_coefs: self.n_coefs,
             gp: GpTables {
                 inv_len: &self.gp_inv_len,
-                x: &self.gp_x,
+                xs: &self.gp_xs,
                 alpha: &self.gp_alpha,
             },
             poly: PolyTables {
@@ -189,7 +189,7 @@ fn rust_body<F: Real + std::fmt::Debug>(t: &EmbeddedTables<F>, p: Precision, out
     array(out, "FEATURE_INV_HALF", ty, &t.feature_inv_half);
     array(out, "PRESSURES", "f64", &t.pressures);
     array(out, "GP_INV_LEN", "f64", &t.gp_inv_len);
-    array(out, "GP_X", "f64", &t.gp_x);
+    array(out, "GP_XS", "f64", &t.gp_xs);
     array(out, "GP_ALPHA", "f64", &t.gp_alpha);
     array(out, "POLY_EXPONENTS", "u8", &t.poly_exponents);
     array(out, "POLY_COEF", ty, &t.poly_coef);
@@ -215,7 +215,7 @@ fn rust_body<F: Real + std::fmt::Debug>(t: &EmbeddedTables<F>, p: Precision, out
     out.push_str("];\n\n");
     let _ = write!(
         out,
-        "/// The exported model.\npub static MODEL: EmbeddedModel<'static, {ty}> = EmbeddedModel {{\n    n_allowed: &N_ALLOWED,\n    feature_index: &FEATURE_INDEX,\n    feature_center: &FEATURE_CENTER,\n    feature_inv_half: &FEATURE_INV_HALF,\n    pressures: &PRESSURES,\n    n_coefs: {},\n    gp: GpTables {{ inv_len: &GP_INV_LEN, x: &GP_X, alpha: &GP_ALPHA }},\n    poly: PolyTables {{ exponents: &POLY_EXPONENTS, coef: &POLY_COEF }},\n    blocks: &BLOCKS,\n    output_block: &OUTPUT_BLOCK,\n    output_slot: &OUTPUT_SLOT,\n}};\n\n",
+        "/// The exported model.\npub static MODEL: EmbeddedModel<'static, {ty}> = EmbeddedModel {{\n    n_allowed: &N_ALLOWED,\n    feature_index: &FEATURE_INDEX,\n    feature_center: &FEATURE_CENTER,\n    feature_inv_half: &FEATURE_INV_HALF,\n    pressures: &PRESSURES,\n    n_coefs: {},\n    gp: GpTables {{ inv_len: &GP_INV_LEN, xs: &GP_XS, alpha: &GP_ALPHA }},\n    poly: PolyTables {{ exponents: &POLY_EXPONENTS, coef: &POLY_COEF }},\n    blocks: &BLOCKS,\n    output_block: &OUTPUT_BLOCK,\n    output_slot: &OUTPUT_SLOT,\n}};\n\n",
         t.n_coefs
     );
 }

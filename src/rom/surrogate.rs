@@ -542,7 +542,7 @@ impl Surrogate {
             || self.gp.xs.len() != self.gp.n * d
             || d > 8
             || self.gp.alpha.len() != self.gp.n * m
-            || self.gp.chol.len() != self.gp.n * self.gp.n
+            || self.gp.chol.len() != self.gp.n * (self.gp.n + 1) / 2
         {
             return Err("Gaussian-process tables have inconsistent sizes".into());
         }

@@ -74,7 +74,7 @@ pub struct Gp {
     pub alpha: Vec<f64>,
     /// Per-output process variance `σ_c²`.
     pub sigma2: Vec<f64>,
-    /// Lower Cholesky factor of `R`, `n × n` row-major.
+    /// Lower Cholesky factor of `R`, packed by rows (`n(n+1)/2` values).
     pub chol: Vec<f64>,
 }
 
@@ -334,11 +334,10 @@ impl Regressor for Gp {
                 alpha[i * m + c] = col[i];
             }
         }
-        for i in 0..n {
-            for j in (i + 1)..n {
-                l[i * n + j] = 0.0;
-            }
-        }
+        // packed lower triangle: row i holds L[i][0..=i] at offset i(i+1)/2
+        let chol: Vec<f64> = (0..n)
+            .flat_map(|i| l[i * n..i * n + i + 1].to_vec())
+            .collect();
         let inv_len: Vec<f64> = theta[..d].iter().map(|t| (-t).exp()).collect();
         let xs = (0..n * d).map(|e| data.x[e] * inv_len[e % d]).collect();
         Ok(Gp {
@@ -351,7 +350,7 @@ impl Regressor for Gp {
             inv_len,
             alpha,
             sigma2,
-            chol: l,
+            chol,
         })
     }
 
@@ -420,7 +419,11 @@ impl Regressor for Gp {
         for (i, vi) in v.iter_mut().enumerate() {
             *vi = kernel(scaled_dist(x, &self.x[i * d..(i + 1) * d], &self.inv_len));
         }
-        solve_lower(&self.chol, n, v);
+        // forward substitution with the packed factor
+        for i in 0..n {
+            let row = &self.chol[i * (i + 1) / 2..(i + 1) * (i + 2) / 2];
+            v[i] = (v[i] - dot(&row[..i], &v[..i])) / row[i];
+        }
         let explained = dot(v, v);
         let f = (1.0 - explained).max(0.0);
         for (c, o) in var[..self.m].iter_mut().enumerate() {
