@@ -179,3 +179,76 @@ fn training_does_not_depend_on_the_thread_count() {
         "models trained with 1 and 2 threads differ"
     );
 }
+
+/// A first FE set may vary only N and T for one material: the material features are then
+/// constant, dropped from the regression, and any other material is out of the domain.
+#[test]
+fn one_material_and_one_n_train_and_flag_other_materials() {
+    use surrogate::rom::data::SnapshotSet;
+    use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
+    let ogden_002 = [1.13, 3.11, -13.17, -0.6];
+    let cfg = SyntheticConfig {
+        n_cases: 16,
+        n_values: vec![11],
+        fixed_material: Some(ogden_002),
+        ..Default::default()
+    };
+    let mut buf = Vec::new();
+    write_csv(&cfg, &mut buf).unwrap();
+    let cases = SnapshotSet::from_reader(buf.as_slice(), "s")
+        .unwrap()
+        .into_cases()
+        .unwrap();
+    let tc = surrogate::rom::TrainConfig {
+        folds: 4,
+        ..Default::default()
+    };
+    let m = surrogate::rom::train(&cases, "s", 0, &tc, &|_, _| {})
+        .unwrap()
+        .surrogate;
+    assert_eq!(m.features.index, vec![1], "only T varies");
+    assert_eq!(m.n_allowed, vec![11]);
+    let qq = q(11, 2.2);
+    assert!(m.domain_violations(&qq).is_empty());
+    let p = m.predict(&qq).unwrap();
+    let truth = surrogate::rom::synthetic::response(
+        &surrogate::rom::CaseInputs {
+            n_bellows: 11,
+            wall_thickness_mm: 2.0,
+            mu1_mpa: 1.13,
+            alpha1: 3.11,
+            mu2_mpa: -13.17,
+            alpha2: -0.6,
+        },
+        2.2,
+    );
+    assert!(
+        (p.tip_uz_mm() - truth[18]).abs() < 0.5,
+        "{} vs {}",
+        p.tip_uz_mm(),
+        truth[18]
+    );
+    let other = Query {
+        mu1: 0.13,
+        alpha1: 3.05,
+        mu2: -1214.0,
+        alpha2: -0.0054,
+        ..qq
+    };
+    let names: Vec<String> = m
+        .domain_violations(&other)
+        .iter()
+        .map(|d| d.name.clone())
+        .collect();
+    assert!(
+        names.contains(&"mu1_mpa".to_string()) && names.contains(&"mu2_mpa".to_string()),
+        "{names:?}"
+    );
+    let mut pred = m.new_prediction();
+    let mut jac = surrogate::rom::Jacobian::default();
+    m.gradient_into(&qq, &mut pred, &mut jac).unwrap();
+    assert!(
+        jac.d[18][2] == 0.0 && jac.d[18][0] != 0.0,
+        "no material sensitivity without material data"
+    );
+}

@@ -131,6 +131,30 @@ pub struct InterpolationCheck {
 }
 
 impl Validation {
+    /// Human-readable comparison of every candidate (field vs direct, GP vs polynomial).
+    pub fn candidates_table(&self) -> String {
+        let mut s = format!(
+            "candidates (held-out RMSE; proj + regr split):\n{:<12} {:<12} {:>9} {:>9} {:>9}\n",
+            "output", "source", "rmse", "proj", "regr"
+        );
+        for o in &self.candidates {
+            let chosen = self
+                .outputs
+                .iter()
+                .any(|c| c.name == o.name && c.source == o.source);
+            s.push_str(&format!(
+                "{:<12} {:<12} {:>9.4} {:>9.4} {:>9.4}{}\n",
+                o.name,
+                o.source,
+                o.total.rmse,
+                o.projection_rmse,
+                o.regression_rmse,
+                if chosen { "  <- chosen" } else { "" }
+            ));
+        }
+        s
+    }
+
     /// Human-readable table.
     pub fn table(&self) -> String {
         let mut s = format!(

@@ -33,6 +33,8 @@ pub struct SyntheticConfig {
     pub unconverged_fraction: f64,
     /// Pressure grid, bar.
     pub pressures: Vec<f64>,
+    /// One Ogden set `[μ₁, α₁, μ₂, α₂]` for every case instead of random ones.
+    pub fixed_material: Option<[f64; 4]>,
 }
 
 impl Default for SyntheticConfig {
@@ -44,6 +46,7 @@ impl Default for SyntheticConfig {
             noise_mm: 0.0,
             unconverged_fraction: 0.0,
             pressures: (0..15).map(|i| 0.25 * i as f64).collect(),
+            fixed_material: None,
         }
     }
 }
@@ -92,13 +95,23 @@ pub fn response(c: &CaseInputs, p: f64) -> [f64; 22] {
 pub fn sample_cases(cfg: &SyntheticConfig) -> Vec<CaseInputs> {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(cfg.seed);
     (0..cfg.n_cases)
-        .map(|i| CaseInputs {
-            n_bellows: cfg.n_values[i % cfg.n_values.len()],
-            wall_thickness_mm: rng.gen_range(1.2..2.8),
-            mu1_mpa: rng.gen_range(0.6..1.8),
-            alpha1: rng.gen_range(2.6..3.6),
-            mu2_mpa: rng.gen_range(-18.0..-9.0),
-            alpha2: rng.gen_range(-0.8..-0.4),
+        .map(|i| {
+            let t = rng.gen_range(1.2..2.8);
+            let m = [
+                rng.gen_range(0.6..1.8),
+                rng.gen_range(2.6..3.6),
+                rng.gen_range(-18.0..-9.0),
+                rng.gen_range(-0.8..-0.4),
+            ];
+            let m = cfg.fixed_material.unwrap_or(m);
+            CaseInputs {
+                n_bellows: cfg.n_values[i % cfg.n_values.len()],
+                wall_thickness_mm: t,
+                mu1_mpa: m[0],
+                alpha1: m[1],
+                mu2_mpa: m[2],
+                alpha2: m[3],
+            }
         })
         .collect()
 }

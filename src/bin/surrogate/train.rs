@@ -71,6 +71,7 @@ pub fn run(a: TrainArgs) -> Result<()> {
         .surrogate
         .save(&a.out)
         .with_context(|| format!("saving {}", a.out.display()))?;
+    println!("{}", s.validation.candidates_table());
     println!("{}", s.validation.table());
     let modes: Vec<String> = s
         .blocks
