@@ -96,7 +96,17 @@ fn validation_is_stored_with_every_output() {
         // total² ≈ projection² + regression² (orthogonality in the scaled norm, per block)
         assert!(o.total.rmse <= o.projection_rmse + o.regression_rmse + 1e-12);
     }
+    for o in &m.validation.outputs {
+        // the std is neither useless nor wildly over- or under-confident on smooth data
+        assert!(
+            o.std_ratio > 0.1 && o.std_ratio < 10.0,
+            "{}: z_rms {}",
+            o.name,
+            o.std_ratio
+        );
+    }
     assert!(m.validation.candidates.len() >= 9);
+    assert_eq!(m.validation.pressure_interpolation.len(), 5);
     assert!(m.validation.table().contains("tip_uz_mm"));
 }
 

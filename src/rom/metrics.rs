@@ -102,6 +102,9 @@ pub struct OutputValidation {
     pub projection_rmse: f64,
     /// RMSE of the regression alone (`Πy − ŷ`).
     pub regression_rmse: f64,
+    /// Calibration of the predictive standard deviation: RMS of `(y − ŷ)/σ̂` over the held-out
+    /// values (≈ 1 when calibrated, > 1 when the std is too small).
+    pub std_ratio: f64,
 }
 
 /// Cross-validation table stored in a model.
@@ -158,12 +161,12 @@ impl Validation {
     /// Human-readable table.
     pub fn table(&self) -> String {
         let mut s = format!(
-            "validation: {} ({} cases), errors at the pressure nodes\n{:<12} {:<12} {:>9} {:>9} {:>8} {:>9} {:>9} {:>9}\n",
-            self.scheme, self.n_cases, "output", "source", "rmse", "max", "R2", "proj", "regr", "range"
+            "validation: {} ({} cases), errors at the pressure nodes\n{:<12} {:<12} {:>9} {:>9} {:>8} {:>9} {:>9} {:>9} {:>7}\n",
+            self.scheme, self.n_cases, "output", "source", "rmse", "max", "R2", "proj", "regr", "range", "z_rms"
         );
         for o in &self.outputs {
             s.push_str(&format!(
-                "{:<12} {:<12} {:>9.4} {:>9.4} {:>8.5} {:>9.4} {:>9.4} {:>9.3}\n",
+                "{:<12} {:<12} {:>9.4} {:>9.4} {:>8.5} {:>9.4} {:>9.4} {:>9.3} {:>7.2}\n",
                 o.name,
                 o.source,
                 o.total.rmse,
@@ -171,7 +174,8 @@ impl Validation {
                 o.total.r2,
                 o.projection_rmse,
                 o.regression_rmse,
-                o.total.range
+                o.total.range,
+                o.std_ratio
             ));
         }
         if !self.pressure_interpolation.is_empty() {

@@ -155,6 +155,8 @@ struct CandidateErrors {
     total: ErrorAccumulator,
     projection: ErrorAccumulator,
     regression: ErrorAccumulator,
+    /// Sum of squared standardised errors `((y − ŷ)/σ̂)²` and their count.
+    z2: (f64, usize),
 }
 
 /// Candidates: markers from the field block; each scalar from the field or its direct block.
@@ -171,10 +173,13 @@ fn evaluate_fold(fit: &Fitted, test: &[CaseRamp]) -> Table {
     let mut x = vec![0.0; d];
     let mut scratch = vec![0.0; fit.gp.scratch_len().max(fit.poly.scratch_len())];
     let mut coef = [vec![0.0; m], vec![0.0; m]];
+    let mut var = [vec![0.0; m], vec![0.0; m]];
     for case in test {
         fit.features.scale_into(&raw_features(&case.inputs), &mut x);
         fit.gp.predict_into(&x, &mut coef[0], &mut scratch);
         fit.poly.predict_into(&x, &mut coef[1], &mut scratch);
+        fit.gp.variance_into(&x, &mut var[0], &mut scratch);
+        fit.poly.variance_into(&x, &mut var[1], &mut scratch);
         for (bi, (_, pod, off)) in fit.blocks.iter().enumerate() {
             let r = pod.n_modes;
             let truth = PodBasis::snapshot_of(&pod.quantities, case);
@@ -191,10 +196,18 @@ fn evaluate_fold(fit: &Fitted, test: &[CaseRamp]) -> Table {
                 let y_proj = pod.entry(e, &proj);
                 for (kind, c) in coef.iter().enumerate() {
                     let y_hat = pod.entry(e, &c[*off..off + r]);
+                    let row = &pod.modes[e * r..(e + 1) * r];
+                    let v: f64 = (0..r)
+                        .map(|k| (pod.scale[e] * row[k]).powi(2) * var[kind][off + k])
+                        .sum();
                     let t = &mut table[cand_index(output, usize::from(bi > 0), kind)];
                     t.total.add(truth[e], y_hat);
                     t.projection.add(truth[e], y_proj);
                     t.regression.add(y_proj, y_hat);
+                    if v > 0.0 {
+                        t.z2.0 += (truth[e] - y_hat).powi(2) / v;
+                        t.z2.1 += 1;
+                    }
                 }
             }
         }
@@ -228,6 +241,11 @@ fn validation_entry(
         total: c.total.finish(),
         projection_rmse: c.projection.rmse(),
         regression_rmse: c.regression.rmse(),
+        std_ratio: if c.z2.1 > 0 {
+            (c.z2.0 / c.z2.1 as f64).sqrt()
+        } else {
+            0.0
+        },
     }
 }
 
@@ -433,6 +451,8 @@ pub fn train(
                 acc.total.merge(&part.total);
                 acc.projection.merge(&part.projection);
                 acc.regression.merge(&part.regression);
+                acc.z2.0 += part.z2.0;
+                acc.z2.1 += part.z2.1;
             }
         }
         final_fit = fitted.or(final_fit);
