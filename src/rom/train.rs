@@ -394,29 +394,16 @@ fn input_specs(cases: &[CaseRamp], pressures: &[f64]) -> Vec<InputSpec> {
     v
 }
 
-/// Trains a surrogate on a case set: cross-validation, choice, final fit.
-/// `progress(done, total)` is called after each fold and after the final fit.
-///
-/// # Errors
-/// Fewer than 4 cases, or a numerical failure.
-pub fn train(
+/// Runs the `k` folds and the final fit on all cases as `k + 1` parallel tasks; returns the
+/// merged held-out errors and the final fit.
+fn cross_validate_and_fit(
     set: &CaseSet,
-    source: &str,
-    skipped_unconverged: usize,
+    k: usize,
     cfg: &TrainConfig,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<TrainReport, RomError> {
-    let start = std::time::Instant::now();
-    let n = set.cases.len();
-    if n < 4 {
-        return Err(RomError::InsufficientData(format!(
-            "{n} complete cases; at least 4 are needed"
-        )));
-    }
-    let k = cfg.folds.clamp(2, n);
-    let fold = fold_assignment(n, k, cfg.seed);
+) -> Result<(Table, Fitted), RomError> {
+    let fold = fold_assignment(set.cases.len(), k, cfg.seed);
     let done = std::sync::atomic::AtomicUsize::new(0);
-    // folds 0..k, then the final fit on all cases (task k), all in parallel
     type Task = (Option<Table>, Option<Fitted>);
     let results: Vec<Result<Task, RomError>> = (0..=k)
         .into_par_iter()
@@ -446,14 +433,12 @@ pub fn train(
     let mut final_fit = None;
     for r in results {
         let (t, fitted) = r?;
-        if let Some(t) = t {
-            for (acc, part) in table.iter_mut().zip(t) {
-                acc.total.merge(&part.total);
-                acc.projection.merge(&part.projection);
-                acc.regression.merge(&part.regression);
-                acc.z2.0 += part.z2.0;
-                acc.z2.1 += part.z2.1;
-            }
+        for (acc, part) in table.iter_mut().zip(t.unwrap_or_default()) {
+            acc.total.merge(&part.total);
+            acc.projection.merge(&part.projection);
+            acc.regression.merge(&part.regression);
+            acc.z2.0 += part.z2.0;
+            acc.z2.1 += part.z2.1;
         }
         final_fit = fitted.or(final_fit);
     }
@@ -461,16 +446,25 @@ pub fn train(
         stage: "training".into(),
         message: "final fit missing".into(),
     })?;
-    let (field_kind, scalar_choice, mut validation) =
-        choose(&table, cfg, format!("{k}-fold by case"), n);
-    validation.pressure_interpolation = interpolation_check(set);
-    let kind_of = |i: usize| {
-        if i == 0 {
-            RegressorKind::Gp
-        } else {
-            RegressorKind::Poly
-        }
-    };
+    Ok((table, fitted))
+}
+
+fn kind_of(i: usize) -> RegressorKind {
+    if i == 0 {
+        RegressorKind::Gp
+    } else {
+        RegressorKind::Poly
+    }
+}
+
+/// The surrogate from the final fit and the chosen sources of the outputs.
+fn assemble(
+    set: &CaseSet,
+    fitted: Fitted,
+    (field_kind, scalar_choice): (usize, [(usize, usize); 4]),
+    validation: Validation,
+    training: TrainingInfo,
+) -> Surrogate {
     let mut blocks: Vec<Block> = fitted
         .blocks
         .into_iter()
@@ -482,8 +476,7 @@ pub fn train(
         })
         .collect();
     let mut output_block: Vec<usize> = vec![0; 22];
-    let output_slot: Vec<usize> = (0..22).collect();
-    let mut output_slot = output_slot;
+    let mut output_slot: Vec<usize> = (0..22).collect();
     for (si, &(direct, kind)) in scalar_choice.iter().enumerate() {
         if direct == 1 {
             blocks[si + 1].regressor = kind_of(kind);
@@ -494,7 +487,7 @@ pub fn train(
     let mut n_allowed: Vec<u32> = set.cases.iter().map(|c| c.inputs.n_bellows).collect();
     n_allowed.sort_unstable();
     n_allowed.dedup();
-    let surrogate = Surrogate {
+    Surrogate {
         inputs: input_specs(&set.cases, &set.pressures),
         outputs: QUANTITY_NAMES.iter().map(|s| s.to_string()).collect(),
         n_allowed,
@@ -506,15 +499,49 @@ pub fn train(
         output_block,
         output_slot,
         validation,
-        training: TrainingInfo {
-            source: source.to_string(),
-            n_cases: n,
-            dropped_cases: set.dropped.len(),
-            skipped_unconverged,
-            code_version: env!("CARGO_PKG_VERSION").to_string(),
-            n_treatment: "numeric regression input; predictions only at trained N".into(),
-        },
+        training,
+    }
+}
+
+/// Trains a surrogate on a case set: cross-validation, choice, final fit.
+/// `progress(done, total)` is called after each fold and after the final fit.
+///
+/// # Errors
+/// Fewer than 4 cases, or a numerical failure.
+pub fn train(
+    set: &CaseSet,
+    source: &str,
+    skipped_unconverged: usize,
+    cfg: &TrainConfig,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<TrainReport, RomError> {
+    let start = std::time::Instant::now();
+    let n = set.cases.len();
+    if n < 4 {
+        return Err(RomError::InsufficientData(format!(
+            "{n} complete cases; at least 4 are needed"
+        )));
+    }
+    let k = cfg.folds.clamp(2, n);
+    let (table, fitted) = cross_validate_and_fit(set, k, cfg, progress)?;
+    let (field_kind, scalar_choice, mut validation) =
+        choose(&table, cfg, format!("{k}-fold by case"), n);
+    validation.pressure_interpolation = interpolation_check(set);
+    let training = TrainingInfo {
+        source: source.to_string(),
+        n_cases: n,
+        dropped_cases: set.dropped.len(),
+        skipped_unconverged,
+        code_version: env!("CARGO_PKG_VERSION").to_string(),
+        n_treatment: "numeric regression input; predictions only at trained N".into(),
     };
+    let surrogate = assemble(
+        set,
+        fitted,
+        (field_kind, scalar_choice),
+        validation,
+        training,
+    );
     Ok(TrainReport {
         surrogate,
         dropped: set.dropped.clone(),
