@@ -28,7 +28,7 @@
 //! PRESS). `N` is discrete: it enters as a numeric input, and only the trained values of `N`
 //! are accepted at prediction. The **regression error** is `s ⊙ Φ(a − â)`.
 //!
-//! ## Choice and validation ([`train`], [`metrics`])
+//! ## Choice and validation ([`mod@train`], [`metrics`])
 //!
 //! K-fold cross-validation by case runs the whole pipeline per fold. For the markers, the field
 //! block's regressor (GP or polynomial) with the smaller held-out marker RMSE is kept; for each
