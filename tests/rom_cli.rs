@@ -83,6 +83,28 @@ fn train_from_csv_file_reports_skipped_rows() {
         err.contains("unconverged rows skipped") && err.contains("dropped"),
         "{err}"
     );
+    assert!(err.contains("unused (see --fill-truncated)"), "{err}");
+    let o = bin()
+        .args([
+            "train",
+            "--folds",
+            "2",
+            "--quiet",
+            "--fill-truncated",
+            "--data",
+        ])
+        .arg(&csv)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = text(&o).1;
+    assert!(
+        o.status.success() && err.contains("through gappy POD"),
+        "{err}"
+    );
+    let m = surrogate::rom::Surrogate::load(&out).unwrap();
+    assert!(m.training.filled_cases > 0);
     assert!(
         stdout.contains("direct/poly") || stdout.contains("field/poly"),
         "{stdout}"

@@ -106,6 +106,17 @@ pub struct CaseRamp {
     pub values: Vec<[f64; 22]>,
 }
 
+/// A case whose ramp does not cover the whole grid (unconverged steps at its ends).
+#[derive(Debug, Clone)]
+pub struct PartialRamp {
+    /// Case identifier.
+    pub case_id: String,
+    /// Design and material.
+    pub inputs: CaseInputs,
+    /// For each grid pressure, the 22 quantities when available.
+    pub values: Vec<Option<[f64; 22]>>,
+}
+
 /// Cases on a common pressure grid, ready for training.
 #[derive(Debug, Clone)]
 pub struct CaseSet {
@@ -113,8 +124,11 @@ pub struct CaseSet {
     pub pressures: Vec<f64>,
     /// Complete cases.
     pub cases: Vec<CaseRamp>,
-    /// Cases dropped with the reason (ramp truncated before the grid's end).
+    /// Cases left out of the complete set, with the reason (ramp truncated at an end of the grid).
     pub dropped: Vec<(String, String)>,
+    /// The truncated cases that still cover at least half of the grid (usable by gappy POD,
+    /// see `TrainConfig::fill_truncated`).
+    pub partial: Vec<PartialRamp>,
     /// Grid points filled by linear interpolation inside a case's own ramp.
     pub interpolated_points: usize,
     /// Rows at pressures that are not on the grid (ignored).
@@ -199,6 +213,7 @@ impl SnapshotSet {
             pressures: grid.clone(),
             cases: Vec::new(),
             dropped: Vec::new(),
+            partial: Vec::new(),
             interpolated_points: 0,
             off_grid_rows: 0,
         };
@@ -218,7 +233,16 @@ impl SnapshotSet {
                         values,
                     });
                 }
-                Err(reason) => out.dropped.push((id, reason)),
+                Err((values, reason)) => {
+                    if 2 * values.iter().filter(|v| v.is_some()).count() >= grid.len() {
+                        out.partial.push(PartialRamp {
+                            case_id: id.clone(),
+                            inputs: rows[0].inputs,
+                            values,
+                        });
+                    }
+                    out.dropped.push((id, reason));
+                }
             }
         }
         Ok(out)
@@ -415,12 +439,18 @@ fn common_grid(groups: &Groups<'_>) -> Vec<f64> {
     grid
 }
 
-fn ramp_on_grid(rows: &[&SnapshotRow], grid: &[f64]) -> Result<(Vec<[f64; 22]>, usize), String> {
+type Ramp = (Vec<[f64; 22]>, usize);
+type Partial = (Vec<Option<[f64; 22]>>, String);
+
+/// The case's ramp on the grid: interior gaps interpolated linearly; on failure (grid points
+/// outside the case's converged range), the partial ramp and the reason.
+fn ramp_on_grid(rows: &[&SnapshotRow], grid: &[f64]) -> Result<Ramp, Partial> {
     let mut values = Vec::with_capacity(grid.len());
     let mut filled = 0;
+    let mut missing = Vec::new();
     for &p in grid {
         if let Some(r) = rows.iter().find(|r| same_pressure(r.pressure_bar, p)) {
-            values.push(r.values);
+            values.push(Some(r.values));
             continue;
         }
         let lo = rows.iter().rev().find(|r| r.pressure_bar < p);
@@ -432,11 +462,22 @@ fn ramp_on_grid(rows: &[&SnapshotRow], grid: &[f64]) -> Result<(Vec<[f64; 22]>, 
                 for q in 0..22 {
                     v[q] = (1.0 - w) * a.values[q] + w * b.values[q];
                 }
-                values.push(v);
+                values.push(Some(v));
                 filled += 1;
             }
-            _ => return Err(format!("no converged result at {p} bar (ramp truncated)")),
+            _ => {
+                values.push(None);
+                missing.push(p.to_string());
+            }
         }
     }
-    Ok((values, filled))
+    if missing.is_empty() {
+        Ok((values.into_iter().flatten().collect(), filled))
+    } else {
+        let reason = format!(
+            "no converged result at {} bar (ramp truncated)",
+            missing.join(", ")
+        );
+        Err((values, reason))
+    }
 }

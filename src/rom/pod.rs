@@ -139,6 +139,53 @@ impl PodBasis {
         }
     }
 
+    /// Gappy projection of a snapshot observed only where `observed[e]`:
+    /// `a = argmin Σ_{e observed} (ỹ_e − Φ_e·a)² + λ Σ_k a_k²/v_k`, with `v_k = σ_k²/n_train` the
+    /// spread of mode `k` over the training cases and `λ = 10⁻⁴`, so that unobservable modes
+    /// fall back to the mean instead of blowing up.
+    ///
+    /// # Errors
+    /// A singular system (cannot happen with `λ > 0` and non-zero singular values).
+    pub fn gappy_project_into(
+        &self,
+        y: &[f64],
+        observed: &[bool],
+        n_train: usize,
+        coef: &mut [f64],
+    ) -> Result<(), RomError> {
+        let r = self.n_modes;
+        let mut a = vec![0.0; r * r];
+        let mut b = vec![0.0; r];
+        for (e, &v) in y.iter().enumerate() {
+            if !observed[e] {
+                continue;
+            }
+            let yt = (v - self.mean[e]) / self.scale[e];
+            let row = &self.modes[e * r..(e + 1) * r];
+            for i in 0..r {
+                b[i] += row[i] * yt;
+                for j in 0..=i {
+                    a[i * r + j] += row[i] * row[j];
+                }
+            }
+        }
+        for k in 0..r {
+            let v = (self.singular_values[k].powi(2) / n_train.max(1) as f64).max(1e-300);
+            a[k * r + k] += 1e-4 / v;
+            for j in 0..k {
+                a[j * r + k] = a[k * r + j];
+            }
+        }
+        super::regression::cholesky_in_place(&mut a, r).map_err(|i| RomError::Numerical {
+            stage: "gappy POD".into(),
+            message: format!("singular system (pivot {i})"),
+        })?;
+        super::regression::solve_lower(&a, r, &mut b);
+        super::regression::solve_lower_t(&a, r, &mut b);
+        coef[..r].copy_from_slice(&b);
+        Ok(())
+    }
+
     /// Reconstruction `ȳ + s ⊙ Φa` of the whole block snapshot.
     pub fn reconstruct_into(&self, coef: &[f64], out: &mut [f64]) {
         for (e, o) in out.iter_mut().enumerate().take(self.dim()) {

@@ -204,8 +204,10 @@ pub struct TrainingInfo {
     pub source: String,
     /// Number of training cases.
     pub n_cases: usize,
-    /// Cases dropped (incomplete ramps).
+    /// Cases dropped from the complete set (truncated ramps).
     pub dropped_cases: usize,
+    /// Truncated cases used for the regression through gappy POD.
+    pub filled_cases: usize,
     /// Unconverged rows skipped.
     pub skipped_unconverged: usize,
     /// Version of the crate that trained the model.

@@ -11,7 +11,7 @@ use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
-use super::data::{CaseRamp, CaseSet};
+use super::data::{CaseInputs, CaseRamp, CaseSet, PartialRamp};
 use super::metrics::{ErrorAccumulator, InterpolationCheck, OutputValidation, Validation};
 use super::pod::PodBasis;
 use super::regression::gp::{Gp, GpParams};
@@ -43,6 +43,10 @@ pub struct TrainConfig {
     /// Latency preference: the polynomial (≈ 1–2 µs) is kept unless the GP's held-out RMSE is
     /// smaller by more than this relative margin (0: pure accuracy).
     pub prefer_poly_within: f64,
+    /// Use truncated ramps (covering ≥ half the grid) for the regression, their coefficients
+    /// fitted to the converged entries by gappy POD (they never enter the POD bases nor the
+    /// held-out sets).
+    pub fill_truncated: bool,
 }
 
 impl Default for TrainConfig {
@@ -57,6 +61,7 @@ impl Default for TrainConfig {
             poly: PolyParams::default(),
             only: None,
             prefer_poly_within: 0.0,
+            fill_truncated: false,
         }
     }
 }
@@ -91,8 +96,16 @@ const SCALARS: [(&str, usize); 4] = [
 ///
 /// # Errors
 /// Too few cases or a numerical failure.
-pub fn fit_pipeline(cases: &[CaseRamp], cfg: &TrainConfig) -> Result<Fitted, RomError> {
-    let z: Vec<[f64; N_FEATURES]> = cases.iter().map(|c| raw_features(&c.inputs)).collect();
+pub fn fit_pipeline(
+    cases: &[CaseRamp],
+    partial: &[PartialRamp],
+    cfg: &TrainConfig,
+) -> Result<Fitted, RomError> {
+    let z: Vec<[f64; N_FEATURES]> = cases
+        .iter()
+        .map(|c| raw_features(&c.inputs))
+        .chain(partial.iter().map(|c| raw_features(&c.inputs)))
+        .collect();
     let features = FeatureScaler::fit(&z);
     let d = features.dim();
     if d == 0 {
@@ -100,12 +113,13 @@ pub fn fit_pipeline(cases: &[CaseRamp], cfg: &TrainConfig) -> Result<Fitted, Rom
             "every input is constant over the cases".into(),
         ));
     }
-    let n = cases.len();
+    let n_complete = cases.len();
+    let n = z.len();
     let mut x = vec![0.0; n * d];
     for (i, zi) in z.iter().enumerate() {
         features.scale_into(zi, &mut x[i * d..(i + 1) * d]);
     }
-    let max_modes = |m: usize| m.min(n - 1).max(1);
+    let max_modes = |m: usize| m.min(n_complete - 1).max(1);
     let mut blocks = Vec::new();
     let field: Vec<usize> = (0..22).collect();
     let mut offset = 0;
@@ -122,13 +136,20 @@ pub fn fit_pipeline(cases: &[CaseRamp], cfg: &TrainConfig) -> Result<Fitted, Rom
     let mut y = vec![0.0; n * m];
     let mut weights = vec![0.0; m];
     for (_, pod, off) in &blocks {
-        let energy: f64 = pod.singular_values.iter().map(|s| s * s).sum::<f64>() / n as f64;
+        let energy: f64 =
+            pod.singular_values.iter().map(|s| s * s).sum::<f64>() / n_complete as f64;
         for k in 0..pod.n_modes {
             weights[off + k] = 1.0 / energy.max(1e-300).sqrt();
         }
+        let r = pod.n_modes;
         for (i, c) in cases.iter().enumerate() {
             let snap = PodBasis::snapshot_of(&pod.quantities, c);
-            pod.project_into(&snap, &mut y[i * m + off..i * m + off + pod.n_modes]);
+            pod.project_into(&snap, &mut y[i * m + off..i * m + off + r]);
+        }
+        for (i, c) in partial.iter().enumerate() {
+            let (snap, observed) = partial_snapshot(&pod.quantities, c);
+            let row = (n_complete + i) * m + off;
+            pod.gappy_project_into(&snap, &observed, n_complete, &mut y[row..row + r])?;
         }
     }
     let data = Data {
@@ -147,6 +168,19 @@ pub fn fit_pipeline(cases: &[CaseRamp], cfg: &TrainConfig) -> Result<Fitted, Rom
         gp,
         poly,
     })
+}
+
+/// Block snapshot of a partial ramp (zeros where unobserved) and the observed mask.
+fn partial_snapshot(quantities: &[usize], c: &PartialRamp) -> (Vec<f64>, Vec<bool>) {
+    let mut y = Vec::new();
+    let mut obs = Vec::new();
+    for v in &c.values {
+        for &q in quantities {
+            y.push(v.map_or(0.0, |v| v[q]));
+            obs.push(v.is_some());
+        }
+    }
+    (y, obs)
 }
 
 /// Held-out error accumulators of one candidate (output × block × regressor).
@@ -365,15 +399,15 @@ fn choose(
     )
 }
 
-fn input_specs(cases: &[CaseRamp], pressures: &[f64]) -> Vec<InputSpec> {
-    type Getter = fn(&CaseRamp) -> f64;
+fn input_specs(cases: &[CaseInputs], pressures: &[f64]) -> Vec<InputSpec> {
+    type Getter = fn(&CaseInputs) -> f64;
     let get: [(&str, &str, Getter); 6] = [
-        ("n_bellows", "1", |c| c.inputs.n_bellows as f64),
-        ("wall_thickness_mm", "mm", |c| c.inputs.wall_thickness_mm),
-        ("mu1_mpa", "MPa", |c| c.inputs.mu1_mpa),
-        ("alpha1", "1", |c| c.inputs.alpha1),
-        ("mu2_mpa", "MPa", |c| c.inputs.mu2_mpa),
-        ("alpha2", "1", |c| c.inputs.alpha2),
+        ("n_bellows", "1", |c| c.n_bellows as f64),
+        ("wall_thickness_mm", "mm", |c| c.wall_thickness_mm),
+        ("mu1_mpa", "MPa", |c| c.mu1_mpa),
+        ("alpha1", "1", |c| c.alpha1),
+        ("mu2_mpa", "MPa", |c| c.mu2_mpa),
+        ("alpha2", "1", |c| c.alpha2),
     ];
     let spec = |(name, unit, f): (&str, &str, Getter)| InputSpec {
         name: name.into(),
@@ -403,13 +437,18 @@ fn cross_validate_and_fit(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<(Table, Fitted), RomError> {
     let fold = fold_assignment(set.cases.len(), k, cfg.seed);
+    let partial: &[PartialRamp] = if cfg.fill_truncated {
+        &set.partial
+    } else {
+        &[]
+    };
     let done = std::sync::atomic::AtomicUsize::new(0);
     type Task = (Option<Table>, Option<Fitted>);
     let results: Vec<Result<Task, RomError>> = (0..=k)
         .into_par_iter()
         .map(|f| {
             let out = if f == k {
-                (None, Some(fit_pipeline(&set.cases, cfg)?))
+                (None, Some(fit_pipeline(&set.cases, partial, cfg)?))
             } else {
                 let (mut tr, mut te) = (Vec::new(), Vec::new());
                 for (i, c) in set.cases.iter().enumerate() {
@@ -419,7 +458,7 @@ fn cross_validate_and_fit(
                         tr.push(c.clone())
                     }
                 }
-                let fitted = fit_pipeline(&tr, cfg)?;
+                let fitted = fit_pipeline(&tr, partial, cfg)?;
                 (Some(evaluate_fold(&fitted, &te)), None)
             };
             progress(
@@ -484,11 +523,15 @@ fn assemble(
             output_slot[Q_TIP_UZ + si] = 0;
         }
     }
-    let mut n_allowed: Vec<u32> = set.cases.iter().map(|c| c.inputs.n_bellows).collect();
+    let mut regression_points: Vec<CaseInputs> = set.cases.iter().map(|c| c.inputs).collect();
+    if training.filled_cases > 0 {
+        regression_points.extend(set.partial.iter().map(|c| c.inputs));
+    }
+    let mut n_allowed: Vec<u32> = regression_points.iter().map(|c| c.n_bellows).collect();
     n_allowed.sort_unstable();
     n_allowed.dedup();
     Surrogate {
-        inputs: input_specs(&set.cases, &set.pressures),
+        inputs: input_specs(&regression_points, &set.pressures),
         outputs: QUANTITY_NAMES.iter().map(|s| s.to_string()).collect(),
         n_allowed,
         pressures: set.pressures.clone(),
@@ -531,6 +574,11 @@ pub fn train(
         source: source.to_string(),
         n_cases: n,
         dropped_cases: set.dropped.len(),
+        filled_cases: if cfg.fill_truncated {
+            set.partial.len()
+        } else {
+            0
+        },
         skipped_unconverged,
         code_version: env!("CARGO_PKG_VERSION").to_string(),
         n_treatment: "numeric regression input; predictions only at trained N".into(),

@@ -60,6 +60,9 @@ pub struct TrainArgs {
     /// relative margin (e.g. 0.2); 0 chooses by accuracy alone.
     #[arg(long, default_value_t = 0.0)]
     pub prefer_poly_within: f64,
+    /// Also use truncated ramps (≥ half the grid converged) for the regression, through gappy POD.
+    #[arg(long)]
+    pub fill_truncated: bool,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,

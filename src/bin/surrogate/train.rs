@@ -41,6 +41,17 @@ pub fn run(a: TrainArgs) -> Result<()> {
     for (id, why) in &cases.dropped {
         eprintln!("  dropped {id}: {why}");
     }
+    if !cases.partial.is_empty() {
+        let how = if a.fill_truncated {
+            "used for the regression through gappy POD"
+        } else {
+            "unused (see --fill-truncated)"
+        };
+        eprintln!(
+            "{} truncated cases cover at least half of the grid: {how}",
+            cases.partial.len()
+        );
+    }
     let cfg = TrainConfig {
         folds: a.folds,
         seed: a.seed,
@@ -50,6 +61,7 @@ pub fn run(a: TrainArgs) -> Result<()> {
             OnlyArg::Poly => RegressorKind::Poly,
         }),
         prefer_poly_within: a.prefer_poly_within,
+        fill_truncated: a.fill_truncated,
         ..Default::default()
     };
     let bar = if a.quiet {
