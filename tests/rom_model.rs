@@ -317,3 +317,30 @@ fn truncated_ramps_fill_the_regression_through_gappy_pod() {
         "worst tip Uz error: without {e0}, with gappy fill {e1}"
     );
 }
+
+/// After the CV rescaling, the std is calibrated on fresh held-out cases (RMS z ≈ 1).
+#[test]
+fn calibrated_std_matches_fresh_held_out_errors() {
+    let m = rom_common::small_model(None);
+    assert!(m.std_scale.iter().all(|s| *s > 0.0));
+    let fresh = rom_common::synthetic_cases(30, 2025);
+    let mut pred = m.new_prediction();
+    let (mut z2, mut n) = (0.0, 0usize);
+    for c in &fresh.cases {
+        for p in [0.5, 1.5, 2.5, 3.5] {
+            let qq = Query::from_case(&c.inputs, p);
+            if !m.domain_violations(&qq).is_empty() {
+                continue;
+            }
+            m.predict_with_std_into(&qq, &mut pred).unwrap();
+            let truth = surrogate::rom::synthetic::response(&c.inputs, p);
+            for k in [18, 19, 20, 21] {
+                z2 += ((truth[k] - pred.values[k]) / pred.std[k]).powi(2);
+                n += 1;
+            }
+        }
+    }
+    let z_rms = (z2 / n as f64).sqrt();
+    println!("fresh held-out z_rms {z_rms:.2} over {n} values");
+    assert!(n > 50 && z_rms > 0.4 && z_rms < 2.5, "z_rms {z_rms}");
+}

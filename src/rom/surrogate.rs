@@ -4,8 +4,9 @@
 //! give the POD coefficients `a(x)`, and each quantity `q` is read from its block at the
 //! pressure stencil nodes: `y_q(P) = Σ_s w_s(P) (ȳ_e + s_e Σ_k Φ_ek a_k)`, `e = j_s·|Q| + slot_q`.
 //! Gradients follow by the chain rule through `x(z(T, μ, α))`, `a(x)` and `w(P)`.
-//! Standard deviations assume independent coefficient errors:
-//! `Var y_q = Σ_k (Σ_s w_s s_e Φ_ek)² Var a_k` (regression uncertainty only).
+//! Standard deviations assume independent coefficient errors,
+//! `Var y_q = Σ_k (Σ_s w_s s_e Φ_ek)² Var a_k`, rescaled per quantity by the held-out RMS of
+//! the standardised errors (`std_scale`, from cross-validation).
 
 use serde::{Deserialize, Serialize};
 
@@ -239,6 +240,9 @@ pub struct Surrogate {
     pub output_block: Vec<usize>,
     /// Index of each quantity among its block's quantities.
     pub output_slot: Vec<usize>,
+    /// Factor applied to each quantity's predictive std: the held-out `z_rms` of its chosen
+    /// predictor (post-hoc calibration, so that standardised held-out errors have RMS ≈ 1).
+    pub std_scale: Vec<f64>,
     /// Held-out validation computed at training time.
     pub validation: Validation,
     /// Provenance.
@@ -452,7 +456,7 @@ impl Surrogate {
                 }
                 total += dk * dk * vk;
             }
-            pred.std[qi] = total.sqrt();
+            pred.std[qi] = total.sqrt() * self.std_scale[qi];
         }
         pred.has_std = true;
         Ok(())
@@ -554,7 +558,11 @@ impl Surrogate {
         if self.pressures.len() < 2 || self.pressures.windows(2).any(|w| w[0] >= w[1]) {
             return Err("pressure grid must have ≥ 2 increasing values".into());
         }
-        if self.output_block.len() != 22 || self.output_slot.len() != 22 || self.inputs.len() != 7 {
+        if self.output_block.len() != 22
+            || self.std_scale.len() != 22
+            || self.output_slot.len() != 22
+            || self.inputs.len() != 7
+        {
             return Err("output or input tables do not have 22 outputs / 7 inputs".into());
         }
         for b in &self.blocks {

@@ -530,6 +530,21 @@ fn assemble(
     let mut n_allowed: Vec<u32> = regression_points.iter().map(|c| c.n_bellows).collect();
     n_allowed.sort_unstable();
     n_allowed.dedup();
+    let std_scale = (0..22)
+        .map(|q| {
+            let o = if q < N_MARKER_COMPONENTS {
+                0
+            } else {
+                q - Q_TIP_UZ + 1
+            };
+            let z = validation.outputs[o].std_ratio;
+            if z > 0.0 && z.is_finite() {
+                z
+            } else {
+                1.0
+            }
+        })
+        .collect();
     Surrogate {
         inputs: input_specs(&regression_points, &set.pressures),
         outputs: QUANTITY_NAMES.iter().map(|s| s.to_string()).collect(),
@@ -541,6 +556,7 @@ fn assemble(
         poly: fitted.poly,
         output_block,
         output_slot,
+        std_scale,
         validation,
         training,
     }
