@@ -34,6 +34,28 @@
 //! block's regressor (GP or polynomial) with the smaller held-out marker RMSE is kept; for each
 //! scalar, the best of {field, direct} × {GP, polynomial}. The held-out errors (RMSE, max, R²,
 //! projection and regression parts) are stored in the model file ([`model`]).
+//!
+//! ## Example
+//!
+//! ```
+//! use surrogate::rom::data::SnapshotSet;
+//! use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
+//! use surrogate::rom::{train, Jacobian, Query, Surrogate, TrainConfig};
+//!
+//! // a small synthetic snapshot set in the snapshot CSV contract
+//! let mut csv = Vec::new();
+//! write_csv(&SyntheticConfig { n_cases: 24, ..Default::default() }, &mut csv).unwrap();
+//! let cases = SnapshotSet::from_reader(csv.as_slice(), "demo").unwrap().into_cases().unwrap();
+//! let cfg = TrainConfig { folds: 3, ..Default::default() };
+//! let model: Surrogate = train(&cases, "demo", 0, &cfg, &|_, _| {}).unwrap().surrogate;
+//!
+//! // optimisation loops: reuse one Prediction, no allocation per call
+//! let q = Query { n: 11, t_mm: 2.0, p_bar: 2.0, mu1: 1.13, alpha1: 3.11, mu2: -13.17, alpha2: -0.6 };
+//! let mut pred = model.new_prediction();
+//! let mut jac = Jacobian::default();
+//! model.gradient_into(&q, &mut pred, &mut jac).unwrap();
+//! assert!(pred.tip_uy_mm() < 0.0 && jac.d[surrogate::rom::Q_TIP_UY][1] < 0.0); // bends down with P
+//! ```
 
 // index loops mirror the equations and the table layouts
 #![allow(clippy::needless_range_loop)]
