@@ -8,6 +8,9 @@ pub enum Error {
     /// Invalid material parameters or an unknown material name.
     #[error(transparent)]
     Material(#[from] crate::fe::material::MaterialError),
+    /// Reduced-order model: snapshot data, training, model files, queries.
+    #[error(transparent)]
+    Rom(#[from] crate::rom::RomError),
     /// Input/output failure with the path involved.
     #[error("{path}: {source}")]
     Io {

@@ -18,5 +18,7 @@
 
 pub mod error;
 pub mod fe;
+pub mod predict;
+pub mod rom;
 
 pub use error::{Error, Result};

@@ -1,10 +1,9 @@
-//! Command-line arguments (clap derive). Every subcommand has its own argument struct.
-
+//! Command-line arguments (clap derive), one struct per subcommand.
 use std::path::PathBuf;
 
-use clap::{Args, Parser, Subcommand};
+use clap::{Args, Parser, Subcommand, ValueEnum};
 
-/// Fast, verified models of 3D-printed soft pneumatic bellow actuators.
+/// Finite-element model and reduced-order surrogate of soft pneumatic bellow actuators.
 #[derive(Debug, Parser)]
 #[command(name = "surrogate", version, about)]
 pub struct Cli {
@@ -18,6 +17,118 @@ pub struct Cli {
 pub enum Command {
     /// Run the full FE model of one design over a pressure ramp.
     Simulate(SimulateArgs),
+    /// Train a POD + regression surrogate on a snapshot CSV.
+    Train(TrainArgs),
+    /// Predict with a trained surrogate (one query or a CSV batch).
+    Predict(PredictArgs),
+    /// Export a surrogate for the embedded predictor (Rust tables + C header).
+    Export(ExportArgs),
+}
+
+/// Regressor family restriction.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum OnlyArg {
+    /// Gaussian process only.
+    Gp,
+    /// Polynomial only.
+    Poly,
+}
+
+/// `surrogate train`.
+#[derive(Debug, Args)]
+pub struct TrainArgs {
+    /// Snapshot CSV (see the snapshot contract).
+    #[arg(long, required_unless_present = "synthetic")]
+    pub data: Option<PathBuf>,
+    /// Train on a built-in synthetic set of this many cases instead of --data (demos, tests).
+    #[arg(long, conflicts_with = "data")]
+    pub synthetic: Option<usize>,
+    /// Output model file.
+    #[arg(long, default_value = "models/actuator.json")]
+    pub out: PathBuf,
+    /// Cross-validation folds (by case).
+    #[arg(long, default_value_t = 5)]
+    pub folds: usize,
+    /// Seed of the fold assignment and the optimiser starts.
+    #[arg(long, default_value_t = 2024)]
+    pub seed: u64,
+    /// POD energy tolerance (discarded fraction of the energy).
+    #[arg(long, default_value_t = 1e-7)]
+    pub pod_tol: f64,
+    /// Restrict the regressor to one family.
+    #[arg(long, value_enum)]
+    pub only: Option<OnlyArg>,
+    /// Keep the faster polynomial unless the GP's held-out RMSE is smaller by more than this
+    /// relative margin (e.g. 0.2); 0 chooses by accuracy alone.
+    #[arg(long, default_value_t = 0.0)]
+    pub prefer_poly_within: f64,
+    /// Also use truncated ramps (≥ half the grid converged) for the regression, through gappy POD.
+    #[arg(long)]
+    pub fill_truncated: bool,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+}
+
+/// `surrogate predict`.
+#[derive(Debug, Args)]
+pub struct PredictArgs {
+    /// Model file.
+    #[arg(long, default_value = "models/actuator.json")]
+    pub model: PathBuf,
+    /// Number of bellows.
+    #[arg(long, required_unless_present_any = ["csv", "validation"])]
+    pub n: Option<u32>,
+    /// Wall thickness, mm.
+    #[arg(long, required_unless_present_any = ["csv", "validation"])]
+    pub t: Option<f64>,
+    /// Gauge pressure, bar.
+    #[arg(long, required_unless_present_any = ["csv", "validation"])]
+    pub pressure: Option<f64>,
+    /// Material: a name (ogden_002, ogden_005) or `mu1,alpha1,mu2,alpha2`.
+    #[arg(long, required_unless_present_any = ["csv", "validation"], allow_hyphen_values = true)]
+    pub material: Option<String>,
+    /// Also output predictive standard deviations.
+    #[arg(long)]
+    pub std: bool,
+    /// Batch mode: query CSV.
+    #[arg(long, conflicts_with_all = ["n", "t", "pressure", "material"], requires = "out")]
+    pub csv: Option<PathBuf>,
+    /// Batch mode: output CSV.
+    #[arg(long, requires = "csv")]
+    pub out: Option<PathBuf>,
+    /// Inputs outside the training domain are an error instead of a warning.
+    #[arg(long)]
+    pub strict: bool,
+    /// Print the model's stored validation table (and nothing else without a query).
+    #[arg(long)]
+    pub validation: bool,
+}
+
+/// Export precision.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum PrecisionArg {
+    /// Single precision.
+    F32,
+    /// Double precision.
+    F64,
+}
+
+/// `surrogate export`.
+#[derive(Debug, Args)]
+pub struct ExportArgs {
+    /// Model file.
+    #[arg(long)]
+    pub model: PathBuf,
+    /// Output Rust source (const tables + extern "C" entry point).
+    #[arg(long)]
+    pub rust: PathBuf,
+    /// Output C header (default: the Rust path with extension .h).
+    #[arg(long)]
+    pub header: Option<PathBuf>,
+    /// Precision of the tables.
+    #[arg(long, value_enum, default_value = "f32")]
+    pub precision: PrecisionArg,
 }
 
 /// `surrogate simulate`.

@@ -1,15 +1,22 @@
-//! The `surrogate` command-line tool: parse → validated configuration → one library call.
+//! The `surrogate` command-line tool: parse → validated configuration → one library call per
+//! subcommand.
+mod args;
+mod export;
+mod predict;
+mod simulate;
+mod train;
+
 use std::process::ExitCode;
 
 use clap::Parser;
-
-mod args;
-mod simulate;
 
 fn main() -> ExitCode {
     let cli = args::Cli::parse();
     let result = match cli.command {
         args::Command::Simulate(a) => simulate::run(a),
+        args::Command::Train(a) => train::run(a),
+        args::Command::Predict(a) => predict::run(a),
+        args::Command::Export(a) => export::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,90 @@
+//! Prediction latency of the surrogate: library path (scalars only, all outputs, with std,
+//! with gradient) and the embedded predictor (f32, f64), for a GP-based and a polynomial model
+//! trained on a synthetic set of 200 cases.
+use std::hint::black_box;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use surrogate::predict::evaluate;
+use surrogate::rom::data::SnapshotSet;
+use surrogate::rom::export::EmbeddedTables;
+use surrogate::rom::regression::RegressorKind;
+use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
+use surrogate::rom::{train, Jacobian, Query, Surrogate, TrainConfig};
+
+fn model(only: RegressorKind) -> Surrogate {
+    let cfg = SyntheticConfig {
+        n_cases: 200,
+        ..Default::default()
+    };
+    let mut buf = Vec::new();
+    write_csv(&cfg, &mut buf).unwrap();
+    let cases = SnapshotSet::from_reader(buf.as_slice(), "bench")
+        .unwrap()
+        .into_cases()
+        .unwrap();
+    let tc = TrainConfig {
+        folds: 2,
+        only: Some(only),
+        ..Default::default()
+    };
+    train(&cases, "bench", 0, &tc, &|_, _| {})
+        .unwrap()
+        .surrogate
+}
+
+fn bench(c: &mut Criterion) {
+    let q = Query {
+        n: 11,
+        t_mm: 2.0,
+        p_bar: 2.1,
+        mu1: 1.13,
+        alpha1: 3.11,
+        mu2: -13.17,
+        alpha2: -0.6,
+    };
+    for kind in [RegressorKind::Gp, RegressorKind::Poly] {
+        let m = model(kind);
+        let name = kind.name();
+        let mut pred = m.new_prediction();
+        let mut jac = Jacobian::default();
+        c.bench_function(&format!("{name}/library/tip_angle_force"), |b| {
+            b.iter(|| m.predict_scalars_into(black_box(&q), &mut pred).unwrap())
+        });
+        c.bench_function(&format!("{name}/library/all_outputs"), |b| {
+            b.iter(|| m.predict_into(black_box(&q), &mut pred).unwrap())
+        });
+        c.bench_function(&format!("{name}/library/all_with_std"), |b| {
+            b.iter(|| m.predict_with_std_into(black_box(&q), &mut pred).unwrap())
+        });
+        c.bench_function(&format!("{name}/library/gradient"), |b| {
+            b.iter(|| m.gradient_into(black_box(&q), &mut pred, &mut jac).unwrap())
+        });
+        let t32 = EmbeddedTables::<f32>::from_surrogate(&m).unwrap();
+        let b32 = t32.block_tables();
+        let e32 = t32.view(&b32);
+        let a = q.as_array();
+        let in32: [f32; 7] = std::array::from_fn(|i| a[i] as f32);
+        let mut out32 = [0f32; 22];
+        c.bench_function(&format!("{name}/embedded_f32/all_outputs"), |b| {
+            b.iter(|| evaluate(&e32, black_box(&in32), &mut out32).unwrap())
+        });
+        let t64 = EmbeddedTables::<f64>::from_surrogate(&m).unwrap();
+        let b64 = t64.block_tables();
+        let e64 = t64.view(&b64);
+        let mut out64 = [0f64; 22];
+        c.bench_function(&format!("{name}/embedded_f64/all_outputs"), |b| {
+            b.iter(|| evaluate(&e64, black_box(&a), &mut out64).unwrap())
+        });
+    }
+}
+
+criterion_group! {
+    name = rom;
+    config = Criterion::default()
+        .warm_up_time(Duration::from_millis(500))
+        .measurement_time(Duration::from_secs(2))
+        .sample_size(30);
+    targets = bench
+}
+criterion_main!(rom);

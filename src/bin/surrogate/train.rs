@@ -1,0 +1,108 @@
+//! `surrogate train`: read snapshots → train with cross-validation → save → print validation.
+use anyhow::{Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use surrogate::rom::data::SnapshotSet;
+use surrogate::rom::regression::RegressorKind;
+use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
+use surrogate::rom::{train, TrainConfig};
+
+use crate::args::{OnlyArg, TrainArgs};
+
+pub fn run(a: TrainArgs) -> Result<()> {
+    anyhow::ensure!(
+        a.prefer_poly_within >= 0.0 && a.prefer_poly_within.is_finite(),
+        "invalid --prefer-poly-within {}: expected a finite number ≥ 0",
+        a.prefer_poly_within
+    );
+    let set = match (&a.data, a.synthetic) {
+        (_, Some(n_cases)) => {
+            let cfg = SyntheticConfig {
+                n_cases,
+                n_values: vec![9, 11, 13],
+                ..Default::default()
+            };
+            let mut buf = Vec::new();
+            write_csv(&cfg, &mut buf)?;
+            SnapshotSet::from_reader(buf.as_slice(), &format!("synthetic({n_cases} cases)"))?
+        }
+        (Some(path), None) => SnapshotSet::read(path)?,
+        (None, None) => anyhow::bail!("give --data or --synthetic"),
+    };
+    let (source, skipped) = (set.source.clone(), set.skipped_unconverged);
+    let cases = set.into_cases()?;
+    eprintln!(
+        "{source}: {} cases on a {}-pressure grid; {skipped} unconverged rows skipped, {} cases dropped, {} points interpolated, {} off-grid rows ignored",
+        cases.cases.len(),
+        cases.pressures.len(),
+        cases.dropped.len(),
+        cases.interpolated_points,
+        cases.off_grid_rows
+    );
+    for (id, why) in &cases.dropped {
+        eprintln!("  dropped {id}: {why}");
+    }
+    if !cases.partial.is_empty() {
+        let how = if a.fill_truncated {
+            "used for the regression through gappy POD"
+        } else {
+            "unused (see --fill-truncated)"
+        };
+        eprintln!(
+            "{} truncated cases cover at least half of the grid: {how}",
+            cases.partial.len()
+        );
+    }
+    let cfg = TrainConfig {
+        folds: a.folds,
+        seed: a.seed,
+        pod_tol: a.pod_tol,
+        only: a.only.map(|o| match o {
+            OnlyArg::Gp => RegressorKind::Gp,
+            OnlyArg::Poly => RegressorKind::Poly,
+        }),
+        prefer_poly_within: a.prefer_poly_within,
+        fill_truncated: a.fill_truncated,
+        ..Default::default()
+    };
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(cfg.folds as u64 + 1)
+    };
+    bar.set_style(ProgressStyle::with_template(
+        "{msg} [{bar:30}] {pos}/{len} fits ({elapsed})",
+    )?);
+    bar.set_message("training");
+    let report = train(&cases, &source, skipped, &cfg, &|done, total| {
+        bar.set_length(total as u64);
+        bar.set_position(done as u64);
+    })?;
+    bar.finish_and_clear();
+    let s = &report.surrogate;
+    report
+        .surrogate
+        .save(&a.out)
+        .with_context(|| format!("saving {}", a.out.display()))?;
+    println!("{}", s.validation.candidates_table());
+    println!("{}", s.validation.table());
+    let modes: Vec<String> = s
+        .blocks
+        .iter()
+        .map(|b| {
+            format!(
+                "{}: {} modes ({})",
+                b.name,
+                b.pod.n_modes,
+                b.regressor.name()
+            )
+        })
+        .collect();
+    println!("POD: {}", modes.join(", "));
+    println!(
+        "trained on {} cases in {:.1} s -> {}",
+        s.training.n_cases,
+        report.seconds,
+        a.out.display()
+    );
+    Ok(())
+}

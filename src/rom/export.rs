@@ -1,0 +1,268 @@
+//! Export of a surrogate to the embedded predictor ([`crate::predict`]): owned tables in `f32`
+//! or `f64`, their borrowed [`EmbeddedModel`] view, and the text of a Rust source file of
+//! `static` tables (with an `extern "C"` entry point) and of the matching C header.
+
+use std::fmt::Write as _;
+
+use super::surrogate::Surrogate;
+use super::{RomError, QUANTITY_NAMES};
+use crate::predict::{BlockTables, EmbeddedModel, GpTables, PolyTables, Real, MAX_COEFS};
+
+/// Owned tables of one block.
+#[derive(Debug, Clone)]
+pub struct OwnedBlock<F> {
+    n_quantities: usize,
+    n_modes: usize,
+    coef_offset: usize,
+    regressor: u8,
+    mean: Vec<F>,
+    scale: Vec<F>,
+    modes: Vec<F>,
+}
+
+/// Owned tables of an exported model in precision `F`.
+#[derive(Debug, Clone)]
+pub struct EmbeddedTables<F> {
+    n_allowed: Vec<u32>,
+    feature_index: Vec<u8>,
+    feature_center: Vec<F>,
+    feature_inv_half: Vec<F>,
+    pressures: Vec<f64>,
+    n_coefs: usize,
+    gp_inv_len: Vec<f64>,
+    gp_xs: Vec<f64>,
+    gp_alpha: Vec<f64>,
+    poly_exponents: Vec<u8>,
+    poly_coef: Vec<F>,
+    blocks: Vec<OwnedBlock<F>>,
+    output_block: Vec<u8>,
+    output_slot: Vec<u8>,
+}
+
+fn conv<F: Real>(v: &[f64]) -> Vec<F> {
+    v.iter().map(|&x| F::from_f64(x)).collect()
+}
+
+impl<F: Real> EmbeddedTables<F> {
+    /// Converts a surrogate (regressors that no block uses are left out).
+    ///
+    /// # Errors
+    /// More regression outputs than [`MAX_COEFS`].
+    pub fn from_surrogate(s: &Surrogate) -> Result<Self, RomError> {
+        if s.gp.m > MAX_COEFS {
+            return Err(RomError::invalid(
+                "number of POD coefficients",
+                s.gp.m,
+                &format!("≤ {MAX_COEFS} for the embedded predictor"),
+            ));
+        }
+        let uses = |k| s.blocks.iter().any(|b| b.regressor == k);
+        let use_gp = uses(super::regression::RegressorKind::Gp);
+        let use_poly = uses(super::regression::RegressorKind::Poly);
+        let blocks = s
+            .blocks
+            .iter()
+            .map(|b| OwnedBlock {
+                n_quantities: b.pod.quantities.len(),
+                n_modes: b.pod.n_modes,
+                coef_offset: b.coef_offset,
+                regressor: match b.regressor {
+                    super::regression::RegressorKind::Gp => 0,
+                    super::regression::RegressorKind::Poly => 1,
+                },
+                mean: conv(&b.pod.mean),
+                scale: conv(&b.pod.scale),
+                modes: conv(&b.pod.modes),
+            })
+            .collect();
+        Ok(EmbeddedTables {
+            n_allowed: s.n_allowed.clone(),
+            feature_index: s.features.index.iter().map(|&i| i as u8).collect(),
+            feature_center: conv(&s.features.center),
+            feature_inv_half: conv(&s.features.inv_half),
+            pressures: s.pressures.clone(),
+            n_coefs: s.gp.m,
+            gp_inv_len: conv(&s.gp.inv_len),
+            gp_xs: if use_gp { s.gp.xs.clone() } else { Vec::new() },
+            gp_alpha: if use_gp {
+                conv(&s.gp.alpha)
+            } else {
+                Vec::new()
+            },
+            poly_exponents: if use_poly {
+                s.poly.exponents.clone()
+            } else {
+                Vec::new()
+            },
+            poly_coef: if use_poly {
+                conv(&s.poly.coef)
+            } else {
+                Vec::new()
+            },
+            blocks,
+            output_block: s.output_block.iter().map(|&b| b as u8).collect(),
+            output_slot: s.output_slot.iter().map(|&b| b as u8).collect(),
+        })
+    }
+
+    /// Block views (borrowing the tables).
+    pub fn block_tables(&self) -> Vec<BlockTables<'_, F>> {
+        self.blocks
+            .iter()
+            .map(|b| BlockTables {
+                n_quantities: b.n_quantities,
+                n_modes: b.n_modes,
+                coef_offset: b.coef_offset,
+                regressor: b.regressor,
+                mean: &b.mean,
+                scale: &b.scale,
+                modes: &b.modes,
+            })
+            .collect()
+    }
+
+    /// The borrowed embedded model; `blocks` comes from [`Self::block_tables`].
+    pub fn view<'a>(&'a self, blocks: &'a [BlockTables<'a, F>]) -> EmbeddedModel<'a, F> {
+        EmbeddedModel {
+            n_allowed: &self.n_allowed,
+            feature_index: &self.feature_index,
+            feature_center: &self.feature_center,
+            feature_inv_half: &self.feature_inv_half,
+            pressures: &self.pressures,
+            n_coefs: self.n_coefs,
+            gp: GpTables {
+                inv_len: &self.gp_inv_len,
+                xs: &self.gp_xs,
+                alpha: &self.gp_alpha,
+            },
+            poly: PolyTables {
+                exponents: &self.poly_exponents,
+                coef: &self.poly_coef,
+            },
+            blocks,
+            output_block: &self.output_block,
+            output_slot: &self.output_slot,
+        }
+    }
+}
+
+/// Precision of an export.
+#[derive(Debug, Clone, Copy, PartialEq, Eq)]
+pub enum Precision {
+    /// Single precision tables and sums.
+    F32,
+    /// Double precision.
+    F64,
+}
+
+impl Precision {
+    fn ty(self) -> &'static str {
+        match self {
+            Precision::F32 => "f32",
+            Precision::F64 => "f64",
+        }
+    }
+    fn c_ty(self) -> &'static str {
+        match self {
+            Precision::F32 => "float",
+            Precision::F64 => "double",
+        }
+    }
+}
+
+fn array<T: std::fmt::Debug>(out: &mut String, name: &str, ty: &str, v: &[T]) {
+    let _ = write!(out, "static {name}: [{ty}; {}] = [", v.len());
+    for (i, x) in v.iter().enumerate() {
+        if i % 8 == 0 {
+            out.push_str("\n    ");
+        }
+        let _ = write!(out, "{x:?}, ");
+    }
+    out.push_str("\n];\n");
+}
+
+fn rust_body<F: Real + std::fmt::Debug>(t: &EmbeddedTables<F>, p: Precision, out: &mut String) {
+    let ty = p.ty();
+    array(out, "N_ALLOWED", "u32", &t.n_allowed);
+    array(out, "FEATURE_INDEX", "u8", &t.feature_index);
+    array(out, "FEATURE_CENTER", ty, &t.feature_center);
+    array(out, "FEATURE_INV_HALF", ty, &t.feature_inv_half);
+    array(out, "PRESSURES", "f64", &t.pressures);
+    array(out, "GP_INV_LEN", "f64", &t.gp_inv_len);
+    array(out, "GP_XS", "f64", &t.gp_xs);
+    array(out, "GP_ALPHA", "f64", &t.gp_alpha);
+    array(out, "POLY_EXPONENTS", "u8", &t.poly_exponents);
+    array(out, "POLY_COEF", ty, &t.poly_coef);
+    array(out, "OUTPUT_BLOCK", "u8", &t.output_block);
+    array(out, "OUTPUT_SLOT", "u8", &t.output_slot);
+    for (i, b) in t.blocks.iter().enumerate() {
+        array(out, &format!("B{i}_MEAN"), ty, &b.mean);
+        array(out, &format!("B{i}_SCALE"), ty, &b.scale);
+        array(out, &format!("B{i}_MODES"), ty, &b.modes);
+    }
+    let _ = writeln!(
+        out,
+        "static BLOCKS: [BlockTables<'static, {ty}>; {}] = [",
+        t.blocks.len()
+    );
+    for (i, b) in t.blocks.iter().enumerate() {
+        let _ = writeln!(
+            out,
+            "    BlockTables {{ n_quantities: {}, n_modes: {}, coef_offset: {}, regressor: {}, mean: &B{i}_MEAN, scale: &B{i}_SCALE, modes: &B{i}_MODES }},",
+            b.n_quantities, b.n_modes, b.coef_offset, b.regressor
+        );
+    }
+    out.push_str("];\n\n");
+    let _ = write!(
+        out,
+        "/// The exported model.\npub static MODEL: EmbeddedModel<'static, {ty}> = EmbeddedModel {{\n    n_allowed: &N_ALLOWED,\n    feature_index: &FEATURE_INDEX,\n    feature_center: &FEATURE_CENTER,\n    feature_inv_half: &FEATURE_INV_HALF,\n    pressures: &PRESSURES,\n    n_coefs: {},\n    gp: GpTables {{ inv_len: &GP_INV_LEN, xs: &GP_XS, alpha: &GP_ALPHA }},\n    poly: PolyTables {{ exponents: &POLY_EXPONENTS, coef: &POLY_COEF }},\n    blocks: &BLOCKS,\n    output_block: &OUTPUT_BLOCK,\n    output_slot: &OUTPUT_SLOT,\n}};\n\n",
+        t.n_coefs
+    );
+}
+
+/// Name of the C entry point for a precision.
+pub fn c_symbol(p: Precision) -> String {
+    format!("surrogate_predict_{}", p.ty())
+}
+
+/// Rust source of the exported model: `static` tables, `pub static MODEL`, and the C entry point
+/// `surrogate_predict_f32/f64`. It expects the predictor module at `crate::predict` (copy
+/// `src/predict/mod.rs` there) and compiles under `#![no_std]`.
+///
+/// # Errors
+/// See [`EmbeddedTables::from_surrogate`].
+pub fn rust_source(s: &Surrogate, p: Precision, checksum: &str) -> Result<String, RomError> {
+    let mut out = format!(
+        "//! Surrogate model exported by `surrogate export` (model {checksum}, precision {}).\n//! Needs the embedded predictor module at `crate::predict`; `core` only.\n//! Outputs (22): {}.\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse crate::predict::{{evaluate, BlockTables, EmbeddedModel, GpTables, PolyTables}};\n\n",
+        p.ty(),
+        QUANTITY_NAMES.join(", ")
+    );
+    match p {
+        Precision::F32 => rust_body(&EmbeddedTables::<f32>::from_surrogate(s)?, p, &mut out),
+        Precision::F64 => rust_body(&EmbeddedTables::<f64>::from_surrogate(s)?, p, &mut out),
+    }
+    let ty = p.ty();
+    let _ = write!(
+        out,
+        "/// C entry point: writes the 22 outputs to `out`; returns 0 on success, 1 non-finite input,\n/// 2 untrained N, 3 inadmissible material, 4 bad model, 5 null pointer.\n///\n/// # Safety\n/// `out` must point to 22 writable `{ty}`.\n#[no_mangle]\npub unsafe extern \"C\" fn {}(n: u32, t_mm: {ty}, p_bar: {ty}, mu1: {ty}, alpha1: {ty}, mu2: {ty}, alpha2: {ty}, out: *mut {ty}) -> i32 {{\n    if out.is_null() {{\n        return 5;\n    }}\n    let input = [n as {ty}, t_mm, p_bar, mu1, alpha1, mu2, alpha2];\n    let mut values = [0.0 as {ty}; 22];\n    match evaluate(&MODEL, &input, &mut values) {{\n        Ok(()) => {{\n            let mut i = 0;\n            while i < 22 {{\n                *out.add(i) = values[i];\n                i += 1;\n            }}\n            0\n        }}\n        Err(e) => e.code(),\n    }}\n}}\n",
+        c_symbol(p)
+    );
+    Ok(out)
+}
+
+/// C header declaring the entry point of [`rust_source`].
+pub fn c_header(p: Precision, checksum: &str) -> String {
+    let ty = p.c_ty();
+    let mut out = format!(
+        "/* Surrogate model exported by `surrogate export` (model {checksum}). */\n#ifndef SURROGATE_MODEL_H\n#define SURROGATE_MODEL_H\n#include <stdint.h>\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n#define SURROGATE_N_OUTPUTS 22\n/* Output order:\n"
+    );
+    for (i, q) in QUANTITY_NAMES.iter().enumerate() {
+        let _ = writeln!(out, " *  {i:2}: {q}");
+    }
+    let _ = write!(
+        out,
+        " * Returns 0 on success, 1 non-finite input, 2 untrained N, 3 inadmissible material,\n * 4 bad model, 5 null pointer. */\nint32_t {}(uint32_t n, {ty} t_mm, {ty} p_bar, {ty} mu1, {ty} alpha1, {ty} mu2, {ty} alpha2, {ty} *out);\n\n#ifdef __cplusplus\n}}\n#endif\n#endif /* SURROGATE_MODEL_H */\n",
+        c_symbol(p)
+    );
+    out
+}

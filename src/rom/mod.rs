@@ -1,0 +1,198 @@
+//! Reduced-order surrogate: POD of the pressure ramps + regression on the case parameters.
+//!
+//! ## The snapshot of a case
+//!
+//! A *case* is one design and material `(N, T, μ₁, α₁, μ₂, α₂)` simulated along a pressure ramp
+//! `P₀ < … < P_{n_p−1}` (the grid shared by the snapshot set). Its snapshot stacks, for every
+//! grid pressure `j`, the 22 quantities `q` (18 marker components `m1_uz … m9_uy`, `tip_uz`,
+//! `tip_uy`, `angle`, `force`): `y ∈ ℝ^{22·n_p}`. Pressure is therefore *not* a regression input:
+//! the regression sees one point per case (a held-out case never shares a ramp with training),
+//! and a query at pressure `P` interpolates the reconstructed ramp with a cubic Hermite stencil
+//! ([`crate::predict::stencil`]).
+//!
+//! ## POD ([`pod`])
+//!
+//! Snapshots are grouped in *blocks*: the **field** block (all 22 quantities) and one **direct**
+//! block per scalar (tip Uz, tip Uy, angle, force). Per block, entries are centred by the mean
+//! snapshot `ȳ` and scaled by one scale per quantity `s_q` (its RMS deviation over cases and
+//! pressures): `ỹ = (y − ȳ)/s`. The thin SVD `Ỹ = U Σ Vᵀ` (faer) of the `dim × n_cases`
+//! matrix gives modes `Φ = U[:, :r]`, with `r` the smallest count whose discarded energy
+//! `Σ_{k>r} σ_k² / Σ σ_k²` is below the tolerance. A snapshot is represented by its coefficients
+//! `a = Φᵀỹ`; the **projection error** is `y − (ȳ + s ⊙ Φa)`.
+//!
+//! ## Regression ([`regression`])
+//!
+//! The coefficients of all blocks are regressed on the scaled features
+//! `z = (N, T, ln μ₁α₁, α₁, ln μ₂α₂, α₂)` by a Gaussian process (Matérn 5/2, shared ARD
+//! length scales, profiled variance) and by a polynomial (total degree and ridge chosen by
+//! PRESS). `N` is discrete: it enters as a numeric input, and only the trained values of `N`
+//! are accepted at prediction. The **regression error** is `s ⊙ Φ(a − â)`.
+//!
+//! ## Choice and validation ([`mod@train`], [`metrics`])
+//!
+//! K-fold cross-validation by case runs the whole pipeline per fold. For the markers, the field
+//! block's regressor (GP or polynomial) with the smaller held-out marker RMSE is kept; for each
+//! scalar, the best of {field, direct} × {GP, polynomial}. The held-out errors (RMSE, max, R²,
+//! projection and regression parts) are stored in the model file ([`model`]).
+//!
+//! ## Example
+//!
+//! ```
+//! use surrogate::rom::data::SnapshotSet;
+//! use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
+//! use surrogate::rom::{train, Jacobian, Query, Surrogate, TrainConfig};
+//!
+//! // a small synthetic snapshot set in the snapshot CSV contract
+//! let mut csv = Vec::new();
+//! write_csv(&SyntheticConfig { n_cases: 24, ..Default::default() }, &mut csv).unwrap();
+//! let cases = SnapshotSet::from_reader(csv.as_slice(), "demo").unwrap().into_cases().unwrap();
+//! let cfg = TrainConfig { folds: 3, ..Default::default() };
+//! let model: Surrogate = train(&cases, "demo", 0, &cfg, &|_, _| {}).unwrap().surrogate;
+//!
+//! // optimisation loops: reuse one Prediction, no allocation per call
+//! let q = Query { n: 11, t_mm: 2.0, p_bar: 2.0, mu1: 1.13, alpha1: 3.11, mu2: -13.17, alpha2: -0.6 };
+//! let mut pred = model.new_prediction();
+//! let mut jac = Jacobian::default();
+//! model.gradient_into(&q, &mut pred, &mut jac).unwrap();
+//! assert!(pred.tip_uy_mm() < 0.0 && jac.d[surrogate::rom::Q_TIP_UY][1] < 0.0); // bends down with P
+//! ```
+
+// index loops mirror the equations and the table layouts
+#![allow(clippy::needless_range_loop)]
+
+pub mod batch;
+pub mod data;
+pub mod export;
+pub mod metrics;
+pub mod model;
+pub mod pod;
+pub mod regression;
+pub mod surrogate;
+pub mod synthetic;
+pub mod train;
+
+pub use data::{CaseInputs, SnapshotSet};
+pub use model::FORMAT_VERSION;
+pub use surrogate::{Jacobian, Prediction, Query, Surrogate};
+pub use train::{train, TrainConfig, TrainReport};
+
+use thiserror::Error;
+
+/// Names of the 22 predicted quantities, in storage order.
+pub const QUANTITY_NAMES: [&str; 22] = [
+    "m1_uz_mm",
+    "m1_uy_mm",
+    "m2_uz_mm",
+    "m2_uy_mm",
+    "m3_uz_mm",
+    "m3_uy_mm",
+    "m4_uz_mm",
+    "m4_uy_mm",
+    "m5_uz_mm",
+    "m5_uy_mm",
+    "m6_uz_mm",
+    "m6_uy_mm",
+    "m7_uz_mm",
+    "m7_uy_mm",
+    "m8_uz_mm",
+    "m8_uy_mm",
+    "m9_uz_mm",
+    "m9_uy_mm",
+    "tip_uz_mm",
+    "tip_uy_mm",
+    "angle_deg",
+    "force_n",
+];
+/// Index of `tip_uz_mm` among the quantities.
+pub const Q_TIP_UZ: usize = 18;
+/// Index of `tip_uy_mm`.
+pub const Q_TIP_UY: usize = 19;
+/// Index of `angle_deg`.
+pub const Q_ANGLE: usize = 20;
+/// Index of `force_n`.
+pub const Q_FORCE: usize = 21;
+/// Number of marker components (9 markers × (Uz, Uy)).
+pub const N_MARKER_COMPONENTS: usize = 18;
+
+/// Errors of the reduced-order model: data, training, model files and queries.
+#[derive(Debug, Error)]
+pub enum RomError {
+    /// The snapshot CSV header does not match the contract.
+    #[error("{source_name}: header: {message}")]
+    Header {
+        /// File the header comes from.
+        source_name: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// A CSV cell is invalid.
+    #[error("{source_name}: line {line}, column `{column}`: value {value:?}: expected {expected}")]
+    Cell {
+        /// File the row comes from.
+        source_name: String,
+        /// 1-based line number (the header is line 1).
+        line: usize,
+        /// Column name.
+        column: String,
+        /// Offending text.
+        value: String,
+        /// What was expected.
+        expected: String,
+    },
+    /// The CSV could not be read.
+    #[error("{source_name}: {message}")]
+    Csv {
+        /// File involved.
+        source_name: String,
+        /// Underlying message.
+        message: String,
+    },
+    /// Not enough usable data to train.
+    #[error("not enough data: {0}")]
+    InsufficientData(String),
+    /// An invalid training or query setting.
+    #[error("invalid {field} = {value}: expected {expected}")]
+    InvalidInput {
+        /// Field name.
+        field: String,
+        /// Offending value.
+        value: String,
+        /// What was expected.
+        expected: String,
+    },
+    /// A numerical failure during training.
+    #[error("numerical failure in {stage}: {message}")]
+    Numerical {
+        /// Training stage.
+        stage: String,
+        /// What happened.
+        message: String,
+    },
+    /// A model file is unreadable, corrupt, of another version or fails its checksum.
+    #[error("model file {path}: {message}")]
+    ModelFile {
+        /// File involved.
+        path: String,
+        /// What is wrong.
+        message: String,
+    },
+    /// Input/output failure.
+    #[error("{path}: {source}")]
+    Io {
+        /// File involved.
+        path: String,
+        /// Underlying error.
+        #[source]
+        source: std::io::Error,
+    },
+}
+
+impl RomError {
+    pub(crate) fn invalid(field: &str, value: impl ToString, expected: &str) -> Self {
+        RomError::InvalidInput {
+            field: field.to_string(),
+            value: value.to_string(),
+            expected: expected.to_string(),
+        }
+    }
+}

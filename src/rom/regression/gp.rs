@@ -1,0 +1,486 @@
+//! Gaussian-process regression with a shared Matérn-5/2 ARD kernel.
+//!
+//! Prior: each output column `y_c ~ GP(0, σ_c² (k(x, x') + η δ))` with
+//! `k = (1 + √5 r + 5r²/3) e^{−√5 r}`, `r² = Σ_d (x_d − x'_d)²/ℓ_d²`. The correlation matrix
+//! `R = K + ηI` is shared by all columns. Hyperparameters `θ = (ln ℓ, ln η)` maximise the
+//! profiled log-likelihood with one variance for all (weighted) columns,
+//! `ℓ(θ) = −(nm/2) ln σ̂² − (m/2) ln|R|`, `σ̂² = Σ_c y_cᵀR⁻¹y_c/(nm)`, whose gradient is
+//! `∂ℓ/∂θ = ½ tr((AAᵀ/σ̂² − mR⁻¹) ∂R/∂θ)`, `A = R⁻¹Y`. It is maximised by projected
+//! Barzilai–Borwein gradient steps with Armijo backtracking inside a box, from `n_start ≥ 2`
+//! seeded starting points (the first is `ℓ = 0.7, η = 10⁻⁶`).
+//!
+//! Prediction: mean `μ_c(x) = k(x)ᵀα_c`, `α_c = R⁻¹y_c`; variance
+//! `σ_c²(1 − k(x)ᵀR⁻¹k(x))` with `σ_c² = y_cᵀR⁻¹y_c/n` (latent, no nugget).
+
+use rand::seq::SliceRandom;
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use serde::{Deserialize, Serialize};
+
+use std::ops::Range;
+
+use super::{cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse, Data, Regressor};
+use crate::rom::RomError;
+
+/// Fit settings of the Gaussian process.
+#[derive(Debug, Clone)]
+pub struct GpParams {
+    /// Number of optimiser starts (≥ 2 for robustness; all seeded).
+    pub n_start: usize,
+    /// Seed of the random starts.
+    pub seed: u64,
+    /// Iterations per start.
+    pub max_iter: usize,
+    /// Fixed hyperparameters `(ln ℓ_1..ln ℓ_d, ln η)`: skips the optimisation when given.
+    pub theta: Option<Vec<f64>>,
+    /// Largest number of points used in the hyperparameter search (a seeded subset above it;
+    /// the weights always use every point).
+    pub max_points: usize,
+}
+
+impl Default for GpParams {
+    fn default() -> Self {
+        GpParams {
+            n_start: 2,
+            seed: 11,
+            max_iter: 40,
+            theta: None,
+            max_points: 400,
+        }
+    }
+}
+
+const LN_LEN_BOUNDS: (f64, f64) = (-3.5, 3.5);
+const LN_NUGGET_BOUNDS: (f64, f64) = (-18.4, -2.3);
+
+/// A fitted Gaussian process.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Gp {
+    /// Number of inputs.
+    pub d: usize,
+    /// Number of training points.
+    pub n: usize,
+    /// Number of outputs.
+    pub m: usize,
+    /// Training inputs, `n × d`.
+    pub x: Vec<f64>,
+    /// Training inputs divided by the length scales, `n × d` (prediction hot path).
+    pub xs: Vec<f64>,
+    /// Hyperparameters `(ln ℓ, ln η)`.
+    pub theta: Vec<f64>,
+    /// Inverse length scales.
+    pub inv_len: Vec<f64>,
+    /// Weights `α = R⁻¹Y`, `n × m`.
+    pub alpha: Vec<f64>,
+    /// Per-output process variance `σ_c²`.
+    pub sigma2: Vec<f64>,
+    /// Lower Cholesky factor of `R`, packed by rows (`n(n+1)/2` values).
+    pub chol: Vec<f64>,
+}
+
+struct Eval {
+    nll: f64,
+    grad: Vec<f64>,
+}
+
+/// Correlation matrix `R = K + ηI` (row-major) for hyperparameters `theta`.
+fn correlation(x: &[f64], n: usize, d: usize, theta: &[f64]) -> Vec<f64> {
+    let inv_len: Vec<f64> = theta[..d].iter().map(|t| (-t).exp()).collect();
+    let eta = theta[d].exp();
+    let mut r = vec![0.0; n * n];
+    for i in 0..n {
+        r[i * n + i] = 1.0 + eta;
+        for j in 0..i {
+            let k = kernel(scaled_dist(
+                &x[i * d..(i + 1) * d],
+                &x[j * d..(j + 1) * d],
+                &inv_len,
+            ));
+            r[i * n + j] = k;
+            r[j * n + i] = k;
+        }
+    }
+    r
+}
+
+/// Matérn-5/2 value with `std` maths (the library's hot path; the embedded predictor uses
+/// [`crate::predict::matern52`] with its `core`-only `exp`).
+#[inline]
+fn kernel(r: f64) -> f64 {
+    kernel_and_g(r).0
+}
+
+/// Matérn-5/2 value and `g = −(1/r) dk/dr` with `std` maths (see [`crate::predict::matern52`]).
+#[inline]
+fn kernel_and_g(r: f64) -> (f64, f64) {
+    const S5: f64 = 2.236_067_977_499_79;
+    let e = (-S5 * r).exp();
+    (
+        (1.0 + S5 * r + 5.0 / 3.0 * r * r) * e,
+        5.0 / 3.0 * (1.0 + S5 * r) * e,
+    )
+}
+
+#[inline]
+fn scaled_dist(a: &[f64], b: &[f64], inv_len: &[f64]) -> f64 {
+    let mut r2 = 0.0;
+    for j in 0..a.len() {
+        let t = (a[j] - b[j]) * inv_len[j];
+        r2 += t * t;
+    }
+    r2.sqrt()
+}
+
+/// Negative profiled log-likelihood and its gradient; `None` if `R` is not positive definite.
+fn neg_log_likelihood(data: &Data<'_>, yw: &[f64], theta: &[f64]) -> Option<Eval> {
+    let (n, d, m) = (data.n, data.d, data.m);
+    let mut l = correlation(data.x, n, d, theta);
+    cholesky_in_place(&mut l, n).ok()?;
+    let mut a = vec![0.0; n * m];
+    let mut col = vec![0.0; n];
+    let mut s = 0.0;
+    for c in 0..m {
+        for i in 0..n {
+            col[i] = yw[i * m + c];
+        }
+        solve_lower(&l, n, &mut col);
+        s += dot(&col, &col);
+        solve_lower_t(&l, n, &mut col);
+        for i in 0..n {
+            a[i * m + c] = col[i];
+        }
+    }
+    let sigma2 = (s / (n * m) as f64).max(1e-300);
+    let logdet: f64 = 2.0 * (0..n).map(|i| l[i * n + i].ln()).sum::<f64>();
+    let nll = 0.5 * (n * m) as f64 * sigma2.ln() + 0.5 * m as f64 * logdet;
+    let rinv = spd_inverse(&l, n);
+    let inv_len: Vec<f64> = theta[..d].iter().map(|t| (-t).exp()).collect();
+    let mut grad = vec![0.0; d + 1];
+    for i in 0..n {
+        let xi = &data.x[i * d..(i + 1) * d];
+        let wii = dot(&a[i * m..(i + 1) * m], &a[i * m..(i + 1) * m]) / sigma2
+            - m as f64 * rinv[i * n + i];
+        grad[d] -= 0.5 * wii * theta[d].exp();
+        for j in 0..i {
+            // symmetric pair (i, j) and (j, i)
+            let w = dot(&a[i * m..(i + 1) * m], &a[j * m..(j + 1) * m]) / sigma2
+                - m as f64 * rinv[i * n + j];
+            let xj = &data.x[j * d..(j + 1) * d];
+            let (_, g) = kernel_and_g(scaled_dist(xi, xj, &inv_len));
+            for k in 0..d {
+                let t = (xi[k] - xj[k]) * inv_len[k];
+                grad[k] -= w * g * t * t;
+            }
+        }
+    }
+    Some(Eval { nll, grad })
+}
+
+fn project(theta: &mut [f64]) {
+    let d = theta.len() - 1;
+    for t in theta[..d].iter_mut() {
+        *t = t.clamp(LN_LEN_BOUNDS.0, LN_LEN_BOUNDS.1);
+    }
+    theta[d] = theta[d].clamp(LN_NUGGET_BOUNDS.0, LN_NUGGET_BOUNDS.1);
+}
+
+/// Projected Barzilai–Borwein descent with Armijo backtracking from `theta0`.
+fn minimise(
+    data: &Data<'_>,
+    yw: &[f64],
+    theta0: Vec<f64>,
+    max_iter: usize,
+) -> Option<(Vec<f64>, f64)> {
+    let mut theta = theta0;
+    project(&mut theta);
+    let mut cur = neg_log_likelihood(data, yw, &theta)?;
+    let gmax = cur.grad.iter().fold(0.0f64, |a, g| a.max(g.abs()));
+    let mut step = 0.5 / gmax.max(1e-12);
+    for _ in 0..max_iter {
+        let mut accepted = None;
+        let mut trial_step = step;
+        for _ in 0..12 {
+            let mut t: Vec<f64> = theta
+                .iter()
+                .zip(&cur.grad)
+                .map(|(t, g)| t - trial_step * g)
+                .collect();
+            project(&mut t);
+            let decrease: f64 = theta
+                .iter()
+                .zip(&t)
+                .zip(&cur.grad)
+                .map(|((a, b), g)| g * (a - b))
+                .sum();
+            if let Some(e) = neg_log_likelihood(data, yw, &t) {
+                if e.nll <= cur.nll - 1e-4 * decrease {
+                    accepted = Some((t, e));
+                    break;
+                }
+            }
+            trial_step *= 0.25;
+        }
+        let Some((t, e)) = accepted else { break };
+        let s: Vec<f64> = t.iter().zip(&theta).map(|(a, b)| a - b).collect();
+        let yv: Vec<f64> = e.grad.iter().zip(&cur.grad).map(|(a, b)| a - b).collect();
+        let sy = dot(&s, &yv);
+        let ss = dot(&s, &s);
+        let small = s.iter().fold(0.0f64, |a, v| a.max(v.abs())) < 1e-5
+            || (cur.nll - e.nll).abs() < 1e-9 * (1.0 + cur.nll.abs());
+        step = if sy > 0.0 {
+            (ss / sy).clamp(1e-8, 1e4)
+        } else {
+            trial_step * 2.0
+        };
+        theta = t;
+        cur = e;
+        if small {
+            break;
+        }
+    }
+    Some((theta, cur.nll))
+}
+
+fn optimise(data: &Data<'_>, params: &GpParams) -> Result<Vec<f64>, RomError> {
+    let (n, d, m) = (data.n, data.d, data.m);
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(params.seed);
+    // the likelihood costs O(n³) per step: above `max_points`, search on a seeded subset
+    let mut rows: Vec<usize> = (0..n).collect();
+    if n > params.max_points {
+        rows.shuffle(&mut rng);
+        rows.truncate(params.max_points);
+        rows.sort_unstable();
+    }
+    let ns = rows.len();
+    let xs: Vec<f64> = rows
+        .iter()
+        .flat_map(|&i| data.x[i * d..(i + 1) * d].iter().copied())
+        .collect();
+    let ys: Vec<f64> = rows
+        .iter()
+        .flat_map(|&i| data.y[i * m..(i + 1) * m].iter().copied())
+        .collect();
+    let mut yw = ys.clone();
+    for i in 0..ns {
+        for c in 0..m {
+            yw[i * m + c] *= data.weights.get(c).copied().unwrap_or(1.0);
+        }
+    }
+    let data = &Data {
+        x: &xs,
+        y: &ys,
+        n: ns,
+        ..*data
+    };
+    let mut best: Option<(Vec<f64>, f64)> = None;
+    for s in 0..params.n_start.max(1) {
+        let mut t0 = vec![(0.7f64).ln(); d + 1];
+        t0[d] = (1e-6f64).ln();
+        if s > 0 {
+            for t in t0[..d].iter_mut() {
+                *t = rng.gen_range(-1.6..1.1);
+            }
+            t0[d] = rng.gen_range(-18.0..-7.0);
+        }
+        if let Some((t, f)) = minimise(data, &yw, t0, params.max_iter) {
+            if best.as_ref().map_or(true, |b| f < b.1) {
+                best = Some((t, f));
+            }
+        }
+    }
+    best.map(|b| b.0).ok_or_else(|| RomError::Numerical {
+        stage: "GP hyperparameters".into(),
+        message: "correlation matrix not positive definite at every start".into(),
+    })
+}
+
+impl Regressor for Gp {
+    type Params = GpParams;
+
+    fn fit(data: &Data<'_>, params: &GpParams) -> Result<Self, RomError> {
+        let (n, d, m) = (data.n, data.d, data.m);
+        if n < 2 {
+            return Err(RomError::InsufficientData(format!(
+                "GP needs ≥ 2 points, got {n}"
+            )));
+        }
+        let theta = match &params.theta {
+            Some(t) if t.len() == d + 1 => t.clone(),
+            Some(t) => {
+                return Err(RomError::invalid(
+                    "GP theta length",
+                    t.len(),
+                    &format!("{}", d + 1),
+                ))
+            }
+            None => optimise(data, params)?,
+        };
+        let mut l = correlation(data.x, n, d, &theta);
+        cholesky_in_place(&mut l, n).map_err(|i| RomError::Numerical {
+            stage: "GP fit".into(),
+            message: format!("correlation matrix not positive definite (pivot {i})"),
+        })?;
+        let mut alpha = vec![0.0; n * m];
+        let mut sigma2 = vec![0.0; m];
+        let mut col = vec![0.0; n];
+        for c in 0..m {
+            for i in 0..n {
+                col[i] = data.y[i * m + c];
+            }
+            solve_lower(&l, n, &mut col);
+            sigma2[c] = dot(&col, &col) / n as f64;
+            solve_lower_t(&l, n, &mut col);
+            for i in 0..n {
+                alpha[i * m + c] = col[i];
+            }
+        }
+        // packed lower triangle: row i holds L[i][0..=i] at offset i(i+1)/2
+        let chol: Vec<f64> = (0..n)
+            .flat_map(|i| l[i * n..i * n + i + 1].to_vec())
+            .collect();
+        let inv_len: Vec<f64> = theta[..d].iter().map(|t| (-t).exp()).collect();
+        let xs = (0..n * d).map(|e| data.x[e] * inv_len[e % d]).collect();
+        Ok(Gp {
+            d,
+            n,
+            m,
+            x: data.x.to_vec(),
+            xs,
+            theta,
+            inv_len,
+            alpha,
+            sigma2,
+            chol,
+        })
+    }
+
+    fn n_outputs(&self) -> usize {
+        self.m
+    }
+
+    fn scratch_len(&self) -> usize {
+        self.n
+    }
+
+    fn predict_cols_into(
+        &self,
+        x: &[f64],
+        cols: Range<usize>,
+        out: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        let (d, m, n) = (self.d, self.m, self.n);
+        // phase 1: the kernel vector (independent exps pipeline well)
+        let mut xq = [0.0; 8];
+        for j in 0..d {
+            xq[j] = x[j] * self.inv_len[j];
+        }
+        let k = &mut scratch[..n];
+        for (i, ki) in k.iter_mut().enumerate() {
+            let xi = &self.xs[i * d..(i + 1) * d];
+            let mut r2 = 0.0;
+            for j in 0..d {
+                let t = xq[j] - xi[j];
+                r2 += t * t;
+            }
+            *ki = kernel(r2.sqrt());
+        }
+        // phase 2: out[cols] = αᵀ k
+        out[cols.clone()].iter_mut().for_each(|o| *o = 0.0);
+        for (i, ki) in k.iter().enumerate() {
+            let a = &self.alpha[i * m + cols.start..i * m + cols.end];
+            for (o, ac) in out[cols.clone()].iter_mut().zip(a) {
+                *o += ki * ac;
+            }
+        }
+    }
+
+    fn jacobian_into(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], _scratch: &mut [f64]) {
+        let (d, m) = (self.d, self.m);
+        out[..m].iter_mut().for_each(|o| *o = 0.0);
+        jac[..m * d].iter_mut().for_each(|o| *o = 0.0);
+        for i in 0..self.n {
+            let xi = &self.x[i * d..(i + 1) * d];
+            let (k, g) = kernel_and_g(scaled_dist(x, xi, &self.inv_len));
+            let a = &self.alpha[i * m..(i + 1) * m];
+            for c in 0..m {
+                out[c] += k * a[c];
+                for j in 0..d {
+                    let il = self.inv_len[j];
+                    jac[c * d + j] -= g * (x[j] - xi[j]) * il * il * a[c];
+                }
+            }
+        }
+    }
+
+    fn variance_into(&self, x: &[f64], var: &mut [f64], scratch: &mut [f64]) {
+        let (n, d) = (self.n, self.d);
+        let v = &mut scratch[..n];
+        for (i, vi) in v.iter_mut().enumerate() {
+            *vi = kernel(scaled_dist(x, &self.x[i * d..(i + 1) * d], &self.inv_len));
+        }
+        // forward substitution with the packed factor
+        for i in 0..n {
+            let row = &self.chol[i * (i + 1) / 2..(i + 1) * (i + 2) / 2];
+            v[i] = (v[i] - dot(&row[..i], &v[..i])) / row[i];
+        }
+        let explained = dot(v, v);
+        let f = (1.0 - explained).max(0.0);
+        for (c, o) in var[..self.m].iter_mut().enumerate() {
+            *o = self.sigma2[c] * f;
+        }
+    }
+}
+
+impl Gp {
+    /// Hyperparameters found by maximising the likelihood (for reuse with [`GpParams::theta`]).
+    pub fn hyperparameters(&self) -> &[f64] {
+        &self.theta
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn likelihood_gradient_matches_finite_differences() {
+        let n = 12;
+        let d = 2;
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
+        let x: Vec<f64> = (0..n * d).map(|_| rng.gen_range(-1.0..1.0)).collect();
+        let y: Vec<f64> = (0..n)
+            .flat_map(|i| {
+                [
+                    (2.0 * x[2 * i]).sin() + x[2 * i + 1],
+                    x[2 * i] * x[2 * i + 1],
+                ]
+            })
+            .collect();
+        let data = Data {
+            x: &x,
+            y: &y,
+            n,
+            d,
+            m: 2,
+            weights: &[],
+        };
+        let theta = vec![-0.3, 0.2, -6.0];
+        let e = neg_log_likelihood(&data, &y, &theta).unwrap();
+        for k in 0..3 {
+            let h = 1e-5;
+            let mut tp = theta.clone();
+            tp[k] += h;
+            let mut tm = theta.clone();
+            tm[k] -= h;
+            let fd = (neg_log_likelihood(&data, &y, &tp).unwrap().nll
+                - neg_log_likelihood(&data, &y, &tm).unwrap().nll)
+                / (2.0 * h);
+            assert!(
+                (fd - e.grad[k]).abs() < 1e-4 * (1.0 + fd.abs()),
+                "k={k} fd={fd} an={}",
+                e.grad[k]
+            );
+        }
+    }
+}

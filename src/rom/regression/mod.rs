@@ -1,0 +1,247 @@
+//! Regression of POD coefficients on the scaled case features.
+//!
+//! One trait, [`Regressor`], with two implementations: [`gp::Gp`] (Gaussian process, Matérn
+//! 5/2, shared ARD length scales, predictive variance) and [`poly::Poly`] (ridge polynomial of
+//! total degree ≤ 3, degree and ridge chosen by PRESS). Both are multi-output: one fit predicts
+//! all POD coefficients of all blocks. Inputs are the active features scaled to `[−1, 1]` by
+//! [`FeatureScaler`].
+
+pub mod gp;
+pub mod poly;
+
+use std::ops::Range;
+
+use serde::{Deserialize, Serialize};
+
+use super::data::CaseInputs;
+use super::RomError;
+use crate::predict::N_FEATURES;
+
+/// Training data of a regressor: `n` points, `d` inputs, `m` outputs, row-major.
+#[derive(Debug, Clone, Copy)]
+pub struct Data<'a> {
+    /// Inputs, `n × d`.
+    pub x: &'a [f64],
+    /// Outputs, `n × m`.
+    pub y: &'a [f64],
+    /// Number of points.
+    pub n: usize,
+    /// Number of inputs.
+    pub d: usize,
+    /// Number of outputs.
+    pub m: usize,
+    /// Relative weight of each output column in model selection (hyperparameters, degree).
+    pub weights: &'a [f64],
+}
+
+/// A multi-output regressor `ℝᵈ → ℝᵐ` (linfa-style fit / predict-into split).
+pub trait Regressor: Sized {
+    /// Fit settings.
+    type Params;
+
+    /// Fits the regressor.
+    ///
+    /// # Errors
+    /// Too few points or a numerical failure.
+    fn fit(data: &Data<'_>, params: &Self::Params) -> Result<Self, RomError>;
+
+    /// Number of outputs `m`.
+    fn n_outputs(&self) -> usize;
+
+    /// Length of the scratch buffer the `*_into` methods need.
+    fn scratch_len(&self) -> usize;
+
+    /// Predicted outputs `cols` at `x` (length `d`) into `out[cols]` (other entries untouched).
+    /// No allocation.
+    fn predict_cols_into(
+        &self,
+        x: &[f64],
+        cols: Range<usize>,
+        out: &mut [f64],
+        scratch: &mut [f64],
+    );
+
+    /// All predicted outputs at `x` into `out` (length `m`). No allocation.
+    fn predict_into(&self, x: &[f64], out: &mut [f64], scratch: &mut [f64]) {
+        self.predict_cols_into(x, 0..self.n_outputs(), out, scratch);
+    }
+
+    /// Outputs and their Jacobian `jac[c·d + j] = ∂out_c/∂x_j`. No allocation.
+    fn jacobian_into(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], scratch: &mut [f64]);
+
+    /// Predictive variance of each output. No allocation.
+    fn variance_into(&self, x: &[f64], var: &mut [f64], scratch: &mut [f64]);
+}
+
+/// Which regressor family.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "lowercase")]
+pub enum RegressorKind {
+    /// Gaussian process.
+    Gp,
+    /// Ridge polynomial.
+    Poly,
+}
+
+impl RegressorKind {
+    /// Short name.
+    pub fn name(self) -> &'static str {
+        match self {
+            RegressorKind::Gp => "gp",
+            RegressorKind::Poly => "poly",
+        }
+    }
+}
+
+/// Scales the active raw features `z = (N, T, ln μ₁α₁, α₁, ln μ₂α₂, α₂)` to `[−1, 1]` over the
+/// training range; constant features are inactive (dropped).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct FeatureScaler {
+    /// Indices of the active features.
+    pub index: Vec<usize>,
+    /// Centre of each active feature.
+    pub center: Vec<f64>,
+    /// Inverse half-width of each active feature.
+    pub inv_half: Vec<f64>,
+}
+
+/// Raw feature names.
+pub const FEATURE_NAMES: [&str; N_FEATURES] = [
+    "n_bellows",
+    "wall_thickness_mm",
+    "ln_mu1_alpha1",
+    "alpha1",
+    "ln_mu2_alpha2",
+    "alpha2",
+];
+
+/// Raw features of a case (`μᵢαᵢ > 0` is assumed validated).
+pub fn raw_features(c: &CaseInputs) -> [f64; N_FEATURES] {
+    [
+        c.n_bellows as f64,
+        c.wall_thickness_mm,
+        (c.mu1_mpa * c.alpha1).ln(),
+        c.alpha1,
+        (c.mu2_mpa * c.alpha2).ln(),
+        c.alpha2,
+    ]
+}
+
+impl FeatureScaler {
+    /// Fits the scaler to the raw features of the training cases.
+    pub fn fit(z: &[[f64; N_FEATURES]]) -> Self {
+        let mut s = FeatureScaler {
+            index: Vec::new(),
+            center: Vec::new(),
+            inv_half: Vec::new(),
+        };
+        for f in 0..N_FEATURES {
+            let lo = z.iter().map(|r| r[f]).fold(f64::INFINITY, f64::min);
+            let hi = z.iter().map(|r| r[f]).fold(f64::NEG_INFINITY, f64::max);
+            if hi - lo > 1e-9 * (1.0 + lo.abs()) {
+                s.index.push(f);
+                s.center.push(0.5 * (lo + hi));
+                s.inv_half.push(2.0 / (hi - lo));
+            }
+        }
+        s
+    }
+
+    /// Number of active features.
+    pub fn dim(&self) -> usize {
+        self.index.len()
+    }
+
+    /// Scaled active features into `x` (length [`Self::dim`]).
+    pub fn scale_into(&self, z: &[f64; N_FEATURES], x: &mut [f64]) {
+        for (j, &f) in self.index.iter().enumerate() {
+            x[j] = (z[f] - self.center[j]) * self.inv_half[j];
+        }
+    }
+}
+
+/// Lower Cholesky factor in place (row-major `n × n`; the upper part is left as is).
+///
+/// # Errors
+/// The index of the first non-positive pivot.
+pub(crate) fn cholesky_in_place(a: &mut [f64], n: usize) -> Result<(), usize> {
+    for i in 0..n {
+        let (head, tail) = a.split_at_mut(i * n);
+        let row_i = &mut tail[..n];
+        for j in 0..i {
+            let row_j = &head[j * n..j * n + j + 1];
+            let s = row_i[j] - dot(&row_i[..j], &row_j[..j]);
+            row_i[j] = s / row_j[j];
+        }
+        let d = row_i[i] - dot(&row_i[..i], &row_i[..i]);
+        if d <= 0.0 || !d.is_finite() {
+            return Err(i);
+        }
+        row_i[i] = d.sqrt();
+    }
+    Ok(())
+}
+
+/// Dot product with 4 independent accumulators (vectorisable, fixed summation order).
+#[inline]
+pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+    let mut acc = [0.0; 4];
+    let chunks = a.len() / 4;
+    for c in 0..chunks {
+        for l in 0..4 {
+            acc[l] += a[4 * c + l] * b[4 * c + l];
+        }
+    }
+    let mut s = (acc[0] + acc[1]) + (acc[2] + acc[3]);
+    for k in 4 * chunks..a.len() {
+        s += a[k] * b[k];
+    }
+    s
+}
+
+/// Solves `L v = b` in place (row-major lower `L`, `n × n`).
+pub(crate) fn solve_lower(l: &[f64], n: usize, b: &mut [f64]) {
+    for i in 0..n {
+        let row = &l[i * n..i * n + i];
+        let mut s = b[i];
+        for (k, lv) in row.iter().enumerate() {
+            s -= lv * b[k];
+        }
+        b[i] = s / l[i * n + i];
+    }
+}
+
+/// Solves `Lᵀ v = b` in place.
+pub(crate) fn solve_lower_t(l: &[f64], n: usize, b: &mut [f64]) {
+    for i in (0..n).rev() {
+        let mut s = b[i];
+        for k in (i + 1)..n {
+            s -= l[k * n + i] * b[k];
+        }
+        b[i] = s / l[i * n + i];
+    }
+}
+
+/// Inverse `(LLᵀ)⁻¹` (full symmetric, row-major) from the lower factor.
+///
+/// Row `c` of `V = L⁻ᵀ` solves `L v = e_c` (contiguous dots), then `A⁻¹_ij = V_i · V_j`.
+pub(crate) fn spd_inverse(l: &[f64], n: usize) -> Vec<f64> {
+    let mut v = vec![0.0; n * n];
+    for c in 0..n {
+        let row = &mut v[c * n..(c + 1) * n];
+        row[c] = 1.0 / l[c * n + c];
+        for i in (c + 1)..n {
+            let s = dot(&l[i * n + c..i * n + i], &row[c..i]);
+            row[i] = -s / l[i * n + i];
+        }
+    }
+    let mut inv = vec![0.0; n * n];
+    for i in 0..n {
+        for j in 0..=i {
+            let s = dot(&v[i * n + i..(i + 1) * n], &v[j * n + i..(j + 1) * n]);
+            inv[i * n + j] = s;
+            inv[j * n + i] = s;
+        }
+    }
+    inv
+}

@@ -1,0 +1,594 @@
+//! The trained surrogate: queries, predictions, standard deviations and gradients.
+//!
+//! A query `(N, T, P, μ₁, α₁, μ₂, α₂)` is mapped to the scaled features `x`, the regressors
+//! give the POD coefficients `a(x)`, and each quantity `q` is read from its block at the
+//! pressure stencil nodes: `y_q(P) = Σ_s w_s(P) (ȳ_e + s_e Σ_k Φ_ek a_k)`, `e = j_s·|Q| + slot_q`.
+//! Gradients follow by the chain rule through `x(z(T, μ, α))`, `a(x)` and `w(P)`.
+//! Standard deviations assume independent coefficient errors,
+//! `Var y_q = Σ_k (Σ_s w_s s_e Φ_ek)² Var a_k`, rescaled per quantity by the held-out RMS of
+//! the standardised errors (`std_scale`, from cross-validation).
+
+use serde::{Deserialize, Serialize};
+
+use super::data::CaseInputs;
+use super::metrics::Validation;
+use super::pod::PodBasis;
+use super::regression::gp::Gp;
+use super::regression::poly::Poly;
+use super::regression::{raw_features, FeatureScaler, Regressor, RegressorKind};
+use super::{RomError, QUANTITY_NAMES};
+use crate::predict::{stencil, N_FEATURES};
+
+/// Number of differentiable inputs: `T, P, μ₁, α₁, μ₂, α₂` (N is discrete).
+pub const N_GRAD_INPUTS: usize = 6;
+/// Names of the differentiable inputs.
+pub const GRAD_INPUT_NAMES: [&str; N_GRAD_INPUTS] = [
+    "wall_thickness_mm",
+    "pressure_bar",
+    "mu1_mpa",
+    "alpha1",
+    "mu2_mpa",
+    "alpha2",
+];
+
+/// A surrogate query (the public inputs; the material as the four Ogden parameters).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Query {
+    /// Number of bellows.
+    pub n: u32,
+    /// Wall thickness, mm.
+    pub t_mm: f64,
+    /// Gauge pressure, bar.
+    pub p_bar: f64,
+    /// Ogden `μ₁`, MPa.
+    pub mu1: f64,
+    /// Ogden `α₁`.
+    pub alpha1: f64,
+    /// Ogden `μ₂`, MPa.
+    pub mu2: f64,
+    /// Ogden `α₂`.
+    pub alpha2: f64,
+}
+
+impl Query {
+    /// The query of a case at pressure `p_bar`.
+    pub fn from_case(c: &CaseInputs, p_bar: f64) -> Self {
+        Query {
+            n: c.n_bellows,
+            t_mm: c.wall_thickness_mm,
+            p_bar,
+            mu1: c.mu1_mpa,
+            alpha1: c.alpha1,
+            mu2: c.mu2_mpa,
+            alpha2: c.alpha2,
+        }
+    }
+
+    fn case(&self) -> CaseInputs {
+        CaseInputs {
+            n_bellows: self.n,
+            wall_thickness_mm: self.t_mm,
+            mu1_mpa: self.mu1,
+            alpha1: self.alpha1,
+            mu2_mpa: self.mu2,
+            alpha2: self.alpha2,
+        }
+    }
+
+    /// The inputs as `[N, T, P, μ₁, α₁, μ₂, α₂]`.
+    pub fn as_array(&self) -> [f64; 7] {
+        [
+            self.n as f64,
+            self.t_mm,
+            self.p_bar,
+            self.mu1,
+            self.alpha1,
+            self.mu2,
+            self.alpha2,
+        ]
+    }
+}
+
+/// Buffers reused across predictions (so that `*_into` calls do not allocate).
+#[derive(Debug, Clone, Default)]
+struct Workspace {
+    x: Vec<f64>,
+    coef: [Vec<f64>; 2],
+    var: [Vec<f64>; 2],
+    jac: [Vec<f64>; 2],
+    scratch: Vec<f64>,
+}
+
+/// The outputs of a prediction, with optional standard deviations.
+#[derive(Debug, Clone, Default)]
+pub struct Prediction {
+    /// The 22 quantities in [`QUANTITY_NAMES`] order.
+    pub values: [f64; 22],
+    /// Their standard deviations (filled by [`Surrogate::predict_with_std_into`]).
+    pub std: [f64; 22],
+    /// Whether `std` is filled.
+    pub has_std: bool,
+    work: Workspace,
+}
+
+impl Prediction {
+    /// Tip Uz, mm.
+    pub fn tip_uz_mm(&self) -> f64 {
+        self.values[super::Q_TIP_UZ]
+    }
+    /// Tip Uy, mm.
+    pub fn tip_uy_mm(&self) -> f64 {
+        self.values[super::Q_TIP_UY]
+    }
+    /// Bending angle, degrees.
+    pub fn angle_deg(&self) -> f64 {
+        self.values[super::Q_ANGLE]
+    }
+    /// Blocked force, N.
+    pub fn force_n(&self) -> f64 {
+        self.values[super::Q_FORCE]
+    }
+    /// Marker `k` (0-based) as `(Uz, Uy)`, mm.
+    pub fn marker(&self, k: usize) -> (f64, f64) {
+        (self.values[2 * k], self.values[2 * k + 1])
+    }
+}
+
+/// Derivatives `d[q][i] = ∂y_q/∂u_i`, `u = (T, P, μ₁, α₁, μ₂, α₂)` ([`GRAD_INPUT_NAMES`]).
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct Jacobian {
+    /// Row per quantity, column per differentiable input.
+    pub d: [[f64; N_GRAD_INPUTS]; 22],
+}
+
+impl Default for Jacobian {
+    fn default() -> Self {
+        Jacobian {
+            d: [[0.0; N_GRAD_INPUTS]; 22],
+        }
+    }
+}
+
+/// Name, unit and training range of an input.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InputSpec {
+    /// Name.
+    pub name: String,
+    /// Unit (`1` for dimensionless).
+    pub unit: String,
+    /// Smallest training value.
+    pub min: f64,
+    /// Largest training value.
+    pub max: f64,
+}
+
+/// One POD block and the regressor that predicts its coefficients.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Block {
+    /// `field` or the scalar's name.
+    pub name: String,
+    /// The basis.
+    pub pod: PodBasis,
+    /// Offset of the block's coefficients among the regression outputs.
+    pub coef_offset: usize,
+    /// Regressor used for this block.
+    pub regressor: RegressorKind,
+}
+
+/// An input outside the training domain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DomainViolation {
+    /// Input or feature name.
+    pub name: String,
+    /// Value given.
+    pub value: f64,
+    /// Training range.
+    pub min: f64,
+    /// Training range.
+    pub max: f64,
+}
+
+impl std::fmt::Display for DomainViolation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} = {} outside the training domain [{}, {}]",
+            self.name, self.value, self.min, self.max
+        )
+    }
+}
+
+/// Provenance of a trained model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct TrainingInfo {
+    /// Snapshot source.
+    pub source: String,
+    /// Number of training cases.
+    pub n_cases: usize,
+    /// Cases dropped from the complete set (truncated ramps).
+    pub dropped_cases: usize,
+    /// Truncated cases used for the regression through gappy POD.
+    pub filled_cases: usize,
+    /// Unconverged rows skipped.
+    pub skipped_unconverged: usize,
+    /// Version of the crate that trained the model.
+    pub code_version: String,
+    /// How N is treated.
+    pub n_treatment: String,
+}
+
+/// The reduced-order surrogate (see the [module docs](super)).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct Surrogate {
+    /// Inputs with units and training bounds (N, T, P, μ₁, α₁, μ₂, α₂).
+    pub inputs: Vec<InputSpec>,
+    /// Output names and units.
+    pub outputs: Vec<String>,
+    /// Numbers of bellows present in training.
+    pub n_allowed: Vec<u32>,
+    /// Pressure grid, bar.
+    pub pressures: Vec<f64>,
+    /// Feature scaling.
+    pub features: FeatureScaler,
+    /// POD blocks.
+    pub blocks: Vec<Block>,
+    /// Gaussian process over all blocks' coefficients.
+    pub gp: Gp,
+    /// Polynomial over all blocks' coefficients.
+    pub poly: Poly,
+    /// Block predicting each quantity.
+    pub output_block: Vec<usize>,
+    /// Index of each quantity among its block's quantities.
+    pub output_slot: Vec<usize>,
+    /// Factor applied to each quantity's predictive std: the held-out `z_rms` of its chosen
+    /// predictor (post-hoc calibration, so that standardised held-out errors have RMS ≈ 1).
+    pub std_scale: Vec<f64>,
+    /// Held-out validation computed at training time.
+    pub validation: Validation,
+    /// Provenance.
+    pub training: TrainingInfo,
+}
+
+fn kind_index(k: RegressorKind) -> usize {
+    match k {
+        RegressorKind::Gp => 0,
+        RegressorKind::Poly => 1,
+    }
+}
+
+impl Surrogate {
+    /// A prediction buffer sized for this model.
+    pub fn new_prediction(&self) -> Prediction {
+        let mut p = Prediction::default();
+        self.ensure_workspace(&mut p.work);
+        p
+    }
+
+    fn ensure_workspace(&self, w: &mut Workspace) {
+        let (d, m) = (self.features.dim(), self.gp.m);
+        let s = self.gp.scratch_len().max(self.poly.scratch_len());
+        if w.x.len() != d || w.coef[0].len() != m || w.scratch.len() != s || w.jac[0].len() != m * d
+        {
+            w.x = vec![0.0; d];
+            w.coef = [vec![0.0; m], vec![0.0; m]];
+            w.var = [vec![0.0; m], vec![0.0; m]];
+            w.jac = [vec![0.0; m * d], vec![0.0; m * d]];
+            w.scratch = vec![0.0; s];
+        }
+    }
+
+    /// Checks a query: finite inputs, trained `N`, admissible material.
+    ///
+    /// # Errors
+    /// [`RomError::InvalidInput`] naming the field.
+    pub fn check_query(&self, q: &Query) -> Result<(), RomError> {
+        let names = ["n", "t_mm", "p_bar", "mu1", "alpha1", "mu2", "alpha2"];
+        for (name, v) in names.iter().zip(q.as_array()) {
+            if !v.is_finite() {
+                return Err(RomError::invalid(name, v, "a finite number"));
+            }
+        }
+        if !self.n_allowed.contains(&q.n) {
+            return Err(RomError::invalid(
+                "n",
+                q.n,
+                &format!("one of the trained numbers of bellows {:?}", self.n_allowed),
+            ));
+        }
+        if q.mu1 * q.alpha1 <= 0.0 {
+            return Err(RomError::invalid(
+                "mu1*alpha1",
+                q.mu1 * q.alpha1,
+                "> 0 (admissible Ogden term)",
+            ));
+        }
+        if q.mu2 * q.alpha2 <= 0.0 {
+            return Err(RomError::invalid(
+                "mu2*alpha2",
+                q.mu2 * q.alpha2,
+                "> 0 (admissible Ogden term)",
+            ));
+        }
+        Ok(())
+    }
+
+    /// Inputs (and derived material features) outside the training domain.
+    pub fn domain_violations(&self, q: &Query) -> Vec<DomainViolation> {
+        let mut out = Vec::new();
+        for (spec, v) in self.inputs.iter().zip(q.as_array()) {
+            if v < spec.min - 1e-9 * spec.min.abs() || v > spec.max + 1e-9 * spec.max.abs() {
+                out.push(DomainViolation {
+                    name: spec.name.clone(),
+                    value: v,
+                    min: spec.min,
+                    max: spec.max,
+                });
+            }
+        }
+        if q.mu1 * q.alpha1 > 0.0 && q.mu2 * q.alpha2 > 0.0 {
+            let z = raw_features(&q.case());
+            for (j, &f) in self.features.index.iter().enumerate() {
+                let half = 1.0 / self.features.inv_half[j];
+                let (lo, hi) = (
+                    self.features.center[j] - half,
+                    self.features.center[j] + half,
+                );
+                if (f == 2 || f == 4) && (z[f] < lo - 1e-9 || z[f] > hi + 1e-9) {
+                    out.push(DomainViolation {
+                        name: super::regression::FEATURE_NAMES[f].to_string(),
+                        value: z[f],
+                        min: lo,
+                        max: hi,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    fn features_into(&self, q: &Query, w: &mut Workspace) -> [f64; N_FEATURES] {
+        let z = raw_features(&q.case());
+        self.features.scale_into(&z, &mut w.x);
+        z
+    }
+
+    /// For each regressor kind, the coefficient columns the quantities `range` need.
+    fn needed_cols(&self, range: std::ops::Range<usize>) -> [std::ops::Range<usize>; 2] {
+        let (mut lo, mut hi) = ([usize::MAX; 2], [0usize; 2]);
+        for q in range {
+            let b = &self.blocks[self.output_block[q]];
+            let k = kind_index(b.regressor);
+            lo[k] = lo[k].min(b.coef_offset);
+            hi[k] = hi[k].max(b.coef_offset + b.pod.n_modes);
+        }
+        // an unused kind gets an empty range
+        [lo[0].min(hi[0])..hi[0], lo[1].min(hi[1])..hi[1]]
+    }
+
+    /// Predicts all 22 quantities into `pred` (no allocation once `pred` is sized).
+    ///
+    /// # Errors
+    /// Invalid query (see [`Self::check_query`]).
+    pub fn predict_into(&self, q: &Query, pred: &mut Prediction) -> Result<(), RomError> {
+        self.predict_range_into(q, pred, 0..22)
+    }
+
+    /// Predicts only tip Uz, tip Uy, angle and force (the other values are left as they were).
+    ///
+    /// # Errors
+    /// Invalid query.
+    pub fn predict_scalars_into(&self, q: &Query, pred: &mut Prediction) -> Result<(), RomError> {
+        self.predict_range_into(q, pred, super::Q_TIP_UZ..22)
+    }
+
+    /// Allocating convenience wrapper of [`Self::predict_into`].
+    ///
+    /// # Errors
+    /// Invalid query.
+    pub fn predict(&self, q: &Query) -> Result<Prediction, RomError> {
+        let mut p = self.new_prediction();
+        self.predict_into(q, &mut p)?;
+        Ok(p)
+    }
+
+    fn predict_range_into(
+        &self,
+        q: &Query,
+        pred: &mut Prediction,
+        range: std::ops::Range<usize>,
+    ) -> Result<(), RomError> {
+        self.check_query(q)?;
+        self.ensure_workspace(&mut pred.work);
+        let w = &mut pred.work;
+        self.features_into(q, w);
+        let [gp_cols, poly_cols] = self.needed_cols(range.clone());
+        if gp_cols.start < gp_cols.end {
+            self.gp
+                .predict_cols_into(&w.x, gp_cols, &mut w.coef[0], &mut w.scratch);
+        }
+        if poly_cols.start < poly_cols.end {
+            self.poly
+                .predict_cols_into(&w.x, poly_cols, &mut w.coef[1], &mut w.scratch);
+        }
+        let st = stencil(&self.pressures, q.p_bar);
+        for qi in range {
+            let b = &self.blocks[self.output_block[qi]];
+            let coef =
+                &w.coef[kind_index(b.regressor)][b.coef_offset..b.coef_offset + b.pod.n_modes];
+            let nq = b.pod.quantities.len();
+            let mut v = 0.0;
+            for s in 0..st.len {
+                v += st.w[s]
+                    * b.pod
+                        .entry((st.start + s) * nq + self.output_slot[qi], coef);
+            }
+            pred.values[qi] = v;
+        }
+        pred.has_std = false;
+        Ok(())
+    }
+
+    /// Predicts all quantities and their standard deviations.
+    ///
+    /// # Errors
+    /// Invalid query.
+    pub fn predict_with_std_into(&self, q: &Query, pred: &mut Prediction) -> Result<(), RomError> {
+        self.predict_into(q, pred)?;
+        let w = &mut pred.work;
+        let [gp_cols, poly_cols] = self.needed_cols(0..22);
+        if gp_cols.start < gp_cols.end {
+            self.gp.variance_into(&w.x, &mut w.var[0], &mut w.scratch);
+        }
+        if poly_cols.start < poly_cols.end {
+            self.poly.variance_into(&w.x, &mut w.var[1], &mut w.scratch);
+        }
+        let st = stencil(&self.pressures, q.p_bar);
+        for qi in 0..22 {
+            let b = &self.blocks[self.output_block[qi]];
+            let var = &w.var[kind_index(b.regressor)][b.coef_offset..b.coef_offset + b.pod.n_modes];
+            let (nq, r) = (b.pod.quantities.len(), b.pod.n_modes);
+            let mut total = 0.0;
+            for (k, vk) in var.iter().enumerate() {
+                let mut dk = 0.0;
+                for s in 0..st.len {
+                    let e = (st.start + s) * nq + self.output_slot[qi];
+                    dk += st.w[s] * b.pod.scale[e] * b.pod.modes[e * r + k];
+                }
+                total += dk * dk * vk;
+            }
+            pred.std[qi] = total.sqrt() * self.std_scale[qi];
+        }
+        pred.has_std = true;
+        Ok(())
+    }
+
+    /// Predicts all quantities and their derivatives with respect to `T, P, μ₁, α₁, μ₂, α₂`.
+    ///
+    /// # Errors
+    /// Invalid query.
+    pub fn gradient_into(
+        &self,
+        q: &Query,
+        pred: &mut Prediction,
+        jac: &mut Jacobian,
+    ) -> Result<(), RomError> {
+        self.check_query(q)?;
+        self.ensure_workspace(&mut pred.work);
+        let w = &mut pred.work;
+        self.features_into(q, w);
+        let [gp_cols, poly_cols] = self.needed_cols(0..22);
+        if gp_cols.start < gp_cols.end {
+            self.gp
+                .jacobian_into(&w.x, &mut w.coef[0], &mut w.jac[0], &mut w.scratch);
+        }
+        if poly_cols.start < poly_cols.end {
+            self.poly
+                .jacobian_into(&w.x, &mut w.coef[1], &mut w.jac[1], &mut w.scratch);
+        }
+        // dz_f/du_i for u = (T, P, μ1, α1, μ2, α2), z = (N, T, ln μ1α1, α1, ln μ2α2, α2)
+        let mut dz = [[0.0; N_GRAD_INPUTS]; N_FEATURES];
+        dz[1][0] = 1.0;
+        dz[2][2] = 1.0 / q.mu1;
+        dz[2][3] = 1.0 / q.alpha1;
+        dz[3][3] = 1.0;
+        dz[4][4] = 1.0 / q.mu2;
+        dz[4][5] = 1.0 / q.alpha2;
+        dz[5][5] = 1.0;
+        let d = self.features.dim();
+        let st = stencil(&self.pressures, q.p_bar);
+        for qi in 0..22 {
+            let b = &self.blocks[self.output_block[qi]];
+            let ki = kind_index(b.regressor);
+            let off = b.coef_offset;
+            let coef = &w.coef[ki][off..off + b.pod.n_modes];
+            let (nq, r) = (b.pod.quantities.len(), b.pod.n_modes);
+            let mut v = 0.0;
+            let mut dv_dp = 0.0;
+            let mut dv_dx = [0.0; N_FEATURES];
+            for s in 0..st.len {
+                let e = (st.start + s) * nq + self.output_slot[qi];
+                let y = b.pod.entry(e, coef);
+                v += st.w[s] * y;
+                dv_dp += st.dw[s] * y;
+                for k in 0..r {
+                    let c = st.w[s] * b.pod.scale[e] * b.pod.modes[e * r + k];
+                    for (j, dx) in dv_dx.iter_mut().enumerate().take(d) {
+                        *dx += c * w.jac[ki][(off + k) * d + j];
+                    }
+                }
+            }
+            pred.values[qi] = v;
+            let row = &mut jac.d[qi];
+            *row = [0.0; N_GRAD_INPUTS];
+            row[1] = dv_dp;
+            for (j, &f) in self.features.index.iter().enumerate() {
+                let g = dv_dx[j] * self.features.inv_half[j];
+                for (i, r) in row.iter_mut().enumerate() {
+                    *r += g * dz[f][i];
+                }
+            }
+        }
+        pred.has_std = false;
+        Ok(())
+    }
+
+    /// Internal consistency of a (loaded) model.
+    ///
+    /// # Errors
+    /// A message naming the inconsistent part.
+    pub fn check_consistency(&self) -> Result<(), String> {
+        let (d, m) = (self.features.dim(), self.gp.m);
+        if self.poly.m != m || self.gp.d != d || self.poly.d != d {
+            return Err(format!(
+                "regressor dimensions (gp {}x{}, poly {}x{}) do not match {d} features",
+                self.gp.d, self.gp.m, self.poly.d, self.poly.m
+            ));
+        }
+        if self.gp.x.len() != self.gp.n * d
+            || self.gp.xs.len() != self.gp.n * d
+            || d > 8
+            || self.gp.alpha.len() != self.gp.n * m
+            || self.gp.chol.len() != self.gp.n * (self.gp.n + 1) / 2
+        {
+            return Err("Gaussian-process tables have inconsistent sizes".into());
+        }
+        if self.poly.coef.len() != self.poly.n_terms() * m {
+            return Err("polynomial tables have inconsistent sizes".into());
+        }
+        if self.pressures.len() < 2 || self.pressures.windows(2).any(|w| w[0] >= w[1]) {
+            return Err("pressure grid must have ≥ 2 increasing values".into());
+        }
+        if self.output_block.len() != 22
+            || self.std_scale.len() != 22
+            || self.output_slot.len() != 22
+            || self.inputs.len() != 7
+        {
+            return Err("output or input tables do not have 22 outputs / 7 inputs".into());
+        }
+        for b in &self.blocks {
+            let p = &b.pod;
+            let dim = p.dim();
+            if p.n_pressures != self.pressures.len()
+                || p.mean.len() != dim
+                || p.scale.len() != dim
+                || p.modes.len() != dim * p.n_modes
+                || b.coef_offset + p.n_modes > m
+            {
+                return Err(format!("block {} has inconsistent sizes", b.name));
+            }
+        }
+        for q in 0..22 {
+            let b = self
+                .blocks
+                .get(self.output_block[q])
+                .ok_or("output block index out of range")?;
+            if b.pod.quantities.get(self.output_slot[q]) != Some(&q) {
+                return Err(format!(
+                    "output {} is not mapped to its block",
+                    QUANTITY_NAMES[q]
+                ));
+            }
+        }
+        Ok(())
+    }
+}

@@ -1,0 +1,614 @@
+//! Training: fit the pipeline, cross-validate by case, choose the predictor of each output.
+//!
+//! Stages: features → POD blocks → coefficients → GP and polynomial fits ([`fit_pipeline`]);
+//! k-fold cross-validation by case runs the same pipeline per fold (folds in parallel; each
+//! fold is deterministic, so results do not depend on the thread count); the held-out errors
+//! choose the regressor of the field block (by marker RMSE) and the source of each scalar
+//! (field or direct block, GP or polynomial, by its RMSE); the final model is fitted on all cases.
+
+use rand::seq::SliceRandom;
+use rand::SeedableRng;
+use rand_xoshiro::Xoshiro256PlusPlus;
+use rayon::prelude::*;
+
+use super::data::{CaseInputs, CaseRamp, CaseSet, PartialRamp};
+use super::metrics::{ErrorAccumulator, InterpolationCheck, OutputValidation, Validation};
+use super::pod::PodBasis;
+use super::regression::gp::{Gp, GpParams};
+use super::regression::poly::{Poly, PolyParams};
+use super::regression::{raw_features, Data, FeatureScaler, Regressor, RegressorKind};
+use super::surrogate::{Block, InputSpec, Surrogate, TrainingInfo};
+use super::{RomError, N_MARKER_COMPONENTS, QUANTITY_NAMES, Q_TIP_UZ};
+use crate::predict::N_FEATURES;
+
+/// Training settings.
+#[derive(Debug, Clone)]
+pub struct TrainConfig {
+    /// Number of cross-validation folds (by case); clamped to the number of cases.
+    pub folds: usize,
+    /// Seed of the fold assignment.
+    pub seed: u64,
+    /// POD energy tolerance (discarded fraction).
+    pub pod_tol: f64,
+    /// Largest number of modes of the field block.
+    pub max_field_modes: usize,
+    /// Largest number of modes of each direct block.
+    pub max_direct_modes: usize,
+    /// Gaussian-process settings.
+    pub gp: GpParams,
+    /// Polynomial settings.
+    pub poly: PolyParams,
+    /// Restrict the choice to one regressor family (tests, export checks).
+    pub only: Option<RegressorKind>,
+    /// Latency preference: the polynomial (≈ 1–2 µs) is kept unless the GP's held-out RMSE is
+    /// smaller by more than this relative margin (0: pure accuracy).
+    pub prefer_poly_within: f64,
+    /// Use truncated ramps (covering ≥ half the grid) for the regression, their coefficients
+    /// fitted to the converged entries by gappy POD (they never enter the POD bases nor the
+    /// held-out sets).
+    pub fill_truncated: bool,
+}
+
+impl Default for TrainConfig {
+    fn default() -> Self {
+        TrainConfig {
+            folds: 5,
+            seed: 2024,
+            pod_tol: 1e-7,
+            max_field_modes: 24,
+            max_direct_modes: 8,
+            gp: GpParams::default(),
+            poly: PolyParams::default(),
+            only: None,
+            prefer_poly_within: 0.0,
+            fill_truncated: false,
+        }
+    }
+}
+
+/// What training produced, besides the model.
+#[derive(Debug, Clone)]
+pub struct TrainReport {
+    /// The trained surrogate.
+    pub surrogate: Surrogate,
+    /// Cases dropped (id, reason).
+    pub dropped: Vec<(String, String)>,
+    /// Wall time, seconds.
+    pub seconds: f64,
+}
+
+/// A fitted pipeline (one fold or the final model).
+pub struct Fitted {
+    features: FeatureScaler,
+    blocks: Vec<(String, PodBasis, usize)>,
+    gp: Gp,
+    poly: Poly,
+}
+
+const SCALARS: [(&str, usize); 4] = [
+    ("tip_uz_mm", 18),
+    ("tip_uy_mm", 19),
+    ("angle_deg", 20),
+    ("force_n", 21),
+];
+
+/// Fits features, POD blocks and both regressors to `cases`.
+///
+/// # Errors
+/// Too few cases or a numerical failure.
+pub fn fit_pipeline(
+    cases: &[CaseRamp],
+    partial: &[PartialRamp],
+    cfg: &TrainConfig,
+) -> Result<Fitted, RomError> {
+    let z: Vec<[f64; N_FEATURES]> = cases
+        .iter()
+        .map(|c| raw_features(&c.inputs))
+        .chain(partial.iter().map(|c| raw_features(&c.inputs)))
+        .collect();
+    let features = FeatureScaler::fit(&z);
+    let d = features.dim();
+    if d == 0 {
+        return Err(RomError::InsufficientData(
+            "every input is constant over the cases".into(),
+        ));
+    }
+    let n_complete = cases.len();
+    let n = z.len();
+    let mut x = vec![0.0; n * d];
+    for (i, zi) in z.iter().enumerate() {
+        features.scale_into(zi, &mut x[i * d..(i + 1) * d]);
+    }
+    let max_modes = |m: usize| m.min(n_complete - 1).max(1);
+    let mut blocks = Vec::new();
+    let field: Vec<usize> = (0..22).collect();
+    let mut offset = 0;
+    let pod = PodBasis::fit(cases, &field, cfg.pod_tol, max_modes(cfg.max_field_modes))?;
+    offset += pod.n_modes;
+    blocks.push(("field".to_string(), pod, 0));
+    for (name, q) in SCALARS {
+        let pod = PodBasis::fit(cases, &[q], cfg.pod_tol, max_modes(cfg.max_direct_modes))?;
+        let r = pod.n_modes;
+        blocks.push((name.to_string(), pod, offset));
+        offset += r;
+    }
+    let m = offset;
+    let mut y = vec![0.0; n * m];
+    let mut weights = vec![0.0; m];
+    for (_, pod, off) in &blocks {
+        let energy: f64 =
+            pod.singular_values.iter().map(|s| s * s).sum::<f64>() / n_complete as f64;
+        for k in 0..pod.n_modes {
+            weights[off + k] = 1.0 / energy.max(1e-300).sqrt();
+        }
+        let r = pod.n_modes;
+        for (i, c) in cases.iter().enumerate() {
+            let snap = PodBasis::snapshot_of(&pod.quantities, c);
+            pod.project_into(&snap, &mut y[i * m + off..i * m + off + r]);
+        }
+        for (i, c) in partial.iter().enumerate() {
+            let (snap, observed) = partial_snapshot(&pod.quantities, c);
+            let row = (n_complete + i) * m + off;
+            pod.gappy_project_into(&snap, &observed, n_complete, &mut y[row..row + r])?;
+        }
+    }
+    let data = Data {
+        x: &x,
+        y: &y,
+        n,
+        d,
+        m,
+        weights: &weights,
+    };
+    let gp = Gp::fit(&data, &cfg.gp)?;
+    let poly = Poly::fit(&data, &cfg.poly)?;
+    Ok(Fitted {
+        features,
+        blocks,
+        gp,
+        poly,
+    })
+}
+
+/// Block snapshot of a partial ramp (zeros where unobserved) and the observed mask.
+fn partial_snapshot(quantities: &[usize], c: &PartialRamp) -> (Vec<f64>, Vec<bool>) {
+    let mut y = Vec::new();
+    let mut obs = Vec::new();
+    for v in &c.values {
+        for &q in quantities {
+            y.push(v.map_or(0.0, |v| v[q]));
+            obs.push(v.is_some());
+        }
+    }
+    (y, obs)
+}
+
+/// Held-out error accumulators of one candidate (output × block × regressor).
+#[derive(Debug, Clone, Default)]
+struct CandidateErrors {
+    total: ErrorAccumulator,
+    projection: ErrorAccumulator,
+    regression: ErrorAccumulator,
+    /// Sum of squared standardised errors `((y − ŷ)/σ̂)²` and their count.
+    z2: (f64, usize),
+}
+
+/// Candidates: markers from the field block; each scalar from the field or its direct block.
+/// Index: `output (0 markers, 1..=4 scalars) × block kind (0 field, 1 direct) × regressor`.
+type Table = Vec<CandidateErrors>;
+
+fn cand_index(output: usize, direct: usize, kind: usize) -> usize {
+    (output * 2 + direct) * 2 + kind
+}
+
+fn evaluate_fold(fit: &Fitted, test: &[CaseRamp]) -> Table {
+    let mut table = vec![CandidateErrors::default(); 5 * 2 * 2];
+    let (d, m) = (fit.features.dim(), fit.gp.m);
+    let mut x = vec![0.0; d];
+    let mut scratch = vec![0.0; fit.gp.scratch_len().max(fit.poly.scratch_len())];
+    let mut coef = [vec![0.0; m], vec![0.0; m]];
+    let mut var = [vec![0.0; m], vec![0.0; m]];
+    for case in test {
+        fit.features.scale_into(&raw_features(&case.inputs), &mut x);
+        fit.gp.predict_into(&x, &mut coef[0], &mut scratch);
+        fit.poly.predict_into(&x, &mut coef[1], &mut scratch);
+        fit.gp.variance_into(&x, &mut var[0], &mut scratch);
+        fit.poly.variance_into(&x, &mut var[1], &mut scratch);
+        for (bi, (_, pod, off)) in fit.blocks.iter().enumerate() {
+            let r = pod.n_modes;
+            let truth = PodBasis::snapshot_of(&pod.quantities, case);
+            let mut proj = vec![0.0; r];
+            pod.project_into(&truth, &mut proj);
+            let nq = pod.quantities.len();
+            for e in 0..pod.dim() {
+                let q = pod.quantities[e % nq];
+                let output = if q < N_MARKER_COMPONENTS {
+                    0
+                } else {
+                    q - Q_TIP_UZ + 1
+                };
+                let y_proj = pod.entry(e, &proj);
+                for (kind, c) in coef.iter().enumerate() {
+                    let y_hat = pod.entry(e, &c[*off..off + r]);
+                    let row = &pod.modes[e * r..(e + 1) * r];
+                    let v: f64 = (0..r)
+                        .map(|k| (pod.scale[e] * row[k]).powi(2) * var[kind][off + k])
+                        .sum();
+                    let t = &mut table[cand_index(output, usize::from(bi > 0), kind)];
+                    t.total.add(truth[e], y_hat);
+                    t.projection.add(truth[e], y_proj);
+                    t.regression.add(y_proj, y_hat);
+                    if v > 0.0 {
+                        t.z2.0 += (truth[e] - y_hat).powi(2) / v;
+                        t.z2.1 += 1;
+                    }
+                }
+            }
+        }
+    }
+    table
+}
+
+fn fold_assignment(n: usize, k: usize, seed: u64) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..n).collect();
+    order.shuffle(&mut Xoshiro256PlusPlus::seed_from_u64(seed));
+    let mut fold = vec![0; n];
+    for (pos, &i) in order.iter().enumerate() {
+        fold[i] = pos % k;
+    }
+    fold
+}
+
+fn validation_entry(
+    name: &str,
+    output: usize,
+    direct: usize,
+    kind: usize,
+    t: &Table,
+) -> OutputValidation {
+    let c = &t[cand_index(output, direct, kind)];
+    let block = if direct == 1 { "direct" } else { "field" };
+    let reg = if kind == 0 { "gp" } else { "poly" };
+    OutputValidation {
+        name: name.to_string(),
+        source: format!("{block}/{reg}"),
+        total: c.total.finish(),
+        projection_rmse: c.projection.rmse(),
+        regression_rmse: c.regression.rmse(),
+        std_ratio: if c.z2.1 > 0 {
+            (c.z2.0 / c.z2.1 as f64).sqrt()
+        } else {
+            0.0
+        },
+    }
+}
+
+/// Leave-one-node-out check of the pressure interpolation on the training ramps.
+fn interpolation_check(set: &CaseSet) -> Vec<InterpolationCheck> {
+    let grid = &set.pressures;
+    let n_p = grid.len();
+    if n_p < 4 {
+        return Vec::new();
+    }
+    let mut acc = vec![ErrorAccumulator::default(); 5];
+    for j in 1..n_p - 1 {
+        let reduced: Vec<f64> = grid
+            .iter()
+            .enumerate()
+            .filter(|&(i, _)| i != j)
+            .map(|(_, &p)| p)
+            .collect();
+        let st = crate::predict::stencil(&reduced, grid[j]);
+        let node = |s: usize| {
+            if st.start + s < j {
+                st.start + s
+            } else {
+                st.start + s + 1
+            }
+        };
+        for case in &set.cases {
+            for q in 0..22 {
+                let y: f64 = (0..st.len).map(|s| st.w[s] * case.values[node(s)][q]).sum();
+                let output = if q < N_MARKER_COMPONENTS {
+                    0
+                } else {
+                    q - Q_TIP_UZ + 1
+                };
+                acc[output].add(case.values[j][q], y);
+            }
+        }
+    }
+    let names = [
+        "markers_mm",
+        "tip_uz_mm",
+        "tip_uy_mm",
+        "angle_deg",
+        "force_n",
+    ];
+    names
+        .iter()
+        .zip(acc)
+        .map(|(n, a)| InterpolationCheck {
+            name: n.to_string(),
+            stats: a.finish(),
+        })
+        .collect()
+}
+
+/// Chooses the regressors; returns (field regressor, per scalar (direct?, kind)), validation.
+fn choose(
+    table: &Table,
+    cfg: &TrainConfig,
+    scheme: String,
+    n_cases: usize,
+) -> (usize, [(usize, usize); 4], Validation) {
+    let kinds: Vec<usize> = match cfg.only {
+        Some(RegressorKind::Gp) => vec![0],
+        Some(RegressorKind::Poly) => vec![1],
+        None => vec![0, 1],
+    };
+    // the GP must beat the (faster) polynomial by the factor 1 + prefer_poly_within
+    let rmse = |o: usize, dir: usize, k: usize| {
+        let penalty = if k == 0 {
+            1.0 + cfg.prefer_poly_within
+        } else {
+            1.0
+        };
+        table[cand_index(o, dir, k)].total.rmse() * penalty
+    };
+    let field_kind = *kinds
+        .iter()
+        .min_by(|&&a, &&b| rmse(0, 0, a).total_cmp(&rmse(0, 0, b)))
+        .unwrap_or(&0);
+    let mut outputs = vec![validation_entry("markers_mm", 0, 0, field_kind, table)];
+    let mut candidates = Vec::new();
+    let mut scalar_choice = [(0, field_kind); 4];
+    for (si, (name, _)) in SCALARS.iter().enumerate() {
+        let o = si + 1;
+        let mut options = vec![(0, field_kind)];
+        options.extend(kinds.iter().map(|&k| (1, k)));
+        let best = *options
+            .iter()
+            .min_by(|a, b| rmse(o, a.0, a.1).total_cmp(&rmse(o, b.0, b.1)))
+            .unwrap_or(&(0, field_kind));
+        scalar_choice[si] = best;
+        outputs.push(validation_entry(name, o, best.0, best.1, table));
+    }
+    for o in 0..5 {
+        let name = if o == 0 {
+            "markers_mm"
+        } else {
+            SCALARS[o - 1].0
+        };
+        for dir in 0..(if o == 0 { 1 } else { 2 }) {
+            for &k in &kinds {
+                candidates.push(validation_entry(name, o, dir, k, table));
+            }
+        }
+    }
+    (
+        field_kind,
+        scalar_choice,
+        Validation {
+            scheme,
+            n_cases,
+            outputs,
+            candidates,
+            pressure_interpolation: Vec::new(),
+        },
+    )
+}
+
+fn input_specs(cases: &[CaseInputs], pressures: &[f64]) -> Vec<InputSpec> {
+    type Getter = fn(&CaseInputs) -> f64;
+    let get: [(&str, &str, Getter); 6] = [
+        ("n_bellows", "1", |c| c.n_bellows as f64),
+        ("wall_thickness_mm", "mm", |c| c.wall_thickness_mm),
+        ("mu1_mpa", "MPa", |c| c.mu1_mpa),
+        ("alpha1", "1", |c| c.alpha1),
+        ("mu2_mpa", "MPa", |c| c.mu2_mpa),
+        ("alpha2", "1", |c| c.alpha2),
+    ];
+    let spec = |(name, unit, f): (&str, &str, Getter)| InputSpec {
+        name: name.into(),
+        unit: unit.into(),
+        min: cases.iter().map(f).fold(f64::INFINITY, f64::min),
+        max: cases.iter().map(f).fold(f64::NEG_INFINITY, f64::max),
+    };
+    let mut v: Vec<InputSpec> = get.into_iter().map(spec).collect();
+    v.insert(
+        2,
+        InputSpec {
+            name: "pressure_bar".into(),
+            unit: "bar".into(),
+            min: pressures[0],
+            max: pressures[pressures.len() - 1],
+        },
+    );
+    v
+}
+
+/// Runs the `k` folds and the final fit on all cases as `k + 1` parallel tasks; returns the
+/// merged held-out errors and the final fit.
+fn cross_validate_and_fit(
+    set: &CaseSet,
+    k: usize,
+    cfg: &TrainConfig,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<(Table, Fitted), RomError> {
+    let fold = fold_assignment(set.cases.len(), k, cfg.seed);
+    let partial: &[PartialRamp] = if cfg.fill_truncated {
+        &set.partial
+    } else {
+        &[]
+    };
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    type Task = (Option<Table>, Option<Fitted>);
+    let results: Vec<Result<Task, RomError>> = (0..=k)
+        .into_par_iter()
+        .map(|f| {
+            let out = if f == k {
+                (None, Some(fit_pipeline(&set.cases, partial, cfg)?))
+            } else {
+                let (mut tr, mut te) = (Vec::new(), Vec::new());
+                for (i, c) in set.cases.iter().enumerate() {
+                    if fold[i] == f {
+                        te.push(c.clone())
+                    } else {
+                        tr.push(c.clone())
+                    }
+                }
+                let fitted = fit_pipeline(&tr, partial, cfg)?;
+                (Some(evaluate_fold(&fitted, &te)), None)
+            };
+            progress(
+                done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1,
+                k + 1,
+            );
+            Ok(out)
+        })
+        .collect();
+    let mut table = vec![CandidateErrors::default(); 20];
+    let mut final_fit = None;
+    for r in results {
+        let (t, fitted) = r?;
+        for (acc, part) in table.iter_mut().zip(t.unwrap_or_default()) {
+            acc.total.merge(&part.total);
+            acc.projection.merge(&part.projection);
+            acc.regression.merge(&part.regression);
+            acc.z2.0 += part.z2.0;
+            acc.z2.1 += part.z2.1;
+        }
+        final_fit = fitted.or(final_fit);
+    }
+    let fitted = final_fit.ok_or_else(|| RomError::Numerical {
+        stage: "training".into(),
+        message: "final fit missing".into(),
+    })?;
+    Ok((table, fitted))
+}
+
+fn kind_of(i: usize) -> RegressorKind {
+    if i == 0 {
+        RegressorKind::Gp
+    } else {
+        RegressorKind::Poly
+    }
+}
+
+/// The surrogate from the final fit and the chosen sources of the outputs.
+fn assemble(
+    set: &CaseSet,
+    fitted: Fitted,
+    (field_kind, scalar_choice): (usize, [(usize, usize); 4]),
+    validation: Validation,
+    training: TrainingInfo,
+) -> Surrogate {
+    let mut blocks: Vec<Block> = fitted
+        .blocks
+        .into_iter()
+        .map(|(name, pod, coef_offset)| Block {
+            name,
+            pod,
+            coef_offset,
+            regressor: kind_of(field_kind),
+        })
+        .collect();
+    let mut output_block: Vec<usize> = vec![0; 22];
+    let mut output_slot: Vec<usize> = (0..22).collect();
+    for (si, &(direct, kind)) in scalar_choice.iter().enumerate() {
+        if direct == 1 {
+            blocks[si + 1].regressor = kind_of(kind);
+            output_block[Q_TIP_UZ + si] = si + 1;
+            output_slot[Q_TIP_UZ + si] = 0;
+        }
+    }
+    let mut regression_points: Vec<CaseInputs> = set.cases.iter().map(|c| c.inputs).collect();
+    if training.filled_cases > 0 {
+        regression_points.extend(set.partial.iter().map(|c| c.inputs));
+    }
+    let mut n_allowed: Vec<u32> = regression_points.iter().map(|c| c.n_bellows).collect();
+    n_allowed.sort_unstable();
+    n_allowed.dedup();
+    let std_scale = (0..22)
+        .map(|q| {
+            let o = if q < N_MARKER_COMPONENTS {
+                0
+            } else {
+                q - Q_TIP_UZ + 1
+            };
+            let z = validation.outputs[o].std_ratio;
+            if z > 0.0 && z.is_finite() {
+                z
+            } else {
+                1.0
+            }
+        })
+        .collect();
+    Surrogate {
+        inputs: input_specs(&regression_points, &set.pressures),
+        outputs: QUANTITY_NAMES.iter().map(|s| s.to_string()).collect(),
+        n_allowed,
+        pressures: set.pressures.clone(),
+        features: fitted.features,
+        blocks,
+        gp: fitted.gp,
+        poly: fitted.poly,
+        output_block,
+        output_slot,
+        std_scale,
+        validation,
+        training,
+    }
+}
+
+/// Trains a surrogate on a case set: cross-validation, choice, final fit.
+/// `progress(done, total)` is called after each fold and after the final fit.
+///
+/// # Errors
+/// Fewer than 4 cases, or a numerical failure.
+pub fn train(
+    set: &CaseSet,
+    source: &str,
+    skipped_unconverged: usize,
+    cfg: &TrainConfig,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<TrainReport, RomError> {
+    let start = std::time::Instant::now();
+    let n = set.cases.len();
+    if n < 4 {
+        return Err(RomError::InsufficientData(format!(
+            "{n} complete cases; at least 4 are needed"
+        )));
+    }
+    let k = cfg.folds.clamp(2, n);
+    let (table, fitted) = cross_validate_and_fit(set, k, cfg, progress)?;
+    let (field_kind, scalar_choice, mut validation) =
+        choose(&table, cfg, format!("{k}-fold by case"), n);
+    validation.pressure_interpolation = interpolation_check(set);
+    let training = TrainingInfo {
+        source: source.to_string(),
+        n_cases: n,
+        dropped_cases: set.dropped.len(),
+        filled_cases: if cfg.fill_truncated {
+            set.partial.len()
+        } else {
+            0
+        },
+        skipped_unconverged,
+        code_version: env!("CARGO_PKG_VERSION").to_string(),
+        n_treatment: "numeric regression input; predictions only at trained N".into(),
+    };
+    let surrogate = assemble(
+        set,
+        fitted,
+        (field_kind, scalar_choice),
+        validation,
+        training,
+    );
+    Ok(TrainReport {
+        surrogate,
+        dropped: set.dropped.clone(),
+        seconds: start.elapsed().as_secs_f64(),
+    })
+}

@@ -1,0 +1,52 @@
+//! The `*_into` hot paths do not allocate (counting global allocator).
+use std::alloc::{GlobalAlloc, Layout, System};
+use std::sync::atomic::{AtomicUsize, Ordering};
+
+use surrogate::rom::{Jacobian, Query};
+
+mod rom_common;
+
+struct Counting;
+static ALLOCS: AtomicUsize = AtomicUsize::new(0);
+
+unsafe impl GlobalAlloc for Counting {
+    unsafe fn alloc(&self, layout: Layout) -> *mut u8 {
+        ALLOCS.fetch_add(1, Ordering::SeqCst);
+        System.alloc(layout)
+    }
+    unsafe fn dealloc(&self, ptr: *mut u8, layout: Layout) {
+        System.dealloc(ptr, layout)
+    }
+}
+
+#[global_allocator]
+static GLOBAL: Counting = Counting;
+
+#[test]
+fn predict_into_std_and_gradient_do_not_allocate() {
+    let m = rom_common::small_model(None);
+    let mut pred = m.new_prediction();
+    let mut jac = Jacobian::default();
+    let q = Query {
+        n: 11,
+        t_mm: 2.0,
+        p_bar: 2.0,
+        mu1: 1.13,
+        alpha1: 3.11,
+        mu2: -13.17,
+        alpha2: -0.6,
+    };
+    m.predict_into(&q, &mut pred).unwrap();
+    let before = ALLOCS.load(Ordering::SeqCst);
+    for i in 0..100 {
+        let qi = Query {
+            p_bar: 0.03 * i as f64,
+            ..q
+        };
+        m.predict_into(&qi, &mut pred).unwrap();
+        m.predict_scalars_into(&qi, &mut pred).unwrap();
+        m.predict_with_std_into(&qi, &mut pred).unwrap();
+        m.gradient_into(&qi, &mut pred, &mut jac).unwrap();
+    }
+    assert_eq!(ALLOCS.load(Ordering::SeqCst) - before, 0);
+}

@@ -1,0 +1,346 @@
+//! The `surrogate train / predict / export` subcommands, every flag and the bad-input messages.
+use std::path::PathBuf;
+use std::process::{Command, Output};
+use std::sync::OnceLock;
+
+fn bin() -> Command {
+    Command::new(env!("CARGO_BIN_EXE_surrogate"))
+}
+
+fn dir() -> PathBuf {
+    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rom_cli");
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn text(o: &Output) -> (String, String) {
+    (
+        String::from_utf8_lossy(&o.stdout).into_owned(),
+        String::from_utf8_lossy(&o.stderr).into_owned(),
+    )
+}
+
+/// Trains once (synthetic, 30 cases, 3 folds) and returns the model path.
+fn model() -> &'static PathBuf {
+    static MODEL: OnceLock<PathBuf> = OnceLock::new();
+    MODEL.get_or_init(|| {
+        let path = dir().join("model.json");
+        let o = bin()
+            .args([
+                "train",
+                "--synthetic",
+                "30",
+                "--folds",
+                "3",
+                "--quiet",
+                "--out",
+            ])
+            .arg(&path)
+            .output()
+            .unwrap();
+        let (out, err) = text(&o);
+        assert!(o.status.success(), "{err}");
+        assert!(
+            out.contains("validation: 3-fold by case") && out.contains("force_n"),
+            "{out}"
+        );
+        path
+    })
+}
+
+fn predict(args: &[&str]) -> Output {
+    bin()
+        .arg("predict")
+        .arg("--model")
+        .arg(model())
+        .args(args)
+        .output()
+        .unwrap()
+}
+
+#[test]
+fn train_from_csv_file_reports_skipped_rows() {
+    let cfg = surrogate::rom::synthetic::SyntheticConfig {
+        n_cases: 20,
+        unconverged_fraction: 0.2,
+        ..Default::default()
+    };
+    let csv = dir().join("snap.csv");
+    surrogate::rom::synthetic::write_csv(&cfg, std::fs::File::create(&csv).unwrap()).unwrap();
+    let out = dir().join("from_csv.json");
+    let o = bin()
+        .args([
+            "train", "--folds", "2", "--quiet", "--only", "poly", "--data",
+        ])
+        .arg(&csv)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let (stdout, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        err.contains("unconverged rows skipped") && err.contains("dropped"),
+        "{err}"
+    );
+    assert!(err.contains("unused (see --fill-truncated)"), "{err}");
+    let o = bin()
+        .args([
+            "train",
+            "--folds",
+            "2",
+            "--quiet",
+            "--fill-truncated",
+            "--data",
+        ])
+        .arg(&csv)
+        .arg("--out")
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = text(&o).1;
+    assert!(
+        o.status.success() && err.contains("through gappy POD"),
+        "{err}"
+    );
+    let m = surrogate::rom::Surrogate::load(&out).unwrap();
+    assert!(m.training.filled_cases > 0);
+    assert!(
+        stdout.contains("direct/poly") || stdout.contains("field/poly"),
+        "{stdout}"
+    );
+    assert!(!stdout.contains("/gp "), "{stdout}");
+}
+
+#[test]
+fn prefer_poly_within_a_large_margin_selects_the_polynomial() {
+    let out = dir().join("fast.json");
+    let o = bin()
+        .args(["train", "--synthetic", "20", "--folds", "2", "--quiet"])
+        .args(["--prefer-poly-within", "1000", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let (stdout, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    // the chosen table follows the candidates
+    let chosen = stdout.split("validation:").nth(1).unwrap();
+    assert!(
+        chosen.contains("/poly") && !chosen.contains("/gp "),
+        "{stdout}"
+    );
+    let o = bin()
+        .args([
+            "train",
+            "--synthetic",
+            "20",
+            "--prefer-poly-within=-1",
+            "--out",
+        ])
+        .arg(&out)
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && text(&o).1.contains("--prefer-poly-within"));
+}
+
+#[test]
+fn predict_single_query_prints_json_with_markers_and_std() {
+    let o = predict(&[
+        "--n",
+        "11",
+        "--t",
+        "2.0",
+        "--pressure",
+        "2.0",
+        "--material",
+        "ogden_002",
+        "--std",
+    ]);
+    let (out, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    for k in ["tip_uz_mm", "tip_uy_mm", "angle_deg", "force_n"] {
+        assert!(v[k].is_f64() && v["std"][k].is_f64(), "{k}: {out}");
+    }
+    assert_eq!(v["markers"].as_array().unwrap().len(), 9);
+    assert!(v["tip_uy_mm"].as_f64().unwrap() < 0.0);
+    // explicit Ogden numbers give the same result as the name
+    let o2 = predict(&[
+        "--n",
+        "11",
+        "--t",
+        "2.0",
+        "--pressure",
+        "2.0",
+        "--material",
+        "1.13,3.11,-13.17,-0.6",
+        "--std",
+    ]);
+    assert_eq!(text(&o2).0, out);
+}
+
+#[test]
+fn out_of_domain_warns_or_fails_with_strict() {
+    let args = [
+        "--n",
+        "11",
+        "--t",
+        "2.0",
+        "--pressure",
+        "3.9",
+        "--material",
+        "ogden_002",
+    ];
+    let o = predict(&args);
+    let (out, err) = text(&o);
+    assert!(
+        o.status.success() && err.contains("warning") && err.contains("pressure_bar = 3.9"),
+        "{err}"
+    );
+    assert!(out.contains("\"in_domain\": false"));
+    let mut strict = args.to_vec();
+    strict.push("--strict");
+    let o = predict(&strict);
+    assert!(!o.status.success() && text(&o).1.contains("--strict"));
+}
+
+#[test]
+fn unknown_material_and_untrained_n_are_clear_errors() {
+    let o = predict(&[
+        "--n",
+        "11",
+        "--t",
+        "2.0",
+        "--pressure",
+        "1",
+        "--material",
+        "ogden_999",
+    ]);
+    let err = text(&o).1;
+    assert!(
+        !o.status.success() && err.contains("ogden_999") && err.contains("ogden_002"),
+        "{err}"
+    );
+    let o = predict(&[
+        "--n",
+        "10",
+        "--t",
+        "2.0",
+        "--pressure",
+        "1",
+        "--material",
+        "ogden_002",
+    ]);
+    let err = text(&o).1;
+    assert!(
+        !o.status.success() && err.contains("invalid n = 10") && err.contains("[9, 11, 13]"),
+        "{err}"
+    );
+}
+
+#[test]
+fn batch_csv_round_trip_and_bad_rows() {
+    let d = dir();
+    let input = d.join("q.csv");
+    std::fs::write(&input, "n_bellows,wall_thickness_mm,pressure_bar,material\n11,2.0,1.0,ogden_002\n9,1.6,2.5,\"1.0,3.0,-12,-0.5\"\n").unwrap();
+    let out = d.join("q_out.csv");
+    let o = predict(&[
+        "--csv",
+        input.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--std",
+    ]);
+    assert!(o.status.success(), "{}", text(&o).1);
+    let res = std::fs::read_to_string(&out).unwrap();
+    let lines: Vec<&str> = res.lines().collect();
+    assert_eq!(lines.len(), 3);
+    assert!(
+        lines[0].starts_with("n_bellows,")
+            && lines[0].contains("force_n_std")
+            && lines[0].ends_with("in_domain")
+    );
+    assert_eq!(lines[1].split(',').count(), 7 + 22 + 22 + 1);
+    let cases = [
+        ("n_bellows,wall_thickness_mm,pressure_bar\n11,2,1\n", "missing column `mu1_mpa`: expected n_bellows, wall_thickness_mm, pressure_bar, mu1_mpa, alpha1, mu2_mpa, alpha2 (or a `material` column"),
+        ("n_bellows,wall_thickness_mm,pressure_bar,material,colour\n11,2,1,ogden_002,red\n", "unknown column `colour`"),
+        ("n_bellows,wall_thickness_mm,pressure_bar,material\n11,2,1,ogden_002\n11,NaN,1,ogden_002\n", "line 3, column `wall_thickness_mm`"),
+        ("n_bellows,wall_thickness_mm,pressure_bar,material\n11,2,1,unobtainium\n", "line 2, column `material`"),
+        ("n_bellows,wall_thickness_mm,pressure_bar,material\n8,2,1,ogden_002\n", "line 2, column `n_bellows`"),
+        ("n_bellows,wall_thickness_mm,pressure_bar,mu1_mpa,alpha1,mu2_mpa,alpha2\n11,2,1,1.1,3,-13\n", "line 2, column `alpha2`"),
+        ("n_bellows,wall_thickness_mm,pressure_bar,material\n11,2,1,ogden_002,7\n", "line 2, column `#5`"),
+    ];
+    for (i, (csv, want)) in cases.iter().enumerate() {
+        let p = d.join(format!("bad{i}.csv"));
+        std::fs::write(&p, csv).unwrap();
+        let o = predict(&[
+            "--csv",
+            p.to_str().unwrap(),
+            "--out",
+            d.join("x.csv").to_str().unwrap(),
+        ]);
+        let err = text(&o).1;
+        assert!(
+            !o.status.success() && err.contains(want),
+            "case {i}: want {want:?}, got {err}"
+        );
+    }
+}
+
+#[test]
+fn predict_prints_stored_validation() {
+    let o = predict(&["--validation"]);
+    let err = text(&o).1;
+    assert!(
+        o.status.success()
+            && err.contains("validation: 3-fold by case")
+            && err.contains("markers_mm"),
+        "{err}"
+    );
+}
+
+#[test]
+fn export_writes_rust_tables_and_c_header() {
+    let rs = dir().join("actuator_model.rs");
+    let o = bin()
+        .args(["export", "--model"])
+        .arg(model())
+        .arg("--rust")
+        .arg(&rs)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o).1);
+    let src = std::fs::read_to_string(&rs).unwrap();
+    assert!(
+        src.contains("pub static MODEL: EmbeddedModel<'static, f32>")
+            && src.contains("extern \"C\" fn surrogate_predict_f32")
+    );
+    let h = std::fs::read_to_string(rs.with_extension("h")).unwrap();
+    assert!(h.contains("surrogate_predict_f32"));
+    let o = bin()
+        .args(["export", "--precision", "f64", "--model"])
+        .arg(model())
+        .arg("--rust")
+        .arg(dir().join("m64.rs"))
+        .output()
+        .unwrap();
+    assert!(o.status.success());
+}
+
+#[test]
+fn corrupt_model_file_is_a_clear_error() {
+    let p = dir().join("corrupt.json");
+    let mut t = std::fs::read_to_string(model()).unwrap();
+    t.truncate(t.len() - 10);
+    std::fs::write(&p, t).unwrap();
+    let o = bin()
+        .args(["predict", "--validation", "--model"])
+        .arg(&p)
+        .output()
+        .unwrap();
+    let err = text(&o).1;
+    assert!(
+        !o.status.success() && err.contains("corrupt or truncated"),
+        "{err}"
+    );
+}

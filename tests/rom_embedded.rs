@@ -1,0 +1,231 @@
+//! The embedded predictor agrees with the library, and its module compiles with `#![no_std]`.
+use surrogate::predict::{evaluate, EmbeddedError};
+use surrogate::rom::export::{c_header, rust_source, EmbeddedTables, Precision};
+use surrogate::rom::regression::RegressorKind;
+use surrogate::rom::{Query, Surrogate};
+
+mod rom_common;
+
+/// Held-out queries: cases of another seed, at pressures between and on the grid nodes.
+fn held_out(m: &Surrogate) -> Vec<Query> {
+    let cases = rom_common::synthetic_cases(12, 4242);
+    let mut out = Vec::new();
+    for c in &cases.cases {
+        for p in [0.0, 0.4, 1.0, 1.9, 2.75, 3.5] {
+            let q = Query::from_case(&c.inputs, p);
+            if m.check_query(&q).is_ok() {
+                out.push(q);
+            }
+        }
+    }
+    out
+}
+
+/// Largest |embedded − library| relative to each quantity's largest |value| over the set.
+fn max_relative_gap(m: &Surrogate) -> f64 {
+    let tables = EmbeddedTables::<f32>::from_surrogate(m).unwrap();
+    let blocks = tables.block_tables();
+    let model = tables.view(&blocks);
+    let queries = held_out(m);
+    let mut lib = Vec::new();
+    let mut emb = Vec::new();
+    for q in &queries {
+        lib.push(m.predict(q).unwrap().values);
+        let a = q.as_array();
+        let input: [f32; 7] = std::array::from_fn(|i| a[i] as f32);
+        let mut out = [0f32; 22];
+        evaluate(&model, &input, &mut out).unwrap();
+        emb.push(out);
+    }
+    let mut worst: f64 = 0.0;
+    for k in 0..22 {
+        let scale = lib.iter().fold(1e-12f64, |a, v| a.max(v[k].abs()));
+        for (l, e) in lib.iter().zip(&emb) {
+            worst = worst.max((e[k] as f64 - l[k]).abs() / scale);
+        }
+    }
+    worst
+}
+
+#[test]
+fn embedded_f32_agrees_with_library_poly_gp_and_mixed() {
+    for only in [Some(RegressorKind::Poly), Some(RegressorKind::Gp), None] {
+        let m = rom_common::small_model(only);
+        let gap = max_relative_gap(&m);
+        println!("{only:?}: max relative gap {gap:e}");
+        assert!(
+            gap <= 1e-5,
+            "{only:?}: embedded f32 differs from the library by {gap:e} (relative)"
+        );
+    }
+}
+
+#[test]
+fn embedded_rejects_bad_inputs_with_codes() {
+    let m = rom_common::small_model(Some(RegressorKind::Poly));
+    let tables = EmbeddedTables::<f64>::from_surrogate(&m).unwrap();
+    let blocks = tables.block_tables();
+    let model = tables.view(&blocks);
+    let mut out = [0.0; 22];
+    let ok = [11.0, 2.0, 1.0, 1.13, 3.11, -13.17, -0.6];
+    assert!(evaluate(&model, &ok, &mut out).is_ok());
+    let mut bad = ok;
+    bad[0] = 12.0;
+    assert_eq!(
+        evaluate(&model, &bad, &mut out),
+        Err(EmbeddedError::UnknownN)
+    );
+    bad = ok;
+    bad[2] = f64::NAN;
+    assert_eq!(
+        evaluate(&model, &bad, &mut out),
+        Err(EmbeddedError::NonFinite(2))
+    );
+    bad = ok;
+    bad[6] = 0.6;
+    assert_eq!(
+        evaluate(&model, &bad, &mut out).map_err(|e| e.code()),
+        Err(3)
+    );
+}
+
+#[test]
+fn no_std_module_compiles() {
+    let m = rom_common::small_model(None);
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rom_no_std_check");
+    std::fs::create_dir_all(&dir).unwrap();
+    let predict_src = concat!(env!("CARGO_MANIFEST_DIR"), "/src/predict/mod.rs");
+    std::fs::copy(predict_src, dir.join("predict.rs")).unwrap();
+    let sum = m.checksum().unwrap();
+    std::fs::write(
+        dir.join("model32.rs"),
+        rust_source(&m, Precision::F32, &sum).unwrap(),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("model64.rs"),
+        rust_source(&m, Precision::F64, &sum).unwrap(),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("lib.rs"),
+        "#![no_std]\n//! no_std check of the embedded predictor\npub mod predict;\npub mod model32;\npub mod model64;\n",
+    )
+    .unwrap();
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    let out = std::process::Command::new(rustc)
+        .args([
+            "--edition",
+            "2021",
+            "--crate-type",
+            "rlib",
+            "--crate-name",
+            "nostd_check",
+            "-O",
+            "--emit=link",
+        ])
+        .arg("--out-dir")
+        .arg(&dir)
+        .arg(dir.join("lib.rs"))
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "no_std build failed:\n{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let header = c_header(Precision::F32, &sum);
+    assert!(header.contains("int32_t surrogate_predict_f32(uint32_t n, float t_mm, float p_bar"));
+}
+
+/// The exported `extern "C"` entry point, built as a `#![no_std]` static library and called
+/// from C through the generated header, gives the library's values.
+#[test]
+fn c_entry_point_links_and_agrees() {
+    let cc = std::env::var("CC").unwrap_or_else(|_| "cc".into());
+    if std::process::Command::new(&cc)
+        .arg("--version")
+        .output()
+        .is_err()
+    {
+        eprintln!("skipped: no C compiler ({cc})");
+        return;
+    }
+    let m = rom_common::small_model(None);
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rom_c_check");
+    std::fs::create_dir_all(&dir).unwrap();
+    let sum = m.checksum().unwrap();
+    std::fs::copy(
+        concat!(env!("CARGO_MANIFEST_DIR"), "/src/predict/mod.rs"),
+        dir.join("predict.rs"),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("model32.rs"),
+        rust_source(&m, Precision::F32, &sum).unwrap(),
+    )
+    .unwrap();
+    std::fs::write(dir.join("model.h"), c_header(Precision::F32, &sum)).unwrap();
+    std::fs::write(
+        dir.join("lib.rs"),
+        "#![no_std]\npub mod predict;\npub mod model32;\n#[panic_handler]\nfn panic(_: &core::panic::PanicInfo) -> ! {\n    loop {}\n}\n",
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("main.c"),
+        "#include <stdio.h>\n#include \"model.h\"\n/* the precompiled libcore refers to it even with panic=abort; never called */\nvoid rust_eh_personality(void) {}\nint main(void) {\n  float out[SURROGATE_N_OUTPUTS];\n  int rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  int bad = surrogate_predict_f32(12, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out + 0);\n  printf(\"%d %d\", rc, bad);\n  rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", out[i]);\n  printf(\"\\n\");\n  return 0;\n}\n",
+    )
+    .unwrap();
+    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
+    let run = |cmd: &mut std::process::Command| {
+        let o = cmd.output().unwrap();
+        assert!(
+            o.status.success(),
+            "{cmd:?}:\n{}",
+            String::from_utf8_lossy(&o.stderr)
+        );
+        String::from_utf8_lossy(&o.stdout).into_owned()
+    };
+    run(std::process::Command::new(rustc)
+        .args([
+            "--edition",
+            "2021",
+            "--crate-type",
+            "staticlib",
+            "--crate-name",
+            "surrogate_c",
+            "-O",
+            "-C",
+            "panic=abort",
+        ])
+        .arg("--out-dir")
+        .arg(&dir)
+        .arg(dir.join("lib.rs")));
+    run(std::process::Command::new(&cc)
+        .arg(dir.join("main.c"))
+        .arg(dir.join("libsurrogate_c.a"))
+        .arg("-o")
+        .arg(dir.join("main"))
+        .arg("-lm"));
+    let out = run(&mut std::process::Command::new(dir.join("main")));
+    let v: Vec<f64> = out.split_whitespace().map(|t| t.parse().unwrap()).collect();
+    assert_eq!((v[0], v[1]), (0.0, 2.0), "return codes");
+    let q = Query {
+        n: 11,
+        t_mm: 2.0,
+        p_bar: 1.5,
+        mu1: 1.13f32 as f64,
+        alpha1: 3.11f32 as f64,
+        mu2: -13.17f32 as f64,
+        alpha2: -0.6f32 as f64,
+    };
+    let lib = m.predict(&q).unwrap().values;
+    for k in 0..22 {
+        assert!(
+            (v[2 + k] - lib[k]).abs() <= 1e-5 * lib[k].abs().max(1.0),
+            "output {k}: C {} vs library {}",
+            v[2 + k],
+            lib[k]
+        );
+    }
+}

@@ -1,0 +1,346 @@
+//! Model files (round trip, version, corruption, checksum), validation, queries and domain.
+use surrogate::rom::{Query, RomError, Surrogate};
+
+mod rom_common;
+
+fn q(n: u32, p: f64) -> Query {
+    Query {
+        n,
+        t_mm: 2.0,
+        p_bar: p,
+        mu1: 1.13,
+        alpha1: 3.11,
+        mu2: -13.17,
+        alpha2: -0.6,
+    }
+}
+
+#[test]
+fn save_load_predict_is_bit_identical() {
+    let m = rom_common::small_model(None);
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rom_model_roundtrip");
+    let path = dir.join("m.json");
+    m.save(&path).unwrap();
+    let back = Surrogate::load(&path).unwrap();
+    assert_eq!(back, m);
+    for p in [0.0, 0.3, 1.7, 3.5] {
+        let (a, b) = (
+            m.predict(&q(11, p)).unwrap(),
+            back.predict(&q(11, p)).unwrap(),
+        );
+        for k in 0..22 {
+            assert_eq!(a.values[k].to_bits(), b.values[k].to_bits());
+        }
+    }
+}
+
+#[test]
+fn load_rejects_version_corruption_and_checksum_mismatch() {
+    let m = rom_common::small_model(None);
+    let text = m.to_json().unwrap();
+    let wrong_version = text.replacen("\"format_version\":1", "\"format_version\":99", 1);
+    let e = Surrogate::from_json(&wrong_version, "m.json")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("format version 99 is not supported") && e.contains("m.json"),
+        "{e}"
+    );
+    let truncated = &text[..text.len() / 2];
+    let e = Surrogate::from_json(truncated, "m.json")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("corrupt or truncated"), "{e}");
+    // change one value inside the model: the checksum no longer matches
+    let pos = text.find("\"pressures\":[0.0,0.25").unwrap();
+    let tampered = format!(
+        "{}\"pressures\":[0.0,0.26{}",
+        &text[..pos],
+        &text[pos + 21..]
+    );
+    let e = Surrogate::from_json(&tampered, "m.json")
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("checksum mismatch"), "{e}");
+    let other = text.replacen("surrogate-rom", "something-else", 1);
+    assert!(Surrogate::from_json(&other, "m.json")
+        .unwrap_err()
+        .to_string()
+        .contains("format is"));
+}
+
+#[test]
+fn validation_is_stored_with_every_output() {
+    let m = rom_common::small_model(None);
+    let names: Vec<&str> = m
+        .validation
+        .outputs
+        .iter()
+        .map(|o| o.name.as_str())
+        .collect();
+    assert_eq!(
+        names,
+        [
+            "markers_mm",
+            "tip_uz_mm",
+            "tip_uy_mm",
+            "angle_deg",
+            "force_n"
+        ]
+    );
+    for o in &m.validation.outputs {
+        assert!(
+            o.total.rmse > 0.0 && o.total.max_abs >= o.total.rmse && o.total.r2 > 0.99,
+            "{o:?}"
+        );
+        // total² ≈ projection² + regression² (orthogonality in the scaled norm, per block)
+        assert!(o.total.rmse <= o.projection_rmse + o.regression_rmse + 1e-12);
+    }
+    for o in &m.validation.outputs {
+        // the std is neither useless nor wildly over- or under-confident on smooth data
+        assert!(
+            o.std_ratio > 0.1 && o.std_ratio < 10.0,
+            "{}: z_rms {}",
+            o.name,
+            o.std_ratio
+        );
+    }
+    assert!(m.validation.candidates.len() >= 9);
+    assert_eq!(m.validation.pressure_interpolation.len(), 5);
+    assert!(m.validation.table().contains("tip_uz_mm"));
+}
+
+#[test]
+fn bad_queries_are_errors_and_out_of_domain_is_flagged() {
+    let m = rom_common::small_model(None);
+    let e = m.predict(&q(12, 1.0)).unwrap_err();
+    assert!(
+        matches!(e, RomError::InvalidInput { ref field, .. } if field == "n"),
+        "{e}"
+    );
+    assert!(e.to_string().contains("[9, 11, 13]"));
+    let mut bad = q(11, 1.0);
+    bad.p_bar = f64::NAN;
+    assert!(m.predict(&bad).unwrap_err().to_string().contains("p_bar"));
+    bad = q(11, 1.0);
+    bad.alpha2 = 0.6;
+    assert!(m
+        .predict(&bad)
+        .unwrap_err()
+        .to_string()
+        .contains("mu2*alpha2"));
+    assert!(m.domain_violations(&q(11, 1.0)).is_empty());
+    let far = Query {
+        t_mm: 3.5,
+        p_bar: 4.0,
+        ..q(11, 1.0)
+    };
+    let v: Vec<String> = m
+        .domain_violations(&far)
+        .iter()
+        .map(|d| d.name.clone())
+        .collect();
+    assert_eq!(v, ["wall_thickness_mm", "pressure_bar"]);
+}
+
+#[test]
+fn predictions_track_the_synthetic_truth_and_std_is_available() {
+    let m = rom_common::small_model(None);
+    let held_out = rom_common::synthetic_cases(10, 99);
+    let mut pred = m.new_prediction();
+    let mut worst: f64 = 0.0;
+    for c in &held_out.cases {
+        let qq = Query::from_case(&c.inputs, 1.25);
+        if !m.domain_violations(&qq).is_empty() {
+            continue;
+        }
+        m.predict_with_std_into(&qq, &mut pred).unwrap();
+        let truth = surrogate::rom::synthetic::response(&c.inputs, 1.25);
+        worst = worst.max((pred.tip_uz_mm() - truth[18]).abs());
+        assert!(pred.has_std && pred.std.iter().all(|s| s.is_finite() && *s >= 0.0));
+    }
+    assert!(
+        worst < 2.0,
+        "tip Uz error {worst} mm with 40 training cases"
+    );
+}
+
+#[test]
+fn training_does_not_depend_on_the_thread_count() {
+    let cases = rom_common::synthetic_cases(24, 3);
+    let cfg = surrogate::rom::TrainConfig {
+        folds: 3,
+        ..Default::default()
+    };
+    let run = |threads: usize| {
+        let pool = rayon::ThreadPoolBuilder::new()
+            .num_threads(threads)
+            .build()
+            .unwrap();
+        pool.install(|| {
+            surrogate::rom::train(&cases, "s", 0, &cfg, &|_, _| {})
+                .unwrap()
+                .surrogate
+        })
+    };
+    // the POD SVD runs with Par::Seq and the folds are independent tasks
+    assert!(
+        run(1) == run(2),
+        "models trained with 1 and 2 threads differ"
+    );
+}
+
+/// A first FE set may vary only N and T for one material: the material features are then
+/// constant, dropped from the regression, and any other material is out of the domain.
+#[test]
+fn one_material_and_one_n_train_and_flag_other_materials() {
+    use surrogate::rom::data::SnapshotSet;
+    use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
+    let ogden_002 = [1.13, 3.11, -13.17, -0.6];
+    let cfg = SyntheticConfig {
+        n_cases: 16,
+        n_values: vec![11],
+        fixed_material: Some(ogden_002),
+        ..Default::default()
+    };
+    let mut buf = Vec::new();
+    write_csv(&cfg, &mut buf).unwrap();
+    let cases = SnapshotSet::from_reader(buf.as_slice(), "s")
+        .unwrap()
+        .into_cases()
+        .unwrap();
+    let tc = surrogate::rom::TrainConfig {
+        folds: 4,
+        ..Default::default()
+    };
+    let m = surrogate::rom::train(&cases, "s", 0, &tc, &|_, _| {})
+        .unwrap()
+        .surrogate;
+    assert_eq!(m.features.index, vec![1], "only T varies");
+    assert_eq!(m.n_allowed, vec![11]);
+    let qq = q(11, 2.2);
+    assert!(m.domain_violations(&qq).is_empty());
+    let p = m.predict(&qq).unwrap();
+    let truth = surrogate::rom::synthetic::response(
+        &surrogate::rom::CaseInputs {
+            n_bellows: 11,
+            wall_thickness_mm: 2.0,
+            mu1_mpa: 1.13,
+            alpha1: 3.11,
+            mu2_mpa: -13.17,
+            alpha2: -0.6,
+        },
+        2.2,
+    );
+    assert!(
+        (p.tip_uz_mm() - truth[18]).abs() < 0.5,
+        "{} vs {}",
+        p.tip_uz_mm(),
+        truth[18]
+    );
+    let other = Query {
+        mu1: 0.13,
+        alpha1: 3.05,
+        mu2: -1214.0,
+        alpha2: -0.0054,
+        ..qq
+    };
+    let names: Vec<String> = m
+        .domain_violations(&other)
+        .iter()
+        .map(|d| d.name.clone())
+        .collect();
+    assert!(
+        names.contains(&"mu1_mpa".to_string()) && names.contains(&"mu2_mpa".to_string()),
+        "{names:?}"
+    );
+    let mut pred = m.new_prediction();
+    let mut jac = surrogate::rom::Jacobian::default();
+    m.gradient_into(&qq, &mut pred, &mut jac).unwrap();
+    assert!(
+        jac.d[18][2] == 0.0 && jac.d[18][0] != 0.0,
+        "no material sensitivity without material data"
+    );
+}
+
+/// Truncated ramps (unconverged last steps) can feed the regression through gappy POD.
+#[test]
+fn truncated_ramps_fill_the_regression_through_gappy_pod() {
+    use surrogate::rom::data::SnapshotSet;
+    use surrogate::rom::synthetic::{response, write_csv, SyntheticConfig};
+    let cfg = SyntheticConfig {
+        n_cases: 40,
+        unconverged_fraction: 0.3,
+        ..Default::default()
+    };
+    let mut buf = Vec::new();
+    write_csv(&cfg, &mut buf).unwrap();
+    let cases = SnapshotSet::from_reader(buf.as_slice(), "s")
+        .unwrap()
+        .into_cases()
+        .unwrap();
+    assert!(!cases.partial.is_empty() && cases.partial.len() == cases.dropped.len());
+    let truncated = cases.partial.clone();
+    let train = |fill: bool| {
+        let tc = surrogate::rom::TrainConfig {
+            folds: 3,
+            fill_truncated: fill,
+            ..Default::default()
+        };
+        surrogate::rom::train(&cases, "s", 0, &tc, &|_, _| {})
+            .unwrap()
+            .surrogate
+    };
+    let (without, with) = (train(false), train(true));
+    assert_eq!(
+        (without.training.filled_cases, with.training.filled_cases),
+        (0, truncated.len())
+    );
+    // at the truncated cases' own inputs, the model that saw their converged part is closer
+    let err = |m: &Surrogate| {
+        let mut worst: f64 = 0.0;
+        for c in &truncated {
+            for p in [1.0, 3.5] {
+                let truth = response(&c.inputs, p);
+                let pred = m.predict(&Query::from_case(&c.inputs, p)).unwrap();
+                worst = worst.max((pred.tip_uz_mm() - truth[18]).abs());
+            }
+        }
+        worst
+    };
+    let (e0, e1) = (err(&without), err(&with));
+    println!(
+        "worst tip Uz error at truncated cases: without {e0:.3} mm, with gappy fill {e1:.3} mm"
+    );
+    assert!(
+        e1 < 1.0 && e1 <= e0 * 1.05,
+        "worst tip Uz error: without {e0}, with gappy fill {e1}"
+    );
+}
+
+/// After the CV rescaling, the std is calibrated on fresh held-out cases (RMS z ≈ 1).
+#[test]
+fn calibrated_std_matches_fresh_held_out_errors() {
+    let m = rom_common::small_model(None);
+    assert!(m.std_scale.iter().all(|s| *s > 0.0));
+    let fresh = rom_common::synthetic_cases(30, 2025);
+    let mut pred = m.new_prediction();
+    let (mut z2, mut n) = (0.0, 0usize);
+    for c in &fresh.cases {
+        for p in [0.5, 1.5, 2.5, 3.5] {
+            let qq = Query::from_case(&c.inputs, p);
+            if !m.domain_violations(&qq).is_empty() {
+                continue;
+            }
+            m.predict_with_std_into(&qq, &mut pred).unwrap();
+            let truth = surrogate::rom::synthetic::response(&c.inputs, p);
+            for k in [18, 19, 20, 21] {
+                z2 += ((truth[k] - pred.values[k]) / pred.std[k]).powi(2);
+                n += 1;
+            }
+        }
+    }
+    let z_rms = (z2 / n as f64).sqrt();
+    println!("fresh held-out z_rms {z_rms:.2} over {n} values");
+    assert!(n > 50 && z_rms > 0.4 && z_rms < 2.5, "z_rms {z_rms}");
+}
