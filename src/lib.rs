@@ -16,6 +16,7 @@
 //! ```
 #![warn(missing_docs)]
 
+pub mod calibrate;
 pub mod error;
 pub mod fe;
 pub mod predict;

@@ -7,6 +7,10 @@
 //! and every matrix entry receives its contributions in the same order whatever the number of
 //! threads.
 
+// Index loops mirror the tensor index notation of the equations above (a, b: nodes;
+// i, j, k, l: components); iterator chains would hide it.
+#![allow(clippy::needless_range_loop)]
+
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 

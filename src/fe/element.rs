@@ -18,6 +18,10 @@
 //! quadratic, represents wall bending with one element through the thickness. The residual is
 //! the exact gradient of `Π_e` and the tangent its exact Hessian (checked by finite differences).
 
+// Index loops mirror the tensor index notation of the equations above (a, b: nodes;
+// i, j, k, l: components); iterator chains would hide it.
+#![allow(clippy::needless_range_loop)]
+
 use std::sync::OnceLock;
 
 use nalgebra::{Matrix3, Matrix4, Vector4};

@@ -323,8 +323,8 @@ pub fn simulate_with(
                 return;
             }
             let result = measure(&model, state, rep, lf);
-        on_result(&model, &result, &state.u_full);
-        steps.push(result);
+            on_result(&model, &result, &state.u_full);
+            steps.push(result);
         },
     )?;
     let factor_time_s = reports.iter().map(|r| r.factor_seconds).sum();

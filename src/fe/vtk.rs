@@ -51,7 +51,11 @@ fn nodal_fields(model: &ActuatorModel, u: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let mut p = Matrix3::zeros();
     for (conn, _geo) in mesh.elements.iter().zip(&model.fe.geometry) {
         for (l, &node) in conn.iter().enumerate() {
-            let xi = [(l % 3) as f64 - 1.0, ((l / 3) % 3) as f64 - 1.0, (l / 9) as f64 - 1.0];
+            let xi = [
+                (l % 3) as f64 - 1.0,
+                ((l / 3) % 3) as f64 - 1.0,
+                (l / 9) as f64 - 1.0,
+            ];
             let (_, dn) = shape(xi);
             let mut jac = Matrix3::<f64>::zeros();
             let mut grad_u = Matrix3::<f64>::zeros();
@@ -64,7 +68,9 @@ fn nodal_fields(model: &ActuatorModel, u: &[f64]) -> (Vec<f64>, Vec<f64>) {
                     }
                 }
             }
-            let Some(jinv) = jac.try_inverse() else { continue };
+            let Some(jinv) = jac.try_inverse() else {
+                continue;
+            };
             let f: Matrix3<f64> = Matrix3::identity() + grad_u * jinv;
             let j = f.determinant();
             if j <= 0.0 {
@@ -100,7 +106,10 @@ fn data_array(out: &mut String, name: &str, ncomp: usize, values: impl Iterator<
 }
 
 fn int_array(out: &mut String, name: &str, values: impl Iterator<Item = usize>) {
-    let _ = write!(out, "<DataArray type=\"Int64\" Name=\"{name}\" format=\"ascii\">");
+    let _ = write!(
+        out,
+        "<DataArray type=\"Int64\" Name=\"{name}\" format=\"ascii\">"
+    );
     for v in values {
         let _ = write!(out, "{v} ");
     }
@@ -118,7 +127,12 @@ fn write_atomic(path: &Path, text: &str) -> io::Result<()> {
 ///
 /// # Errors
 /// I/O errors creating or writing the files.
-pub fn write_step(dir: &Path, index: usize, model: &ActuatorModel, u: &[f64]) -> io::Result<PathBuf> {
+pub fn write_step(
+    dir: &Path,
+    index: usize,
+    model: &ActuatorModel,
+    u: &[f64],
+) -> io::Result<PathBuf> {
     std::fs::create_dir_all(dir)?;
     let mesh = &model.fe.mesh;
     let (vm, eps) = nodal_fields(model, u);
@@ -126,19 +140,29 @@ pub fn write_step(dir: &Path, index: usize, model: &ActuatorModel, u: &[f64]) ->
     let n_cells = 8 * mesh.n_elements();
     let mut s = String::with_capacity(256 * mesh.n_nodes());
     s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n");
-    let _ = writeln!(s, "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{n_cells}\">", mesh.n_nodes());
+    let _ = writeln!(
+        s,
+        "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{n_cells}\">",
+        mesh.n_nodes()
+    );
     s.push_str("<Points>\n");
     data_array(
         &mut s,
         "position",
         3,
-        mesh.nodes.iter().enumerate().flat_map(|(n, x)| (0..3).map(move |i| x[i] + u[3 * n + i])),
+        mesh.nodes
+            .iter()
+            .enumerate()
+            .flat_map(|(n, x)| (0..3).map(move |i| x[i] + u[3 * n + i])),
     );
     s.push_str("</Points>\n<Cells>\n");
     int_array(
         &mut s,
         "connectivity",
-        mesh.elements.iter().flat_map(|conn| subs.iter().flat_map(move |h| h.iter().map(move |&l| conn[l]))),
+        mesh.elements.iter().flat_map(|conn| {
+            subs.iter()
+                .flat_map(move |h| h.iter().map(move |&l| conn[l]))
+        }),
     );
     int_array(&mut s, "offsets", (1..=n_cells).map(|c| 8 * c));
     s.push_str("<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
@@ -174,28 +198,50 @@ fn write_surfaces(path: &Path, model: &ActuatorModel, u: &[f64]) -> io::Result<(
         .collect();
     let quads = |f: &Face| {
         let n = f.nodes;
-        [[n[0], n[1], n[4], n[3]], [n[1], n[2], n[5], n[4]], [n[3], n[4], n[7], n[6]], [n[4], n[5], n[8], n[7]]]
+        [
+            [n[0], n[1], n[4], n[3]],
+            [n[1], n[2], n[5], n[4]],
+            [n[3], n[4], n[7], n[6]],
+            [n[4], n[5], n[8], n[7]],
+        ]
     };
     let n_cells = 4 * faces.len();
     let mut s = String::new();
     s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n");
-    let _ = writeln!(s, "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{n_cells}\">", mesh.n_nodes());
+    let _ = writeln!(
+        s,
+        "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{n_cells}\">",
+        mesh.n_nodes()
+    );
     s.push_str("<Points>\n");
     data_array(
         &mut s,
         "position",
         3,
-        mesh.nodes.iter().enumerate().flat_map(|(n, x)| (0..3).map(move |i| x[i] + u[3 * n + i])),
+        mesh.nodes
+            .iter()
+            .enumerate()
+            .flat_map(|(n, x)| (0..3).map(move |i| x[i] + u[3 * n + i])),
     );
     s.push_str("</Points>\n<Cells>\n");
-    int_array(&mut s, "connectivity", faces.iter().flat_map(|(f, _)| quads(f).into_iter().flatten()));
+    int_array(
+        &mut s,
+        "connectivity",
+        faces
+            .iter()
+            .flat_map(|(f, _)| quads(f).into_iter().flatten()),
+    );
     int_array(&mut s, "offsets", (1..=n_cells).map(|c| 4 * c));
     s.push_str("<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
     for _ in 0..n_cells {
         s.push_str("9 ");
     }
     s.push_str("</DataArray>\n</Cells>\n<CellData>\n");
-    int_array(&mut s, "surface", faces.iter().flat_map(|(_, id)| std::iter::repeat_n(*id, 4)));
+    int_array(
+        &mut s,
+        "surface",
+        faces.iter().flat_map(|(_, id)| std::iter::repeat_n(*id, 4)),
+    );
     s.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     write_atomic(path, &s)
 }
@@ -209,8 +255,14 @@ pub fn write_collection(dir: &Path, steps: &[(f64, PathBuf)]) -> io::Result<()> 
         "<?xml version=\"1.0\"?>\n<VTKFile type=\"Collection\" version=\"0.1\">\n<Collection>\n",
     );
     for (p, path) in steps {
-        let name = path.file_name().map(|n| n.to_string_lossy().into_owned()).unwrap_or_default();
-        let _ = writeln!(s, "<DataSet timestep=\"{p}\" group=\"\" part=\"0\" file=\"{name}\"/>");
+        let name = path
+            .file_name()
+            .map(|n| n.to_string_lossy().into_owned())
+            .unwrap_or_default();
+        let _ = writeln!(
+            s,
+            "<DataSet timestep=\"{p}\" group=\"\" part=\"0\" file=\"{name}\"/>"
+        );
     }
     s.push_str("</Collection>\n</VTKFile>\n");
     std::fs::write(dir.join("steps.pvd"), s)

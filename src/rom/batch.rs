@@ -9,8 +9,8 @@
 use std::io::{Read, Write};
 
 use super::surrogate::{Prediction, Query, Surrogate};
-use crate::fe::material::Material;
 use super::{RomError, QUANTITY_NAMES};
+use crate::fe::material::Material;
 
 /// Ogden parameters `[μ₁, α₁, μ₂, α₂]` of a material spec (a literature name or four numbers
 /// `mu1,alpha1,mu2,alpha2`), parsed and checked by [`Material::from_spec`].

@@ -84,9 +84,8 @@ impl Check {
 
     /// Whether the check holds (always true when no tolerance is asserted).
     pub fn passes(&self) -> bool {
-        self.tolerance.map_or(true, |t| {
-            self.relative_error.is_finite() && self.relative_error <= t
-        })
+        self.tolerance
+            .is_none_or(|t| self.relative_error.is_finite() && self.relative_error <= t)
     }
 
     /// One table row.

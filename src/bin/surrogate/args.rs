@@ -15,6 +15,8 @@ pub struct Cli {
 /// Subcommands.
 #[derive(Debug, Subcommand)]
 pub enum Command {
+    /// The main job on the shipped data: FE model of an experimental design vs the experiments.
+    Demo(DemoArgs),
     /// Run the full FE model of one design over a pressure ramp.
     Simulate(SimulateArgs),
     /// Train a POD + regression surrogate on a snapshot CSV.
@@ -168,4 +170,24 @@ pub struct SimulateArgs {
     /// JSON summary (to --out).
     #[arg(long)]
     pub bench: bool,
+}
+
+/// `surrogate demo`.
+#[derive(Debug, Args)]
+pub struct DemoArgs {
+    /// Number of bellows of the experimental design.
+    #[arg(long = "n", default_value_t = 11)]
+    pub n: usize,
+    /// Wall thickness (mm) of the experimental design.
+    #[arg(long = "t", default_value_t = 2.0)]
+    pub t: f64,
+    /// Material (see `simulate --help`).
+    #[arg(long, default_value = "ogden_002")]
+    pub material: String,
+    /// Mesh level.
+    #[arg(long, default_value = "coarse")]
+    pub mesh: String,
+    /// Where the plot and the JSON go.
+    #[arg(long, default_value = "demo_output")]
+    pub out_dir: PathBuf,
 }

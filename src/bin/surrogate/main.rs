@@ -1,6 +1,7 @@
 //! The `surrogate` command-line tool: parse → validated configuration → one library call per
 //! subcommand.
 mod args;
+mod demo;
 mod export;
 mod predict;
 mod simulate;
@@ -13,6 +14,7 @@ use clap::Parser;
 fn main() -> ExitCode {
     let cli = args::Cli::parse();
     let result = match cli.command {
+        args::Command::Demo(a) => demo::run(a),
         args::Command::Simulate(a) => simulate::run(a),
         args::Command::Train(a) => train::run(a),
         args::Command::Predict(a) => predict::run(a),

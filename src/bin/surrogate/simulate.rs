@@ -45,7 +45,10 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
         material,
         pressures_bar: pressures,
         gravity: !a.no_gravity,
-        mesh: MeshOptions { level, element_size: a.element_size },
+        mesh: MeshOptions {
+            level,
+            element_size: a.element_size,
+        },
         solver: SolverSettings {
             trace: std::env::var_os("SURROGATE_TRACE").is_some(),
             ..SolverSettings::default()
@@ -78,8 +81,13 @@ fn run_case(case: &Case, vtk_dir: Option<&PathBuf>, label: &str) -> Result<Respo
         return Err(e).context("writing VTK output");
     }
     if let Some(dir) = vtk_dir {
-        vtk::write_collection(dir, &written).with_context(|| format!("writing {}", dir.display()))?;
-        eprintln!("wrote {} steps to {}/steps.pvd", written.len(), dir.display());
+        vtk::write_collection(dir, &written)
+            .with_context(|| format!("writing {}", dir.display()))?;
+        eprintln!(
+            "wrote {} steps to {}/steps.pvd",
+            written.len(),
+            dir.display()
+        );
     }
     Ok(response)
 }
@@ -131,7 +139,10 @@ fn bench(a: &SimulateArgs) -> Result<()> {
     let levels: Vec<MeshLevel> = if a.mesh == "all" {
         vec![MeshLevel::Coarse, MeshLevel::Standard, MeshLevel::Fine]
     } else {
-        a.mesh.split(',').map(|m| m.parse().map_err(anyhow::Error::msg)).collect::<Result<_>>()?
+        a.mesh
+            .split(',')
+            .map(|m| m.parse().map_err(anyhow::Error::msg))
+            .collect::<Result<_>>()?
     };
     let mut rows = Vec::new();
     for level in levels {

@@ -283,7 +283,7 @@ fn optimise(data: &Data<'_>, params: &GpParams) -> Result<Vec<f64>, RomError> {
             t0[d] = rng.gen_range(-18.0..-7.0);
         }
         if let Some((t, f)) = minimise(data, &yw, t0, params.max_iter) {
-            if best.as_ref().map_or(true, |b| f < b.1) {
+            if best.as_ref().is_none_or(|b| f < b.1) {
                 best = Some((t, f));
             }
         }

@@ -207,7 +207,7 @@ impl Regressor for Poly {
                         .enumerate()
                         .map(|(c, s)| s * weight(c).powi(2))
                         .sum();
-                    if best.as_ref().map_or(true, |b| press < b.press) {
+                    if best.as_ref().is_none_or(|b| press < b.press) {
                         best = Some(Candidate {
                             press,
                             degree,

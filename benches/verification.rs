@@ -2,7 +2,7 @@
 //! `fe_reference/verification.json`.
 //!
 //! ```sh
-//! cargo run --release --example verification
+//! cargo bench --bench verification
 //! ```
 //!
 //! The cases and their tolerances live in `tests/common/` and are shared with the
@@ -58,7 +58,7 @@ fn main() -> anyhow::Result<()> {
     }
     let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(OUTPUT);
     let report = Report {
-        command: "cargo run --release --example verification",
+        command: "cargo bench --bench verification",
         checks,
     };
     let json = serde_json::to_string_pretty(&report)?;

@@ -1,0 +1,38 @@
+#!/usr/bin/env bash
+# Mesh convergence of the actuator (issue 2, verification 7): N=11, T=2.0 mm, Ogden 002,
+# gravity on, no contact, P = 0,1,2,3 bar on the coarse, standard and fine meshes.
+# Regenerate: bash fe_reference/convergence.sh   (writes fe_reference/convergence/*.json and
+# fe_reference/convergence/table.md; takes tens of minutes on 2 cores)
+set -euo pipefail
+cd "$(dirname "$0")/.."
+cargo build --release --quiet
+out=fe_reference/convergence
+mkdir -p "$out"
+for level in coarse standard fine; do
+  if [ ! -s "$out/n11_t2.0_$level.json" ]; then
+    ./target/release/surrogate simulate --n 11 --t 2.0 --pressures 0,1,2,3 \
+      --material ogden_002 --mesh "$level" --out "$out/n11_t2.0_$level.json"
+  fi
+done
+python3 - "$out" <<'PY'
+import json, sys, os
+out = sys.argv[1]
+levels = ["coarse", "standard", "fine"]
+runs = {l: json.load(open(os.path.join(out, f"n11_t2.0_{l}.json"))) for l in levels}
+lines = ["| P (bar) | quantity | coarse | standard | fine | extrapolated | standard error |",
+         "|---|---|---|---|---|---|---|"]
+for i, step in enumerate(runs["coarse"]["steps"]):
+    p = step["pressure_bar"]
+    if p == 0:
+        continue
+    for q in ["tip_uz_mm", "tip_uy_mm", "angle_deg"]:
+        v = [runs[l]["steps"][i][q] for l in levels]
+        # Aitken / Richardson extrapolation from three levels (monotone case), else finest
+        d1, d2 = v[1] - v[0], v[2] - v[1]
+        ext = v[2] - d2 * d2 / (d2 - d1) if d1 != d2 and d1 * d2 > 0 else v[2]
+        err = abs(v[1] - ext) / abs(ext) if ext else 0.0
+        lines.append(f"| {p:.0f} | {q} | {v[0]:.3f} | {v[1]:.3f} | {v[2]:.3f} | {ext:.3f} | {100*err:.2f} % |")
+meta = "\n".join(f"- {l}: {runs[l]['nodes']} nodes, {runs[l]['elements']} elements, {runs[l]['dofs']} dofs, {runs[l]['wall_time_s']:.0f} s" for l in levels)
+open(os.path.join(out, "table.md"), "w").write("# Mesh convergence, N=11, T=2.0, Ogden 002 (no contact)\n\n" + meta + "\n\n" + "\n".join(lines) + "\n")
+print(open(os.path.join(out, "table.md")).read())
+PY

@@ -1,0 +1,3 @@
+//! Fitting the model to the experiments. So far: the experimental records and the study's
+//! error measures (the calibrator itself builds on these).
+pub mod experiments;
