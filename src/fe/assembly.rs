@@ -222,12 +222,14 @@ pub struct FeModel {
     pub f_gravity: Vec<f64>,
     /// Dead-traction load vector (all dofs) at factor 1.
     pub f_traction: Vec<f64>,
+    /// Origin of the pressure potential (see [`FeModel::assemble_with_energy`]).
+    pub pressure_origin: [f64; 3],
 }
 
 /// Information returned by an assembly.
 #[derive(Clone, Copy, Debug, Default)]
 pub struct AssemblyInfo {
-    /// Stored strain energy.
+    /// Total potential (only from [`FeModel::assemble_with_energy`]; 0 otherwise).
     pub energy: f64,
     /// Euclidean norm of the external forces (pressure + dead loads) on the free dofs.
     pub external_norm: f64,
@@ -285,6 +287,7 @@ impl FeModel {
             pressure_faces: per_elem,
             f_gravity: vec![0.0; n],
             f_traction: vec![0.0; n],
+            pressure_origin: [0.0; 3],
             mesh,
         })
     }
@@ -369,7 +372,36 @@ impl FeModel {
         u: &[f64],
         level: &LoadLevel,
         r_full: &mut [f64],
+        k_values: Option<&mut [f64]>,
+    ) -> Result<AssemblyInfo, ElementError> {
+        self.assemble_impl(u, level, r_full, k_values, false)
+    }
+
+    /// As [`Self::assemble`], and also evaluates the total potential
+    /// `Π = Σ_e Π_e + p Σ_faces (1/3)∫(x − o)·n da − f_dead · u` (in [`AssemblyInfo::energy`]),
+    /// whose gradient is the residual. `o` is [`Self::pressure_origin`]: the potential is exact
+    /// when the pressurised surfaces are closed, or closed by planes through `o` on which the
+    /// nodes stay (symmetry planes, clamped faces).
+    ///
+    /// # Errors
+    /// As [`Self::assemble`].
+    pub fn assemble_with_energy(
+        &self,
+        u: &[f64],
+        level: &LoadLevel,
+        r_full: &mut [f64],
+        k_values: Option<&mut [f64]>,
+    ) -> Result<AssemblyInfo, ElementError> {
+        self.assemble_impl(u, level, r_full, k_values, true)
+    }
+
+    fn assemble_impl(
+        &self,
+        u: &[f64],
+        level: &LoadLevel,
+        r_full: &mut [f64],
         mut k_values: Option<&mut [f64]>,
+        with_energy: bool,
     ) -> Result<AssemblyInfo, ElementError> {
         r_full.iter_mut().for_each(|v| *v = 0.0);
         if let Some(k) = k_values.as_deref_mut() {
@@ -384,62 +416,75 @@ impl FeModel {
         for color in &self.mesh.colors {
             let results: Vec<Result<f64, ElementError>> = color
                 .par_iter()
-                .map_init(ElementWork::default, |work, &e| {
-                    let conn = &self.mesh.elements[e];
-                    let ue: [[f64; 3]; 27] = conn.map(|n| [u[3 * n], u[3 * n + 1], u[3 * n + 2]]);
-                    let en = element::residual_tangent(
-                        e,
-                        &self.geometry[e],
-                        &ue,
-                        &self.material,
-                        with_k,
-                        work,
-                    )?;
-                    let mut fp = [0.0; DOFS];
-                    for pf in &self.pressure_faces[e] {
-                        let xf: [[f64; 3]; 9] = pf.local.map(|l| {
-                            let x0 = self.mesh.nodes[conn[l]];
-                            [x0[0] + ue[l][0], x0[1] + ue[l][1], x0[2] + ue[l][2]]
-                        });
-                        let mut rf = [0.0; 27];
-                        let mut kf = [0.0; 729];
-                        let p = level.pressure * pf.scale;
-                        loads::pressure_face(p, &xf, &mut rf, with_k.then_some(&mut kf));
-                        for (a, &la) in pf.local.iter().enumerate() {
-                            for i in 0..3 {
-                                work.r[3 * la + i] += rf[3 * a + i];
-                                fp[3 * la + i] += rf[3 * a + i];
-                                if with_k {
-                                    for (b, &lb) in pf.local.iter().enumerate() {
-                                        for c in 0..3 {
-                                            work.k[(3 * la + i) * DOFS + 3 * lb + c] +=
-                                                kf[(3 * a + i) * 27 + 3 * b + c];
+                .map_init(
+                    || {
+                        let mut w = ElementWork::default();
+                        w.with_energy = with_energy;
+                        w
+                    },
+                    |work, &e| {
+                        let conn = &self.mesh.elements[e];
+                        let ue: [[f64; 3]; 27] =
+                            conn.map(|n| [u[3 * n], u[3 * n + 1], u[3 * n + 2]]);
+                        let mut en = element::residual_tangent(
+                            e,
+                            &self.geometry[e],
+                            &ue,
+                            &self.material,
+                            with_k,
+                            work,
+                        )?;
+                        let mut fp = [0.0; DOFS];
+                        for pf in &self.pressure_faces[e] {
+                            let xf: [[f64; 3]; 9] = pf.local.map(|l| {
+                                let x0 = self.mesh.nodes[conn[l]];
+                                [x0[0] + ue[l][0], x0[1] + ue[l][1], x0[2] + ue[l][2]]
+                            });
+                            let mut rf = [0.0; 27];
+                            let mut kf = [0.0; 729];
+                            let p = level.pressure * pf.scale;
+                            loads::pressure_face(p, &xf, &mut rf, with_k.then_some(&mut kf));
+                            if with_energy {
+                                let o = self.pressure_origin;
+                                let rel = xf.map(|x| [x[0] - o[0], x[1] - o[1], x[2] - o[2]]);
+                                en += p * loads::face_volume(&rel);
+                            }
+                            for (a, &la) in pf.local.iter().enumerate() {
+                                for i in 0..3 {
+                                    work.r[3 * la + i] += rf[3 * a + i];
+                                    fp[3 * la + i] += rf[3 * a + i];
+                                    if with_k {
+                                        for (b, &lb) in pf.local.iter().enumerate() {
+                                            for c in 0..3 {
+                                                work.k[(3 * la + i) * DOFS + 3 * lb + c] +=
+                                                    kf[(3 * a + i) * 27 + 3 * b + c];
+                                            }
                                         }
                                     }
                                 }
                             }
                         }
-                    }
-                    // SAFETY: elements of one colour share no node, so the dofs and matrix
-                    // entries written here are written by no other task of this colour.
-                    unsafe {
-                        for (l, &n) in conn.iter().enumerate() {
-                            for i in 0..3 {
-                                r_ptr.add(3 * n + i, work.r[3 * l + i]);
-                                p_ptr.add(3 * n + i, fp[3 * l + i]);
+                        // SAFETY: elements of one colour share no node, so the dofs and matrix
+                        // entries written here are written by no other task of this colour.
+                        unsafe {
+                            for (l, &n) in conn.iter().enumerate() {
+                                for i in 0..3 {
+                                    r_ptr.add(3 * n + i, work.r[3 * l + i]);
+                                    p_ptr.add(3 * n + i, fp[3 * l + i]);
+                                }
                             }
-                        }
-                        if with_k {
-                            let map = &self.pattern.element_map[e];
-                            for (pos, kv) in map.iter().zip(work.k.iter()) {
-                                if *pos != u32::MAX {
-                                    k_ptr.add(*pos as usize, *kv);
+                            if with_k {
+                                let map = &self.pattern.element_map[e];
+                                for (pos, kv) in map.iter().zip(work.k.iter()) {
+                                    if *pos != u32::MAX {
+                                        k_ptr.add(*pos as usize, *kv);
+                                    }
                                 }
                             }
                         }
-                    }
-                    Ok(en)
-                })
+                        Ok(en)
+                    },
+                )
                 .collect();
             for r in results {
                 energy += r?;
@@ -449,6 +494,9 @@ impl FeModel {
         for d in 0..r_full.len() {
             let dead = level.gravity * self.f_gravity[d] + level.traction * self.f_traction[d];
             r_full[d] -= dead;
+            if with_energy {
+                energy -= dead * u[d];
+            }
             if self.dofs.eq(d).is_some() {
                 let f = dead - p_full[d];
                 ext2 += f * f;

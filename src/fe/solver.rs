@@ -15,7 +15,7 @@ use faer::{Conj, Mat, Side};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use super::assembly::{FeModel, LoadLevel};
+use super::assembly::{AssemblyInfo, FeModel, LoadLevel};
 use super::element::ElementError;
 
 /// Settings of the nonlinear solver.
@@ -408,17 +408,13 @@ impl<'m> Solver<'m> {
         u_full: &[f64],
         level: &LoadLevel,
         with_k: bool,
-    ) -> Result<f64, ElementError> {
+    ) -> Result<AssemblyInfo, ElementError> {
         let t = std::time::Instant::now();
-        let info = self.model.assemble(
-            u_full,
-            level,
-            &mut self.r_full,
-            with_k.then_some(&mut self.k[..]),
-        )?;
+        let k = with_k.then_some(&mut self.k[..]);
+        let info = self.model.assemble(u_full, level, &mut self.r_full, k)?;
         self.model.restrict(&self.r_full, &mut self.r_free);
         self.assembly_seconds += t.elapsed().as_secs_f64();
-        Ok(info.external_norm)
+        Ok(info)
     }
 
     fn newton(
@@ -448,7 +444,7 @@ impl<'m> Solver<'m> {
         for it in 0..=self.settings.max_iterations {
             self.model.expand(&state.u_free, level, u_full);
             let ext = match self.assemble(u_full, level, true) {
-                Ok(e) => e,
+                Ok(info) => info.external_norm,
                 Err(_) => return Ok(out),
             };
             let reactions = self.reaction_norm();
