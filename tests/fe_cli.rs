@@ -1,0 +1,93 @@
+//! `surrogate simulate` from the command line: bad input is a clear error with a non-zero exit
+//! code, and a small run writes the documented JSON and ParaView files.
+
+use std::process::Command;
+
+fn simulate(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
+        .arg("simulate")
+        .args(args)
+        .output()
+        .expect("the binary runs");
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+#[test]
+fn bad_input_is_a_named_error_with_nonzero_exit() {
+    let cases: &[(&[&str], &str)] = &[
+        (&["--material", "ogden_999"], "ogden_999"),
+        (&["--material", "1.13,3.11,13.17,-0.6"], "mu2*alpha2"),
+        (&["--material", "neo_hookean:-1"], "mu"),
+        (&["--n", "16"], "n_bellows = 16"),
+        (&["--t", "3.5"], "wall_thickness = 3.5"),
+        (&["--n", "15", "--t", "2.8"], "no usable cavity"),
+        (&["--pressures", "0,-1,2"], "-1"),
+        (&["--pressures", "0,abc"], "'abc' is not a number"),
+        (&["--pressures", "2,1"], "increasing"),
+        (&["--mesh", "medium"], "unknown mesh level 'medium'"),
+        (&["--bulk-ratio=-5"], "bulk_ratio"),
+        (&["--element-size", "0"], "--element-size"),
+    ];
+    for (args, needle) in cases {
+        let (ok, _, err) = simulate(args);
+        assert!(!ok, "{args:?} should fail");
+        assert!(
+            err.contains(needle),
+            "{args:?}: stderr {err:?} should mention {needle:?}"
+        );
+    }
+}
+
+#[test]
+fn small_run_writes_json_and_vtk() {
+    let dir = std::env::temp_dir().join(format!("surrogate_fe_cli_{}", std::process::id()));
+    let json = dir.join("r.json");
+    let vtk = dir.join("vtk");
+    std::fs::create_dir_all(&dir).unwrap();
+    let (ok, _, err) = simulate(&[
+        "--n",
+        "7",
+        "--t",
+        "2.4",
+        "--pressures",
+        "0,0.1",
+        "--mesh",
+        "coarse",
+        "--no-gravity",
+        "--out",
+        json.to_str().unwrap(),
+        "--vtk",
+        vtk.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let steps = v["steps"].as_array().unwrap();
+    assert_eq!(steps.len(), 2);
+    for key in [
+        "pressure_bar",
+        "tip_uz_mm",
+        "tip_uy_mm",
+        "angle_deg",
+        "newton_iterations",
+        "converged",
+    ] {
+        assert!(!steps[1][key].is_null(), "missing {key}");
+    }
+    assert_eq!(steps[1]["markers"].as_array().unwrap().len(), 9);
+    for key in ["nodes", "elements", "dofs", "wall_time_s"] {
+        assert!(v[key].as_f64().unwrap() > 0.0, "{key}");
+    }
+    // pressurising bends the actuator down (Uy < 0) from the unloaded state
+    assert_eq!(steps[0]["tip_uy_mm"].as_f64().unwrap(), 0.0);
+    assert!(steps[1]["tip_uy_mm"].as_f64().unwrap() < 0.0);
+    assert!(vtk.join("steps.pvd").exists());
+    let vtu = std::fs::read_to_string(vtk.join("step_001.vtu")).unwrap();
+    assert!(vtu.contains("Name=\"displacement\"") && vtu.contains("Name=\"von_mises\""));
+    assert!(vtk.join("step_001_surfaces.vtu").exists());
+    std::fs::remove_dir_all(&dir).ok();
+}
