@@ -31,6 +31,9 @@ pub struct SolverSettings {
     pub initial_fraction: f64,
     /// First pressure increment of a step (MPa); later increments adapt.
     pub initial_pressure_increment: f64,
+    /// An increment that converged in at most this many Newton iterations is followed by one
+    /// 1.5 times larger.
+    pub grow_below_iterations: usize,
     /// Largest pressure increment in one substep (MPa).
     pub max_pressure_increment: f64,
     /// Line-search on/off.
@@ -54,6 +57,7 @@ impl Default for SolverSettings {
             initial_fraction: 1.0,
             initial_pressure_increment: 0.01,
             max_pressure_increment: 0.05,
+            grow_below_iterations: 6,
             line_search: false,
             predictor: false,
             trace: false,
@@ -340,7 +344,7 @@ impl<'m> Solver<'m> {
                 if dp > 0.0 {
                     self.last_increment = Some(frac * dp);
                 }
-                if out.iterations <= 6 {
+                if out.iterations <= self.settings.grow_below_iterations {
                     frac *= 1.5;
                 }
                 if dp > 0.0 {
