@@ -14,6 +14,7 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
+use super::contact::{self, ContactError, RigidPlane};
 use super::element::{self, ElementError, ElementGeometry, ElementWork, DOFS};
 use super::loads;
 use super::material::Material;
@@ -224,7 +225,14 @@ pub struct FeModel {
     pub f_traction: Vec<f64>,
     /// Origin of the pressure potential (see [`FeModel::assemble_with_energy`]).
     pub pressure_origin: [f64; 3],
+    /// Rigid planes faces may touch (at most [`MAX_PLANES`]).
+    pub planes: Vec<RigidPlane>,
+    /// Per element: (plane index, element-local face nodes) of its faces in contact search.
+    pub contact_faces: Vec<Vec<(usize, [usize; 9])>>,
 }
+
+/// Largest number of rigid planes in one model.
+pub const MAX_PLANES: usize = 4;
 
 /// Information returned by an assembly.
 #[derive(Clone, Copy, Debug, Default)]
@@ -233,7 +241,14 @@ pub struct AssemblyInfo {
     pub energy: f64,
     /// Euclidean norm of the external forces (pressure + dead loads) on the free dofs.
     pub external_norm: f64,
+    /// Normal reaction of each rigid plane on the body (N).
+    pub plane_forces: [f64; MAX_PLANES],
+    /// Smallest gap at a contact quadrature point of each plane (mm).
+    pub plane_min_gaps: [f64; MAX_PLANES],
 }
+
+/// Energy, plane forces and smallest plane gaps of one element.
+type ElementOutput = (f64, [f64; MAX_PLANES], [f64; MAX_PLANES]);
 
 struct SharedMut(*mut f64);
 // SAFETY: used only for writes that are disjoint within one colour (see `assemble`).
@@ -288,8 +303,34 @@ impl FeModel {
             f_gravity: vec![0.0; n],
             f_traction: vec![0.0; n],
             pressure_origin: [0.0; 3],
+            planes: Vec::new(),
+            contact_faces: vec![Vec::new(); mesh.n_elements()],
             mesh,
         })
+    }
+
+    /// Adds a rigid plane that the given faces may touch; returns its index.
+    ///
+    /// # Errors
+    /// [`ContactError::OutOfRange`] if the model already has [`MAX_PLANES`] planes.
+    pub fn add_plane_contact(
+        &mut self,
+        plane: RigidPlane,
+        faces: &[Face],
+    ) -> Result<usize, ContactError> {
+        if self.planes.len() >= MAX_PLANES {
+            return Err(ContactError::OutOfRange {
+                field: "planes",
+                value: (self.planes.len() + 1) as f64,
+                expected: format!("at most {MAX_PLANES} rigid planes"),
+            });
+        }
+        let index = self.planes.len();
+        self.planes.push(plane);
+        for f in faces {
+            self.contact_faces[f.element].push((index, face_local_nodes(f.axis, f.positive)));
+        }
+        Ok(index)
     }
 
     /// Sets the gravity load from a body force per unit reference volume (ρ·g vector).
@@ -413,8 +454,10 @@ impl FeModel {
         let mut p_full = vec![0.0; r_full.len()];
         let p_ptr = SharedMut(p_full.as_mut_ptr());
         let mut energy = 0.0;
+        let mut plane_forces = [0.0; MAX_PLANES];
+        let mut plane_min_gaps = [f64::INFINITY; MAX_PLANES];
         for color in &self.mesh.colors {
-            let results: Vec<Result<f64, ElementError>> = color
+            let results: Vec<Result<ElementOutput, ElementError>> = color
                 .par_iter()
                 .map_init(
                     || {
@@ -464,6 +507,46 @@ impl FeModel {
                                 }
                             }
                         }
+                        let mut forces = [0.0; MAX_PLANES];
+                        let mut gaps = [f64::INFINITY; MAX_PLANES];
+                        for (pi, local) in &self.contact_faces[e] {
+                            let x0: [[f64; 3]; 9] = local.map(|l| self.mesh.nodes[conn[l]]);
+                            let xf: [[f64; 3]; 9] = std::array::from_fn(|a| {
+                                let l = local[a];
+                                [
+                                    x0[a][0] + ue[l][0],
+                                    x0[a][1] + ue[l][1],
+                                    x0[a][2] + ue[l][2],
+                                ]
+                            });
+                            let mut rf = [0.0; 27];
+                            let mut kf = [0.0; 729];
+                            let (ce, cf, cg) = contact::plane_face(
+                                &self.planes[*pi],
+                                &x0,
+                                &xf,
+                                &mut rf,
+                                with_k.then_some(&mut kf),
+                            );
+                            if with_energy {
+                                en += ce;
+                            }
+                            forces[*pi] += cf;
+                            gaps[*pi] = gaps[*pi].min(cg);
+                            for (a, &la) in local.iter().enumerate() {
+                                for i in 0..3 {
+                                    work.r[3 * la + i] += rf[3 * a + i];
+                                    if with_k {
+                                        for (b, &lb) in local.iter().enumerate() {
+                                            for c in 0..3 {
+                                                work.k[(3 * la + i) * DOFS + 3 * lb + c] +=
+                                                    kf[(3 * a + i) * 27 + 3 * b + c];
+                                            }
+                                        }
+                                    }
+                                }
+                            }
+                        }
                         // SAFETY: elements of one colour share no node, so the dofs and matrix
                         // entries written here are written by no other task of this colour.
                         unsafe {
@@ -482,12 +565,17 @@ impl FeModel {
                                 }
                             }
                         }
-                        Ok(en)
+                        Ok((en, forces, gaps))
                     },
                 )
                 .collect();
             for r in results {
-                energy += r?;
+                let (en, forces, gaps) = r?;
+                energy += en;
+                for i in 0..MAX_PLANES {
+                    plane_forces[i] += forces[i];
+                    plane_min_gaps[i] = plane_min_gaps[i].min(gaps[i]);
+                }
             }
         }
         let mut ext2 = 0.0;
@@ -505,6 +593,8 @@ impl FeModel {
         Ok(AssemblyInfo {
             energy,
             external_norm: ext2.sqrt(),
+            plane_forces,
+            plane_min_gaps,
         })
     }
 

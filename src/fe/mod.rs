@@ -4,6 +4,7 @@
 //! (elements from [`element`], loads from [`loads`], material from [`material`]) →
 //! [`solver`] (load stepping + Newton) → [`simulate`] (markers, tip, angle).
 pub mod assembly;
+pub mod contact;
 pub mod element;
 pub mod geometry;
 pub mod loads;

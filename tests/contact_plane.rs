@@ -1,0 +1,177 @@
+//! Rigid-plane contact: global equilibrium of a block pressed on a plate, penetration, and the
+//! tangent with contact active against finite differences.
+
+use surrogate::fe::assembly::{Constraint, FeModel, LoadLevel};
+use surrogate::fe::contact::RigidPlane;
+use surrogate::fe::material::Material;
+use surrogate::fe::mesh::{GridMesh, TensorGrid};
+use surrogate::fe::solver::{solve_path, SolverSettings};
+
+/// A 2 × 1 × 2 mm block (2 × 1 × 2 elements) standing on a plate at y = 0 (inside the barrier's
+/// smoothing width, so the block is never free-floating), symmetry planes x = 0 and z = 0, a dead
+/// downward traction on its top face, its bottom face in contact search.
+fn block(traction: f64, stiffness: f64) -> FeModel {
+    let grid = TensorGrid {
+        lines: [vec![0.0, 1.0, 2.0], vec![0.0, 1.0], vec![0.0, 1.0, 2.0]],
+    };
+    let gm = GridMesh::new(grid, |_| true, |s| s);
+    let mut cons = Vec::new();
+    for n in gm.nodes_on_plane(0, 0.0) {
+        cons.push(Constraint {
+            node: n,
+            comp: 0,
+            value: 0.0,
+        });
+    }
+    for n in gm.nodes_on_plane(2, 0.0) {
+        cons.push(Constraint {
+            node: n,
+            comp: 2,
+            value: 0.0,
+        });
+    }
+    let faces = gm.boundary_faces(|k| k.is_none());
+    let top: Vec<_> = faces
+        .iter()
+        .filter(|(f, _)| f.axis == 1 && f.positive)
+        .map(|(f, _)| *f)
+        .collect();
+    let bottom: Vec<_> = faces
+        .iter()
+        .filter(|(f, _)| f.axis == 1 && !f.positive)
+        .map(|(f, _)| *f)
+        .collect();
+    let mat = Material::from_spec("neo_hookean:1.0", 100.0).unwrap();
+    let mut model = FeModel::new(gm.mesh.clone(), mat, &cons, &[], &[]).unwrap();
+    for f in &top {
+        model.add_dead_traction(f, [0.0, -traction, 0.0]);
+    }
+    let smoothing = 0.01;
+    let plane = RigidPlane::new([0.0, 0.0, 0.0], [0.0, 1.0, 0.0], stiffness, smoothing).unwrap();
+    model.add_plane_contact(plane, &bottom).unwrap();
+    model
+}
+
+#[test]
+fn plate_reaction_equals_applied_load_and_penetration_is_small() {
+    let traction = 0.5; // MPa on a 2 × 2 mm top face: 2 N
+    for stiffness in [100.0, 1000.0] {
+        let model = block(traction, stiffness);
+        let levels = [LoadLevel {
+            traction: 1.0,
+            ..Default::default()
+        }];
+        let mut u = Vec::new();
+        // no Dirichlet support in y: the plate alone carries the block
+        let settings = SolverSettings {
+            initial_fraction: 0.2,
+            ..SolverSettings::default()
+        };
+        solve_path(&model, settings, &levels, |_, st, _| u = st.u_full.clone()).unwrap();
+        let mut r = vec![0.0; u.len()];
+        let info = model.assemble(&u, &levels[0], &mut r, None).unwrap();
+        let applied = traction * 4.0;
+        let rel = (info.plane_forces[0] - applied).abs() / applied;
+        assert!(
+            rel < 1e-6,
+            "ε = {stiffness}: plate reaction {} vs applied {applied}",
+            info.plane_forces[0]
+        );
+        // contact pressure 0.5 MPa: penetration at most about p/ε (none while the smoothing
+        // zone carries it)
+        let pen = -info.plane_min_gaps[0];
+        assert!(
+            pen < 2.0 * traction / stiffness,
+            "ε = {stiffness}: penetration {pen}"
+        );
+    }
+}
+
+#[test]
+fn tangent_with_active_contact_matches_finite_differences() {
+    let model = block(0.5, 300.0);
+    let n = 3 * model.mesh.n_nodes();
+    // a state pushed into the plate, unevenly
+    let mut u: Vec<f64> = (0..n)
+        .map(|d| {
+            if d % 3 == 1 {
+                -0.02 - 0.005 * ((d / 3) as f64).sin()
+            } else {
+                0.003 * ((d as f64) * 0.7).cos()
+            }
+        })
+        .collect();
+    for &(d, _) in &model.dofs.constrained {
+        u[d] = 0.0;
+    }
+    let level = LoadLevel {
+        traction: 1.0,
+        ..Default::default()
+    };
+    let mut r = vec![0.0; n];
+    let mut k = vec![0.0; model.pattern.nnz()];
+    let info = model.assemble(&u, &level, &mut r, Some(&mut k)).unwrap();
+    assert!(info.plane_forces[0] > 0.0, "contact is active");
+    let kscale = k.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+    let h = 1e-7;
+    let mut err: f64 = 0.0;
+    for d in 0..n {
+        let Some(col) = model.dofs.eq(d) else {
+            continue;
+        };
+        let (mut up, mut um) = (u.clone(), u.clone());
+        up[d] += h;
+        um[d] -= h;
+        let (mut rp, mut rm) = (vec![0.0; n], vec![0.0; n]);
+        model.assemble(&up, &level, &mut rp, None).unwrap();
+        model.assemble(&um, &level, &mut rm, None).unwrap();
+        for rd in 0..n {
+            let Some(row) = model.dofs.eq(rd) else {
+                continue;
+            };
+            if row < col {
+                continue;
+            }
+            let fd = (rp[rd] - rm[rd]) / (2.0 * h);
+            let kv = model.pattern.position(row, col).map_or(0.0, |p| k[p]);
+            err = err.max((fd - kv).abs() / kscale);
+        }
+    }
+    assert!(err < 1e-6, "tangent FD error {err:e}");
+}
+
+#[test]
+fn frictionless_plate_leaves_no_tangential_reaction() {
+    let model = block(0.5, 300.0);
+    let n = 3 * model.mesh.n_nodes();
+    let mut u = vec![0.0; n];
+    for d in (1..n).step_by(3) {
+        u[d] = -0.02;
+    }
+    for d in (0..n).step_by(3) {
+        u[d] = 0.01 * (d as f64 * 0.1).sin();
+    }
+    for &(d, _) in &model.dofs.constrained {
+        u[d] = 0.0;
+    }
+    // contact residual alone: difference of the residual with and without the plate
+    let level = LoadLevel::default();
+    let mut r = vec![0.0; n];
+    model.assemble(&u, &level, &mut r, None).unwrap();
+    let mut plain = block(0.5, 300.0);
+    plain.planes.clear();
+    plain.contact_faces.iter_mut().for_each(|v| v.clear());
+    let mut r0 = vec![0.0; n];
+    plain.assemble(&u, &level, &mut r0, None).unwrap();
+    let (mut fx, mut fy, mut fz) = (0.0, 0.0, 0.0);
+    for node in 0..n / 3 {
+        fx += r[3 * node] - r0[3 * node];
+        fy += r[3 * node + 1] - r0[3 * node + 1];
+        fz += r[3 * node + 2] - r0[3 * node + 2];
+    }
+    assert!(fy.abs() > 1e-3, "contact active");
+    assert!(
+        fx.abs() < 1e-12 * fy.abs() && fz.abs() < 1e-12 * fy.abs(),
+        "tangential {fx} {fz}"
+    );
+}
