@@ -1,1 +1,81 @@
-fn main() {}
+//! Hot paths of the FE model (criterion): one element's residual + tangent, one full assembly
+//! of the coarse actuator, and one sparse factorisation + solve.
+//!
+//! ```sh
+//! cargo bench --bench fe
+//! ```
+//! The full-ramp benchmark (wall time per mesh level) is `surrogate simulate --bench`.
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use surrogate::fe::assembly::LoadLevel;
+use surrogate::fe::element::{residual_tangent, ElementWork};
+use surrogate::fe::geometry::DesignParams;
+use surrogate::fe::material::Material;
+use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::fe::simulate::ActuatorModel;
+use surrogate::fe::solver::LinearSolver;
+
+fn fe(c: &mut Criterion) {
+    let design = DesignParams::new(11, 2.0).validate().expect("valid design");
+    let material = Material::from_spec("ogden_002", 1000.0).expect("literature set");
+    let model = ActuatorModel::new(&design, &material, &MeshOptions::level(MeshLevel::Coarse))
+        .expect("mesh");
+    let fe = &model.fe;
+    let n = 3 * fe.mesh.n_nodes();
+    // a mildly deformed state: 1 % shear of the reference coordinates
+    let u: Vec<f64> = (0..n)
+        .map(|d| {
+            if d % 3 == 2 {
+                0.01 * fe.mesh.nodes[d / 3][1]
+            } else {
+                0.0
+            }
+        })
+        .collect();
+    let level = LoadLevel {
+        pressure: 0.1,
+        gravity: 1.0,
+        ..Default::default()
+    };
+
+    let e = fe.mesh.n_elements() / 2;
+    let ue: [[f64; 3]; 27] =
+        fe.mesh.elements[e].map(|nd| [u[3 * nd], u[3 * nd + 1], u[3 * nd + 2]]);
+    let mut work = ElementWork::default();
+    c.bench_function("element residual + tangent (Q2/P1, Ogden 002)", |b| {
+        b.iter(|| {
+            residual_tangent(e, &fe.geometry[e], &ue, &fe.material, true, &mut work)
+                .expect("admissible")
+        })
+    });
+
+    let mut r = vec![0.0; n];
+    let mut k = vec![0.0; fe.pattern.nnz()];
+    let mut group = c.benchmark_group("coarse actuator (24k dofs)");
+    group.sample_size(10);
+    group.bench_function("assembly with tangent", |b| {
+        b.iter(|| {
+            fe.assemble(&u, &level, &mut r, Some(&mut k))
+                .expect("admissible")
+        })
+    });
+    group.bench_function("residual only", |b| {
+        b.iter(|| fe.assemble(&u, &level, &mut r, None).expect("admissible"))
+    });
+    fe.assemble(&u, &level, &mut r, Some(&mut k))
+        .expect("admissible");
+    let mut solver = LinearSolver::new(fe).expect("symbolic analysis");
+    let mut rhs = vec![0.0; fe.dofs.n_free];
+    fe.restrict(&r, &mut rhs);
+    group.bench_function("LDLT factorisation + solve", |b| {
+        b.iter(|| {
+            let mut x = rhs.clone();
+            solver.solve(&k, &mut x).expect("factorisable");
+            x
+        })
+    });
+    group.finish();
+}
+
+criterion_group!(benches, fe);
+criterion_main!(benches);
