@@ -116,6 +116,27 @@ fn int_array(out: &mut String, name: &str, values: impl Iterator<Item = usize>) 
     out.push_str("</DataArray>\n");
 }
 
+/// XML header, piece and the deformed points (all mesh nodes), up to the opening `<Cells>`.
+fn grid_head(s: &mut String, mesh: &super::mesh::Mesh, u: &[f64], n_cells: usize) {
+    s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n");
+    let _ = writeln!(
+        s,
+        "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{n_cells}\">",
+        mesh.n_nodes()
+    );
+    s.push_str("<Points>\n");
+    data_array(
+        s,
+        "position",
+        3,
+        mesh.nodes
+            .iter()
+            .enumerate()
+            .flat_map(|(n, x)| (0..3).map(move |i| x[i] + u[3 * n + i])),
+    );
+    s.push_str("</Points>\n<Cells>\n");
+}
+
 fn write_atomic(path: &Path, text: &str) -> io::Result<()> {
     let tmp = path.with_extension("vtu.tmp");
     std::fs::write(&tmp, text)?;
@@ -139,23 +160,7 @@ pub fn write_step(
     let subs = sub_hexes();
     let n_cells = 8 * mesh.n_elements();
     let mut s = String::with_capacity(256 * mesh.n_nodes());
-    s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n");
-    let _ = writeln!(
-        s,
-        "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{n_cells}\">",
-        mesh.n_nodes()
-    );
-    s.push_str("<Points>\n");
-    data_array(
-        &mut s,
-        "position",
-        3,
-        mesh.nodes
-            .iter()
-            .enumerate()
-            .flat_map(|(n, x)| (0..3).map(move |i| x[i] + u[3 * n + i])),
-    );
-    s.push_str("</Points>\n<Cells>\n");
+    grid_head(&mut s, mesh, u, n_cells);
     int_array(
         &mut s,
         "connectivity",
@@ -207,23 +212,7 @@ fn write_surfaces(path: &Path, model: &ActuatorModel, u: &[f64]) -> io::Result<(
     };
     let n_cells = 4 * faces.len();
     let mut s = String::new();
-    s.push_str("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\" version=\"1.0\" byte_order=\"LittleEndian\">\n<UnstructuredGrid>\n");
-    let _ = writeln!(
-        s,
-        "<Piece NumberOfPoints=\"{}\" NumberOfCells=\"{n_cells}\">",
-        mesh.n_nodes()
-    );
-    s.push_str("<Points>\n");
-    data_array(
-        &mut s,
-        "position",
-        3,
-        mesh.nodes
-            .iter()
-            .enumerate()
-            .flat_map(|(n, x)| (0..3).map(move |i| x[i] + u[3 * n + i])),
-    );
-    s.push_str("</Points>\n<Cells>\n");
+    grid_head(&mut s, mesh, u, n_cells);
     int_array(
         &mut s,
         "connectivity",
