@@ -230,7 +230,8 @@ pub struct ElementWork {
     /// Element tangent, row-major 81 × 81.
     pub k: Vec<f64>,
     b: Vec<[f64; DOFS]>,
-    g: Vec<[[[f64; 3]; 3]; 3]>,
+    g: Vec<[f64; 27]>,
+    kt: Vec<[f64; 27]>,
 }
 
 impl Default for ElementWork {
@@ -242,7 +243,8 @@ impl Default for ElementWork {
             r: vec![0.0; DOFS],
             k: vec![0.0; DOFS * DOFS],
             b: vec![[0.0; DOFS]; 4],
-            g: vec![[[[0.0; 3]; 3]; 3]; 27],
+            g: vec![[0.0; 27]; 27],
+            kt: vec![[0.0; 27]; 243],
         }
     }
 }
@@ -313,6 +315,9 @@ pub fn residual_tangent(
         for row in work.b.iter_mut() {
             row.iter_mut().for_each(|v| *v = 0.0);
         }
+        for row in work.kt.iter_mut() {
+            row.iter_mut().for_each(|v| *v = 0.0);
+        }
     }
     let mut p_iso = Matrix3::zeros();
     let mut a_iso = Tangent9::zeros();
@@ -356,27 +361,43 @@ pub fn residual_tangent(
                 }
             }
         }
-        for a in 0..27 {
-            let g = &mut work.g[a];
-            for i in 0..3 {
-                for k in 0..3 {
-                    for l in 0..3 {
-                        g[i][k][l] = d[a][0] * a_iso[(3 * i, 3 * k + l)]
-                            + d[a][1] * a_iso[(3 * i + 1, 3 * k + l)]
-                            + d[a][2] * a_iso[(3 * i + 2, 3 * k + l)];
+        // g[(i, k, l)][a] = Σ_J ∂N_a/∂X_J Â[(3i+J), (3k+l)], contiguous in a
+        let mut dt = [[0.0; 27]; 3];
+        for b in 0..27 {
+            for l in 0..3 {
+                dt[l][b] = d[b][l];
+            }
+        }
+        for i in 0..3 {
+            for k in 0..3 {
+                for l in 0..3 {
+                    let c = 3 * k + l;
+                    let (a0, a1, a2) = (
+                        a_iso[(3 * i, c)],
+                        a_iso[(3 * i + 1, c)],
+                        a_iso[(3 * i + 2, c)],
+                    );
+                    let g = &mut work.g[(3 * i + k) * 3 + l];
+                    for a in 0..27 {
+                        g[a] = dt[0][a] * a0 + dt[1][a] * a1 + dt[2][a] * a2;
                     }
                 }
             }
         }
+        // K_(a,i),(b,k) += w Σ_L g[(i,k,L)][a] ∂N_b/∂X_L, accumulated in `kt[(a, i, k)][b]` so
+        // that the innermost loop runs over contiguous b (vectorisable)
         for a in 0..27 {
-            let g = &work.g[a];
-            for b in a..27 {
-                let db = &d[b];
-                for i in 0..3 {
-                    let row = (3 * a + i) * DOFS + 3 * b;
-                    for k in 0..3 {
-                        work.k[row + k] +=
-                            w * (g[i][k][0] * db[0] + g[i][k][1] * db[1] + g[i][k][2] * db[2]);
+            for i in 0..3 {
+                for k in 0..3 {
+                    let gi = (3 * i + k) * 3;
+                    let (g0, g1, g2) = (
+                        w * work.g[gi][a],
+                        w * work.g[gi + 1][a],
+                        w * work.g[gi + 2][a],
+                    );
+                    let row = &mut work.kt[(3 * a + i) * 3 + k];
+                    for b in a..27 {
+                        row[b] += g0 * dt[0][b] + g1 * dt[1][b] + g2 * dt[2][b];
                     }
                 }
             }
@@ -392,7 +413,17 @@ pub fn residual_tangent(
         }
     }
     if with_tangent {
-        // mirror the upper node blocks
+        // node blocks b ≥ a from the accumulator, then mirror the upper node blocks
+        for a in 0..27 {
+            for i in 0..3 {
+                for k in 0..3 {
+                    let acc = &work.kt[(3 * a + i) * 3 + k];
+                    for b in a..27 {
+                        work.k[(3 * a + i) * DOFS + 3 * b + k] = acc[b];
+                    }
+                }
+            }
+        }
         for a in 0..27 {
             for b in (a + 1)..27 {
                 for i in 0..3 {
