@@ -116,15 +116,18 @@ pub struct TensorGrid {
 }
 
 impl TensorGrid {
-    /// Subdivides the intervals between `breaks` so that no element is longer than `h`
-    /// (at least `min_div` elements in each interval).
-    pub fn subdivide(breaks: &[f64], h: f64, min_div: usize) -> Vec<f64> {
+    /// Sorts and deduplicates `breaks`, then subdivides every interval so that no element is
+    /// longer than `h`; intervals inside one of `walls` get at least `wall_div` elements.
+    pub fn subdivide(breaks: &[f64], walls: &[(f64, f64)], h: f64, wall_div: usize) -> Vec<f64> {
         let mut b: Vec<f64> = breaks.to_vec();
         b.sort_by(f64::total_cmp);
         b.dedup_by(|a, c| (*a - *c).abs() < 1e-9);
         let mut out = vec![b[0]];
         for w in b.windows(2) {
             let len = w[1] - w[0];
+            let mid = 0.5 * (w[0] + w[1]);
+            let in_wall = walls.iter().any(|&(lo, hi)| mid > lo && mid < hi);
+            let min_div = if in_wall { wall_div } else { 1 };
             let n = ((len / h - 1e-9).ceil() as usize).max(min_div).max(1);
             for s in 1..=n {
                 out.push(w[0] + len * s as f64 / n as f64);
@@ -451,12 +454,12 @@ impl ActuatorMesh {
         if let Some(d) = duct {
             xb.push(d.lo[0]);
         }
-        let xs = subdivide_walls(&xb, &[(0.0, t)], h, wall_div);
+        let xs = TensorGrid::subdivide(&xb, &[(0.0, t)], h, wall_div);
         let mut yb = vec![0.0, p.base_thickness, p.height - t, p.height];
         if duct.is_some() {
             yb.extend([p.duct_bottom, p.duct_top]);
         }
-        let ys = subdivide_walls(&yb, &[(p.height - t, p.height)], h, wall_div);
+        let ys = TensorGrid::subdivide(&yb, &[(p.height - t, p.height)], h, wall_div);
         let mut zb = vec![0.0, p.free_length];
         let mut walls = Vec::new();
         for i in 0..p.n_bellows {
@@ -468,7 +471,7 @@ impl ActuatorMesh {
         if let Some(d) = duct {
             zb.push(d.hi[2]);
         }
-        let zs = subdivide_walls(&zb, &walls, h, wall_div);
+        let zs = TensorGrid::subdivide(&zb, &walls, h, wall_div);
         let grid = TensorGrid {
             lines: [xs, ys, zs],
         };
@@ -530,26 +533,6 @@ impl ActuatorMesh {
     pub fn mesh(&self) -> &Mesh {
         &self.grid.mesh
     }
-}
-
-/// Subdivides breakpoints by size `h`, giving intervals inside `walls` at least `wall_div`
-/// elements.
-fn subdivide_walls(breaks: &[f64], walls: &[(f64, f64)], h: f64, wall_div: usize) -> Vec<f64> {
-    let mut b: Vec<f64> = breaks.to_vec();
-    b.sort_by(f64::total_cmp);
-    b.dedup_by(|a, c| (*a - *c).abs() < 1e-9);
-    let mut out = vec![b[0]];
-    for w in b.windows(2) {
-        let len = w[1] - w[0];
-        let mid = 0.5 * (w[0] + w[1]);
-        let in_wall = walls.iter().any(|&(lo, hi)| mid > lo && mid < hi);
-        let min_div = if in_wall { wall_div } else { 1 };
-        let n = ((len / h - 1e-9).ceil() as usize).max(min_div).max(1);
-        for s in 1..=n {
-            out.push(w[0] + len * s as f64 / n as f64);
-        }
-    }
-    out
 }
 
 #[cfg(test)]
