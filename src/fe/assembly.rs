@@ -415,7 +415,45 @@ impl FeModel {
         r_full: &mut [f64],
         k_values: Option<&mut [f64]>,
     ) -> Result<AssemblyInfo, ElementError> {
-        self.assemble_impl(u, level, r_full, k_values, false)
+        self.assemble_impl(u, level, r_full, k_values, false, None)
+    }
+
+    /// As [`Self::assemble`], with the initial-stress term of each element's tangent evaluated
+    /// with the given pressure coefficients (the mixed Newton iteration's pressures, see
+    /// [`element::linearised_pressure`]) instead of the consistent ones. The residual is
+    /// unchanged.
+    ///
+    /// # Errors
+    /// As [`Self::assemble`].
+    pub fn assemble_mixed(
+        &self,
+        u: &[f64],
+        level: &LoadLevel,
+        r_full: &mut [f64],
+        k_values: Option<&mut [f64]>,
+        tangent_pressure: Option<&[[f64; 4]]>,
+    ) -> Result<AssemblyInfo, ElementError> {
+        self.assemble_impl(u, level, r_full, k_values, false, tangent_pressure)
+    }
+
+    /// Per element, the projected pressure linearised about `u` and evaluated at `u + du`
+    /// ([`element::linearised_pressure`]); `u`, `du` are full displacement vectors.
+    ///
+    /// # Errors
+    /// [`ElementError::Inverted`] if an element is inverted at `u`.
+    pub fn linearised_pressures(
+        &self,
+        u: &[f64],
+        du: &[f64],
+        out: &mut [[f64; 4]],
+    ) -> Result<(), ElementError> {
+        out.par_iter_mut().enumerate().try_for_each(|(e, o)| {
+            let conn = &self.mesh.elements[e];
+            let ue = conn.map(|n| [u[3 * n], u[3 * n + 1], u[3 * n + 2]]);
+            let de = conn.map(|n| [du[3 * n], du[3 * n + 1], du[3 * n + 2]]);
+            *o = element::linearised_pressure(e, &self.geometry[e], &ue, &de, &self.material)?;
+            Ok(())
+        })
     }
 
     /// As [`Self::assemble`], and also evaluates the total potential
@@ -433,7 +471,7 @@ impl FeModel {
         r_full: &mut [f64],
         k_values: Option<&mut [f64]>,
     ) -> Result<AssemblyInfo, ElementError> {
-        self.assemble_impl(u, level, r_full, k_values, true)
+        self.assemble_impl(u, level, r_full, k_values, true, None)
     }
 
     fn assemble_impl(
@@ -443,6 +481,7 @@ impl FeModel {
         r_full: &mut [f64],
         mut k_values: Option<&mut [f64]>,
         with_energy: bool,
+        tangent_pressure: Option<&[[f64; 4]]>,
     ) -> Result<AssemblyInfo, ElementError> {
         r_full.iter_mut().for_each(|v| *v = 0.0);
         if let Some(k) = k_values.as_deref_mut() {
@@ -466,6 +505,7 @@ impl FeModel {
                         w
                     },
                     |work, &e| {
+                        work.tangent_pressure = tangent_pressure.map(|t| t[e]);
                         let conn = &self.mesh.elements[e];
                         let ue: [[f64; 3]; 27] =
                             conn.map(|n| [u[3 * n], u[3 * n + 1], u[3 * n + 2]]);

@@ -223,6 +223,9 @@ pub struct ElementWork {
     /// Whether [`residual_tangent`] evaluates the strain energy (costs one more material
     /// evaluation per point; off in the Newton loop).
     pub with_energy: bool,
+    /// Pressure coefficients used in the tangent's initial-stress term instead of the
+    /// consistent ones (see [`linearised_pressure`]); `None` gives the exact Hessian.
+    pub tangent_pressure: Option<[f64; 4]>,
     f: [Matrix3<f64>; QP],
     j: [f64; QP],
     /// Element residual (internal forces), length 81.
@@ -238,6 +241,7 @@ impl Default for ElementWork {
     fn default() -> Self {
         Self {
             with_energy: false,
+            tangent_pressure: None,
             f: [Matrix3::zeros(); QP],
             j: [0.0; QP],
             r: vec![0.0; DOFS],
@@ -307,6 +311,7 @@ pub fn residual_tangent(
         }
     }
     let pi = geo.minv * pv;
+    let pi_tangent = work.tangent_pressure.map_or(pi, Vector4::from);
 
     // Pass 2: residual and tangent.
     work.r.iter_mut().for_each(|v| *v = 0.0);
@@ -350,7 +355,7 @@ pub fn residual_tangent(
             continue;
         }
         // Â = A_iso + π J (F⁻ᵀ_iJ F⁻ᵀ_kL − F⁻ᵀ_iL F⁻ᵀ_kJ)
-        let s = pi_q * j;
+        let s = Vector4::from(geo.q[q]).dot(&pi_tangent) * j;
         for i in 0..3 {
             for jj in 0..3 {
                 for k in 0..3 {
@@ -461,6 +466,69 @@ pub fn residual_tangent(
         }
     }
     Ok(energy)
+}
+
+/// The projected pressure linearised about `u` and evaluated at `u + du`:
+///
+/// ```text
+///   θ_lin = θ(u) + M⁻¹ B(u) du,     π_lin = M⁻¹ ∫ q [U'(θ(u)) + U''(θ(u)) (θ_lin − θ(u))] dV
+/// ```
+///
+/// This is the pressure that the mixed (u, θ, π) Newton iteration carries to its next iterate
+/// (Simo–Taylor–Pister): the condensed residual is the same as that of the displacement-only
+/// form, but the initial-stress term of the next tangent uses `π_lin` instead of the
+/// consistent pressure `π(u + du)`. Along a linearised rotation `J` is violated at second
+/// order and κ turns that into a spurious pressure in `π(u + du)` (of the order of μ0 for
+/// rotations of a few degrees) that wrecks the bending stiffness of thin walls; `π_lin` does
+/// not contain it.
+///
+/// # Errors
+/// [`ElementError::Inverted`] if det F ≤ 0 at `u`.
+pub fn linearised_pressure(
+    element: usize,
+    geo: &ElementGeometry,
+    u: &[[f64; 3]; 27],
+    du: &[[f64; 3]; 27],
+    material: &Material,
+) -> Result<[f64; 4], ElementError> {
+    let mut bj = Vector4::zeros();
+    let mut bdu = Vector4::zeros();
+    for q in 0..QP {
+        let mut f: Matrix3<f64> = Matrix3::identity();
+        let mut g: Matrix3<f64> = Matrix3::zeros();
+        for a in 0..27 {
+            let d = &geo.dndx[q][a];
+            for i in 0..3 {
+                for jj in 0..3 {
+                    f[(i, jj)] += u[a][i] * d[jj];
+                    g[(i, jj)] += du[a][i] * d[jj];
+                }
+            }
+        }
+        let j = f.determinant();
+        let finv = match f.try_inverse() {
+            Some(m) if j > 0.0 && j.is_finite() => m,
+            _ => return Err(ElementError::Inverted { element, qp: q, j }),
+        };
+        // dJ = J tr(F⁻¹ dF)
+        let dj = j * (finv * g).trace();
+        let qv = Vector4::from(geo.q[q]);
+        bj += qv * (j * geo.wdet[q]);
+        bdu += qv * (dj * geo.wdet[q]);
+    }
+    let c = geo.minv * bj;
+    let dc = geo.minv * bdu;
+    let mut pv = Vector4::zeros();
+    for q in 0..QP {
+        let qv = Vector4::from(geo.q[q]);
+        let theta = qv.dot(&c);
+        let dtheta = qv.dot(&dc);
+        pv += qv
+            * ((material.vol_pressure(theta) + material.vol_stiffness(theta) * dtheta)
+                * geo.wdet[q]);
+    }
+    let pi = geo.minv * pv;
+    Ok([pi[0], pi[1], pi[2], pi[3]])
 }
 
 #[cfg(test)]

@@ -166,6 +166,12 @@ pub struct SimulateArgs {
     /// Write the deformed mesh of every step as .vtu files into this directory.
     #[arg(long)]
     pub vtk: Option<PathBuf>,
+    /// Largest pressure increment of one load substep (bar).
+    #[arg(long, default_value_t = 0.5)]
+    pub max_increment: f64,
+    /// Line search on the directional residual in every Newton iteration.
+    #[arg(long)]
+    pub line_search: bool,
     /// Benchmark mode: run the full ramp 0→3 bar (0.5 bar steps) on each mesh level and write a
     /// JSON summary (to --out).
     #[arg(long)]

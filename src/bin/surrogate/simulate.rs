@@ -40,6 +40,11 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
         );
     }
     surrogate::fe::simulate::validate_pressures(&pressures)?;
+    anyhow::ensure!(
+        a.max_increment.is_finite() && a.max_increment > 0.0 && a.max_increment <= 5.0,
+        "--max-increment {}: expected a pressure increment in (0, 5] bar",
+        a.max_increment
+    );
     Ok(Case {
         design,
         material,
@@ -51,6 +56,8 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
         },
         solver: SolverSettings {
             trace: std::env::var_os("SURROGATE_TRACE").is_some(),
+            max_pressure_increment: a.max_increment * surrogate::fe::simulate::BAR,
+            line_search: a.line_search,
             ..SolverSettings::default()
         },
     })
