@@ -12,14 +12,20 @@ use surrogate::fe::element::{residual_tangent, ElementWork};
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
-use surrogate::fe::simulate::ActuatorModel;
+use surrogate::fe::simulate::{ActuatorModel, ContactSettings, Mode};
 use surrogate::fe::solver::LinearSolver;
 
 fn fe(c: &mut Criterion) {
     let design = DesignParams::new(11, 2.0).validate().expect("valid design");
     let material = Material::from_spec("ogden_002", 1000.0).expect("literature set");
-    let model = ActuatorModel::new(&design, &material, &MeshOptions::level(MeshLevel::Coarse))
-        .expect("mesh");
+    let model = ActuatorModel::new(
+        &design,
+        &material,
+        &MeshOptions::level(MeshLevel::Coarse),
+        Mode::Bending,
+        &ContactSettings::default(),
+    )
+    .expect("mesh");
     let fe = &model.fe;
     let n = 3 * fe.mesh.n_nodes();
     // a mildly deformed state: 1 % shear of the reference coordinates

@@ -7,7 +7,7 @@ use surrogate::fe::assembly::LoadLevel;
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
-use surrogate::fe::simulate::ActuatorModel;
+use surrogate::fe::simulate::{ActuatorModel, ContactSettings, Mode};
 
 /// y = K x with K given by its lower triangle.
 fn sym_matvec(col_ptr: &[usize], row_idx: &[usize], k: &[f64], x: &[f64], y: &mut [f64]) {
@@ -27,7 +27,14 @@ fn sym_matvec(col_ptr: &[usize], row_idx: &[usize], k: &[f64], x: &[f64], y: &mu
 fn actuator_tangent_matches_directional_finite_differences() {
     let design = DesignParams::new(9, 2.0).validate().unwrap();
     let mat = Material::from_spec("ogden_002", 1000.0).unwrap();
-    let model = ActuatorModel::new(&design, &mat, &MeshOptions::level(MeshLevel::Coarse)).unwrap();
+    let model = ActuatorModel::new(
+        &design,
+        &mat,
+        &MeshOptions::level(MeshLevel::Coarse),
+        Mode::Bending,
+        &ContactSettings::default(),
+    )
+    .unwrap();
     let fe = &model.fe;
     let n = 3 * fe.mesh.n_nodes();
     let nf = fe.dofs.n_free;
@@ -84,7 +91,14 @@ fn linear_solver_solves_the_actuator_tangent() {
     use surrogate::fe::solver::LinearSolver;
     let design = DesignParams::new(9, 2.0).validate().unwrap();
     let mat = Material::from_spec("ogden_002", 1000.0).unwrap();
-    let model = ActuatorModel::new(&design, &mat, &MeshOptions::level(MeshLevel::Coarse)).unwrap();
+    let model = ActuatorModel::new(
+        &design,
+        &mat,
+        &MeshOptions::level(MeshLevel::Coarse),
+        Mode::Bending,
+        &ContactSettings::default(),
+    )
+    .unwrap();
     let fe = &model.fe;
     let n = 3 * fe.mesh.n_nodes();
     let nf = fe.dofs.n_free;
@@ -113,7 +127,14 @@ fn linear_solver_solves_the_actuator_tangent() {
 fn actuator_residual_is_the_gradient_of_the_total_potential() {
     let design = DesignParams::new(9, 2.0).validate().unwrap();
     let mat = Material::from_spec("ogden_002", 1000.0).unwrap();
-    let model = ActuatorModel::new(&design, &mat, &MeshOptions::level(MeshLevel::Coarse)).unwrap();
+    let model = ActuatorModel::new(
+        &design,
+        &mat,
+        &MeshOptions::level(MeshLevel::Coarse),
+        Mode::Bending,
+        &ContactSettings::default(),
+    )
+    .unwrap();
     let fe = &model.fe;
     let n = 3 * fe.mesh.n_nodes();
     let nf = fe.dofs.n_free;

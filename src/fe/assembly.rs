@@ -14,7 +14,7 @@
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
-use super::contact::{self, ContactError, RigidPlane};
+use super::contact::{self, ContactError, FacePair, PairSettings, RigidPlane, PAIR_DOFS};
 use super::element::{self, ElementError, ElementGeometry, ElementWork, DOFS};
 use super::loads;
 use super::material::Material;
@@ -229,6 +229,26 @@ pub struct FeModel {
     pub planes: Vec<RigidPlane>,
     /// Per element: (plane index, element-local face nodes) of its faces in contact search.
     pub contact_faces: Vec<Vec<(usize, [usize; 9])>>,
+    /// Facing face pairs of deformable–deformable contact.
+    pub pairs: Vec<FacePair>,
+    /// Penalty settings of the face pairs.
+    pub pair_settings: PairSettings,
+    /// Per pair: position in the tangent's value array of local entry (row, col) (row-major
+    /// 54 × 54, `u32::MAX` if not stored).
+    pair_maps: Vec<Vec<u32>>,
+}
+
+/// Node couplings that a list of face pairs adds to the sparse pattern.
+pub fn pair_couplings(pairs: &[FacePair]) -> Vec<(usize, usize)> {
+    let mut out = Vec::with_capacity(pairs.len() * 81);
+    for p in pairs {
+        for &a in &p.back {
+            for &b in &p.front {
+                out.push((a, b));
+            }
+        }
+    }
+    out
 }
 
 /// Largest number of rigid planes in one model.
@@ -245,6 +265,10 @@ pub struct AssemblyInfo {
     pub plane_forces: [f64; MAX_PLANES],
     /// Smallest gap at a contact quadrature point of each plane (mm).
     pub plane_min_gaps: [f64; MAX_PLANES],
+    /// Total normal force transmitted by the face pairs (N).
+    pub pair_force: f64,
+    /// Smallest gap at a quadrature point of the face pairs (mm).
+    pub pair_min_gap: f64,
 }
 
 /// Energy, plane forces and smallest plane gaps of one element.
@@ -305,8 +329,61 @@ impl FeModel {
             pressure_origin: [0.0; 3],
             planes: Vec::new(),
             contact_faces: vec![Vec::new(); mesh.n_elements()],
+            pairs: Vec::new(),
+            pair_settings: PairSettings {
+                stiffness: 0.0,
+                smoothing: 0.0,
+            },
+            pair_maps: Vec::new(),
             mesh,
         })
+    }
+
+    /// Sets the face pairs of deformable–deformable contact. Their node couplings
+    /// ([`pair_couplings`]) must have been passed to [`Self::new`].
+    ///
+    /// # Errors
+    /// [`ContactError::MissingCoupling`] if the pattern lacks a coupling;
+    /// [`ContactError::OutOfRange`] for a non-positive stiffness or negative smoothing.
+    pub fn set_face_pairs(
+        &mut self,
+        pairs: Vec<FacePair>,
+        settings: PairSettings,
+    ) -> Result<(), ContactError> {
+        // validates the settings like a plane's
+        RigidPlane::new(
+            [0.0; 3],
+            [0.0, 0.0, 1.0],
+            settings.stiffness,
+            settings.smoothing,
+        )?;
+        let mut maps = Vec::with_capacity(pairs.len());
+        for p in &pairs {
+            let nodes: Vec<usize> = p.back.iter().chain(&p.front).copied().collect();
+            let mut map = vec![u32::MAX; PAIR_DOFS * PAIR_DOFS];
+            for r in 0..PAIR_DOFS {
+                let Some(gr) = self.dofs.eq(3 * nodes[r / 3] + r % 3) else {
+                    continue;
+                };
+                for c in 0..PAIR_DOFS {
+                    let Some(gc) = self.dofs.eq(3 * nodes[c / 3] + c % 3) else {
+                        continue;
+                    };
+                    if gr >= gc {
+                        let pos = self
+                            .pattern
+                            .position(gr, gc)
+                            .ok_or(ContactError::MissingCoupling(nodes[r / 3], nodes[c / 3]))?;
+                        map[r * PAIR_DOFS + c] = pos as u32;
+                    }
+                }
+            }
+            maps.push(map);
+        }
+        self.pairs = pairs;
+        self.pair_settings = settings;
+        self.pair_maps = maps;
+        Ok(())
     }
 
     /// Adds a rigid plane that the given faces may touch; returns its index.
@@ -618,6 +695,62 @@ impl FeModel {
                 }
             }
         }
+        let mut pair_force = 0.0;
+        let mut pair_min_gap = f64::INFINITY;
+        if !self.pairs.is_empty() {
+            let pos = |n: usize| {
+                let x = self.mesh.nodes[n];
+                [x[0] + u[3 * n], x[1] + u[3 * n + 1], x[2] + u[3 * n + 2]]
+            };
+            type PairOut = (f64, f64, f64, Option<Box<([f64; PAIR_DOFS], Vec<f64>)>>);
+            let results: Vec<PairOut> = self
+                .pairs
+                .par_iter()
+                .map(|p| {
+                    let x0b = p.back.map(|n| self.mesh.nodes[n]);
+                    let xb = p.back.map(pos);
+                    let xf = p.front.map(pos);
+                    let mut r = [0.0; PAIR_DOFS];
+                    let mut k = with_k.then(|| Box::new([0.0; PAIR_DOFS * PAIR_DOFS]));
+                    let (e, f, g) = contact::pair_face(
+                        &self.pair_settings,
+                        p.orientation,
+                        &x0b,
+                        &xb,
+                        &xf,
+                        &mut r,
+                        k.as_deref_mut(),
+                    );
+                    let active = r.iter().any(|v| *v != 0.0)
+                        || k.as_ref().is_some_and(|k| k.iter().any(|v| *v != 0.0));
+                    let local = active.then(|| Box::new((r, k.map_or(Vec::new(), |k| k.to_vec()))));
+                    (e, f, g, local)
+                })
+                .collect();
+            for (p, (i, (e, f, g, local))) in self.pairs.iter().zip(results.into_iter().enumerate())
+            {
+                if with_energy {
+                    energy += e;
+                }
+                pair_force += f;
+                pair_min_gap = pair_min_gap.min(g);
+                let Some(local) = local else { continue };
+                let (r, k) = &*local;
+                for (l, &n) in p.back.iter().chain(&p.front).enumerate() {
+                    for c in 0..3 {
+                        r_full[3 * n + c] += r[3 * l + c];
+                    }
+                }
+                if with_k {
+                    // SAFETY: no other thread writes here (serial loop after the colours).
+                    for (slot, kv) in self.pair_maps[i].iter().zip(k.iter()) {
+                        if *slot != u32::MAX {
+                            unsafe { k_ptr.add(*slot as usize, *kv) };
+                        }
+                    }
+                }
+            }
+        }
         let mut ext2 = 0.0;
         for d in 0..r_full.len() {
             let dead = level.gravity * self.f_gravity[d] + level.traction * self.f_traction[d];
@@ -635,6 +768,8 @@ impl FeModel {
             external_norm: ext2.sqrt(),
             plane_forces,
             plane_min_gaps,
+            pair_force,
+            pair_min_gap,
         })
     }
 

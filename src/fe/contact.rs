@@ -20,6 +20,9 @@
 //!
 //! The plane's reaction on the body is `F = ∫ −ψ'(g) dA₀` along `n`.
 
+// Index loops mirror the tensor notation of the equations (a, b: nodes; c, e: components).
+#![allow(clippy::needless_range_loop)]
+
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -38,6 +41,9 @@ pub enum ContactError {
         /// Allowed range.
         expected: String,
     },
+    /// A contact pair couples two nodes that the sparse pattern does not.
+    #[error("contact pair couples nodes {0} and {1}, which the sparse pattern does not hold")]
+    MissingCoupling(usize, usize),
 }
 
 /// A rigid plane obstacle.
@@ -104,19 +110,24 @@ impl RigidPlane {
 
     /// ψ(g), ψ'(g), ψ''(g) of the barrier.
     pub fn barrier(&self, g: f64) -> (f64, f64, f64) {
-        let (e, d) = (self.stiffness, self.smoothing);
-        if g >= d {
-            (0.0, 0.0, 0.0)
-        } else if g >= 0.0 {
-            let s = d - g;
-            (e * s * s * s / (6.0 * d), -e * s * s / (2.0 * d), e * s / d)
-        } else {
-            (
-                e * (d * d / 6.0 - d * g / 2.0 + g * g / 2.0),
-                e * (g - d / 2.0),
-                e,
-            )
-        }
+        barrier(self.stiffness, self.smoothing, g)
+    }
+}
+
+/// ψ(g), ψ'(g), ψ''(g) of the C² penalty barrier with stiffness `e` and smoothing width `d`
+/// (module docs).
+pub fn barrier(e: f64, d: f64, g: f64) -> (f64, f64, f64) {
+    if g >= d {
+        (0.0, 0.0, 0.0)
+    } else if g >= 0.0 {
+        let s = d - g;
+        (e * s * s * s / (6.0 * d), -e * s * s / (2.0 * d), e * s / d)
+    } else {
+        (
+            e * (d * d / 6.0 - d * g / 2.0 + g * g / 2.0),
+            e * (g - d / 2.0),
+            e,
+        )
     }
 }
 
@@ -189,6 +200,275 @@ pub fn plane_face(
         }
     }
     (energy, force, min_gap)
+}
+
+/// Penalty settings of deformable–deformable (bellow-to-bellow) contact.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct PairSettings {
+    /// Penalty stiffness ε (MPa/mm).
+    pub stiffness: f64,
+    /// Smoothing width δ (mm).
+    pub smoothing: f64,
+}
+
+/// Two facing 9-node faces across a gap whose nodes are matched by their reference position
+/// in the gap plane: `back[a]` faces `front[a]`, both in the back face's tensor order.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct FacePair {
+    /// Nodes of the face on the near side of the gap.
+    pub back: [usize; 9],
+    /// Nodes of the facing face, in the same order.
+    pub front: [usize; 9],
+    /// ±1: makes the gap positive for the reference configuration.
+    pub orientation: f64,
+}
+
+/// Number of unknowns of a face pair (2 faces × 9 nodes × 3).
+pub const PAIR_DOFS: usize = 54;
+
+/// Second-order forward-mode number in the 9 variables `z = (d, t₁, t₂)` of the gap function.
+#[derive(Clone, Copy)]
+struct Hd {
+    v: f64,
+    g: [f64; 9],
+    h: [[f64; 9]; 9],
+}
+
+impl Hd {
+    fn var(v: f64, i: usize) -> Self {
+        let mut g = [0.0; 9];
+        g[i] = 1.0;
+        Self {
+            v,
+            g,
+            h: [[0.0; 9]; 9],
+        }
+    }
+    fn add(&self, o: &Self) -> Self {
+        let mut r = *self;
+        r.v += o.v;
+        for i in 0..9 {
+            r.g[i] += o.g[i];
+            for j in 0..9 {
+                r.h[i][j] += o.h[i][j];
+            }
+        }
+        r
+    }
+    fn sub(&self, o: &Self) -> Self {
+        self.add(&o.scale(-1.0))
+    }
+    fn scale(&self, s: f64) -> Self {
+        let mut r = *self;
+        r.v *= s;
+        for i in 0..9 {
+            r.g[i] *= s;
+            for j in 0..9 {
+                r.h[i][j] *= s;
+            }
+        }
+        r
+    }
+    fn mul(&self, o: &Self) -> Self {
+        let mut r = Self {
+            v: self.v * o.v,
+            g: [0.0; 9],
+            h: [[0.0; 9]; 9],
+        };
+        for i in 0..9 {
+            r.g[i] = self.v * o.g[i] + o.v * self.g[i];
+            for j in 0..9 {
+                r.h[i][j] = self.v * o.h[i][j]
+                    + o.v * self.h[i][j]
+                    + self.g[i] * o.g[j]
+                    + o.g[i] * self.g[j];
+            }
+        }
+        r
+    }
+    /// `f(self)` from f, f', f'' at `self.v`.
+    fn chain(&self, f: f64, df: f64, ddf: f64) -> Self {
+        let mut r = Self {
+            v: f,
+            g: [0.0; 9],
+            h: [[0.0; 9]; 9],
+        };
+        for i in 0..9 {
+            r.g[i] = df * self.g[i];
+            for j in 0..9 {
+                r.h[i][j] = df * self.h[i][j] + ddf * self.g[i] * self.g[j];
+            }
+        }
+        r
+    }
+}
+
+/// Signed gap `G(z) = o · d·ν/|ν|`, `ν = t₁ × t₂`, with its gradient and Hessian in `z`.
+fn gap_function(z: &[f64; 9], orientation: f64) -> Hd {
+    let v: [Hd; 9] = std::array::from_fn(|i| Hd::var(z[i], i));
+    let (d, t1, t2) = (&v[0..3], &v[3..6], &v[6..9]);
+    let nu: [Hd; 3] = std::array::from_fn(|c| {
+        let (a, b) = ((c + 1) % 3, (c + 2) % 3);
+        t1[a].mul(&t2[b]).sub(&t1[b].mul(&t2[a]))
+    });
+    let nn = nu[0]
+        .mul(&nu[0])
+        .add(&nu[1].mul(&nu[1]))
+        .add(&nu[2].mul(&nu[2]));
+    let len = nn.v.sqrt();
+    // 1/|ν| = (ν·ν)^(-1/2)
+    let inv = nn.chain(
+        1.0 / len,
+        -0.5 / (len * len * len),
+        0.75 / (len * len * len * len * len),
+    );
+    let dn = d[0]
+        .mul(&nu[0])
+        .add(&d[1].mul(&nu[1]))
+        .add(&d[2].mul(&nu[2]));
+    dn.mul(&inv).scale(orientation)
+}
+
+/// Plain value of the gap function.
+fn gap_value(z: &[f64; 9], orientation: f64) -> f64 {
+    let nu = [
+        z[4] * z[8] - z[5] * z[7],
+        z[5] * z[6] - z[3] * z[8],
+        z[3] * z[7] - z[4] * z[6],
+    ];
+    let len = (nu[0] * nu[0] + nu[1] * nu[1] + nu[2] * nu[2]).sqrt();
+    orientation * (z[0] * nu[0] + z[1] * nu[1] + z[2] * nu[2]) / len
+}
+
+/// Contact of two facing faces (frictionless penalty with the C² barrier of the module docs).
+///
+/// At each 3×3 Gauss point of the back face's parametrisation the gap is measured between
+/// the points of equal reference position on the two faces, along the normal of their
+/// mid-surface:
+///
+/// ```text
+///   d = x_f − x_b,   m = (x_b + x_f)/2,   ν = ∂m/∂s × ∂m/∂t,   g = o · d·ν/|ν|
+///   Π_c = ∫ ψ(g) dA₀,   r = ∫ ψ'(g) ∂g/∂y dA₀,   K = ∫ (ψ''(g) ∂g⊗∂g + ψ'(g) ∂²g) dA₀
+/// ```
+///
+/// with `y` the 54 nodal positions (back face first). Matching points by reference position
+/// assumes small relative sliding of the facing walls, which holds for the bellows: they
+/// bulge towards each other and bend together. `x0_back` are the back face's reference
+/// coordinates, `x_back`, `x_front` the current ones. Adds into `r` (54) and `k` (54 × 54
+/// row-major) and returns (energy, normal contact force, smallest gap at a quadrature point).
+pub fn pair_face(
+    settings: &PairSettings,
+    orientation: f64,
+    x0_back: &[[f64; 3]; 9],
+    x_back: &[[f64; 3]; 9],
+    x_front: &[[f64; 3]; 9],
+    r: &mut [f64; PAIR_DOFS],
+    mut k: Option<&mut [f64; PAIR_DOFS * PAIR_DOFS]>,
+) -> (f64, f64, f64) {
+    let mut energy = 0.0;
+    let mut force = 0.0;
+    let mut min_gap = f64::INFINITY;
+    for (jt, &t) in GAUSS3.0.iter().enumerate() {
+        for (js, &s) in GAUSS3.0.iter().enumerate() {
+            let (ls, ds) = lagrange2(s);
+            let (lt, dt) = lagrange2(t);
+            let mut na = [0.0; 9];
+            let mut nas = [0.0; 9];
+            let mut nat = [0.0; 9];
+            let mut xs = [0.0; 3];
+            let mut xt = [0.0; 3];
+            let mut z = [0.0; 9];
+            for j in 0..3 {
+                for i in 0..3 {
+                    let a = i + 3 * j;
+                    na[a] = ls[i] * lt[j];
+                    nas[a] = ds[i] * lt[j];
+                    nat[a] = ls[i] * dt[j];
+                    for c in 0..3 {
+                        xs[c] += nas[a] * x0_back[a][c];
+                        xt[c] += nat[a] * x0_back[a][c];
+                        z[c] += na[a] * (x_front[a][c] - x_back[a][c]);
+                        z[3 + c] += 0.5 * nas[a] * (x_front[a][c] + x_back[a][c]);
+                        z[6 + c] += 0.5 * nat[a] * (x_front[a][c] + x_back[a][c]);
+                    }
+                }
+            }
+            let cr = [
+                xs[1] * xt[2] - xs[2] * xt[1],
+                xs[2] * xt[0] - xs[0] * xt[2],
+                xs[0] * xt[1] - xs[1] * xt[0],
+            ];
+            let da = GAUSS3.1[js]
+                * GAUSS3.1[jt]
+                * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]).sqrt();
+            let g0 = gap_value(&z, orientation);
+            min_gap = min_gap.min(g0);
+            let (psi, dpsi, ddpsi) = barrier(settings.stiffness, settings.smoothing, g0);
+            if dpsi == 0.0 && ddpsi == 0.0 {
+                continue;
+            }
+            energy += psi * da;
+            force -= dpsi * da;
+            let g = gap_function(&z, orientation);
+            // A = ∂z/∂y: per node a and side, coefficients of the (d, t₁, t₂) blocks
+            let mut coef = [[0.0; 3]; 18];
+            for a in 0..9 {
+                coef[a] = [-na[a], 0.5 * nas[a], 0.5 * nat[a]];
+                coef[9 + a] = [na[a], 0.5 * nas[a], 0.5 * nat[a]];
+            }
+            let mut dg = [0.0; PAIR_DOFS];
+            for (n, cf) in coef.iter().enumerate() {
+                for c in 0..3 {
+                    dg[3 * n + c] = cf[0] * g.g[c] + cf[1] * g.g[3 + c] + cf[2] * g.g[6 + c];
+                }
+            }
+            for (ri, gi) in r.iter_mut().zip(&dg) {
+                *ri += dpsi * gi * da;
+            }
+            if let Some(k) = k.as_deref_mut() {
+                for (n, cn) in coef.iter().enumerate() {
+                    for c in 0..3 {
+                        let row = 3 * n + c;
+                        for (m, cm) in coef.iter().enumerate() {
+                            for e in 0..3 {
+                                let col = 3 * m + e;
+                                let mut h = 0.0;
+                                for bi in 0..3 {
+                                    for bj in 0..3 {
+                                        h += cn[bi] * cm[bj] * g.h[3 * bi + c][3 * bj + e];
+                                    }
+                                }
+                                k[row * PAIR_DOFS + col] +=
+                                    (ddpsi * dg[row] * dg[col] + dpsi * h) * da;
+                            }
+                        }
+                    }
+                }
+            }
+        }
+    }
+    (energy, force, min_gap)
+}
+
+/// The orientation (±1) that makes the gap of a pair positive in its reference state.
+pub fn pair_orientation(x0_back: &[[f64; 3]; 9], x0_front: &[[f64; 3]; 9]) -> f64 {
+    let (ls, ds) = lagrange2(0.0);
+    let mut z = [0.0; 9];
+    for j in 0..3 {
+        for i in 0..3 {
+            let a = i + 3 * j;
+            for c in 0..3 {
+                z[c] += ls[i] * ls[j] * (x0_front[a][c] - x0_back[a][c]);
+                z[3 + c] += 0.5 * ds[i] * ls[j] * (x0_front[a][c] + x0_back[a][c]);
+                z[6 + c] += 0.5 * ls[i] * ds[j] * (x0_front[a][c] + x0_back[a][c]);
+            }
+        }
+    }
+    if gap_value(&z, 1.0) >= 0.0 {
+        1.0
+    } else {
+        -1.0
+    }
 }
 
 #[cfg(test)]
@@ -272,5 +552,99 @@ mod tests {
         assert!(e.to_string().contains("normal"));
         let e = RigidPlane::new([0.0; 3], [0.0, 0.0, 1.0], -1.0, 0.0).unwrap_err();
         assert!(e.to_string().contains("stiffness = -1"));
+    }
+
+    #[test]
+    fn pair_residual_and_tangent_match_finite_differences() {
+        let set = PairSettings {
+            stiffness: 60.0,
+            smoothing: 0.2,
+        };
+        let x0b = face(0.0, 0.0);
+        let x0f = face(1.0, 0.0);
+        let o = pair_orientation(&x0b, &x0f);
+        assert_eq!(o, 1.0);
+        // bulged, rotated walls: some points in penetration, some within δ, some open
+        let xb: [[f64; 3]; 9] = std::array::from_fn(|a| {
+            let p = x0b[a];
+            [
+                p[0] + 0.02 * p[1],
+                p[1] - 0.03 * p[2],
+                p[2] + 0.9 + 0.05 * (a as f64).cos(),
+            ]
+        });
+        let xf: [[f64; 3]; 9] = std::array::from_fn(|a| {
+            let p = x0f[a];
+            [
+                p[0] - 0.01,
+                p[1] + 0.02 * p[0],
+                p[2] - 0.05 * p[0] + 0.03 * (a as f64).sin(),
+            ]
+        });
+        let mut r = [0.0; PAIR_DOFS];
+        let mut k = [0.0; PAIR_DOFS * PAIR_DOFS];
+        let (_, f, g) = pair_face(&set, o, &x0b, &xb, &xf, &mut r, Some(&mut k));
+        assert!(
+            f > 0.0 && g < 0.0,
+            "the test state must be in contact: f {f}, g {g}"
+        );
+        let eval = |xb: &[[f64; 3]; 9], xf: &[[f64; 3]; 9]| {
+            let mut r = [0.0; PAIR_DOFS];
+            let e = pair_face(&set, o, &x0b, xb, xf, &mut r, None).0;
+            (e, r)
+        };
+        let h = 1e-6;
+        let (mut max_r, mut max_k) = (0.0f64, 0.0f64);
+        for col in 0..PAIR_DOFS {
+            let (node, c) = (col / 3, col % 3);
+            let (mut bp, mut bm, mut fp, mut fm) = (xb, xb, xf, xf);
+            if node < 9 {
+                bp[node][c] += h;
+                bm[node][c] -= h;
+            } else {
+                fp[node - 9][c] += h;
+                fm[node - 9][c] -= h;
+            }
+            let (ep, rp) = eval(&bp, &fp);
+            let (em, rm) = eval(&bm, &fm);
+            max_r = max_r.max(((ep - em) / (2.0 * h) - r[col]).abs());
+            for row in 0..PAIR_DOFS {
+                let fd = (rp[row] - rm[row]) / (2.0 * h);
+                max_k = max_k.max((fd - k[row * PAIR_DOFS + col]).abs());
+            }
+        }
+        let scale_r = r.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        let scale_k = k.iter().fold(0.0f64, |m, v| m.max(v.abs()));
+        assert!(
+            max_r < 1e-6 * scale_r,
+            "residual error {max_r} (scale {scale_r})"
+        );
+        assert!(
+            max_k < 1e-5 * scale_k,
+            "tangent error {max_k} (scale {scale_k})"
+        );
+    }
+
+    #[test]
+    fn parallel_walls_pressed_together_carry_pressure_times_area() {
+        let set = PairSettings {
+            stiffness: 100.0,
+            smoothing: 0.0,
+        };
+        let x0b = std::array::from_fn(|a| [(a % 3) as f64, (a / 3) as f64, 0.0]);
+        let x0f = x0b.map(|p: [f64; 3]| [p[0], p[1], 1.0]);
+        // the front wall moved 1.01 towards the back one and slid sideways by 0.3: 0.01 mm
+        // penetration, 1 MPa over 4 mm², no tangential force
+        let xf = x0f.map(|p| [p[0] + 0.3, p[1], p[2] - 1.01]);
+        let mut r = [0.0; PAIR_DOFS];
+        let o = pair_orientation(&x0b, &x0f);
+        let (_, f, g) = pair_face(&set, o, &x0b, &x0b, &xf, &mut r, None);
+        assert!((f - 4.0).abs() < 1e-10, "{f}");
+        assert!((g + 0.01).abs() < 1e-12, "{g}");
+        let sum = |side: usize, c: usize| (0..9).map(|a| r[27 * side + 3 * a + c]).sum::<f64>();
+        assert!((sum(0, 2) - 4.0).abs() < 1e-10 && (sum(1, 2) + 4.0).abs() < 1e-10);
+        for side in 0..2 {
+            assert!(sum(side, 0).abs() < 1e-12 && sum(side, 1).abs() < 1e-12);
+        }
     }
 }

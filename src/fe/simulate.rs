@@ -10,12 +10,13 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use super::assembly::{Constraint, FeModel, LoadLevel};
+use super::assembly::{pair_couplings, Constraint, FeModel, LoadLevel};
+use super::contact::{pair_orientation, ContactError, FacePair, PairSettings, RigidPlane};
 use super::element::{shape, ElementError};
 use super::geometry::{Design, GeometryError};
 use super::material::Material;
 use super::mesh::{ActuatorMesh, GapSide, MeshOptions};
-use super::solver::{solve_path, PathState, SolverError, SolverSettings, StepReport};
+use super::solver::{solve_path_from, PathState, SolverError, SolverSettings, StepReport};
 
 /// TPU density (t/mm³).
 pub const DENSITY: f64 = 1.19e-9;
@@ -25,6 +26,68 @@ pub const GRAVITY: f64 = 9810.0;
 pub const BAR: f64 = 0.1;
 /// Largest pressure accepted (bar).
 pub const MAX_PRESSURE_BAR: f64 = 10.0;
+/// Distance of the force plate below the tip of the unpressurised actuator (mm, SPEC).
+pub const PLATE_OFFSET: f64 = 5.0;
+/// The plate lies under z ∈ [Lf − 25, Lf + 5] (mm, SPEC).
+pub const PLATE_REACH: (f64, f64) = (25.0, 5.0);
+
+/// What the rig measures.
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Mode {
+    /// Free bending: markers, tip, angle.
+    #[default]
+    Bending,
+    /// Blocked force: a rigid plate 5 mm below the tip of the actuator hanging unpressurised
+    /// under its own weight; the plate's reaction per pressure step.
+    Force,
+}
+
+/// Contact settings of a case: bellow-to-bellow, first bellow against the clamp block, and
+/// the tip against the force plate (penalty barrier, see [`super::contact`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ContactSettings {
+    /// Contact on/off (bellow-to-bellow and clamp; the plate of [`Mode::Force`] is always on).
+    pub enabled: bool,
+    /// Penalty stiffness ε (MPa/mm).
+    pub stiffness: f64,
+    /// Smoothing width δ (mm).
+    pub smoothing: f64,
+}
+
+impl Default for ContactSettings {
+    fn default() -> Self {
+        Self {
+            enabled: true,
+            stiffness: 100.0,
+            smoothing: 0.02,
+        }
+    }
+}
+
+impl ContactSettings {
+    /// Checks the ranges: ε ∈ [1, 1e5] MPa/mm, δ ∈ [0, 0.5] mm.
+    ///
+    /// # Errors
+    /// [`ContactError::OutOfRange`] naming the setting.
+    pub fn validate(&self) -> Result<(), ContactError> {
+        if !(self.stiffness.is_finite() && (1.0..=1e5).contains(&self.stiffness)) {
+            return Err(ContactError::OutOfRange {
+                field: "contact stiffness",
+                value: self.stiffness,
+                expected: "a penalty stiffness in [1, 1e5] MPa/mm".into(),
+            });
+        }
+        if !(self.smoothing.is_finite() && (0.0..=0.5).contains(&self.smoothing)) {
+            return Err(ContactError::OutOfRange {
+                field: "contact smoothing",
+                value: self.smoothing,
+                expected: "a smoothing width in [0, 0.5] mm".into(),
+            });
+        }
+        Ok(())
+    }
+}
 
 /// Errors of a simulation.
 #[derive(Debug, Error)]
@@ -38,6 +101,9 @@ pub enum SimulateError {
     /// The solver stopped.
     #[error(transparent)]
     Solver(#[from] SolverError),
+    /// Invalid contact settings.
+    #[error(transparent)]
+    Contact(#[from] ContactError),
     /// Invalid pressure list.
     #[error("pressure {value} bar at position {index} is invalid: expected {expected}")]
     Pressure {
@@ -65,6 +131,10 @@ pub struct Case {
     pub mesh: MeshOptions,
     /// Solver settings.
     pub solver: SolverSettings,
+    /// Bending or blocked force.
+    pub mode: Mode,
+    /// Contact settings.
+    pub contact: ContactSettings,
 }
 
 /// Results of one pressure step.
@@ -94,6 +164,19 @@ pub struct StepResult {
     pub min_gap_mm: f64,
     /// Gap (or clamp gap) where it occurs.
     pub min_gap_at: String,
+    /// Blocked force: the plate's vertical reaction (N, full actuator), in [`Mode::Force`].
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub force_n: Option<f64>,
+    /// Total normal force between neighbouring bellows (N, full actuator).
+    #[serde(default)]
+    pub contact_force_n: f64,
+    /// Clamp block's reaction on the first bellow (N, full actuator).
+    #[serde(default)]
+    pub clamp_force_n: f64,
+    /// Smallest gap at a contact quadrature point, bellows and clamp (mm; negative =
+    /// penetration).
+    #[serde(default)]
+    pub min_contact_gap_mm: f64,
 }
 
 /// Results of a simulation.
@@ -121,6 +204,10 @@ pub struct ActuatorModel {
     pub mesh: ActuatorMesh,
     /// Assembled model.
     pub fe: FeModel,
+    /// Index of the clamp block's plane in `fe.planes`.
+    pub clamp: Option<usize>,
+    /// Index of the force plate's plane in `fe.planes`.
+    pub plate: Option<usize>,
 }
 
 impl ActuatorModel {
@@ -132,7 +219,10 @@ impl ActuatorModel {
         design: &Design,
         material: &Material,
         options: &MeshOptions,
+        mode: Mode,
+        contact: &ContactSettings,
     ) -> Result<Self, SimulateError> {
+        contact.validate()?;
         let mesh = ActuatorMesh::new(design, options);
         let mut constraints = Vec::new();
         for &n in &mesh.support {
@@ -156,18 +246,71 @@ impl ActuatorModel {
             .values()
             .flat_map(|fs| fs.iter().map(|f| (*f, 1.0)))
             .collect();
+        let pairs = if contact.enabled {
+            face_pairs(&mesh)
+        } else {
+            Vec::new()
+        };
         let mut fe = FeModel::new(
             mesh.mesh().clone(),
             material.clone(),
             &constraints,
             &faces,
-            &[],
+            &pair_couplings(&pairs),
         )?;
+        fe.set_face_pairs(
+            pairs,
+            PairSettings {
+                stiffness: contact.stiffness,
+                smoothing: contact.smoothing,
+            },
+        )?;
+        let mut clamp = None;
+        if contact.enabled {
+            if let Some(faces) = mesh.gap_faces.get(&GapSide::Clamp) {
+                let block = RigidPlane::new(
+                    [0.0; 3],
+                    [0.0, 0.0, 1.0],
+                    contact.stiffness,
+                    contact.smoothing,
+                )?;
+                clamp = Some(fe.add_plane_contact(block, faces)?);
+            }
+        }
+        let mut plate = None;
+        if mode == Mode::Force {
+            let lf = design.free_length();
+            let faces: Vec<_> = mesh
+                .grid
+                .boundary_faces(|k| k.is_none())
+                .into_iter()
+                .map(|(f, _)| f)
+                .filter(|f| {
+                    f.nodes.iter().all(|&n| {
+                        let x = mesh.mesh().nodes[n];
+                        x[1] == 0.0 && x[2] >= lf - PLATE_REACH.0 - 1e-9
+                    })
+                })
+                .collect();
+            // placed under the hanging actuator once its self-weight is applied
+            let far = RigidPlane::new(
+                [0.0, -1e6, 0.0],
+                [0.0, 1.0, 0.0],
+                contact.stiffness,
+                contact.smoothing,
+            )?;
+            plate = Some(fe.add_plane_contact(far, &faces)?);
+        }
         fe.set_body_force([0.0, -DENSITY * GRAVITY, 0.0]);
         // the cavities are closed by the symmetry plane x = W/2 and the duct by the clamped
         // face z = 0: both pass through this origin, so the pressure potential is exact
         fe.pressure_origin = [design.width() / 2.0, 0.0, 0.0];
-        Ok(Self { mesh, fe })
+        Ok(Self {
+            mesh,
+            fe,
+            clamp,
+            plate,
+        })
     }
 
     /// Displacement of marker `k` (0-based) in a full displacement vector.
@@ -240,6 +383,53 @@ impl ActuatorModel {
     }
 }
 
+/// Facing faces across every gap between neighbouring bellows, nodes matched by reference
+/// position (x, y).
+fn face_pairs(mesh: &ActuatorMesh) -> Vec<FacePair> {
+    let nodes = &mesh.mesh().nodes;
+    let mut pairs = Vec::new();
+    for (side, backs) in &mesh.gap_faces {
+        let GapSide::Back(i) = side else { continue };
+        let Some(fronts) = mesh.gap_faces.get(&GapSide::Front(*i)) else {
+            continue;
+        };
+        let mut by_centre = std::collections::HashMap::new();
+        for f in fronts {
+            let c = nodes[f.nodes[4]];
+            by_centre.insert(key(c[0], c[1]), f);
+        }
+        for b in backs {
+            let c = nodes[b.nodes[4]];
+            let Some(f) = by_centre.get(&key(c[0], c[1])) else {
+                continue;
+            };
+            let mut front = [0; 9];
+            let mut complete = true;
+            for (a, &nb) in b.nodes.iter().enumerate() {
+                let xb = nodes[nb];
+                match f.nodes.iter().find(|&&nf| {
+                    let xf = nodes[nf];
+                    key(xf[0], xf[1]) == key(xb[0], xb[1])
+                }) {
+                    Some(&nf) => front[a] = nf,
+                    None => complete = false,
+                }
+            }
+            if !complete {
+                continue;
+            }
+            let orientation =
+                pair_orientation(&b.nodes.map(|n| nodes[n]), &front.map(|n| nodes[n]));
+            pairs.push(FacePair {
+                back: b.nodes,
+                front,
+                orientation,
+            });
+        }
+    }
+    pairs
+}
+
 fn key(x: f64, y: f64) -> (i64, i64) {
     ((x * 1e6).round() as i64, (y * 1e6).round() as i64)
 }
@@ -300,7 +490,13 @@ pub fn simulate_with(
 ) -> Result<Response, SimulateError> {
     let start = Instant::now();
     validate_pressures(&case.pressures_bar)?;
-    let model = ActuatorModel::new(&case.design, &case.material, &case.mesh)?;
+    let mut model = ActuatorModel::new(
+        &case.design,
+        &case.material,
+        &case.mesh,
+        case.mode,
+        &case.contact,
+    )?;
     let g = if case.gravity { 1.0 } else { 0.0 };
     let mut levels = vec![LoadLevel {
         gravity: g,
@@ -316,20 +512,63 @@ pub fn simulate_with(
     let total = levels.len();
     let lf = case.design.free_length();
     let mut steps = Vec::new();
-    let reports = solve_path(
+    let mut state = PathState::new(&model.fe);
+    // Stage 1: self-weight (the state reported at P = 0).
+    let mut reports = solve_path_from(
         &model.fe,
         case.solver.clone(),
-        &levels,
-        |i, state: &PathState, rep: &StepReport| {
-            progress(i + 1, total);
-            if i == 0 && !first_is_zero {
-                return;
+        &mut state,
+        &levels[..1],
+        |_, state, rep| {
+            progress(1, total);
+            if first_is_zero {
+                let result = measure(&model, state, rep, lf);
+                on_result(&model, &result, &state.u_full);
+                steps.push(result);
             }
+        },
+    )?;
+    // Stage 2 (blocked force): the plate goes 5 mm below the hanging tip.
+    if let Some(plate) = model.plate {
+        let tip = model.marker_displacement(8, &state.u_full);
+        model.fe.planes[plate].point = [0.0, tip[1] - PLATE_OFFSET, 0.0];
+    }
+    // Stage 3: the pressure ramp.
+    let ramp = solve_path_from(
+        &model.fe,
+        case.solver.clone(),
+        &mut state,
+        &levels[1..],
+        |i, state, rep| {
+            progress(i + 2, total);
             let result = measure(&model, state, rep, lf);
             on_result(&model, &result, &state.u_full);
             steps.push(result);
         },
-    )?;
+    );
+    match ramp {
+        Ok(r) => reports.extend(r),
+        Err(SolverError::NotConverged {
+            target,
+            reached,
+            cutbacks,
+            residual,
+            completed,
+            reports: r,
+        }) => {
+            reports.extend(r);
+            return Err(SolverError::NotConverged {
+                target,
+                reached,
+                cutbacks,
+                residual,
+                completed: completed + 1,
+                reports,
+            }
+            .into());
+        }
+        Err(e) => return Err(e.into()),
+    }
     let factor_time_s = reports.iter().map(|r| r.factor_seconds).sum();
     let assembly_time_s = reports.iter().map(|r| r.assembly_seconds).sum();
     Ok(Response {
@@ -363,6 +602,18 @@ fn measure(model: &ActuatorModel, state: &PathState, rep: &StepReport, lf: f64) 
     let z_tip = lf - tip[0];
     let y_tip = tip[1];
     let (min_gap_mm, min_gap_at) = model.min_gap(u);
+    // reactions of the obstacles at the converged state (×2: the model is a half)
+    let mut r = vec![0.0; u.len()];
+    let info = model.fe.assemble(u, &state.level, &mut r, None).ok();
+    let plane = |i: Option<usize>| {
+        i.zip(info.as_ref())
+            .map(|(i, info)| (2.0 * info.plane_forces[i], info.plane_min_gaps[i]))
+    };
+    let force_n = plane(model.plate).map(|(f, _)| f);
+    let (clamp_force_n, clamp_gap) = plane(model.clamp).unwrap_or((0.0, f64::INFINITY));
+    let (contact_force_n, pair_gap) = info.as_ref().map_or((0.0, f64::INFINITY), |i| {
+        (2.0 * i.pair_force, i.pair_min_gap)
+    });
     StepResult {
         pressure_bar: state.level.pressure / BAR,
         tip_uz_mm: tip[0],
@@ -376,5 +627,9 @@ fn measure(model: &ActuatorModel, state: &PathState, rep: &StepReport, lf: f64) 
         converged: rep.converged,
         min_gap_mm,
         min_gap_at,
+        force_n,
+        contact_force_n,
+        clamp_force_n,
+        min_contact_gap_mm: pair_gap.min(clamp_gap),
     }
 }

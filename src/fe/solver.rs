@@ -661,15 +661,30 @@ pub fn solve_path(
     model: &FeModel,
     settings: SolverSettings,
     levels: &[LoadLevel],
+    observe: impl FnMut(usize, &PathState, &StepReport),
+) -> Result<Vec<StepReport>, SolverError> {
+    let mut state = PathState::new(model);
+    solve_path_from(model, settings, &mut state, levels, observe)
+}
+
+/// As [`solve_path`], continuing from a converged `state` (e.g. after a change of the
+/// model's obstacles between two phases of a load path).
+///
+/// # Errors
+/// [`SolverError::NotConverged`] carrying the reports of the steps that converged.
+pub fn solve_path_from(
+    model: &FeModel,
+    settings: SolverSettings,
+    state: &mut PathState,
+    levels: &[LoadLevel],
     mut observe: impl FnMut(usize, &PathState, &StepReport),
 ) -> Result<Vec<StepReport>, SolverError> {
     let mut solver = Solver::new(model, settings)?;
-    let mut state = PathState::new(model);
     let mut reports = Vec::with_capacity(levels.len());
     for (i, level) in levels.iter().enumerate() {
-        match solver.advance(&mut state, *level) {
+        match solver.advance(state, *level) {
             Ok(rep) => {
-                observe(i, &state, &rep);
+                observe(i, state, &rep);
                 reports.push(rep);
             }
             Err(SolverError::NotConverged {

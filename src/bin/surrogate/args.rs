@@ -133,6 +133,15 @@ pub struct ExportArgs {
     pub precision: PrecisionArg,
 }
 
+/// Measurement mode.
+#[derive(Debug, Clone, Copy, clap::ValueEnum)]
+pub enum ModeArg {
+    /// Free bending.
+    Bending,
+    /// Blocked force.
+    Force,
+}
+
 /// `surrogate simulate`.
 #[derive(Debug, Args)]
 pub struct SimulateArgs {
@@ -166,6 +175,19 @@ pub struct SimulateArgs {
     /// Write the deformed mesh of every step as .vtu files into this directory.
     #[arg(long)]
     pub vtk: Option<PathBuf>,
+    /// What to measure: bending (markers, tip, angle) or force (blocked force on a plate 5 mm
+    /// below the hanging tip; adds `force_n` per step).
+    #[arg(long, value_enum, default_value = "bending")]
+    pub mode: ModeArg,
+    /// Switch bellow-to-bellow and clamp contact off (walls may then interpenetrate).
+    #[arg(long)]
+    pub no_contact: bool,
+    /// Contact penalty stiffness (MPa per mm of penetration).
+    #[arg(long, default_value_t = 100.0)]
+    pub contact_stiffness: f64,
+    /// Contact smoothing width (mm): contact pressure starts at this gap.
+    #[arg(long, default_value_t = 0.02)]
+    pub contact_smoothing: f64,
     /// Largest pressure increment of one load substep (bar).
     #[arg(long, default_value_t = 0.5)]
     pub max_increment: f64,

@@ -12,7 +12,7 @@ use surrogate::calibrate::experiments::{bending_error, shipped_bending, BendingR
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
-use surrogate::fe::simulate::{simulate_with_progress, Case, StepResult};
+use surrogate::fe::simulate::{simulate_with_progress, Case, ContactSettings, Mode, StepResult};
 use surrogate::fe::solver::SolverSettings;
 
 use crate::args::DemoArgs;
@@ -27,6 +27,8 @@ pub fn run(a: DemoArgs) -> Result<()> {
         gravity: true,
         mesh: MeshOptions::level(level),
         solver: SolverSettings::default(),
+        mode: Mode::Bending,
+        contact: ContactSettings::default(),
     };
     eprintln!(
         "FE model: N = {}, T = {} mm, {}, {} mesh, gravity on, pressure 0 → 3 bar",

@@ -8,11 +8,11 @@ use serde::Serialize;
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
-use surrogate::fe::simulate::{simulate_with, Case, Response};
+use surrogate::fe::simulate::{simulate_with, Case, ContactSettings, Mode, Response};
 use surrogate::fe::solver::SolverSettings;
 use surrogate::fe::vtk;
 
-use crate::args::SimulateArgs;
+use crate::args::{ModeArg, SimulateArgs};
 
 /// Parses a comma-separated pressure list.
 pub fn parse_pressures(s: &str) -> Result<Vec<f64>> {
@@ -59,6 +59,15 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
             max_pressure_increment: a.max_increment * surrogate::fe::simulate::BAR,
             line_search: a.line_search,
             ..SolverSettings::default()
+        },
+        mode: match a.mode {
+            ModeArg::Bending => Mode::Bending,
+            ModeArg::Force => Mode::Force,
+        },
+        contact: ContactSettings {
+            enabled: !a.no_contact,
+            stiffness: a.contact_stiffness,
+            smoothing: a.contact_smoothing,
         },
     })
 }
