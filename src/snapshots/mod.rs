@@ -13,6 +13,7 @@
 //! * [`run`]: the case runner abstraction ([`CaseRunner`]), the shard driver with resume, and a
 //!   cheap analytic runner for tests and dry runs of the distribution machinery.
 //! * [`fe_runner`]: the real runner, one FE pressure ramp per case.
+//! * [`verify`]: re-simulates random cases of a snapshot file and compares the outputs.
 //!
 //! ## One case, one ramp
 //!
@@ -72,6 +73,7 @@
 //! surrogate snapshots run --plan plan.json --shard 2/4 --out shards/2 --threads 2
 //! surrogate snapshots merge --from shards/1 shards/2 shards/3 shards/4 \
 //!                           --out training_data/snapshots.csv
+//! surrogate snapshots verify --data training_data/snapshots.csv --cases 3   # re-simulate 3
 //! sbatch … / bash slurm/submit.sh plan.json 4                               # Slurm job array
 //! ```
 
@@ -79,6 +81,7 @@ pub mod fe_runner;
 pub mod plan;
 pub mod run;
 pub mod store;
+pub mod verify;
 
 pub use plan::{Plan, PlanSettings, PlannedCase, Ranges, Shard};
 pub use run::{run_shard, CaseOutcome, CaseRunner, RunOptions, RunSummary, StepOutputs};

@@ -10,6 +10,8 @@ use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::snapshots::fe_runner::fe_runner;
 use surrogate::snapshots::run::{AnalyticRunner, Progress};
+use surrogate::snapshots::store::{case_name, sidecar_path};
+use surrogate::snapshots::verify::resimulate;
 use surrogate::snapshots::{
     merge, run_shard, CaseRunner, Plan, PlanSettings, Ranges, RunOptions, Shard,
 };
@@ -35,6 +37,8 @@ pub enum SnapshotsCommand {
     Run(RunArgs),
     /// Join shard directories into one snapshot CSV (identical to a single run).
     Merge(MergeArgs),
+    /// Re-simulate random cases of a snapshot CSV and compare with the stored values.
+    Verify(VerifyArgs),
 }
 
 /// Case runner.
@@ -133,12 +137,39 @@ pub struct MergeArgs {
     pub out: PathBuf,
 }
 
+/// `snapshots verify`.
+#[derive(Debug, Args)]
+pub struct VerifyArgs {
+    /// Snapshot CSV (from `snapshots merge`).
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Plan of the data (default: the copy beside it, <stem>.plan.json).
+    #[arg(long)]
+    pub plan: Option<PathBuf>,
+    /// Number of cases to re-simulate.
+    #[arg(long, default_value_t = 3)]
+    pub cases: usize,
+    /// Seed of the choice of cases.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Largest accepted absolute difference.
+    #[arg(long, default_value_t = 1e-9)]
+    pub tolerance: f64,
+    /// Case runner (as used for the data).
+    #[arg(long, value_enum, default_value = "fe")]
+    pub runner: RunnerArg,
+    /// Analytic runner only: every how many cases one fails half-way (as used for the data).
+    #[arg(long, default_value_t = 0)]
+    pub fail_every: usize,
+}
+
 /// Runs the subcommand.
 pub fn run(a: SnapshotsArgs) -> Result<()> {
     match (a.command, a.run) {
         (Some(SnapshotsCommand::Plan(p)), _) => plan(p),
         (Some(SnapshotsCommand::Run(r)), _) | (None, Some(r)) => run_plan(r),
         (Some(SnapshotsCommand::Merge(m)), _) => merge_dirs(m),
+        (Some(SnapshotsCommand::Verify(v)), _) => verify(v),
         (None, None) => anyhow::bail!(
             "give a subcommand (plan, run, merge) or --plan PLAN --shard k/n --out DIR"
         ),
@@ -287,5 +318,47 @@ fn merge_dirs(a: MergeArgs) -> Result<()> {
         s.unconverged_rows,
         s.plan_hash
     );
+    Ok(())
+}
+
+fn verify(a: VerifyArgs) -> Result<()> {
+    anyhow::ensure!(
+        a.tolerance.is_finite() && a.tolerance >= 0.0,
+        "--tolerance {}: expected a finite number ≥ 0",
+        a.tolerance
+    );
+    let plan_path = a.plan.clone().unwrap_or_else(|| sidecar_path(&a.data));
+    let plan = Plan::read(&plan_path)?;
+    let analytic = AnalyticRunner {
+        delay: Duration::ZERO,
+        fail_every: a.fail_every,
+    };
+    let runner: &dyn CaseRunner = match a.runner {
+        RunnerArg::Fe => &fe_runner,
+        RunnerArg::Analytic => &analytic,
+    };
+    let checks = resimulate(&a.data, &plan, a.cases, a.seed, runner)?;
+    let mut ok = true;
+    for c in &checks {
+        let pass = c.same_convergence && c.max_abs_diff <= a.tolerance;
+        ok &= pass;
+        eprintln!(
+            "{}: max |stored - re-simulated| = {:e}, converged flags {}: {}",
+            case_name(c.id),
+            c.max_abs_diff,
+            if c.same_convergence {
+                "equal"
+            } else {
+                "DIFFER"
+            },
+            if pass { "ok" } else { "FAIL" }
+        );
+    }
+    anyhow::ensure!(
+        ok,
+        "re-simulated values differ by more than {}",
+        a.tolerance
+    );
+    eprintln!("{} cases reproduce within {}", checks.len(), a.tolerance);
     Ok(())
 }
