@@ -8,8 +8,9 @@
 //!
 //! * [`plan`]: the sampling plan — ranges, a seeded maximin Latin hypercube stratified over
 //!   `N`, the pressure ramp and the solver/mesh settings, and the explicit list of cases.
-//! * [`store`]: the snapshot CSV columns, the atomic per-case files of a shard directory, the
-//!   merge of shard directories into one file.
+//! * [`shard`]: the deterministic share `k/n` of a plan.
+//! * [`store`]: the snapshot CSV columns and the atomic per-case files of a shard directory.
+//! * [`merge`]: shard directories → one snapshot CSV, identical to a single run.
 //! * [`run`]: the case runner abstraction ([`CaseRunner`]), the shard driver with resume, and a
 //!   cheap analytic runner for tests and dry runs of the distribution machinery.
 //! * [`fe_runner`]: the real runner, one FE pressure ramp per case.
@@ -78,14 +79,18 @@
 //! ```
 
 pub mod fe_runner;
+pub mod merge;
 pub mod plan;
 pub mod run;
+pub mod shard;
 pub mod store;
 pub mod verify;
 
-pub use plan::{Plan, PlanSettings, PlannedCase, Ranges, Shard};
+pub use merge::{merge, MergeSummary};
+pub use plan::{Plan, PlanSettings, PlannedCase, Ranges};
 pub use run::{run_shard, CaseOutcome, CaseRunner, RunOptions, RunSummary, StepOutputs};
-pub use store::{merge, ShardDir};
+pub use shard::Shard;
+pub use store::ShardDir;
 
 use thiserror::Error;
 

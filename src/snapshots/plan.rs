@@ -51,7 +51,6 @@
 //! (`μ0` logarithmically) onto the ranges; `T`'s range is the one capped for the case's `N`.
 
 use std::path::Path;
-use std::str::FromStr;
 
 use egobox_doe::{Lhs, LhsKind, SamplingMethod};
 use ndarray::Array2;
@@ -59,7 +58,7 @@ use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256Plus;
 use serde::{Deserialize, Serialize};
 
-use super::SnapshotError;
+use super::{Shard, SnapshotError};
 use crate::fe::geometry::{Design, DesignParams, GeometryError, MIN_CAVITY_LENGTH, N_RANGE};
 use crate::fe::material::{
     literature_sets, Hyperelastic, Material, MaterialError, MaterialLaw, Ogden2,
@@ -586,61 +585,5 @@ impl Plan {
             .filter(|(i, _)| shard.owns(*i))
             .map(|(_, c)| c)
             .collect()
-    }
-}
-
-/// A share `k/n` of a plan (1-based, `1 ≤ k ≤ n`): the cases at positions `i` with
-/// `i mod n = k − 1` (round robin, so every shard gets a similar mix of `N`).
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Shard {
-    /// 1-based index `k`.
-    pub index: usize,
-    /// Number of shards `n`.
-    pub count: usize,
-}
-
-impl Shard {
-    /// The whole plan.
-    pub const ALL: Shard = Shard { index: 1, count: 1 };
-
-    /// Whether the case at plan position `position` belongs to this shard.
-    pub fn owns(&self, position: usize) -> bool {
-        position % self.count == self.index - 1
-    }
-}
-
-impl std::fmt::Display for Shard {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(f, "{}/{}", self.index, self.count)
-    }
-}
-
-impl FromStr for Shard {
-    type Err = SnapshotError;
-    /// Parses `k/n` with integers `1 ≤ k ≤ n`.
-    fn from_str(s: &str) -> Result<Self, SnapshotError> {
-        let err = |expected: String| SnapshotError::Shard {
-            spec: s.to_owned(),
-            expected,
-        };
-        let (k, n) = s
-            .split_once('/')
-            .ok_or_else(|| err("k/n, e.g. 2/8 (shard k of n, 1 ≤ k ≤ n)".into()))?;
-        let parse = |t: &str, what: &str| {
-            t.trim().parse::<usize>().map_err(|_| {
-                err(format!(
-                    "k/n with integers: {what} {:?} is not a non-negative integer",
-                    t.trim()
-                ))
-            })
-        };
-        let (k, n) = (parse(k, "k")?, parse(n, "n")?);
-        if n == 0 {
-            return Err(err("n ≥ 1 shards".into()));
-        }
-        if k == 0 || k > n {
-            return Err(err(format!("1 ≤ k ≤ {n} (shards are numbered from 1)")));
-        }
-        Ok(Shard { index: k, count: n })
     }
 }

@@ -14,7 +14,8 @@ use std::time::{Duration, Instant};
 
 use rayon::prelude::*;
 
-use super::plan::{Plan, PlanSettings, PlannedCase, Shard};
+use super::plan::{Plan, PlanSettings, PlannedCase};
+use super::shard::Shard;
 use super::store::{read_case_file, ShardDir};
 use super::SnapshotError;
 

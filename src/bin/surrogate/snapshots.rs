@@ -9,8 +9,9 @@ use clap::{Args, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::snapshots::fe_runner::fe_runner;
+use surrogate::snapshots::merge::sidecar_path;
 use surrogate::snapshots::run::{AnalyticRunner, Progress};
-use surrogate::snapshots::store::{case_name, sidecar_path};
+use surrogate::snapshots::store::case_name;
 use surrogate::snapshots::verify::resimulate;
 use surrogate::snapshots::{
     merge, run_shard, CaseRunner, Plan, PlanSettings, Ranges, RunOptions, Shard,
@@ -171,7 +172,7 @@ pub fn run(a: SnapshotsArgs) -> Result<()> {
         (Some(SnapshotsCommand::Merge(m)), _) => merge_dirs(m),
         (Some(SnapshotsCommand::Verify(v)), _) => verify(v),
         (None, None) => anyhow::bail!(
-            "give a subcommand (plan, run, merge) or --plan PLAN --shard k/n --out DIR"
+            "give a subcommand (plan, run, merge, verify) or --plan PLAN --shard k/n --out DIR"
         ),
     }
 }
