@@ -156,18 +156,9 @@ pub fn run_shard(
     let start = Instant::now();
     let store = ShardDir::create(dir, plan)?;
     let cases = plan.shard_cases(options.shard);
-    let finished = store.case_ids()?;
-    let mut pending = Vec::new();
-    for case in &cases {
-        match finished.get(&case.id) {
-            Some(path) => {
-                read_case_file(path, case, &plan.settings)?;
-            }
-            None => {
-                store.remove_temporaries(case.id)?;
-                pending.push(*case);
-            }
-        }
+    let pending = pending_cases(Some(&store), plan, options.shard)?;
+    for case in &pending {
+        store.remove_temporaries(case.id)?;
     }
     let total = pending.len();
     progress(Progress {
@@ -209,6 +200,45 @@ pub fn run_shard(
         failed: failed.into_inner(),
         wall_time_s: start.elapsed().as_secs_f64(),
     })
+}
+
+/// The cases of `shard` without a case file in `store` (all of them without a store), after
+/// validating the files that exist.
+fn pending_cases<'p>(
+    store: Option<&ShardDir>,
+    plan: &'p Plan,
+    shard: Shard,
+) -> Result<Vec<&'p PlannedCase>, SnapshotError> {
+    let cases = plan.shard_cases(shard);
+    let Some(store) = store else {
+        return Ok(cases);
+    };
+    let finished = store.case_ids()?;
+    let mut pending = Vec::new();
+    for case in cases {
+        match finished.get(&case.id) {
+            Some(path) => {
+                read_case_file(path, case, &plan.settings)?;
+            }
+            None => pending.push(case),
+        }
+    }
+    Ok(pending)
+}
+
+/// How far a shard is, without running or writing anything: `(cases in the shard, finished)`.
+///
+/// # Errors
+/// As [`run_shard`] before it runs anything: another plan in `dir`, an invalid case file.
+pub fn shard_status(
+    plan: &Plan,
+    dir: &Path,
+    shard: Shard,
+) -> Result<(usize, usize), SnapshotError> {
+    let store = ShardDir::existing(dir, plan)?;
+    let pending = pending_cases(store.as_ref(), plan, shard)?;
+    let cases = plan.shard_cases(shard).len();
+    Ok((cases, cases - pending.len()))
 }
 
 /// Runs one case, turning a panic into a failed outcome.

@@ -315,39 +315,53 @@ pub struct ShardDir {
 }
 
 impl ShardDir {
-    /// Opens `root` for `plan`, creating it (with `plan.json` and `plan_hash`) if needed.
+    /// Checks `root` for `plan` without writing anything: the directory if it holds this plan,
+    /// `None` if it is not a snapshot directory yet (missing, or without a plan hash and case
+    /// folder).
     ///
     /// # Errors
     /// [`SnapshotError::PlanMismatch`] if it holds another plan, [`SnapshotError::NotSnapshotDir`]
-    /// if it has case files but no plan hash, I/O errors.
-    pub fn create(root: &Path, plan: &Plan) -> Result<Self, SnapshotError> {
+    /// if it has a case folder but no plan hash, I/O errors.
+    pub fn existing(root: &Path, plan: &Plan) -> Result<Option<Self>, SnapshotError> {
         let dir = Self {
             root: root.to_path_buf(),
         };
         let hash = plan.hash();
         match dir.recorded_hash()? {
-            Some(found) if found == hash => {}
-            Some(found) => {
-                return Err(SnapshotError::PlanMismatch {
-                    dir: root.display().to_string(),
-                    found,
-                    expected: hash,
-                })
-            }
+            Some(found) if found == hash => Ok(Some(dir)),
+            Some(found) => Err(SnapshotError::PlanMismatch {
+                dir: root.display().to_string(),
+                found,
+                expected: hash,
+            }),
+            None if dir.cases_dir().exists() => Err(SnapshotError::NotSnapshotDir {
+                dir: root.display().to_string(),
+                reason: format!("it has a {CASES_DIR}/ folder but no {PLAN_HASH_FILE}"),
+            }),
+            None => Ok(None),
+        }
+    }
+
+    /// Opens `root` for `plan`, creating it (with `plan.json` and `plan_hash`) if needed.
+    ///
+    /// # Errors
+    /// See [`ShardDir::existing`]; I/O errors.
+    pub fn create(root: &Path, plan: &Plan) -> Result<Self, SnapshotError> {
+        let dir = match Self::existing(root, plan)? {
+            Some(dir) => dir,
             None => {
-                if dir.cases_dir().exists() {
-                    return Err(SnapshotError::NotSnapshotDir {
-                        dir: root.display().to_string(),
-                        reason: format!("it has a {CASES_DIR}/ folder but no {PLAN_HASH_FILE}"),
-                    });
-                }
+                let dir = Self {
+                    root: root.to_path_buf(),
+                };
                 let cases = dir.cases_dir();
                 std::fs::create_dir_all(&cases).map_err(|e| SnapshotError::io(&cases, e))?;
                 write_atomic(&root.join(PLAN_FILE), plan.pretty_json().as_bytes())?;
                 // the hash marker last: it commits the directory to the plan
-                write_atomic(&root.join(PLAN_HASH_FILE), format!("{hash}\n").as_bytes())?;
+                let hash = format!("{}\n", plan.hash());
+                write_atomic(&root.join(PLAN_HASH_FILE), hash.as_bytes())?;
+                dir
             }
-        }
+        };
         let cases = dir.cases_dir();
         std::fs::create_dir_all(&cases).map_err(|e| SnapshotError::io(&cases, e))?;
         Ok(dir)

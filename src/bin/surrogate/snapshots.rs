@@ -10,7 +10,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::snapshots::fe_runner::fe_runner;
 use surrogate::snapshots::merge::sidecar_path;
-use surrogate::snapshots::run::{AnalyticRunner, Progress};
+use surrogate::snapshots::run::{shard_status, AnalyticRunner, Progress};
 use surrogate::snapshots::store::case_name;
 use surrogate::snapshots::verify::resimulate;
 use surrogate::snapshots::{
@@ -78,6 +78,9 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Check plan, shard and directory and print how far the shard is; run nothing.
+    #[arg(long)]
+    pub dry_run: bool,
 }
 
 /// `snapshots plan`.
@@ -264,6 +267,16 @@ fn run_plan(a: RunArgs) -> Result<()> {
     let shard: Shard = a.shard.parse()?;
     if let Some(t) = a.threads {
         anyhow::ensure!(t >= 1, "--threads {t}: expected at least 1");
+    }
+    if a.dry_run {
+        let (cases, finished) = shard_status(&plan, &a.out, shard)?;
+        eprintln!(
+            "shard {shard} of {} (plan {}): {finished} of {cases} cases finished in {}",
+            a.plan.display(),
+            plan.hash(),
+            a.out.display()
+        );
+        return Ok(());
     }
     let analytic = AnalyticRunner {
         delay: Duration::from_millis(a.delay_ms),
