@@ -10,7 +10,7 @@
 //!   `N`, the pressure ramp and the solver/mesh settings, and the explicit list of cases.
 //! * [`shard`]: the deterministic share `k/n` of a plan.
 //! * [`store`]: the snapshot CSV columns and the atomic per-case files of a shard directory.
-//! * [`merge`]: shard directories → one snapshot CSV, identical to a single run.
+//! * [`mod@merge`]: shard directories → one snapshot CSV, identical to a single run.
 //! * [`run`]: the case runner abstraction ([`CaseRunner`]), the shard driver with resume, and a
 //!   cheap analytic runner for tests and dry runs of the distribution machinery.
 //! * [`fe_runner`]: the real runner, one FE pressure ramp per case.
@@ -69,14 +69,37 @@
 //! ## Commands
 //!
 //! ```sh
-//! surrogate snapshots plan --cases 200 --seed 2024 --out plan.json          # the sampling plan
-//! surrogate snapshots --plan plan.json --shard 1/1 --out training_data/run  # run (resumable)
-//! surrogate snapshots run --plan plan.json --shard 2/4 --out shards/2 --threads 2
-//! surrogate snapshots merge --from shards/1 shards/2 shards/3 shards/4 \
-//!                           --out training_data/snapshots.csv
-//! surrogate snapshots verify --data training_data/snapshots.csv --cases 3   # re-simulate 3
-//! sbatch … / bash slurm/submit.sh plan.json 4                               # Slurm job array
+//! # the sampling plan (ranges, mesh, pressures: see `snapshots plan --help`)
+//! surrogate snapshots plan --cases 200 --seed 2024 --out training_data/plan.json
+//! # one machine: all cases, in parallel, resumable (run it again after a kill)
+//! surrogate snapshots --plan training_data/plan.json --out snapshot_runs/all
+//! surrogate snapshots merge --from snapshot_runs/all --out training_data/snapshots.csv
+//! # or by shards (`snapshots` = `snapshots run`), then one merge
+//! surrogate snapshots run --plan P --shard 2/4 --out snapshot_runs/shard_2 --threads 2
+//! surrogate snapshots merge --from snapshot_runs/shard_* --out training_data/snapshots.csv
+//! # how far a shard is, without running anything
+//! surrogate snapshots run --plan P --shard 2/4 --out snapshot_runs/shard_2 --dry-run
+//! # re-simulate 3 random cases of a merged file, compare every output to 1e-9
+//! surrogate snapshots verify --data training_data/snapshots.csv --cases 3
+//! # dry run of the machinery with a closed-form stand-in for the FE
+//! surrogate snapshots --plan P --out /tmp/dry --runner analytic
 //! ```
+//!
+//! ## Slurm
+//!
+//! `slurm/submit.sh PLAN N OUT MERGED` submits `slurm/snapshots.sbatch` as a job array of `N`
+//! tasks (task `i` of `--array=0-(N−1)` runs shard `i+1/N` into `OUT/shard_<i+1>`, with
+//! `--threads $SLURM_CPUS_PER_TASK`) and the same script again as the merge job, with
+//! `--dependency=afterok:<array>`. A task killed by a time limit loses only its running cases:
+//! resubmit and every shard resumes. `slurm/local_cluster.sh` starts a single-node Slurm
+//! (munge, slurmctld, slurmd) on a Debian machine; `slurm/local_run.sh` runs a tiny real-FE
+//! plan through it and writes `slurm/local_run.log` (merged file identical to a single run).
+//!
+//! ## Status
+//!
+//! The blocked-force ramp is a placeholder until the FE has its blocked-force mode: `force_n`
+//! is `NaN` (see [`fe_runner::blocked_force_ramp`]). The surrogate trainer requires finite
+//! values in converged rows, so FE snapshot sets become trainable once that mode is wired in.
 
 pub mod fe_runner;
 pub mod merge;

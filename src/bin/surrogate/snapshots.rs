@@ -373,6 +373,6 @@ fn verify(a: VerifyArgs) -> Result<()> {
         "re-simulated values differ by more than {}",
         a.tolerance
     );
-    eprintln!("{} cases reproduce within {}", checks.len(), a.tolerance);
+    eprintln!("{} cases reproduce within {:e}", checks.len(), a.tolerance);
     Ok(())
 }
