@@ -385,3 +385,74 @@ fn failed_cases_are_recorded_with_their_error() {
         .contains("runner returned 0 of 6 steps without an error"));
     std::fs::remove_dir_all(root).unwrap();
 }
+
+#[test]
+fn verify_re_runs_random_cases_and_finds_changed_values() {
+    use surrogate::snapshots::verify::resimulate;
+    let root = scratch("verify");
+    let p = plan(8, 2);
+    single_run(&p, &root);
+    let data = root.join("single.csv");
+    let checks = resimulate(&data, &p, 3, 1, &FAILING).unwrap();
+    assert_eq!(checks.len(), 3);
+    assert!(checks
+        .iter()
+        .all(|c| c.max_abs_diff == 0.0 && c.same_convergence));
+    // the same 3 cases for the same seed, all cases when asking for more
+    let ids: Vec<usize> = checks.iter().map(|c| c.id).collect();
+    let again: Vec<usize> = resimulate(&data, &p, 3, 1, &FAILING)
+        .unwrap()
+        .iter()
+        .map(|c| c.id)
+        .collect();
+    assert_eq!(ids, again);
+    assert_eq!(resimulate(&data, &p, 50, 1, &FAILING).unwrap().len(), 8);
+    // a runner that differs is caught, through the CLI too
+    let shifted = |c: &PlannedCase, s: &PlanSettings| {
+        let mut o = FAILING.run(c, s);
+        o.steps.iter_mut().for_each(|st| st.tip_uy_mm += 1e-6);
+        o
+    };
+    let checks = resimulate(&data, &p, 8, 1, &shifted).unwrap();
+    assert!(
+        checks
+            .iter()
+            .all(|c| c.max_abs_diff > 9e-7 && c.max_abs_diff < 2e-6),
+        "{checks:?}"
+    );
+    let d = data.to_str().unwrap();
+    let (ok, err) = cli(&[
+        "snapshots",
+        "verify",
+        "--data",
+        d,
+        "--runner",
+        "analytic",
+        "--fail-every",
+        "4",
+    ]);
+    assert!(ok && err.contains("3 cases reproduce within 1e-9"), "{err}");
+    let (ok, err) = cli(&[
+        "snapshots",
+        "verify",
+        "--data",
+        d,
+        "--runner",
+        "analytic",
+        "--cases",
+        "8",
+    ]);
+    assert!(
+        !ok && err.contains("DIFFER"),
+        "the failing cases' flags differ: {err}"
+    );
+    // stored inputs that are not the plan's: an error before anything runs
+    let text = std::fs::read_to_string(&data).unwrap();
+    let t = format!("{:?}", p.cases[0].wall_thickness_mm);
+    std::fs::write(&data, text.replace(&t, "2.0")).unwrap();
+    let err = resimulate(&data, &p, 8, 1, &FAILING)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("case_000000: stored inputs"), "{err}");
+    std::fs::remove_dir_all(root).unwrap();
+}

@@ -9,7 +9,7 @@
 use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
-use super::plan::PlannedCase;
+use super::plan::{Plan, PlannedCase};
 use super::store::{case_name, header_line, read_case_file, write_atomic, ShardDir};
 use super::SnapshotError;
 
@@ -39,17 +39,13 @@ fn id_list(ids: &[usize]) -> String {
     }
 }
 
-/// Joins the shard directories `dirs` into one CSV at `out` (written atomically), with the
-/// plan copy beside it (`<out stem>.plan.json`). Rows are sorted by case id, then pressure;
-/// the result is byte-identical to merging a single run of the whole plan.
-///
-/// # Errors
-/// [`SnapshotError::Merge`] if the directories hold different plans, a case is missing, or a
-/// case appears more than once; case-file and I/O errors.
-pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeSummary, SnapshotError> {
-    let merge_err = |message: String| SnapshotError::Merge { message };
+/// The plan of `dirs` (all the same) and the case files found, by id; duplicate ids.
+type Found = (Plan, BTreeMap<usize, PathBuf>, Vec<usize>);
+
+/// Opens every directory, checks they hold one plan, and lists their case files.
+fn collect(dirs: &[PathBuf]) -> Result<Found, SnapshotError> {
     let Some(first) = dirs.first() else {
-        return Err(merge_err("no shard directory given".into()));
+        return Err(merge_error("no shard directory given".into()));
     };
     let (_, plan) = ShardDir::open(first)?;
     let hash = plan.hash();
@@ -58,7 +54,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeSummary, SnapshotError
     for d in dirs {
         let (dir, p) = ShardDir::open(d)?;
         if p.hash() != hash {
-            return Err(merge_err(format!(
+            return Err(merge_error(format!(
                 "{} holds plan {} but {} holds plan {hash}",
                 d.display(),
                 p.hash(),
@@ -73,9 +69,21 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeSummary, SnapshotError
             }
         }
     }
-    let mut cases: Vec<&PlannedCase> = plan.cases.iter().collect();
-    cases.sort_by_key(|c| c.id);
-    let missing: Vec<usize> = cases
+    Ok((plan, found, duplicates))
+}
+
+fn merge_error(message: String) -> SnapshotError {
+    SnapshotError::Merge { message }
+}
+
+/// Every plan case exactly once, nothing else.
+fn check_complete(
+    plan: &Plan,
+    found: &BTreeMap<usize, PathBuf>,
+    duplicates: &[usize],
+) -> Result<(), SnapshotError> {
+    let missing: Vec<usize> = plan
+        .cases
         .iter()
         .map(|c| c.id)
         .filter(|id| !found.contains_key(id))
@@ -85,31 +93,45 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeSummary, SnapshotError
         .copied()
         .filter(|id| !plan.cases.iter().any(|c| c.id == *id))
         .collect();
-    if !duplicates.is_empty() || !missing.is_empty() || !unknown.is_empty() {
-        let mut parts = Vec::new();
-        if !missing.is_empty() {
-            parts.push(format!(
-                "{} cases missing ({})",
-                missing.len(),
-                id_list(&missing)
-            ));
-        }
-        if !duplicates.is_empty() {
-            parts.push(format!(
-                "{} cases in more than one directory ({})",
-                duplicates.len(),
-                id_list(&duplicates)
-            ));
-        }
-        if !unknown.is_empty() {
-            parts.push(format!(
-                "{} case files not in the plan ({})",
-                unknown.len(),
-                id_list(&unknown)
-            ));
-        }
-        return Err(merge_err(format!("plan {hash}: {}", parts.join("; "))));
+    let mut parts = Vec::new();
+    if !missing.is_empty() {
+        parts.push(format!(
+            "{} cases missing ({})",
+            missing.len(),
+            id_list(&missing)
+        ));
     }
+    if !duplicates.is_empty() {
+        let (n, ids) = (duplicates.len(), id_list(duplicates));
+        parts.push(format!("{n} cases in more than one directory ({ids})"));
+    }
+    if !unknown.is_empty() {
+        let (n, ids) = (unknown.len(), id_list(&unknown));
+        parts.push(format!("{n} case files not in the plan ({ids})"));
+    }
+    if parts.is_empty() {
+        Ok(())
+    } else {
+        Err(merge_error(format!(
+            "plan {}: {}",
+            plan.hash(),
+            parts.join("; ")
+        )))
+    }
+}
+
+/// Joins the shard directories `dirs` into one CSV at `out` (written atomically), with the
+/// plan copy beside it ([`sidecar_path`]). Rows are sorted by case id, then pressure; the
+/// result is byte-identical to merging a single run of the whole plan.
+///
+/// # Errors
+/// [`SnapshotError::Merge`] if the directories hold different plans, a case is missing, or a
+/// case appears more than once; case-file and I/O errors. Nothing is written on error.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeSummary, SnapshotError> {
+    let (plan, found, duplicates) = collect(dirs)?;
+    check_complete(&plan, &found, &duplicates)?;
+    let mut cases: Vec<&PlannedCase> = plan.cases.iter().collect();
+    cases.sort_by_key(|c| c.id);
     let mut text = header_line().into_bytes();
     text.push(b'\n');
     let mut summary = MergeSummary {
@@ -117,7 +139,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeSummary, SnapshotError
         rows: 0,
         failed_cases: 0,
         unconverged_rows: 0,
-        plan_hash: hash,
+        plan_hash: plan.hash(),
     };
     for case in cases {
         let file = read_case_file(&found[&case.id], case, &plan.settings)?;

@@ -206,8 +206,47 @@ pub struct CaseFile {
     pub unconverged_rows: usize,
 }
 
+/// Checks one data row (0-based `j`) of a case file; returns whether it converged.
+fn check_row(
+    rec: &csv::StringRecord,
+    j: usize,
+    case: &PlannedCase,
+    settings: &PlanSettings,
+) -> Result<bool, String> {
+    let Some(&p) = settings.pressures_bar.get(j) else {
+        let n = settings.pressures_bar.len();
+        return Err(format!("more rows than the plan's {n} pressures"));
+    };
+    if rec.len() != n_columns() {
+        return Err(format!("{} cells, expected {}", rec.len(), n_columns()));
+    }
+    // inputs, pressure and the plan's settings (not code_version: a resume may use a newer build)
+    let expected = row_cells(case, settings, p, None, "");
+    let header = header_line();
+    for col in (0..8).chain(n_columns() - 7..n_columns() - 2) {
+        if rec[col] != expected[col] {
+            let name = header.split(',').nth(col).unwrap_or("?");
+            return Err(format!(
+                "{name} = {:?}, expected {:?} (the plan's value)",
+                &rec[col], expected[col]
+            ));
+        }
+    }
+    let converged = match &rec[8] {
+        "true" => true,
+        "false" => false,
+        other => return Err(format!("converged = {other:?}, expected true or false")),
+    };
+    for (col, name) in REQUIRED_COLUMNS.iter().enumerate().skip(9) {
+        if rec[col].parse::<f64>().is_err() {
+            return Err(format!("{name} = {:?} is not a number", &rec[col]));
+        }
+    }
+    Ok(converged)
+}
+
 /// Reads and validates the case file of `case` against the plan: header, one row per plan
-/// pressure in order, the case's inputs, booleans and numbers.
+/// pressure in order, the case's inputs and settings, booleans and numbers.
 ///
 /// # Errors
 /// [`SnapshotError::CaseFile`] naming the file, line and problem.
@@ -222,88 +261,35 @@ pub fn read_case_file(
         line,
         message,
     };
-    let header = header_line();
-    let split = bytes.iter().position(|&b| b == b'\n');
-    let (head, body) = match split {
+    let (head, body) = match bytes.iter().position(|&b| b == b'\n') {
         Some(i) => (&bytes[..i], &bytes[i + 1..]),
         None => (&bytes[..], &[][..]),
     };
-    if head != header.as_bytes() {
-        return Err(bad(1, "header differs from this program's snapshot columns (written by another version?); delete the file to re-run the case".into()));
+    if head != header_line().as_bytes() {
+        let why = "header differs from this program's snapshot columns (written by another \
+                   version?); delete the file to re-run the case";
+        return Err(bad(1, why.into()));
     }
-    let mut rdr = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .from_reader(body);
     let mut out = CaseFile {
         body: body.to_vec(),
         failed: false,
         unconverged_rows: 0,
     };
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(body);
     let mut rows = 0;
     for (j, rec) in rdr.records().enumerate() {
-        let line = j + 2;
-        let rec = rec.map_err(|e| bad(line, e.to_string()))?;
-        let Some(&p) = settings.pressures_bar.get(j) else {
-            return Err(bad(
-                line,
-                format!(
-                    "more rows than the plan's {} pressures",
-                    settings.pressures_bar.len()
-                ),
-            ));
-        };
-        let expected = row_cells(case, settings, p, None, "");
-        if rec.len() != n_columns() {
-            return Err(bad(
-                line,
-                format!("{} cells, expected {}", rec.len(), n_columns()),
-            ));
-        }
-        for col in (0..8).chain(n_columns() - 7..n_columns() - 2) {
-            if rec[col] != expected[col] {
-                let name = header.split(',').nth(col).unwrap_or("?");
-                return Err(bad(
-                    line,
-                    format!(
-                        "{name} = {:?}, expected {:?} (the plan's value)",
-                        &rec[col], expected[col]
-                    ),
-                ));
-            }
-        }
-        let converged = match &rec[8] {
-            "true" => true,
-            "false" => false,
-            other => {
-                return Err(bad(
-                    line,
-                    format!("converged = {other:?}, expected true or false"),
-                ))
-            }
-        };
-        for col in 9..REQUIRED_COLUMNS.len() {
-            if rec[col].parse::<f64>().is_err() {
-                return Err(bad(
-                    line,
-                    format!(
-                        "{} = {:?} is not a number",
-                        REQUIRED_COLUMNS[col], &rec[col]
-                    ),
-                ));
-            }
-        }
+        let rec = rec.map_err(|e| bad(j + 2, e.to_string()))?;
+        let converged = check_row(&rec, j, case, settings).map_err(|m| bad(j + 2, m))?;
         out.unconverged_rows += usize::from(!converged);
         out.failed |= !rec[n_columns() - 1].is_empty();
         rows += 1;
     }
-    if rows != settings.pressures_bar.len() {
-        return Err(bad(
-            rows + 1,
-            format!(
-                "{rows} rows, expected one per plan pressure ({})",
-                settings.pressures_bar.len()
-            ),
-        ));
+    let n = settings.pressures_bar.len();
+    if rows != n {
+        let why = format!("{rows} rows, expected one per plan pressure ({n})");
+        return Err(bad(rows + 1, why));
     }
     Ok(out)
 }

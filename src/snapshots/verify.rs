@@ -15,8 +15,8 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
 use super::plan::Plan;
-use super::run::CaseRunner;
-use super::store::{case_csv, REQUIRED_COLUMNS};
+use super::run::{CaseOutcome, CaseRunner};
+use super::store::{case_csv, case_name, REQUIRED_COLUMNS};
 use super::SnapshotError;
 
 /// Index of the first output column (`tip_uz_mm`).
@@ -76,12 +76,56 @@ fn diff(a: f64, b: f64) -> f64 {
     }
 }
 
+/// The rows of a case CSV written by [`case_csv`].
+fn own_rows(bytes: &[u8]) -> Vec<csv::StringRecord> {
+    csv::Reader::from_reader(bytes)
+        .records()
+        .map(|r| r.expect("CSV written by case_csv"))
+        .collect()
+}
+
+/// Compares the stored rows of a case with rows written for it: row count, inputs and
+/// pressure (`inputs_only`), or convergence flags and outputs.
+fn compare(
+    stored: &[Vec<String>],
+    written: &[csv::StringRecord],
+    check: &mut CaseCheck,
+    inputs_only: bool,
+) -> Result<(), String> {
+    if written.len() != stored.len() {
+        return Err(format!(
+            "{} rows stored, {} expected",
+            stored.len(),
+            written.len()
+        ));
+    }
+    for (s, f) in stored.iter().zip(written) {
+        if inputs_only {
+            if (0..CONVERGED).any(|c| s[c] != f[c]) {
+                let plan: Vec<&str> = f.iter().take(CONVERGED).collect();
+                let stored = &s[..CONVERGED];
+                return Err(format!(
+                    "stored inputs {stored:?} differ from the plan's {plan:?}"
+                ));
+            }
+            continue;
+        }
+        check.same_convergence &= s[CONVERGED] == f[CONVERGED];
+        for c in FIRST_OUTPUT..REQUIRED_COLUMNS.len() {
+            let a = s[c].parse::<f64>().unwrap_or(f64::NAN);
+            let b = f[c].parse::<f64>().unwrap_or(f64::NAN);
+            check.max_abs_diff = check.max_abs_diff.max(diff(a, b));
+        }
+    }
+    Ok(())
+}
+
 /// Re-runs `n_cases` cases of the snapshot file `data` chosen at random with `seed` (all if
 /// fewer), with `runner`, and compares them with the stored rows.
 ///
 /// # Errors
 /// A file that cannot be read, a case id not in the plan, stored inputs that differ from the
-/// plan's ([`SnapshotError::CaseFile`]).
+/// plan's ([`SnapshotError::CaseFile`]); checked before anything runs.
 pub fn resimulate(
     data: &Path,
     plan: &Plan,
@@ -90,62 +134,40 @@ pub fn resimulate(
     runner: &dyn CaseRunner,
 ) -> Result<Vec<CaseCheck>, SnapshotError> {
     let rows = read_rows(data)?;
-    let bad = |message: String| SnapshotError::CaseFile {
+    let bad = |name: &str, message: String| SnapshotError::CaseFile {
         path: data.display().to_string(),
         line: 0,
-        message,
+        message: format!("{name}: {message}"),
     };
-    let by_name: BTreeMap<String, _> = plan
-        .cases
-        .iter()
-        .map(|c| (super::store::case_name(c.id), c))
-        .collect();
+    let by_name: BTreeMap<String, _> = plan.cases.iter().map(|c| (case_name(c.id), c)).collect();
     let names: Vec<&String> = rows.keys().collect();
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    let mut chosen: Vec<&String> = sample(&mut rng, names.len(), n_cases.min(names.len()))
-        .into_iter()
-        .map(|i| names[i])
-        .collect();
-    chosen.sort();
+    let mut chosen = Vec::new();
+    for i in sample(&mut rng, names.len(), n_cases.min(names.len())) {
+        let name = names[i];
+        let case = *by_name
+            .get(name)
+            .ok_or_else(|| bad(name, "not a case of the plan".into()))?;
+        let mut check = CaseCheck {
+            id: case.id,
+            max_abs_diff: 0.0,
+            same_convergence: true,
+        };
+        let planned = own_rows(&case_csv(case, &plan.settings, &CaseOutcome::default()));
+        compare(&rows[name], &planned, &mut check, true).map_err(|m| bad(name, m))?;
+        chosen.push((name, case, check));
+    }
+    chosen.sort_by_key(|(_, case, _)| case.id);
     chosen
-        .par_iter()
+        .into_par_iter()
         .with_max_len(1)
-        .map(|name| {
-            let case = by_name
-                .get(*name)
-                .ok_or_else(|| bad(format!("case {name} is not in the plan")))?;
-            let stored = &rows[*name];
-            let fresh_csv = case_csv(case, &plan.settings, &runner.run(case, &plan.settings));
-            let mut fresh = csv::Reader::from_reader(fresh_csv.as_slice());
-            let fresh: Vec<csv::StringRecord> =
-                fresh.records().map(|r| r.expect("own CSV")).collect();
-            if fresh.len() != stored.len() {
-                return Err(bad(format!(
-                    "{name}: {} rows stored, {} re-simulated",
-                    stored.len(),
-                    fresh.len()
-                )));
-            }
-            let mut check = CaseCheck {
-                id: case.id,
-                max_abs_diff: 0.0,
-                same_convergence: true,
-            };
-            for (s, f) in stored.iter().zip(&fresh) {
-                if (0..CONVERGED).any(|c| s[c] != f[c]) {
-                    return Err(bad(format!(
-                        "{name}: stored inputs {:?} differ from the plan's {:?}",
-                        &s[..CONVERGED],
-                        &f.iter().take(CONVERGED).collect::<Vec<_>>()
-                    )));
-                }
-                check.same_convergence &= s[CONVERGED] == f[CONVERGED];
-                for c in FIRST_OUTPUT..REQUIRED_COLUMNS.len() {
-                    let a = s[c].parse::<f64>().unwrap_or(f64::NAN);
-                    let b = f[c].parse::<f64>().unwrap_or(f64::NAN);
-                    check.max_abs_diff = check.max_abs_diff.max(diff(a, b));
-                }
-            }
+        .map(|(name, case, mut check)| {
+            let fresh = own_rows(&case_csv(
+                case,
+                &plan.settings,
+                &runner.run(case, &plan.settings),
+            ));
+            compare(&rows[name], &fresh, &mut check, false).map_err(|m| bad(name, m))?;
             Ok(check)
         })
         .collect()
