@@ -54,7 +54,9 @@
 //!   killed at any point resumes where it stopped, never duplicating or losing a case.
 //!   Temporary files of the shard's own cases left by a kill are removed on resume.
 //! * **Failures are data**: a case whose FE solve stops keeps its converged steps; the remaining
-//!   pressures get `converged = false`, `NaN` outputs and the error message in `error`.
+//!   pressures get `converged = false`, `NaN` outputs and the error message in `error`. A
+//!   failed case is finished like any other (a resume does not retry it: delete its file to).
+//!   A runner that panics is recorded the same way (`runner panicked: …`).
 //! * **Plan identity**: a directory created for one plan refuses another plan (different hash).
 //! * **Determinism**: a case file depends only on the plan and the case; shard count, thread
 //!   count and resume history do not change a byte of the merged file.

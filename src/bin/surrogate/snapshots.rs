@@ -295,6 +295,7 @@ fn run_plan(a: RunArgs) -> Result<()> {
     bar.set_style(ProgressStyle::with_template(
         "{msg} [{bar:30}] {pos}/{len} cases, {elapsed_precise} elapsed, ETA {eta_precise}",
     )?);
+    bar.set_message(format!("shard {shard}"));
     let progress = |p: Progress| {
         bar.set_length(p.total as u64);
         bar.set_position(p.done as u64);
