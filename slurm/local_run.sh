@@ -10,15 +10,16 @@ set -euo pipefail
 HERE=$(cd "$(dirname "$0")" && pwd)
 REPO=$(dirname "$HERE")
 WORK=${1:-/tmp/surrogate-slurm-run}
+# before the log is (re)written: the log itself would make the tree dirty
+describe=$(git -C "$REPO" describe --always --dirty)
 exec > >(tee "$HERE/local_run.log") 2>&1
 
-echo "# slurm/local_run.sh: $(date -u +%FT%TZ) on $(hostname), commit $(git -C "$REPO" describe --always --dirty)"
+echo "# slurm/local_run.sh: $(date -u +%FT%TZ) on $(hostname), commit $describe"
 echo "## start the single-node cluster"
 bash "$HERE/local_cluster.sh"
 sbatch --version
 
 echo "## build"
-describe=$(git -C "$REPO" describe --always --dirty)
 (cd "$REPO" && SURROGATE_GIT_DESCRIBE=$describe cargo build --release --quiet)
 export SURROGATE=${CARGO_TARGET_DIR:-$REPO/target}/release/surrogate
 "$SURROGATE" --version
