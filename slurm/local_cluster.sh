@@ -52,7 +52,7 @@ fi
 if ! munge -n >/dev/null 2>&1; then
     runuser -u munge -- /usr/sbin/munged
     sleep 1
-    pgrep -u munge -x munged | head -1 > "$RUN/munged.pid"
+    cp /run/munge/munged.pid "$RUN/munged.pid"   # munged's own pid file
 fi
 munge -n | unmunge >/dev/null && echo "munge: ok"
 
