@@ -11,6 +11,9 @@ pub enum Error {
     /// Reduced-order model: snapshot data, training, model files, queries.
     #[error(transparent)]
     Rom(#[from] crate::rom::RomError),
+    /// Sampling plans, snapshot directories and merges.
+    #[error(transparent)]
+    Snapshots(#[from] crate::snapshots::SnapshotError),
     /// Input/output failure with the path involved.
     #[error("{path}: {source}")]
     Io {

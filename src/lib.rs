@@ -21,5 +21,6 @@ pub mod error;
 pub mod fe;
 pub mod predict;
 pub mod rom;
+pub mod snapshots;
 
 pub use error::{Error, Result};

@@ -25,6 +25,8 @@ pub enum Command {
     Predict(PredictArgs),
     /// Export a surrogate for the embedded predictor (Rust tables + C header).
     Export(ExportArgs),
+    /// Snapshots: sampling plans, shard runs (resumable), merges.
+    Snapshots(Box<crate::snapshots::SnapshotsArgs>),
 }
 
 /// Regressor family restriction.

@@ -5,6 +5,7 @@ mod demo;
 mod export;
 mod predict;
 mod simulate;
+mod snapshots;
 mod train;
 
 use std::process::ExitCode;
@@ -19,6 +20,7 @@ fn main() -> ExitCode {
         args::Command::Train(a) => train::run(a),
         args::Command::Predict(a) => predict::run(a),
         args::Command::Export(a) => export::run(a),
+        args::Command::Snapshots(a) => snapshots::run(*a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,379 @@
+//! `surrogate snapshots`: sampling plans, shard runs (resumable), merges.
+//!
+//! `surrogate snapshots --plan P --shard k/n --out DIR` is `snapshots run`.
+use std::path::PathBuf;
+use std::time::Duration;
+
+use anyhow::{Context, Result};
+use clap::{Args, Subcommand, ValueEnum};
+use indicatif::{ProgressBar, ProgressStyle};
+use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::snapshots::fe_runner::fe_runner;
+use surrogate::snapshots::merge::sidecar_path;
+use surrogate::snapshots::run::{shard_status, AnalyticRunner, Progress};
+use surrogate::snapshots::store::case_name;
+use surrogate::snapshots::verify::resimulate;
+use surrogate::snapshots::{
+    merge, run_shard, CaseRunner, Plan, PlanSettings, Ranges, RunOptions, Shard,
+};
+
+/// `surrogate snapshots`.
+#[derive(Debug, Args)]
+#[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
+pub struct SnapshotsArgs {
+    /// The subcommand (default: run).
+    #[command(subcommand)]
+    pub command: Option<SnapshotsCommand>,
+    /// `run`'s options, accepted without the word `run`.
+    #[command(flatten)]
+    pub run: Option<RunArgs>,
+}
+
+/// Subcommands of `snapshots`.
+#[derive(Debug, Subcommand)]
+pub enum SnapshotsCommand {
+    /// Write a sampling plan (maximin Latin hypercube, stratified over N).
+    Plan(PlanArgs),
+    /// Run a shard of a plan into a directory (resumes where a previous run stopped).
+    Run(RunArgs),
+    /// Join shard directories into one snapshot CSV (identical to a single run).
+    Merge(MergeArgs),
+    /// Re-simulate random cases of a snapshot CSV and compare with the stored values.
+    Verify(VerifyArgs),
+}
+
+/// Case runner.
+#[derive(Debug, Clone, Copy, ValueEnum)]
+pub enum RunnerArg {
+    /// The FE model.
+    Fe,
+    /// A closed-form stand-in: dry runs of the distribution machinery (tests, Slurm checks).
+    Analytic,
+}
+
+/// `snapshots run`.
+#[derive(Debug, Args)]
+pub struct RunArgs {
+    /// Plan file (from `snapshots plan`).
+    #[arg(long)]
+    pub plan: PathBuf,
+    /// The share of the plan: k/n, 1 ≤ k ≤ n.
+    #[arg(long, default_value = "1/1")]
+    pub shard: String,
+    /// Output (shard) directory.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Cases run in parallel (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
+    /// Case runner.
+    #[arg(long, value_enum, default_value = "fe")]
+    pub runner: RunnerArg,
+    /// Analytic runner only: sleep per case (ms).
+    #[arg(long, default_value_t = 0)]
+    pub delay_ms: u64,
+    /// Analytic runner only: every how many cases one fails half-way (0: none).
+    #[arg(long, default_value_t = 0)]
+    pub fail_every: usize,
+    /// No progress bar.
+    #[arg(long)]
+    pub quiet: bool,
+    /// Check plan, shard and directory and print how far the shard is; run nothing.
+    #[arg(long)]
+    pub dry_run: bool,
+}
+
+/// `snapshots plan`.
+#[derive(Debug, Args)]
+pub struct PlanArgs {
+    /// Number of cases.
+    #[arg(long)]
+    pub cases: usize,
+    /// Seed of the Latin hypercube.
+    #[arg(long, default_value_t = 2024)]
+    pub seed: u64,
+    /// Output plan file.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Values of N (comma list or a..b), e.g. 9,11,13.
+    #[arg(long, default_value = "7..15")]
+    pub n_values: String,
+    /// Wall thickness range lo,hi (mm).
+    #[arg(long, default_value = "1.2,2.8")]
+    pub t_range: String,
+    /// Initial shear modulus range lo,hi (MPa), log-uniform.
+    #[arg(long, default_value = "1.5,15")]
+    pub mu0_range: String,
+    /// Range of term 1's share of μ0, inside (0, 1).
+    #[arg(long, default_value = "0.02,0.95")]
+    pub share_range: String,
+    /// Range of α1 (> 0).
+    #[arg(long, default_value = "1,8")]
+    pub alpha1_range: String,
+    /// Range of α2 (< 0).
+    #[arg(long, default_value = "-3,-0.004", allow_hyphen_values = true)]
+    pub alpha2_range: String,
+    /// Pressure ramp in bar: a comma list, or max:step (e.g. 3.5:0.25 = 0, 0.25, …, 3.5).
+    #[arg(long, default_value = "3.5:0.25")]
+    pub pressures: String,
+    /// Mesh level: coarse | standard | fine.
+    #[arg(long, default_value = "standard")]
+    pub mesh: String,
+    /// Element size override (mm).
+    #[arg(long)]
+    pub element_size: Option<f64>,
+    /// Bulk modulus as a multiple of μ0.
+    #[arg(long, default_value_t = 1000.0)]
+    pub bulk_ratio: f64,
+    /// Switch self-weight off.
+    #[arg(long)]
+    pub no_gravity: bool,
+}
+
+/// `snapshots merge`.
+#[derive(Debug, Args)]
+pub struct MergeArgs {
+    /// Shard directories.
+    #[arg(long, num_args = 1.., required = true)]
+    pub from: Vec<PathBuf>,
+    /// Output CSV (the plan is copied beside it as <stem>.plan.json).
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
+/// `snapshots verify`.
+#[derive(Debug, Args)]
+pub struct VerifyArgs {
+    /// Snapshot CSV (from `snapshots merge`).
+    #[arg(long)]
+    pub data: PathBuf,
+    /// Plan of the data (default: the copy beside it, <stem>.plan.json).
+    #[arg(long)]
+    pub plan: Option<PathBuf>,
+    /// Number of cases to re-simulate.
+    #[arg(long, default_value_t = 3)]
+    pub cases: usize,
+    /// Seed of the choice of cases.
+    #[arg(long, default_value_t = 1)]
+    pub seed: u64,
+    /// Largest accepted absolute difference.
+    #[arg(long, default_value_t = 1e-9)]
+    pub tolerance: f64,
+    /// Case runner (as used for the data).
+    #[arg(long, value_enum, default_value = "fe")]
+    pub runner: RunnerArg,
+    /// Analytic runner only: every how many cases one fails half-way (as used for the data).
+    #[arg(long, default_value_t = 0)]
+    pub fail_every: usize,
+}
+
+/// Runs the subcommand.
+pub fn run(a: SnapshotsArgs) -> Result<()> {
+    match (a.command, a.run) {
+        (Some(SnapshotsCommand::Plan(p)), _) => plan(p),
+        (Some(SnapshotsCommand::Run(r)), _) | (None, Some(r)) => run_plan(r),
+        (Some(SnapshotsCommand::Merge(m)), _) => merge_dirs(m),
+        (Some(SnapshotsCommand::Verify(v)), _) => verify(v),
+        (None, None) => anyhow::bail!(
+            "give a subcommand (plan, run, merge, verify) or --plan PLAN --shard k/n --out DIR"
+        ),
+    }
+}
+
+/// `lo,hi` of flag `flag`.
+fn pair(flag: &str, s: &str) -> Result<[f64; 2]> {
+    let v: Vec<&str> = s.split(',').collect();
+    let parse = |t: &str| {
+        t.trim().parse::<f64>().with_context(|| {
+            format!(
+                "--{flag} {s:?}: {:?} is not a number (expected lo,hi)",
+                t.trim()
+            )
+        })
+    };
+    anyhow::ensure!(v.len() == 2, "--{flag} {s:?}: expected two numbers lo,hi");
+    Ok([parse(v[0])?, parse(v[1])?])
+}
+
+/// `9,11,13` or `7..15`.
+fn n_values(s: &str) -> Result<Vec<usize>> {
+    let bad =
+        || format!("--n-values {s:?}: expected a comma list of integers or a..b (e.g. 7..15)");
+    if let Some((a, b)) = s.split_once("..") {
+        let a: usize = a.trim().parse().with_context(bad)?;
+        let b: usize = b.trim().parse().with_context(bad)?;
+        return Ok((a..=b).collect());
+    }
+    s.split(',')
+        .map(|t| t.trim().parse().with_context(bad))
+        .collect()
+}
+
+/// A comma list, or `max:step` from 0.
+fn pressures(s: &str) -> Result<Vec<f64>> {
+    if let Some((max, step)) = s.split_once(':') {
+        let [max, step] = pair("pressures", &format!("{max},{step}"))?;
+        anyhow::ensure!(
+            step > 0.0 && max >= 0.0 && (max / step) < 1e4,
+            "--pressures {s:?}: expected max:step with max ≥ 0, step > 0"
+        );
+        let n = (max / step + 1e-9).floor() as usize;
+        return Ok((0..=n).map(|i| i as f64 * step).collect());
+    }
+    crate::simulate::parse_pressures(s)
+}
+
+fn plan(a: PlanArgs) -> Result<()> {
+    let ranges = Ranges {
+        n_bellows: n_values(&a.n_values)?,
+        wall_thickness_mm: pair("t-range", &a.t_range)?,
+        mu0_mpa: pair("mu0-range", &a.mu0_range)?,
+        term1_share: pair("share-range", &a.share_range)?,
+        alpha1: pair("alpha1-range", &a.alpha1_range)?,
+        alpha2: pair("alpha2-range", &a.alpha2_range)?,
+    };
+    let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
+    let settings = PlanSettings {
+        pressures_bar: pressures(&a.pressures)?,
+        gravity: !a.no_gravity,
+        mesh: MeshOptions {
+            level,
+            element_size: a.element_size,
+        },
+        bulk_ratio: a.bulk_ratio,
+        ..PlanSettings::default()
+    };
+    let plan = Plan::generate(a.cases, a.seed, ranges, settings)?;
+    surrogate::snapshots::store::write_atomic(&a.out, plan.pretty_json().as_bytes())?;
+    let inside: Vec<String> = plan
+        .ranges
+        .literature_inside()?
+        .into_iter()
+        .map(|(name, inside)| format!("{name} {}", if inside { "inside" } else { "OUTSIDE" }))
+        .collect();
+    eprintln!(
+        "wrote {}: {} cases, {} pressures, plan hash {}; literature Ogden sets: {}",
+        a.out.display(),
+        plan.cases.len(),
+        plan.settings.pressures_bar.len(),
+        plan.hash(),
+        inside.join(", ")
+    );
+    Ok(())
+}
+
+fn run_plan(a: RunArgs) -> Result<()> {
+    let plan = Plan::read(&a.plan)?;
+    let shard: Shard = a.shard.parse()?;
+    if let Some(t) = a.threads {
+        anyhow::ensure!(t >= 1, "--threads {t}: expected at least 1");
+    }
+    if a.dry_run {
+        let (cases, finished) = shard_status(&plan, &a.out, shard)?;
+        eprintln!(
+            "shard {shard} of {} (plan {}): {finished} of {cases} cases finished in {}",
+            a.plan.display(),
+            plan.hash(),
+            a.out.display()
+        );
+        return Ok(());
+    }
+    let analytic = AnalyticRunner {
+        delay: Duration::from_millis(a.delay_ms),
+        fail_every: a.fail_every,
+    };
+    let runner: &dyn CaseRunner = match a.runner {
+        RunnerArg::Fe => &fe_runner,
+        RunnerArg::Analytic => &analytic,
+    };
+    let n = plan.shard_cases(shard).len();
+    let bar = if a.quiet {
+        ProgressBar::hidden()
+    } else {
+        ProgressBar::new(0)
+    };
+    bar.set_style(ProgressStyle::with_template(
+        "{msg} [{bar:30}] {pos}/{len} cases, {elapsed_precise} elapsed, ETA {eta_precise}",
+    )?);
+    bar.set_message(format!("shard {shard}"));
+    let progress = |p: Progress| {
+        bar.set_length(p.total as u64);
+        bar.set_position(p.done as u64);
+        bar.set_message(format!(
+            "shard {shard} ({} already done, {} failed)",
+            n - p.total,
+            p.failed
+        ));
+    };
+    let options = RunOptions {
+        shard,
+        threads: a.threads,
+    };
+    let summary = run_shard(&plan, &a.out, &options, runner, &progress).with_context(|| {
+        format!(
+            "running shard {shard} of {} into {}",
+            a.plan.display(),
+            a.out.display()
+        )
+    })?;
+    bar.finish_and_clear();
+    eprintln!("{summary}");
+    Ok(())
+}
+
+fn merge_dirs(a: MergeArgs) -> Result<()> {
+    let s = merge(&a.from, &a.out)?;
+    eprintln!(
+        "merged {} shard directories into {}: {} cases ({} failed), {} rows ({} unconverged), plan {}",
+        a.from.len(),
+        a.out.display(),
+        s.cases,
+        s.failed_cases,
+        s.rows,
+        s.unconverged_rows,
+        s.plan_hash
+    );
+    Ok(())
+}
+
+fn verify(a: VerifyArgs) -> Result<()> {
+    anyhow::ensure!(
+        a.tolerance.is_finite() && a.tolerance >= 0.0,
+        "--tolerance {}: expected a finite number ≥ 0",
+        a.tolerance
+    );
+    let plan_path = a.plan.clone().unwrap_or_else(|| sidecar_path(&a.data));
+    let plan = Plan::read(&plan_path)?;
+    let analytic = AnalyticRunner {
+        delay: Duration::ZERO,
+        fail_every: a.fail_every,
+    };
+    let runner: &dyn CaseRunner = match a.runner {
+        RunnerArg::Fe => &fe_runner,
+        RunnerArg::Analytic => &analytic,
+    };
+    let checks = resimulate(&a.data, &plan, a.cases, a.seed, runner)?;
+    let mut ok = true;
+    for c in &checks {
+        let pass = c.same_convergence && c.max_abs_diff <= a.tolerance;
+        ok &= pass;
+        eprintln!(
+            "{}: max |stored - re-simulated| = {:e}, converged flags {}: {}",
+            case_name(c.id),
+            c.max_abs_diff,
+            if c.same_convergence {
+                "equal"
+            } else {
+                "DIFFER"
+            },
+            if pass { "ok" } else { "FAIL" }
+        );
+    }
+    anyhow::ensure!(
+        ok,
+        "re-simulated values differ by more than {}",
+        a.tolerance
+    );
+    eprintln!("{} cases reproduce within {:e}", checks.len(), a.tolerance);
+    Ok(())
+}

@@ -1,0 +1,91 @@
+//! The real case runner: one FE pressure ramp per case.
+//!
+//! [`fe_runner`] = [`bending_ramp`] (the actuator hanging free, gravity then pressure) +
+//! [`blocked_force_ramp`] (the blocked-force test). A ramp that stops keeps the steps it
+//! reached; the outcome carries the solver's error for the rest.
+//!
+//! **Blocked force is not wired in yet**: the FE's blocked-force mode (a plate under the tip,
+//! `StepResult::force_n`) is being added to `simulate::Case`; until then
+//! [`blocked_force_ramp`] returns `NaN` for every pressure, and it is the one function to
+//! change when the mode lands.
+
+use super::plan::{PlanSettings, PlannedCase};
+use super::run::{CaseOutcome, StepOutputs};
+use crate::fe::simulate::{simulate_with, Case, StepResult};
+
+/// The FE case (bending test) of a planned case.
+///
+/// # Errors
+/// The design or material error as text (plans are validated on load, so only a hand-built
+/// case can fail here).
+pub fn fe_case(case: &PlannedCase, settings: &PlanSettings) -> Result<Case, String> {
+    Ok(Case {
+        design: case.design().map_err(|e| e.to_string())?,
+        material: case
+            .material(settings.bulk_ratio)
+            .map_err(|e| e.to_string())?,
+        pressures_bar: settings.pressures_bar.clone(),
+        gravity: settings.gravity,
+        mesh: settings.mesh,
+        solver: settings.solver.clone(),
+    })
+}
+
+/// Outputs of one FE step (force `NaN`: filled in by [`fe_runner`]).
+pub fn step_outputs(r: &StepResult) -> StepOutputs {
+    StepOutputs {
+        tip_uz_mm: r.tip_uz_mm,
+        tip_uy_mm: r.tip_uy_mm,
+        angle_deg: r.angle_deg,
+        force_n: f64::NAN,
+        markers: std::array::from_fn(|k| r.markers.get(k).copied().unwrap_or([f64::NAN; 2])),
+        newton_iterations: r.newton_iterations,
+        substeps: r.substeps,
+        cutbacks: r.cutbacks,
+        residual: r.residual,
+        min_gap_mm: r.min_gap_mm,
+        converged: r.converged,
+    }
+}
+
+/// The bending ramp: the steps the solver reached and its error if it stopped.
+pub fn bending_ramp(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
+    let fe = match fe_case(case, settings) {
+        Ok(fe) => fe,
+        Err(e) => return CaseOutcome::failed(e),
+    };
+    let mut steps = Vec::new();
+    let result = simulate_with(&fe, |_, _| {}, |_, r, _| steps.push(step_outputs(r)));
+    CaseOutcome {
+        steps,
+        error: result.err().map(|e| format!("bending: {e}")),
+    }
+}
+
+/// The blocked-force ramp: the plate reaction (N) at each plan pressure reached, and the error
+/// if the ramp stopped early.
+///
+/// Placeholder until `simulate::Case` has the blocked-force mode: `NaN` at every pressure.
+/// With the mode, run the case in force mode here and return `StepResult::force_n` of each
+/// step reached (and the solver's error if the ramp stopped).
+pub fn blocked_force_ramp(
+    _case: &PlannedCase,
+    settings: &PlanSettings,
+) -> (Vec<f64>, Option<String>) {
+    (vec![f64::NAN; settings.pressures_bar.len()], None)
+}
+
+/// The real runner: bending ramp and blocked-force ramp, joined per pressure. A row needs
+/// both, so the case keeps the steps both ramps reached; the first error is reported.
+pub fn fe_runner(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
+    let mut outcome = bending_ramp(case, settings);
+    let (force, force_error) = blocked_force_ramp(case, settings);
+    outcome.steps.truncate(force.len());
+    for (step, f) in outcome.steps.iter_mut().zip(force) {
+        step.force_n = f;
+    }
+    if outcome.error.is_none() {
+        outcome.error = force_error.map(|e| format!("blocked force: {e}"));
+    }
+    outcome
+}

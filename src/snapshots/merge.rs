@@ -1,0 +1,166 @@
+//! Merging shard directories into one snapshot CSV.
+//!
+//! The merge reads the case files of every directory (all of the same plan), checks that every
+//! plan case is there exactly once, validates each file, and writes the header followed by the
+//! case files' rows in case-id order (each case's rows are in plan-pressure order). The text of
+//! each case file is copied unchanged, so the result is byte-identical to merging one run of
+//! the whole plan, whatever the sharding, thread count or resume history.
+
+use std::collections::BTreeMap;
+use std::path::{Path, PathBuf};
+
+use super::plan::{Plan, PlannedCase};
+use super::store::{case_name, header_line, read_case_file, write_atomic, ShardDir};
+use super::SnapshotError;
+
+/// What a merge wrote.
+#[derive(Debug, Clone, PartialEq)]
+pub struct MergeSummary {
+    /// Cases merged.
+    pub cases: usize,
+    /// Rows written.
+    pub rows: usize,
+    /// Cases with an error (some steps not reached).
+    pub failed_cases: usize,
+    /// Rows with `converged = false`.
+    pub unconverged_rows: usize,
+    /// The plan hash.
+    pub plan_hash: String,
+}
+
+/// At most 10 ids, then a count.
+fn id_list(ids: &[usize]) -> String {
+    let shown: Vec<String> = ids.iter().take(10).map(|&i| case_name(i)).collect();
+    let more = ids.len().saturating_sub(10);
+    if more > 0 {
+        format!("{} and {more} more", shown.join(", "))
+    } else {
+        shown.join(", ")
+    }
+}
+
+/// The plan of `dirs` (all the same) and the case files found, by id; duplicate ids.
+type Found = (Plan, BTreeMap<usize, PathBuf>, Vec<usize>);
+
+/// Opens every directory, checks they hold one plan, and lists their case files.
+fn collect(dirs: &[PathBuf]) -> Result<Found, SnapshotError> {
+    let Some(first) = dirs.first() else {
+        return Err(merge_error("no shard directory given".into()));
+    };
+    let (_, plan) = ShardDir::open(first)?;
+    let hash = plan.hash();
+    let mut found: BTreeMap<usize, PathBuf> = BTreeMap::new();
+    let mut duplicates = Vec::new();
+    for d in dirs {
+        let (dir, p) = ShardDir::open(d)?;
+        if p.hash() != hash {
+            return Err(merge_error(format!(
+                "{} holds plan {} but {} holds plan {hash}",
+                d.display(),
+                p.hash(),
+                first.display()
+            )));
+        }
+        for (id, path) in dir.case_ids()? {
+            if let Some(prev) = found.insert(id, path.clone()) {
+                if prev != path {
+                    duplicates.push(id);
+                }
+            }
+        }
+    }
+    Ok((plan, found, duplicates))
+}
+
+fn merge_error(message: String) -> SnapshotError {
+    SnapshotError::Merge { message }
+}
+
+/// Every plan case exactly once, nothing else.
+fn check_complete(
+    plan: &Plan,
+    found: &BTreeMap<usize, PathBuf>,
+    duplicates: &[usize],
+) -> Result<(), SnapshotError> {
+    let missing: Vec<usize> = plan
+        .cases
+        .iter()
+        .map(|c| c.id)
+        .filter(|id| !found.contains_key(id))
+        .collect();
+    let unknown: Vec<usize> = found
+        .keys()
+        .copied()
+        .filter(|id| !plan.cases.iter().any(|c| c.id == *id))
+        .collect();
+    let mut parts = Vec::new();
+    if !missing.is_empty() {
+        parts.push(format!(
+            "{} cases missing ({})",
+            missing.len(),
+            id_list(&missing)
+        ));
+    }
+    if !duplicates.is_empty() {
+        let (n, ids) = (duplicates.len(), id_list(duplicates));
+        parts.push(format!("{n} cases in more than one directory ({ids})"));
+    }
+    if !unknown.is_empty() {
+        let (n, ids) = (unknown.len(), id_list(&unknown));
+        parts.push(format!("{n} case files not in the plan ({ids})"));
+    }
+    if parts.is_empty() {
+        Ok(())
+    } else {
+        Err(merge_error(format!(
+            "plan {}: {}",
+            plan.hash(),
+            parts.join("; ")
+        )))
+    }
+}
+
+/// Joins the shard directories `dirs` into one CSV at `out` (written atomically), with the
+/// plan copy beside it ([`sidecar_path`]). Rows are sorted by case id, then pressure; the
+/// result is byte-identical to merging a single run of the whole plan.
+///
+/// # Errors
+/// [`SnapshotError::Merge`] if the directories hold different plans, a case is missing, or a
+/// case appears more than once; case-file and I/O errors. Nothing is written on error.
+pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeSummary, SnapshotError> {
+    let (plan, found, duplicates) = collect(dirs)?;
+    check_complete(&plan, &found, &duplicates)?;
+    let mut cases: Vec<&PlannedCase> = plan.cases.iter().collect();
+    cases.sort_by_key(|c| c.id);
+    let mut text = header_line().into_bytes();
+    text.push(b'\n');
+    let mut summary = MergeSummary {
+        cases: cases.len(),
+        rows: 0,
+        failed_cases: 0,
+        unconverged_rows: 0,
+        plan_hash: plan.hash(),
+    };
+    for case in cases {
+        let file = read_case_file(&found[&case.id], case, &plan.settings)?;
+        text.extend_from_slice(&file.body);
+        summary.rows += plan.settings.pressures_bar.len();
+        summary.failed_cases += usize::from(file.failed);
+        summary.unconverged_rows += file.unconverged_rows;
+    }
+    if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
+        std::fs::create_dir_all(parent).map_err(|e| SnapshotError::io(parent, e))?;
+    }
+    write_atomic(&sidecar_path(out), plan.pretty_json().as_bytes())?;
+    write_atomic(out, &text)?;
+    Ok(summary)
+}
+
+/// The plan copy written beside a merged file: `<stem>.plan.json`.
+pub fn sidecar_path(out: &Path) -> PathBuf {
+    let stem = out
+        .file_stem()
+        .map(|s| s.to_string_lossy().into_owned())
+        .unwrap_or_else(|| "snapshots".into());
+    out.with_file_name(format!("{stem}.plan.json"))
+}

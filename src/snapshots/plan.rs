@@ -1,0 +1,589 @@
+//! The sampling plan: ranges, a seeded maximin Latin hypercube stratified over `N`, the
+//! pressure ramp and the FE settings, and the explicit list of cases.
+//!
+//! ## Parametrisation
+//!
+//! A case is `(N, T, μ₁, α₁, μ₂, α₂)` (second-order Ogden, ANSYS convention). The material is
+//! sampled through quantities whose every combination is admissible:
+//!
+//! ```text
+//!   μ0 = ½ (μ₁α₁ + μ₂α₂)      initial shear modulus, log-uniform in ranges.mu0_mpa
+//!   s  = μ₁α₁ / (2 μ0)         share of term 1 in μ0, uniform in ranges.term1_share ⊂ (0, 1)
+//!   α₁ > 0, α₂ < 0             uniform in ranges.alpha1, ranges.alpha2
+//!   ⇒ μ₁ = 2 s μ0 / α₁,  μ₂ = 2 (1 − s) μ0 / α₂,   μ₁α₁ = 2 s μ0 > 0,  μ₂α₂ = 2 (1 − s) μ0 > 0.
+//! ```
+//!
+//! `μ0` carries most of the response (the small-strain stiffness) and is kept to a physically
+//! plausible interval; the split between the terms and the exponents (the strain stiffening)
+//! are explored widely. Fixed `μᵢαᵢ` makes `α₂ → 0⁻` a smooth limit (a Hencky-like term), so
+//! the range of `α₂` reaches close to 0 (the literature set `ogden_005` has `α₂ = −0.0054`).
+//!
+//! ## Default ranges (what lies inside)
+//!
+//! | quantity | range | ogden_002 | ogden_005 |
+//! |---|---|---|---|
+//! | `N` | 7, 8, …, 15 (stratified) | — | — |
+//! | `T` (mm) | 1.2 … 2.8, capped per `N` so the cavity stays ≥ 0.5 mm | — | — |
+//! | `μ0` (MPa) | 1.5 … 15, log-uniform | 5.708 | 3.476 |
+//! | `s` | 0.02 … 0.95 | 0.308 | 0.057 |
+//! | `α₁` | 1 … 8 | 3.11 | 3.05 |
+//! | `α₂` | −3 … −0.004 | −0.6 | −0.0054 |
+//!
+//! Both literature Ogden sets (`ogden_002`, `ogden_005`) lie inside (tested;
+//! [`Ranges::literature_inside`] lists them); `mooney_rivlin_5` is not an Ogden set. `μ0` spans
+//! a factor 10 around the literature values and NinjaFlex's data-sheet modulus (E ≈ 12 MPa,
+//! μ0 ≈ 4 MPa), so a calibrated optimum near the experiments lies inside as long as the
+//! calibrator searches the same box (it can use [`Ranges::default`] as its bounds).
+//!
+//! **Why all of 7..15 for `N`**: the SPEC's model range is 7..15 and the surrogate accepts only
+//! trained values of `N`; a case costs the same whatever its `N`, so covering every integer
+//! gives the design space at no extra cost, with the experimental 9, 11, 13 among them
+//! (`--n-values 9,11,13` restricts a plan to the experiments). `T`'s upper end is capped per `N`:
+//! `T ≤ (Lf/N − g − 0.5)/2` (92/15 − 1 − 0.5 → T ≤ 2.32 at N = 15).
+//!
+//! ## Sampling
+//!
+//! A maximin Latin hypercube in the unit cube `[0, 1]⁶` (egobox-doe's `Lhs`, kind `Optimized`:
+//! the enhanced stochastic evolutionary algorithm, Jin et al. 2005) seeded with
+//! `Xoshiro256Plus::seed_from_u64(seed)`. Dimension 0 is **stratified over N**: case `i` gets
+//! the `N` value number `⌊rank_i · m / K⌋` (rank of its coordinate among the `K` cases, `m`
+//! values of `N`), so every `N` gets `⌊K/m⌋` or `⌈K/m⌉` cases. The other dimensions map linearly
+//! (`μ0` logarithmically) onto the ranges; `T`'s range is the one capped for the case's `N`.
+
+use std::path::Path;
+
+use egobox_doe::{Lhs, LhsKind, SamplingMethod};
+use ndarray::Array2;
+use rand::SeedableRng;
+use rand_xoshiro::Xoshiro256Plus;
+use serde::{Deserialize, Serialize};
+
+use super::{Shard, SnapshotError};
+use crate::fe::geometry::{Design, DesignParams, GeometryError, MIN_CAVITY_LENGTH, N_RANGE};
+use crate::fe::material::{
+    literature_sets, Hyperelastic, Material, MaterialError, MaterialLaw, Ogden2,
+};
+use crate::fe::mesh::{MeshLevel, MeshOptions};
+use crate::fe::simulate::{validate_pressures, SimulateError};
+use crate::fe::solver::SolverSettings;
+
+/// Version of the plan format written and accepted.
+pub const FORMAT_VERSION: u32 = 1;
+
+/// Description of the sampler recorded in generated plans.
+pub const SAMPLER: &str =
+    "egobox-doe 0.35 Lhs(Optimized: maximin ESE) on [0,1]^6, Xoshiro256Plus::seed_from_u64(seed); \
+     N stratified by rank";
+
+/// Sampling ranges (see the [module docs](self) for the parametrisation).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Ranges {
+    /// The values of `N` (strata), increasing.
+    pub n_bellows: Vec<usize>,
+    /// Wall thickness `T` (mm), capped per `N` by the cavity rule.
+    pub wall_thickness_mm: [f64; 2],
+    /// Initial shear modulus `μ0` (MPa), log-uniform.
+    pub mu0_mpa: [f64; 2],
+    /// Share `s = μ₁α₁ / (2 μ0)` of term 1, inside (0, 1).
+    pub term1_share: [f64; 2],
+    /// Exponent `α₁ > 0`.
+    pub alpha1: [f64; 2],
+    /// Exponent `α₂ < 0`.
+    pub alpha2: [f64; 2],
+}
+
+impl Default for Ranges {
+    fn default() -> Self {
+        Self {
+            n_bellows: (N_RANGE.0..=N_RANGE.1).collect(),
+            wall_thickness_mm: [1.2, 2.8],
+            mu0_mpa: [1.5, 15.0],
+            term1_share: [0.02, 0.95],
+            alpha1: [1.0, 8.0],
+            alpha2: [-3.0, -0.004],
+        }
+    }
+}
+
+/// The FE settings shared by every case of a plan.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlanSettings {
+    /// The pressure ramp (bar), increasing, every level one snapshot.
+    pub pressures_bar: Vec<f64>,
+    /// Self-weight on/off.
+    pub gravity: bool,
+    /// Mesh level and optional element size.
+    pub mesh: MeshOptions,
+    /// Bulk modulus as a multiple of `μ0`.
+    pub bulk_ratio: f64,
+    /// Nonlinear solver settings.
+    pub solver: SolverSettings,
+}
+
+impl Default for PlanSettings {
+    /// 0 → 3.5 bar in steps of 0.25 (15 levels), gravity, `standard` mesh, κ = 1000 μ0,
+    /// default solver.
+    fn default() -> Self {
+        Self {
+            pressures_bar: (0..=14).map(|i| f64::from(i) * 0.25).collect(),
+            gravity: true,
+            mesh: MeshOptions::level(MeshLevel::Standard),
+            bulk_ratio: 1000.0,
+            solver: SolverSettings::default(),
+        }
+    }
+}
+
+/// One case of a plan: a design and an Ogden material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlannedCase {
+    /// Identifier, unique in the plan (names the case file).
+    pub id: usize,
+    /// Number of bellows `N`.
+    pub n_bellows: usize,
+    /// Wall thickness `T` (mm).
+    pub wall_thickness_mm: f64,
+    /// Ogden `μ₁` (MPa).
+    pub mu1_mpa: f64,
+    /// Ogden `α₁`.
+    pub alpha1: f64,
+    /// Ogden `μ₂` (MPa).
+    pub mu2_mpa: f64,
+    /// Ogden `α₂`.
+    pub alpha2: f64,
+}
+
+/// A sampling plan (see the [module docs](self) and the format in [`super`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Plan {
+    /// Must be [`FORMAT_VERSION`].
+    pub format_version: u32,
+    /// Seed of the sampler.
+    pub seed: u64,
+    /// How the cases were sampled.
+    pub sampler: String,
+    /// The sampling ranges.
+    pub ranges: Ranges,
+    /// FE settings of every case.
+    pub settings: PlanSettings,
+    /// The cases.
+    pub cases: Vec<PlannedCase>,
+}
+
+/// Only the version, read before the rest so an old or new format gets a clear error.
+#[derive(Deserialize)]
+struct VersionProbe {
+    format_version: Option<serde_json::Value>,
+}
+
+/// Checks `lo ≤ hi`, both finite, and `pred(lo) && pred(hi)`.
+fn check_interval(
+    field: &str,
+    r: [f64; 2],
+    pred: impl Fn(f64) -> bool,
+    expected: &str,
+) -> Result<(), SnapshotError> {
+    let ok = r[0].is_finite() && r[1].is_finite() && r[0] <= r[1] && pred(r[0]) && pred(r[1]);
+    if ok {
+        Ok(())
+    } else {
+        Err(SnapshotError::field(
+            field,
+            format!("[{}, {}]", r[0], r[1]),
+            &format!("[lo, hi] with lo ≤ hi, {expected}"),
+        ))
+    }
+}
+
+/// Largest wall thickness that leaves a cavity of at least [`MIN_CAVITY_LENGTH`] for `n`
+/// bellows with the SPEC's default free length and gap: `(Lf/N − g − 0.5)/2`, less 10⁻⁹ mm.
+pub fn max_wall_thickness(n: usize) -> f64 {
+    let d = DesignParams::default();
+    (d.free_length / n as f64 - d.gap - MIN_CAVITY_LENGTH) / 2.0 - 1e-9
+}
+
+impl Ranges {
+    /// Checks every range.
+    ///
+    /// # Errors
+    /// [`SnapshotError::PlanField`] naming the first bad range (`ranges.<name>`).
+    pub fn validate(&self) -> Result<(), SnapshotError> {
+        let n = &self.n_bellows;
+        let n_ok = !n.is_empty()
+            && n.windows(2).all(|w| w[0] < w[1])
+            && n.iter().all(|v| (N_RANGE.0..=N_RANGE.1).contains(v));
+        if !n_ok {
+            return Err(SnapshotError::field(
+                "ranges.n_bellows",
+                format!("{n:?}"),
+                &format!(
+                    "a non-empty increasing list of integers in {}..={}",
+                    N_RANGE.0, N_RANGE.1
+                ),
+            ));
+        }
+        let (t_lo, t_hi) = crate::fe::geometry::T_RANGE;
+        let t_expected = format!("a thickness range inside [{t_lo}, {t_hi}] mm");
+        check_interval(
+            "ranges.wall_thickness_mm",
+            self.wall_thickness_mm,
+            |t| (t_lo..=t_hi).contains(&t),
+            &t_expected,
+        )?;
+        for &v in n {
+            if max_wall_thickness(v) < self.wall_thickness_mm[0] {
+                return Err(SnapshotError::field(
+                    "ranges.n_bellows",
+                    v,
+                    &format!(
+                        "values of N that leave a cavity at T = {} mm (N = {v} needs T ≤ {:.3} mm)",
+                        self.wall_thickness_mm[0],
+                        max_wall_thickness(v)
+                    ),
+                ));
+            }
+        }
+        check_interval("ranges.mu0_mpa", self.mu0_mpa, |v| v > 0.0, "both > 0 MPa")?;
+        check_interval(
+            "ranges.term1_share",
+            self.term1_share,
+            |v| v > 0.0 && v < 1.0,
+            "both inside (0, 1)",
+        )?;
+        check_interval("ranges.alpha1", self.alpha1, |v| v > 0.0, "both > 0")?;
+        check_interval("ranges.alpha2", self.alpha2, |v| v < 0.0, "both < 0")
+    }
+
+    /// Maps a point `u ∈ [0, 1]⁵` (T, μ0, s, α₁, α₂) and `N` to a case.
+    fn case_at(&self, id: usize, n: usize, u: [f64; 5]) -> PlannedCase {
+        let lerp = |r: [f64; 2], x: f64| r[0] + x * (r[1] - r[0]);
+        let t_range = [
+            self.wall_thickness_mm[0],
+            self.wall_thickness_mm[1].min(max_wall_thickness(n)),
+        ];
+        let mu0 = lerp([self.mu0_mpa[0].ln(), self.mu0_mpa[1].ln()], u[1]).exp();
+        let s = lerp(self.term1_share, u[2]);
+        let alpha1 = lerp(self.alpha1, u[3]);
+        let alpha2 = lerp(self.alpha2, u[4]);
+        PlannedCase {
+            id,
+            n_bellows: n,
+            wall_thickness_mm: lerp(t_range, u[0]),
+            mu1_mpa: 2.0 * s * mu0 / alpha1,
+            alpha1,
+            mu2_mpa: 2.0 * (1.0 - s) * mu0 / alpha2,
+            alpha2,
+        }
+    }
+
+    /// Whether the Ogden set `[μ₁, α₁, μ₂, α₂]` lies inside the material ranges (terms taken
+    /// in either order).
+    pub fn contains_ogden(&self, p: [f64; 4]) -> bool {
+        let [mu1, a1, mu2, a2] = if p[1] > 0.0 {
+            p
+        } else {
+            [p[2], p[3], p[0], p[1]]
+        };
+        let inside = |r: [f64; 2], v: f64| v >= r[0] && v <= r[1];
+        let mu0 = 0.5 * (mu1 * a1 + mu2 * a2);
+        a1 > 0.0
+            && a2 < 0.0
+            && mu1 * a1 > 0.0
+            && mu2 * a2 > 0.0
+            && inside(self.mu0_mpa, mu0)
+            && inside(self.term1_share, mu1 * a1 / (2.0 * mu0))
+            && inside(self.alpha1, a1)
+            && inside(self.alpha2, a2)
+    }
+
+    /// The literature Ogden sets and whether each lies inside the ranges.
+    ///
+    /// # Errors
+    /// If the shipped literature file cannot be read.
+    pub fn literature_inside(&self) -> Result<Vec<(String, bool)>, MaterialError> {
+        Ok(literature_sets()?
+            .into_iter()
+            .filter_map(|(name, law)| match law {
+                MaterialLaw::Ogden(o) => {
+                    let p = o.params();
+                    let set = [p.mu[0], p.alpha[0], p.mu[1], p.alpha[1]];
+                    Some((name, self.contains_ogden(set)))
+                }
+                _ => None,
+            })
+            .collect())
+    }
+}
+
+impl PlanSettings {
+    /// Checks the pressures, bulk ratio, mesh and solver settings.
+    ///
+    /// # Errors
+    /// [`SnapshotError::PlanField`] naming the field (`settings.<name>`).
+    pub fn validate(&self) -> Result<(), SnapshotError> {
+        if let Err(SimulateError::Pressure {
+            index,
+            value,
+            expected,
+        }) = validate_pressures(&self.pressures_bar)
+        {
+            return Err(SnapshotError::field(
+                format!("settings.pressures_bar[{index}]"),
+                value,
+                &expected,
+            ));
+        }
+        if !(self.bulk_ratio.is_finite() && self.bulk_ratio > 0.0) {
+            return Err(SnapshotError::field(
+                "settings.bulk_ratio",
+                self.bulk_ratio,
+                "a finite number > 0 (κ/μ0)",
+            ));
+        }
+        if let Some(h) = self.mesh.element_size {
+            if !(h.is_finite() && h > 0.2 && h <= 50.0) {
+                return Err(SnapshotError::field(
+                    "settings.mesh.element_size",
+                    h,
+                    "null or an element size in (0.2, 50] mm",
+                ));
+            }
+        }
+        let s = &self.solver;
+        if !(s.rtol.is_finite() && s.rtol > 0.0 && s.rtol < 1.0) {
+            return Err(SnapshotError::field(
+                "settings.solver.rtol",
+                s.rtol,
+                "a tolerance in (0, 1)",
+            ));
+        }
+        if s.max_iterations == 0 {
+            return Err(SnapshotError::field(
+                "settings.solver.max_iterations",
+                0,
+                "at least 1",
+            ));
+        }
+        Ok(())
+    }
+}
+
+impl PlannedCase {
+    /// The case's design (SPEC defaults with this `N` and `T`).
+    ///
+    /// # Errors
+    /// [`GeometryError`] if `N` or `T` is out of range or leaves no cavity.
+    pub fn design(&self) -> Result<Design, GeometryError> {
+        DesignParams::new(self.n_bellows, self.wall_thickness_mm).validate()
+    }
+
+    /// The case's Ogden parameters `[μ₁, α₁, μ₂, α₂]`.
+    pub fn ogden(&self) -> [f64; 4] {
+        [self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2]
+    }
+
+    /// The case's material with `κ = bulk_ratio · μ0`.
+    ///
+    /// # Errors
+    /// [`MaterialError::Inadmissible`] for an inadmissible Ogden set or bulk ratio.
+    pub fn material(&self, bulk_ratio: f64) -> Result<Material, MaterialError> {
+        let law = Ogden2::new(self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2)?;
+        Material::new(MaterialLaw::Ogden(law), bulk_ratio)
+    }
+
+    /// Checks design and material; errors name `cases[index]`.
+    fn validate(&self, index: usize) -> Result<(), SnapshotError> {
+        let at = |f: &str| format!("cases[{index}] (id {}).{f}", self.id);
+        match self.design() {
+            Ok(_) => {}
+            Err(GeometryError::OutOfRange {
+                field,
+                value,
+                expected,
+            }) => {
+                let name = if field == "wall_thickness" {
+                    "wall_thickness_mm"
+                } else {
+                    field
+                };
+                return Err(SnapshotError::field(at(name), value, &expected));
+            }
+            Err(e @ GeometryError::NoCavity { .. }) => {
+                return Err(SnapshotError::field(
+                    at("wall_thickness_mm"),
+                    self.wall_thickness_mm,
+                    &format!("a thickness that leaves a cavity ({e})"),
+                ));
+            }
+        }
+        match Ogden2::new(self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2) {
+            Ok(_) => Ok(()),
+            Err(MaterialError::Inadmissible {
+                field,
+                value,
+                expected,
+            }) => Err(SnapshotError::field(at(&field), value, &expected)),
+            Err(e) => Err(SnapshotError::field(at("material"), "?", &e.to_string())),
+        }
+    }
+}
+
+/// `K` points of a maximin Latin hypercube in `[0, 1]^dims`.
+fn unit_lhs(k: usize, dims: usize, seed: u64) -> Array2<f64> {
+    let limits = Array2::from_shape_fn((dims, 2), |(_, j)| j as f64);
+    let kind = if k < 3 {
+        LhsKind::Classic
+    } else {
+        LhsKind::Optimized
+    };
+    Lhs::new_with_rng(&limits, Xoshiro256Plus::seed_from_u64(seed))
+        .kind(kind)
+        .sample(k)
+}
+
+impl Plan {
+    /// Samples a plan of `n_cases` cases (see the [module docs](self)).
+    ///
+    /// # Errors
+    /// [`SnapshotError::PlanField`] for a bad range, setting, or `n_cases = 0`.
+    pub fn generate(
+        n_cases: usize,
+        seed: u64,
+        ranges: Ranges,
+        settings: PlanSettings,
+    ) -> Result<Self, SnapshotError> {
+        ranges.validate()?;
+        settings.validate()?;
+        if n_cases == 0 {
+            return Err(SnapshotError::field("cases", 0, "at least 1 case"));
+        }
+        let u = unit_lhs(n_cases, 6, seed);
+        let mut order: Vec<usize> = (0..n_cases).collect();
+        order.sort_by(|&a, &b| u[[a, 0]].total_cmp(&u[[b, 0]]).then(a.cmp(&b)));
+        let mut stratum = vec![0; n_cases];
+        let m = ranges.n_bellows.len();
+        for (rank, &i) in order.iter().enumerate() {
+            stratum[i] = rank * m / n_cases;
+        }
+        let cases = (0..n_cases)
+            .map(|i| {
+                let n = ranges.n_bellows[stratum[i]];
+                let x = [u[[i, 1]], u[[i, 2]], u[[i, 3]], u[[i, 4]], u[[i, 5]]];
+                ranges.case_at(i, n, x)
+            })
+            .collect();
+        let plan = Self {
+            format_version: FORMAT_VERSION,
+            seed,
+            sampler: SAMPLER.to_owned(),
+            ranges,
+            settings,
+            cases,
+        };
+        plan.validate()?;
+        Ok(plan)
+    }
+
+    /// Checks version, ranges, settings and every case (ids unique).
+    ///
+    /// # Errors
+    /// [`SnapshotError::PlanField`] naming the first bad field.
+    pub fn validate(&self) -> Result<(), SnapshotError> {
+        if self.format_version != FORMAT_VERSION {
+            return Err(SnapshotError::field(
+                "format_version",
+                self.format_version,
+                &format!("{FORMAT_VERSION}"),
+            ));
+        }
+        self.ranges.validate()?;
+        self.settings.validate()?;
+        if self.cases.is_empty() {
+            return Err(SnapshotError::field("cases", "[]", "at least 1 case"));
+        }
+        let mut seen = std::collections::HashSet::new();
+        for (i, c) in self.cases.iter().enumerate() {
+            if !seen.insert(c.id) {
+                return Err(SnapshotError::field(
+                    format!("cases[{i}].id"),
+                    c.id,
+                    "an id not used by an earlier case",
+                ));
+            }
+            c.validate(i)?;
+        }
+        Ok(())
+    }
+
+    /// Parses and validates plan JSON; `source` names it in errors.
+    ///
+    /// # Errors
+    /// [`SnapshotError::PlanSyntax`] for invalid JSON, an unknown or missing field (the
+    /// message names it, with line and column); [`SnapshotError::PlanField`] for a bad value.
+    pub fn from_json(text: &str, source: &str) -> Result<Self, SnapshotError> {
+        let syntax = |e: serde_json::Error| SnapshotError::PlanSyntax {
+            path: source.to_owned(),
+            message: e.to_string(),
+        };
+        let probe: VersionProbe = serde_json::from_str(text).map_err(syntax)?;
+        let expected = serde_json::Value::from(FORMAT_VERSION);
+        match probe.format_version {
+            Some(v) if v == expected => {}
+            Some(v) => {
+                return Err(SnapshotError::field(
+                    "format_version",
+                    v,
+                    &format!("{FORMAT_VERSION} (the plan format this program reads)"),
+                ))
+            }
+            None => {
+                return Err(SnapshotError::field(
+                    "format_version",
+                    "missing",
+                    &FORMAT_VERSION.to_string(),
+                ))
+            }
+        }
+        let plan: Plan = serde_json::from_str(text).map_err(syntax)?;
+        plan.validate()?;
+        Ok(plan)
+    }
+
+    /// Reads and validates a plan file.
+    ///
+    /// # Errors
+    /// I/O errors and those of [`Plan::from_json`].
+    pub fn read(path: &Path) -> Result<Self, SnapshotError> {
+        let text = std::fs::read_to_string(path).map_err(|e| SnapshotError::io(path, e))?;
+        Self::from_json(&text, &path.display().to_string())
+    }
+
+    /// Canonical compact JSON (the hashed form).
+    pub fn canonical_json(&self) -> String {
+        serde_json::to_string(self).expect("a plan always serialises")
+    }
+
+    /// Pretty JSON (what `snapshots plan` writes).
+    pub fn pretty_json(&self) -> String {
+        serde_json::to_string_pretty(self).expect("a plan always serialises")
+    }
+
+    /// The plan hash: CRC-32 of [`Plan::canonical_json`], 8 lowercase hex digits.
+    pub fn hash(&self) -> String {
+        format!("{:08x}", crc32fast::hash(self.canonical_json().as_bytes()))
+    }
+
+    /// The cases of `shard`, in plan order (see [`Shard`]).
+    pub fn shard_cases(&self, shard: Shard) -> Vec<&PlannedCase> {
+        self.cases
+            .iter()
+            .enumerate()
+            .filter(|(i, _)| shard.owns(*i))
+            .map(|(_, c)| c)
+            .collect()
+    }
+}

@@ -1,0 +1,336 @@
+//! Running a shard: the case-runner abstraction, the resumable parallel driver, and an analytic
+//! stand-in for the FE.
+//!
+//! [`run_shard`] reads top to bottom: open the directory (plan hash) → find the shard's cases
+//! → skip the finished ones (validated) → remove the temporaries of the rest → run them in
+//! parallel (rayon), each written atomically as soon as it finishes → summary.
+//! Each case writes its own file, so the result does not depend on the thread count or on the
+//! order in which cases finish.
+
+use std::panic::{catch_unwind, AssertUnwindSafe};
+use std::path::Path;
+use std::sync::atomic::{AtomicUsize, Ordering};
+use std::time::{Duration, Instant};
+
+use rayon::prelude::*;
+
+use super::plan::{Plan, PlanSettings, PlannedCase};
+use super::shard::Shard;
+use super::store::{read_case_file, ShardDir};
+use super::SnapshotError;
+
+/// Outputs of one converged pressure step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepOutputs {
+    /// Tip `Uz = −Δz` (mm).
+    pub tip_uz_mm: f64,
+    /// Tip `Uy = Δy` (mm).
+    pub tip_uy_mm: f64,
+    /// Bending angle (deg).
+    pub angle_deg: f64,
+    /// Blocked force (N); `NaN` when not computed.
+    pub force_n: f64,
+    /// Markers 1..9: `[Uz, Uy]` (mm).
+    pub markers: [[f64; 2]; 9],
+    /// Newton iterations to reach the step.
+    pub newton_iterations: usize,
+    /// Load substeps.
+    pub substeps: usize,
+    /// Cut-backs.
+    pub cutbacks: usize,
+    /// Final normalised residual.
+    pub residual: f64,
+    /// Smallest deformed gap between bellows (mm).
+    pub min_gap_mm: f64,
+    /// Whether the step converged.
+    pub converged: bool,
+}
+
+/// What a runner returns for one case: the steps reached, in plan-pressure order (a prefix
+/// of the ramp), and why it stopped early, if it did.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct CaseOutcome {
+    /// Steps reached (at most one per plan pressure).
+    pub steps: Vec<StepOutputs>,
+    /// The error that stopped the ramp.
+    pub error: Option<String>,
+}
+
+impl CaseOutcome {
+    /// A case that produced nothing.
+    pub fn failed(error: impl Into<String>) -> Self {
+        Self {
+            steps: Vec::new(),
+            error: Some(error.into()),
+        }
+    }
+
+    /// Whether the case stopped early.
+    pub fn is_failed(&self) -> bool {
+        self.error.is_some()
+    }
+}
+
+/// Computes one case. Implemented by every `Fn(&PlannedCase, &PlanSettings) -> CaseOutcome +
+/// Sync`: the FE ([`super::fe_runner::fe_runner`]) or a cheap stand-in ([`AnalyticRunner`]).
+pub trait CaseRunner: Sync {
+    /// Runs the case's pressure ramp. A failure is part of the outcome, not a panic.
+    fn run(&self, case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome;
+}
+
+impl<F> CaseRunner for F
+where
+    F: Fn(&PlannedCase, &PlanSettings) -> CaseOutcome + Sync,
+{
+    fn run(&self, case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
+        self(case, settings)
+    }
+}
+
+/// Options of [`run_shard`].
+#[derive(Clone, Copy, Debug)]
+pub struct RunOptions {
+    /// The share of the plan to run.
+    pub shard: Shard,
+    /// Worker threads (cases in parallel); `None`: rayon's default (one per core).
+    pub threads: Option<usize>,
+}
+
+/// Progress after each case.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub struct Progress {
+    /// Cases finished in this run.
+    pub done: usize,
+    /// Of which failed.
+    pub failed: usize,
+    /// Cases this run has to do.
+    pub total: usize,
+}
+
+/// What a shard run did.
+#[derive(Clone, Debug, PartialEq)]
+pub struct RunSummary {
+    /// The shard.
+    pub shard: Shard,
+    /// Cases in the shard.
+    pub cases: usize,
+    /// Cases found finished (resume).
+    pub skipped: usize,
+    /// Cases run now.
+    pub done: usize,
+    /// Of which failed (recorded with their error).
+    pub failed: usize,
+    /// Wall time (s).
+    pub wall_time_s: f64,
+}
+
+impl std::fmt::Display for RunSummary {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "shard {}: {} cases done ({} failed), {} already done, {} of {} in the shard finished, {:.1} s",
+            self.shard,
+            self.done,
+            self.failed,
+            self.skipped,
+            self.done + self.skipped,
+            self.cases,
+            self.wall_time_s
+        )
+    }
+}
+
+/// Runs the cases of `options.shard` not yet in `dir`, in parallel, calling `progress` once
+/// before the first and after each case. Safe to call again after a kill: finished cases are skipped.
+///
+/// # Errors
+/// Directory errors ([`ShardDir::create`]: another plan, not a snapshot directory), an
+/// invalid existing case file, I/O errors; a runner's failure is recorded, not returned.
+pub fn run_shard(
+    plan: &Plan,
+    dir: &Path,
+    options: &RunOptions,
+    runner: &dyn CaseRunner,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<RunSummary, SnapshotError> {
+    let start = Instant::now();
+    let store = ShardDir::create(dir, plan)?;
+    let cases = plan.shard_cases(options.shard);
+    let pending = pending_cases(Some(&store), plan, options.shard)?;
+    for case in &pending {
+        store.remove_temporaries(case.id)?;
+    }
+    let total = pending.len();
+    progress(Progress {
+        done: 0,
+        failed: 0,
+        total,
+    });
+    let (done, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    let work = || {
+        pending.par_iter().with_max_len(1).try_for_each(|case| {
+            let outcome = run_guarded(runner, case, &plan.settings);
+            store.write_case(case, &plan.settings, &outcome)?;
+            let f = failed.fetch_add(usize::from(outcome.is_failed()), Ordering::SeqCst)
+                + usize::from(outcome.is_failed());
+            let d = done.fetch_add(1, Ordering::SeqCst) + 1;
+            progress(Progress {
+                done: d,
+                failed: f,
+                total,
+            });
+            Ok::<(), SnapshotError>(())
+        })
+    };
+    match options.threads {
+        Some(n) => rayon::ThreadPoolBuilder::new()
+            .num_threads(n)
+            .build()
+            .map_err(|e| {
+                SnapshotError::field("threads", n, &format!("a usable thread count ({e})"))
+            })?
+            .install(work)?,
+        None => work()?,
+    }
+    Ok(RunSummary {
+        shard: options.shard,
+        cases: cases.len(),
+        skipped: cases.len() - total,
+        done: done.into_inner(),
+        failed: failed.into_inner(),
+        wall_time_s: start.elapsed().as_secs_f64(),
+    })
+}
+
+/// The cases of `shard` without a case file in `store` (all of them without a store), after
+/// validating the files that exist.
+fn pending_cases<'p>(
+    store: Option<&ShardDir>,
+    plan: &'p Plan,
+    shard: Shard,
+) -> Result<Vec<&'p PlannedCase>, SnapshotError> {
+    let cases = plan.shard_cases(shard);
+    let Some(store) = store else {
+        return Ok(cases);
+    };
+    let finished = store.case_ids()?;
+    let mut pending = Vec::new();
+    for case in cases {
+        match finished.get(&case.id) {
+            Some(path) => {
+                read_case_file(path, case, &plan.settings)?;
+            }
+            None => pending.push(case),
+        }
+    }
+    Ok(pending)
+}
+
+/// How far a shard is, without running or writing anything: `(cases in the shard, finished)`.
+///
+/// # Errors
+/// As [`run_shard`] before it runs anything: another plan in `dir`, an invalid case file.
+pub fn shard_status(
+    plan: &Plan,
+    dir: &Path,
+    shard: Shard,
+) -> Result<(usize, usize), SnapshotError> {
+    let store = ShardDir::existing(dir, plan)?;
+    let pending = pending_cases(store.as_ref(), plan, shard)?;
+    let cases = plan.shard_cases(shard).len();
+    Ok((cases, cases - pending.len()))
+}
+
+/// Runs one case, turning a panic into a failed outcome.
+fn run_guarded(
+    runner: &dyn CaseRunner,
+    case: &PlannedCase,
+    settings: &PlanSettings,
+) -> CaseOutcome {
+    match catch_unwind(AssertUnwindSafe(|| runner.run(case, settings))) {
+        Ok(mut outcome) => {
+            if outcome.steps.len() > settings.pressures_bar.len() {
+                let n = outcome.steps.len();
+                outcome.steps.truncate(settings.pressures_bar.len());
+                outcome.error = Some(format!(
+                    "runner returned {n} steps for {} pressures (extra steps dropped)",
+                    settings.pressures_bar.len()
+                ));
+            }
+            outcome
+        }
+        Err(payload) => {
+            let msg = payload
+                .downcast_ref::<&str>()
+                .map(|s| s.to_string())
+                .or_else(|| payload.downcast_ref::<String>().cloned())
+                .unwrap_or_else(|| "unknown panic".into());
+            CaseOutcome::failed(format!("runner panicked: {msg}"))
+        }
+    }
+}
+
+/// A cheap deterministic stand-in for the FE, for tests and dry runs of the distribution
+/// machinery (shards, resume, merge, Slurm): smooth closed-form outputs of the case's inputs.
+///
+/// Every case whose `id % fail_every == fail_every − 1` (if `fail_every > 0`) stops after half
+/// of its ramp with an error, to exercise the failure records.
+#[derive(Clone, Copy, Debug, Default)]
+pub struct AnalyticRunner {
+    /// Sleep per case (to make runs long enough to kill in tests).
+    pub delay: Duration,
+    /// Every how many cases one fails (0: none).
+    pub fail_every: usize,
+}
+
+impl CaseRunner for AnalyticRunner {
+    fn run(&self, case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
+        std::thread::sleep(self.delay);
+        let mu0 = 0.5 * (case.mu1_mpa * case.alpha1 + case.mu2_mpa * case.alpha2);
+        let fails = self.fail_every > 0 && case.id % self.fail_every == self.fail_every - 1;
+        let reach = if fails {
+            settings.pressures_bar.len() / 2
+        } else {
+            settings.pressures_bar.len()
+        };
+        let steps = settings.pressures_bar[..reach]
+            .iter()
+            .map(|&p| {
+                // curvature ~ P / (μ0 T), a circular arc of length 92 mm
+                let kappa = 0.02 * (p + 0.1) * case.n_bellows as f64
+                    / (11.0 * mu0 * case.wall_thickness_mm)
+                    * (1.0 + 0.05 * case.alpha1.ln() - 0.02 * case.alpha2);
+                let arc = |s: f64| {
+                    let th = kappa * s;
+                    [s - th.sin() / kappa, -(1.0 - th.cos()) / kappa]
+                };
+                let markers = std::array::from_fn(|k| arc(92.0 * (k + 1) as f64 / 9.0));
+                let tip = markers[8];
+                StepOutputs {
+                    tip_uz_mm: tip[0],
+                    tip_uy_mm: tip[1],
+                    angle_deg: (-tip[1]).atan2(92.0 - tip[0]).to_degrees(),
+                    force_n: 0.4 * p * case.n_bellows as f64 / 11.0,
+                    markers,
+                    newton_iterations: 3 + (case.id % 4),
+                    substeps: 1,
+                    cutbacks: 0,
+                    residual: 1e-9 / (1.0 + p),
+                    min_gap_mm: 1.0 - 0.1 * p,
+                    converged: true,
+                }
+            })
+            .collect();
+        CaseOutcome {
+            steps,
+            error: fails.then(|| {
+                let p = settings
+                    .pressures_bar
+                    .get(reach)
+                    .copied()
+                    .unwrap_or(f64::NAN);
+                format!("analytic runner: simulated non-convergence at {p} bar")
+            }),
+        }
+    }
+}

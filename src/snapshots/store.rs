@@ -1,0 +1,471 @@
+//! The snapshot store: CSV columns, atomic per-case files in a shard directory, and the merge.
+//!
+//! ## Columns
+//!
+//! [`REQUIRED_COLUMNS`] (the surrogate trainer's contract: `case_id, n_bellows,
+//! wall_thickness_mm, mu1_mpa, alpha1, mu2_mpa, alpha2, pressure_bar, converged, tip_uz_mm,
+//! tip_uy_mm, angle_deg, force_n, m1_uz_mm, m1_uy_mm, …, m9_uz_mm, m9_uy_mm`), then
+//! [`PROVENANCE_COLUMNS`]:
+//!
+//! | column | content |
+//! |---|---|
+//! | `newton_iterations`, `substeps`, `cutbacks` | how the step was reached (empty if not) |
+//! | `residual` | final normalised residual of the step |
+//! | `min_gap_mm` | smallest deformed gap between bellows (negative: interpenetration) |
+//! | `mesh`, `element_size_mm` | mesh level and element-size override (empty: none) |
+//! | `bulk_ratio`, `gravity`, `solver_rtol` | the plan's FE settings |
+//! | `code_version` | [`super::code_version`] |
+//! | `error` | why the step has no result (empty for converged steps) |
+//!
+//! `case_id` is `case_<id, 6 digits>`. A case has one row per plan pressure, in plan order;
+//! steps the solver did not reach have `converged = false` and `NaN` outputs. Floats are
+//! written in Rust's shortest round-trip form (`{:?}`), so reading gives the same bits.
+//! `force_n` is `NaN` while the blocked-force mode is not wired in (see [`super::fe_runner`]).
+//!
+//! ## Shard directory
+//!
+//! `plan.json`, `plan_hash` and `cases/case_<id>.csv` (see [`super`]); case files are written
+//! to `cases/.case_<id>.csv.<pid>.tmp`, fsynced, renamed, and the directory fsynced.
+
+use std::collections::BTreeMap;
+use std::io::Write;
+use std::path::{Path, PathBuf};
+
+use super::plan::{Plan, PlanSettings, PlannedCase};
+use super::run::{CaseOutcome, StepOutputs};
+use super::{code_version, SnapshotError};
+pub use crate::rom::data::REQUIRED_COLUMNS;
+
+/// Provenance columns after [`REQUIRED_COLUMNS`].
+pub const PROVENANCE_COLUMNS: [&str; 12] = [
+    "newton_iterations",
+    "substeps",
+    "cutbacks",
+    "residual",
+    "min_gap_mm",
+    "mesh",
+    "element_size_mm",
+    "bulk_ratio",
+    "gravity",
+    "solver_rtol",
+    "code_version",
+    "error",
+];
+
+/// Name of the plan-hash marker file.
+pub const PLAN_HASH_FILE: &str = "plan_hash";
+/// Name of the plan copy.
+pub const PLAN_FILE: &str = "plan.json";
+/// Name of the case-file folder.
+pub const CASES_DIR: &str = "cases";
+
+/// The header line (without newline).
+pub fn header_line() -> String {
+    let all: Vec<&str> = REQUIRED_COLUMNS
+        .iter()
+        .chain(PROVENANCE_COLUMNS.iter())
+        .copied()
+        .collect();
+    all.join(",")
+}
+
+/// Total number of columns.
+fn n_columns() -> usize {
+    REQUIRED_COLUMNS.len() + PROVENANCE_COLUMNS.len()
+}
+
+/// The `case_id` of a plan case.
+pub fn case_name(id: usize) -> String {
+    format!("case_{id:06}")
+}
+
+/// Shortest round-trip text of a float.
+fn num(x: f64) -> String {
+    format!("{x:?}")
+}
+
+/// The cells of one row: inputs, pressure, outputs (if any) and provenance.
+fn row_cells(
+    case: &PlannedCase,
+    settings: &PlanSettings,
+    pressure: f64,
+    step: Option<&StepOutputs>,
+    error: &str,
+) -> Vec<String> {
+    let mut r = vec![
+        case_name(case.id),
+        case.n_bellows.to_string(),
+        num(case.wall_thickness_mm),
+        num(case.mu1_mpa),
+        num(case.alpha1),
+        num(case.mu2_mpa),
+        num(case.alpha2),
+        num(pressure),
+        step.is_some_and(|s| s.converged).to_string(),
+    ];
+    match step {
+        Some(s) => {
+            r.extend([s.tip_uz_mm, s.tip_uy_mm, s.angle_deg, s.force_n].map(num));
+            r.extend(s.markers.iter().flat_map(|m| [num(m[0]), num(m[1])]));
+            r.extend([
+                s.newton_iterations.to_string(),
+                s.substeps.to_string(),
+                s.cutbacks.to_string(),
+                num(s.residual),
+                num(s.min_gap_mm),
+            ]);
+        }
+        None => {
+            r.extend(std::iter::repeat_n(num(f64::NAN), 4 + 18));
+            r.extend(std::iter::repeat_n(String::new(), 5));
+        }
+    }
+    r.extend([
+        settings.mesh.level.name().to_owned(),
+        settings.mesh.element_size.map(num).unwrap_or_default(),
+        num(settings.bulk_ratio),
+        settings.gravity.to_string(),
+        num(settings.solver.rtol),
+        code_version(),
+        error.to_owned(),
+    ]);
+    r
+}
+
+/// Error text on one line (newlines would make the CSV awkward for line-based tools).
+fn one_line(s: &str) -> String {
+    s.split(['\n', '\r'])
+        .map(str::trim)
+        .filter(|p| !p.is_empty())
+        .collect::<Vec<_>>()
+        .join("; ")
+}
+
+/// The CSV text of one case (header + one row per plan pressure).
+///
+/// Steps beyond `outcome.steps` get `converged = false`, `NaN` outputs and the outcome's
+/// error (or a note that the runner returned too few steps).
+pub fn case_csv(case: &PlannedCase, settings: &PlanSettings, outcome: &CaseOutcome) -> Vec<u8> {
+    let missing_error = match &outcome.error {
+        Some(e) => one_line(e),
+        None => format!(
+            "runner returned {} of {} steps without an error",
+            outcome.steps.len(),
+            settings.pressures_bar.len()
+        ),
+    };
+    let mut w = csv::WriterBuilder::new()
+        .has_headers(false)
+        .from_writer(Vec::new());
+    let mut out = header_line().into_bytes();
+    out.push(b'\n');
+    for (j, &p) in settings.pressures_bar.iter().enumerate() {
+        let step = outcome.steps.get(j);
+        let error = if step.is_some() { "" } else { &missing_error };
+        let cells = row_cells(case, settings, p, step, error);
+        w.write_record(&cells).expect("writing to memory");
+    }
+    out.extend(w.into_inner().expect("writing to memory"));
+    out
+}
+
+/// Writes `bytes` to `path` atomically: temporary file in the same directory, fsync, rename,
+/// fsync of the directory.
+///
+/// # Errors
+/// [`SnapshotError::Io`] naming the file.
+pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SnapshotError> {
+    let dir = path.parent().unwrap_or(Path::new("."));
+    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
+    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    let tmp_err = |e| SnapshotError::io(&tmp, e);
+    let mut f = std::fs::File::create(&tmp).map_err(tmp_err)?;
+    f.write_all(bytes).map_err(tmp_err)?;
+    f.sync_all().map_err(tmp_err)?;
+    drop(f);
+    std::fs::rename(&tmp, path).map_err(|e| SnapshotError::io(path, e))?;
+    // make the rename itself durable
+    if let Ok(d) = std::fs::File::open(if dir.as_os_str().is_empty() {
+        Path::new(".")
+    } else {
+        dir
+    }) {
+        let _ = d.sync_all();
+    }
+    Ok(())
+}
+
+/// A validated case file: its data rows as written (without the header).
+#[derive(Debug)]
+pub struct CaseFile {
+    /// The rows' bytes, ending with a newline.
+    pub body: Vec<u8>,
+    /// Whether any row carries an error.
+    pub failed: bool,
+    /// Rows with `converged = false`.
+    pub unconverged_rows: usize,
+}
+
+/// Checks one data row (0-based `j`) of a case file; returns whether it converged.
+fn check_row(
+    rec: &csv::StringRecord,
+    j: usize,
+    case: &PlannedCase,
+    settings: &PlanSettings,
+) -> Result<bool, String> {
+    let Some(&p) = settings.pressures_bar.get(j) else {
+        let n = settings.pressures_bar.len();
+        return Err(format!("more rows than the plan's {n} pressures"));
+    };
+    if rec.len() != n_columns() {
+        return Err(format!("{} cells, expected {}", rec.len(), n_columns()));
+    }
+    // inputs, pressure and the plan's settings (not code_version: a resume may use a newer build)
+    let expected = row_cells(case, settings, p, None, "");
+    let header = header_line();
+    for col in (0..8).chain(n_columns() - 7..n_columns() - 2) {
+        if rec[col] != expected[col] {
+            let name = header.split(',').nth(col).unwrap_or("?");
+            return Err(format!(
+                "{name} = {:?}, expected {:?} (the plan's value)",
+                &rec[col], expected[col]
+            ));
+        }
+    }
+    let converged = match &rec[8] {
+        "true" => true,
+        "false" => false,
+        other => return Err(format!("converged = {other:?}, expected true or false")),
+    };
+    for (col, name) in REQUIRED_COLUMNS.iter().enumerate().skip(9) {
+        if rec[col].parse::<f64>().is_err() {
+            return Err(format!("{name} = {:?} is not a number", &rec[col]));
+        }
+    }
+    Ok(converged)
+}
+
+/// Reads and validates the case file of `case` against the plan: header, one row per plan
+/// pressure in order, the case's inputs and settings, booleans and numbers.
+///
+/// # Errors
+/// [`SnapshotError::CaseFile`] naming the file, line and problem.
+pub fn read_case_file(
+    path: &Path,
+    case: &PlannedCase,
+    settings: &PlanSettings,
+) -> Result<CaseFile, SnapshotError> {
+    let bytes = std::fs::read(path).map_err(|e| SnapshotError::io(path, e))?;
+    let bad = |line: usize, message: String| SnapshotError::CaseFile {
+        path: path.display().to_string(),
+        line,
+        message,
+    };
+    let (head, body) = match bytes.iter().position(|&b| b == b'\n') {
+        Some(i) => (&bytes[..i], &bytes[i + 1..]),
+        None => (&bytes[..], &[][..]),
+    };
+    if head != header_line().as_bytes() {
+        let why = "header differs from this program's snapshot columns (written by another \
+                   version?); delete the file to re-run the case";
+        return Err(bad(1, why.into()));
+    }
+    let mut out = CaseFile {
+        body: body.to_vec(),
+        failed: false,
+        unconverged_rows: 0,
+    };
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(body);
+    let mut rows = 0;
+    for (j, rec) in rdr.records().enumerate() {
+        let rec = rec.map_err(|e| bad(j + 2, e.to_string()))?;
+        let converged = check_row(&rec, j, case, settings).map_err(|m| bad(j + 2, m))?;
+        out.unconverged_rows += usize::from(!converged);
+        out.failed |= !rec[n_columns() - 1].is_empty();
+        rows += 1;
+    }
+    let n = settings.pressures_bar.len();
+    if rows != n {
+        let why = format!("{rows} rows, expected one per plan pressure ({n})");
+        return Err(bad(rows + 1, why));
+    }
+    Ok(out)
+}
+
+/// A shard directory bound to one plan.
+#[derive(Debug, Clone)]
+pub struct ShardDir {
+    root: PathBuf,
+}
+
+impl ShardDir {
+    /// Checks `root` for `plan` without writing anything: the directory if it holds this plan,
+    /// `None` if it is not a snapshot directory yet (missing, or without a plan hash and case
+    /// folder).
+    ///
+    /// # Errors
+    /// [`SnapshotError::PlanMismatch`] if it holds another plan, [`SnapshotError::NotSnapshotDir`]
+    /// if it has a case folder but no plan hash, I/O errors.
+    pub fn existing(root: &Path, plan: &Plan) -> Result<Option<Self>, SnapshotError> {
+        let dir = Self {
+            root: root.to_path_buf(),
+        };
+        let hash = plan.hash();
+        match dir.recorded_hash()? {
+            Some(found) if found == hash => Ok(Some(dir)),
+            Some(found) => Err(SnapshotError::PlanMismatch {
+                dir: root.display().to_string(),
+                found,
+                expected: hash,
+            }),
+            None if dir.cases_dir().exists() => Err(SnapshotError::NotSnapshotDir {
+                dir: root.display().to_string(),
+                reason: format!("it has a {CASES_DIR}/ folder but no {PLAN_HASH_FILE}"),
+            }),
+            None => Ok(None),
+        }
+    }
+
+    /// Opens `root` for `plan`, creating it (with `plan.json` and `plan_hash`) if needed.
+    ///
+    /// # Errors
+    /// See [`ShardDir::existing`]; I/O errors.
+    pub fn create(root: &Path, plan: &Plan) -> Result<Self, SnapshotError> {
+        let dir = match Self::existing(root, plan)? {
+            Some(dir) => dir,
+            None => {
+                let dir = Self {
+                    root: root.to_path_buf(),
+                };
+                let cases = dir.cases_dir();
+                std::fs::create_dir_all(&cases).map_err(|e| SnapshotError::io(&cases, e))?;
+                write_atomic(&root.join(PLAN_FILE), plan.pretty_json().as_bytes())?;
+                // the hash marker last: it commits the directory to the plan
+                let hash = format!("{}\n", plan.hash());
+                write_atomic(&root.join(PLAN_HASH_FILE), hash.as_bytes())?;
+                dir
+            }
+        };
+        let cases = dir.cases_dir();
+        std::fs::create_dir_all(&cases).map_err(|e| SnapshotError::io(&cases, e))?;
+        Ok(dir)
+    }
+
+    /// Opens an existing shard directory and its plan (for merging).
+    ///
+    /// # Errors
+    /// [`SnapshotError::NotSnapshotDir`] without a plan hash, a plan copy that does not match
+    /// the hash, or plan errors.
+    pub fn open(root: &Path) -> Result<(Self, Plan), SnapshotError> {
+        let dir = Self {
+            root: root.to_path_buf(),
+        };
+        let not_dir = |reason: String| SnapshotError::NotSnapshotDir {
+            dir: root.display().to_string(),
+            reason,
+        };
+        let hash = dir
+            .recorded_hash()?
+            .ok_or_else(|| not_dir(format!("no {PLAN_HASH_FILE} file")))?;
+        let plan = Plan::read(&root.join(PLAN_FILE))?;
+        if plan.hash() != hash {
+            return Err(not_dir(format!(
+                "{PLAN_FILE} has hash {}, {PLAN_HASH_FILE} says {hash}",
+                plan.hash()
+            )));
+        }
+        Ok((dir, plan))
+    }
+
+    /// The directory.
+    pub fn root(&self) -> &Path {
+        &self.root
+    }
+
+    fn cases_dir(&self) -> PathBuf {
+        self.root.join(CASES_DIR)
+    }
+
+    fn recorded_hash(&self) -> Result<Option<String>, SnapshotError> {
+        let path = self.root.join(PLAN_HASH_FILE);
+        match std::fs::read_to_string(&path) {
+            Ok(s) => Ok(Some(s.trim().to_owned())),
+            Err(e) if e.kind() == std::io::ErrorKind::NotFound => Ok(None),
+            Err(e) => Err(SnapshotError::io(&path, e)),
+        }
+    }
+
+    /// Path of the case file of case `id`.
+    pub fn case_path(&self, id: usize) -> PathBuf {
+        self.cases_dir().join(format!("{}.csv", case_name(id)))
+    }
+
+    /// Ids of the case files present (temporary files ignored).
+    ///
+    /// # Errors
+    /// I/O errors; [`SnapshotError::NotSnapshotDir`] for a file in `cases/` that is neither a
+    /// case file nor a temporary file.
+    pub fn case_ids(&self) -> Result<BTreeMap<usize, PathBuf>, SnapshotError> {
+        let dir = self.cases_dir();
+        let mut ids = BTreeMap::new();
+        for entry in std::fs::read_dir(&dir).map_err(|e| SnapshotError::io(&dir, e))? {
+            let entry = entry.map_err(|e| SnapshotError::io(&dir, e))?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if name.starts_with('.') && name.ends_with(".tmp") {
+                continue;
+            }
+            let id = name
+                .strip_prefix("case_")
+                .and_then(|s| s.strip_suffix(".csv"))
+                .and_then(|s| s.parse::<usize>().ok())
+                .filter(|&id| name == format!("{}.csv", case_name(id)));
+            match id {
+                Some(id) => {
+                    ids.insert(id, entry.path());
+                }
+                None => {
+                    return Err(SnapshotError::NotSnapshotDir {
+                        dir: self.root.display().to_string(),
+                        reason: format!("unexpected file {CASES_DIR}/{name}"),
+                    })
+                }
+            }
+        }
+        Ok(ids)
+    }
+
+    /// Removes temporary files left by a killed writer of case `id`.
+    ///
+    /// # Errors
+    /// I/O errors.
+    pub fn remove_temporaries(&self, id: usize) -> Result<(), SnapshotError> {
+        let dir = self.cases_dir();
+        let prefix = format!(".{}.csv.", case_name(id));
+        for entry in std::fs::read_dir(&dir).map_err(|e| SnapshotError::io(&dir, e))? {
+            let entry = entry.map_err(|e| SnapshotError::io(&dir, e))?;
+            let name = entry.file_name().to_string_lossy().into_owned();
+            if name.starts_with(&prefix) && name.ends_with(".tmp") {
+                let p = entry.path();
+                std::fs::remove_file(&p).map_err(|e| SnapshotError::io(&p, e))?;
+            }
+        }
+        Ok(())
+    }
+
+    /// Writes the case file of `case` atomically.
+    ///
+    /// # Errors
+    /// I/O errors.
+    pub fn write_case(
+        &self,
+        case: &PlannedCase,
+        settings: &PlanSettings,
+        outcome: &CaseOutcome,
+    ) -> Result<PathBuf, SnapshotError> {
+        let path = self.case_path(case.id);
+        write_atomic(&path, &case_csv(case, settings, outcome))?;
+        Ok(path)
+    }
+}

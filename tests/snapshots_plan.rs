@@ -1,0 +1,285 @@
+//! Sampling plans: determinism, admissibility, stratification over N, the literature sets
+//! inside the ranges, malformed plans and bad shard specifications (library and CLI).
+
+mod snapshots_common;
+
+use std::collections::BTreeMap;
+
+use snapshots_common::{cli, plan, scratch, small_settings};
+use surrogate::fe::material::Ogden2;
+use surrogate::snapshots::{Plan, Ranges, Shard, SnapshotError};
+
+fn shard(s: &str) -> Shard {
+    s.parse().unwrap()
+}
+
+#[test]
+fn same_seed_gives_the_identical_plan() {
+    let a = plan(40, 7).pretty_json();
+    assert_eq!(a, plan(40, 7).pretty_json());
+    assert_ne!(a, plan(40, 8).pretty_json());
+    let p = plan(40, 7);
+    let back = Plan::from_json(&a, "round trip").unwrap();
+    assert_eq!(back, p);
+    assert_eq!(back.hash(), p.hash());
+}
+
+#[test]
+fn every_sampled_set_is_admissible_and_inside_the_ranges() {
+    let p = plan(300, 11);
+    let r = &p.ranges;
+    let inside = |v: f64, lo: f64, hi: f64| v >= lo && v <= hi;
+    for c in &p.cases {
+        assert!(c.design().is_ok(), "case {c:?}: design");
+        assert!(Ogden2::new(c.mu1_mpa, c.alpha1, c.mu2_mpa, c.alpha2).is_ok());
+        let (k1, k2) = (c.mu1_mpa * c.alpha1, c.mu2_mpa * c.alpha2);
+        assert!(k1 > 0.0 && k2 > 0.0, "case {}: μᵢαᵢ = {k1}, {k2}", c.id);
+        let mu0 = 0.5 * (k1 + k2);
+        assert!(
+            inside(mu0, r.mu0_mpa[0], r.mu0_mpa[1] * (1.0 + 1e-12)),
+            "μ0 {mu0}"
+        );
+        assert!(r.contains_ogden(c.ogden()), "case {c:?} outside the ranges");
+        assert!(inside(
+            c.wall_thickness_mm,
+            r.wall_thickness_mm[0],
+            r.wall_thickness_mm[1]
+        ));
+    }
+    // the capped T range is used: at N = 15 the cavity rule allows T ≤ 2.317 mm
+    let t15 = p.cases.iter().filter(|c| c.n_bellows == 15);
+    assert!(t15.clone().all(|c| c.wall_thickness_mm < 2.317));
+    assert!(t15.clone().any(|c| c.wall_thickness_mm > 2.1));
+}
+
+#[test]
+fn cases_are_stratified_over_n() {
+    for (k, values) in [(40, (7..=15).collect::<Vec<_>>()), (27, vec![9, 11, 13])] {
+        let ranges = Ranges {
+            n_bellows: values.clone(),
+            ..Ranges::default()
+        };
+        let p = Plan::generate(k, 3, ranges, small_settings()).unwrap();
+        let mut counts = BTreeMap::new();
+        for c in &p.cases {
+            *counts.entry(c.n_bellows).or_insert(0usize) += 1;
+        }
+        assert_eq!(counts.keys().copied().collect::<Vec<_>>(), values);
+        let (lo, hi) = (k / values.len(), k.div_ceil(values.len()));
+        assert!(counts.values().all(|&n| n == lo || n == hi), "{counts:?}");
+    }
+}
+
+#[test]
+fn literature_ogden_sets_lie_inside_the_default_ranges() {
+    let inside = Ranges::default().literature_inside().unwrap();
+    assert_eq!(
+        inside,
+        vec![
+            ("ogden_002".to_string(), true),
+            ("ogden_005".to_string(), true)
+        ]
+    );
+}
+
+#[test]
+fn malformed_plans_are_errors_naming_the_field() {
+    let good = plan(5, 1).pretty_json();
+    let v: serde_json::Value = serde_json::from_str(&good).unwrap();
+    let edit = |f: &dyn Fn(&mut serde_json::Value)| {
+        let mut v = v.clone();
+        f(&mut v);
+        v.to_string()
+    };
+    let cases: Vec<(String, &str)> = vec![
+        ("{ not json".into(), "key must be a string"),
+        (
+            edit(&|v| v.as_object_mut().unwrap().remove("seed").map(drop).unwrap()),
+            "missing field `seed`",
+        ),
+        (edit(&|v| v["sead"] = 3.into()), "unknown field `sead`"),
+        (
+            edit(&|v| v["format_version"] = 2.into()),
+            "plan field format_version = 2",
+        ),
+        (
+            edit(&|v| {
+                v.as_object_mut()
+                    .unwrap()
+                    .remove("format_version")
+                    .map(drop)
+                    .unwrap()
+            }),
+            "format_version = missing",
+        ),
+        (
+            edit(&|v| v["cases"][1]["wall_thickness_mm"] = 3.5.into()),
+            "cases[1] (id 1).wall_thickness_mm = 3.5",
+        ),
+        (
+            edit(&|v| v["cases"][0]["n_bellows"] = 16.into()),
+            "cases[0] (id 0).n_bellows = 16",
+        ),
+        (
+            edit(&|v| v["cases"][2]["mu1_mpa"] = (-1.0).into()),
+            "cases[2] (id 2).mu1*alpha1",
+        ),
+        (
+            edit(&|v| v["cases"][2]["alpha2"] = "x".into()),
+            "invalid type: string \"x\"",
+        ),
+        (edit(&|v| v["cases"][3]["id"] = 0.into()), "cases[3].id = 0"),
+        (
+            edit(&|v| v["cases"] = serde_json::json!([])),
+            "plan field cases",
+        ),
+        (
+            edit(&|v| v["settings"]["pressures_bar"][2] = 0.1.into()),
+            "settings.pressures_bar[2] = 0.1",
+        ),
+        (
+            edit(&|v| v["settings"]["bulk_ratio"] = (-1.0).into()),
+            "settings.bulk_ratio = -1",
+        ),
+        (
+            edit(&|v| v["ranges"]["alpha2"] = serde_json::json!([-1.0, 0.5])),
+            "ranges.alpha2",
+        ),
+    ];
+    for (text, needle) in cases {
+        let err = Plan::from_json(&text, "plan.json").unwrap_err().to_string();
+        assert!(
+            err.contains(needle),
+            "error {err:?} should contain {needle:?}"
+        );
+    }
+}
+
+#[test]
+fn bad_generation_settings_are_errors() {
+    let bad_n = Ranges {
+        n_bellows: vec![15],
+        wall_thickness_mm: [2.5, 2.8],
+        ..Ranges::default()
+    };
+    let err = Plan::generate(5, 1, bad_n, small_settings()).unwrap_err();
+    assert!(err.to_string().contains("ranges.n_bellows = 15"), "{err}");
+    let err = Plan::generate(0, 1, Ranges::default(), small_settings()).unwrap_err();
+    assert!(err.to_string().contains("plan field cases = 0"), "{err}");
+}
+
+#[test]
+fn shard_specifications() {
+    assert_eq!(shard("2/3"), Shard { index: 2, count: 3 });
+    for (spec, needle) in [
+        ("3/2", "1 ≤ k ≤ 2"),
+        ("0/2", "1 ≤ k ≤ 2"),
+        ("a/b", "k \"a\" is not a non-negative integer"),
+        ("1/0", "n ≥ 1"),
+        ("2", "k/n"),
+        ("1/-2", "n \"-2\""),
+    ] {
+        let err = spec.parse::<Shard>().unwrap_err();
+        assert!(matches!(err, SnapshotError::Shard { .. }));
+        assert!(err.to_string().contains(needle), "{spec}: {err}");
+    }
+}
+
+#[test]
+fn shards_partition_the_plan() {
+    let p = plan(23, 2);
+    for n in 1..=6 {
+        let mut seen = BTreeMap::new();
+        for k in 1..=n {
+            for c in p.shard_cases(Shard { index: k, count: n }) {
+                *seen.entry(c.id).or_insert(0) += 1;
+            }
+        }
+        assert_eq!(seen.len(), p.cases.len(), "n = {n}");
+        assert!(seen.values().all(|&v| v == 1), "n = {n}");
+    }
+}
+
+#[test]
+fn cli_plan_and_bad_shards() {
+    let root = scratch("cli");
+    let plan_path = root.join("plan.json");
+    let ps = plan_path.to_str().unwrap();
+    let (ok, err) = cli(&[
+        "snapshots",
+        "plan",
+        "--cases",
+        "18",
+        "--seed",
+        "9",
+        "--n-values",
+        "9,11,13",
+        "--pressures",
+        "3:1",
+        "--out",
+        ps,
+    ]);
+    assert!(ok, "{err}");
+    assert!(err.contains("ogden_002 inside, ogden_005 inside"), "{err}");
+    let p = Plan::read(&plan_path).unwrap();
+    assert_eq!(p.settings.pressures_bar, [0.0, 1.0, 2.0, 3.0]);
+    assert_eq!(p.cases.iter().filter(|c| c.n_bellows == 11).count(), 6);
+    let again = root.join("again.json");
+    cli(&[
+        "snapshots",
+        "plan",
+        "--cases",
+        "18",
+        "--seed",
+        "9",
+        "--n-values",
+        "9,11,13",
+        "--pressures",
+        "3:1",
+        "--out",
+        again.to_str().unwrap(),
+    ]);
+    assert_eq!(
+        std::fs::read(&plan_path).unwrap(),
+        std::fs::read(&again).unwrap()
+    );
+    let d = root.join("d");
+    for (shard, needle) in [
+        ("3/2", "1 ≤ k ≤ 2"),
+        ("0/2", "1 ≤ k ≤ 2"),
+        ("a/b", "\"a\" is not"),
+    ] {
+        let (ok, err) = cli(&[
+            "snapshots",
+            "--plan",
+            ps,
+            "--shard",
+            shard,
+            "--out",
+            d.to_str().unwrap(),
+        ]);
+        assert!(!ok && err.contains(needle), "{shard}: {err}");
+    }
+    std::fs::write(root.join("bad.json"), "{\"format_version\": 1}").unwrap();
+    let (ok, err) = cli(&[
+        "snapshots",
+        "--plan",
+        root.join("bad.json").to_str().unwrap(),
+        "--out",
+        d.to_str().unwrap(),
+    ]);
+    assert!(!ok && err.contains("missing field"), "{err}");
+    let (ok, err) = cli(&[
+        "snapshots",
+        "plan",
+        "--cases",
+        "5",
+        "--alpha2-range",
+        "-1,0.5",
+        "--out",
+        ps,
+    ]);
+    assert!(!ok && err.contains("ranges.alpha2"), "{err}");
+    assert!(!d.exists(), "nothing written on bad input");
+    std::fs::remove_dir_all(root).unwrap();
+}
