@@ -123,6 +123,8 @@ fn fe_snapshots_reproduce_when_re_simulated() {
             rtol: f(r0, "solver_rtol"),
             ..Default::default()
         },
+        mode: surrogate::fe::simulate::Mode::Bending,
+        contact: Default::default(),
     };
     let again = simulate(&case).unwrap();
     assert_eq!(again.steps.len(), chunk.len());

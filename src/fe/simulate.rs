@@ -59,8 +59,8 @@ impl Default for ContactSettings {
     fn default() -> Self {
         Self {
             enabled: true,
-            stiffness: 100.0,
-            smoothing: 0.02,
+            stiffness: 20.0,
+            smoothing: 0.05,
         }
     }
 }

@@ -3,22 +3,17 @@
 //! [`fe_runner`] = [`bending_ramp`] (the actuator hanging free, gravity then pressure) +
 //! [`blocked_force_ramp`] (the blocked-force test). A ramp that stops keeps the steps it
 //! reached; the outcome carries the solver's error for the rest.
-//!
-//! **Blocked force is not wired in yet**: the FE's blocked-force mode (a plate under the tip,
-//! `StepResult::force_n`) is being added to `simulate::Case`; until then
-//! [`blocked_force_ramp`] returns `NaN` for every pressure, and it is the one function to
-//! change when the mode lands.
 
 use super::plan::{PlanSettings, PlannedCase};
 use super::run::{CaseOutcome, StepOutputs};
-use crate::fe::simulate::{simulate_with, Case, StepResult};
+use crate::fe::simulate::{simulate_with, Case, Mode, StepResult};
 
-/// The FE case (bending test) of a planned case.
+/// The FE case (bending or blocked-force test) of a planned case.
 ///
 /// # Errors
 /// The design or material error as text (plans are validated on load, so only a hand-built
 /// case can fail here).
-pub fn fe_case(case: &PlannedCase, settings: &PlanSettings) -> Result<Case, String> {
+pub fn fe_case(case: &PlannedCase, settings: &PlanSettings, mode: Mode) -> Result<Case, String> {
     Ok(Case {
         design: case.design().map_err(|e| e.to_string())?,
         material: case
@@ -28,6 +23,8 @@ pub fn fe_case(case: &PlannedCase, settings: &PlanSettings) -> Result<Case, Stri
         gravity: settings.gravity,
         mesh: settings.mesh,
         solver: settings.solver.clone(),
+        mode,
+        contact: settings.contact,
     })
 }
 
@@ -50,7 +47,7 @@ pub fn step_outputs(r: &StepResult) -> StepOutputs {
 
 /// The bending ramp: the steps the solver reached and its error if it stopped.
 pub fn bending_ramp(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
-    let fe = match fe_case(case, settings) {
+    let fe = match fe_case(case, settings, Mode::Bending) {
         Ok(fe) => fe,
         Err(e) => return CaseOutcome::failed(e),
     };
@@ -64,15 +61,21 @@ pub fn bending_ramp(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome 
 
 /// The blocked-force ramp: the plate reaction (N) at each plan pressure reached, and the error
 /// if the ramp stopped early.
-///
-/// Placeholder until `simulate::Case` has the blocked-force mode: `NaN` at every pressure.
-/// With the mode, run the case in force mode here and return `StepResult::force_n` of each
-/// step reached (and the solver's error if the ramp stopped).
 pub fn blocked_force_ramp(
-    _case: &PlannedCase,
+    case: &PlannedCase,
     settings: &PlanSettings,
 ) -> (Vec<f64>, Option<String>) {
-    (vec![f64::NAN; settings.pressures_bar.len()], None)
+    let fe = match fe_case(case, settings, Mode::Force) {
+        Ok(fe) => fe,
+        Err(e) => return (Vec::new(), Some(e)),
+    };
+    let mut force = Vec::new();
+    let result = simulate_with(
+        &fe,
+        |_, _| {},
+        |_, r, _| force.push(r.force_n.unwrap_or(f64::NAN)),
+    );
+    (force, result.err().map(|e| e.to_string()))
 }
 
 /// The real runner: bending ramp and blocked-force ramp, joined per pressure. A row needs

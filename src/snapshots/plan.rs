@@ -64,6 +64,7 @@ use crate::fe::material::{
     literature_sets, Hyperelastic, Material, MaterialError, MaterialLaw, Ogden2,
 };
 use crate::fe::mesh::{MeshLevel, MeshOptions};
+use crate::fe::simulate::ContactSettings;
 use crate::fe::simulate::{validate_pressures, SimulateError};
 use crate::fe::solver::SolverSettings;
 
@@ -120,6 +121,9 @@ pub struct PlanSettings {
     pub bulk_ratio: f64,
     /// Nonlinear solver settings.
     pub solver: SolverSettings,
+    /// Contact settings (bellows, clamp, force plate).
+    #[serde(default)]
+    pub contact: ContactSettings,
 }
 
 impl Default for PlanSettings {
@@ -132,6 +136,7 @@ impl Default for PlanSettings {
             mesh: MeshOptions::level(MeshLevel::Standard),
             bulk_ratio: 1000.0,
             solver: SolverSettings::default(),
+            contact: ContactSettings::default(),
         }
     }
 }

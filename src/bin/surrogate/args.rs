@@ -25,6 +25,8 @@ pub enum Command {
     Predict(PredictArgs),
     /// Export a surrogate for the embedded predictor (Rust tables + C header).
     Export(ExportArgs),
+    /// The literature baseline: FE with contact vs every experimental configuration.
+    Validate(ValidateArgs),
     /// Snapshots: sampling plans, shard runs (resumable), merges.
     Snapshots(Box<crate::snapshots::SnapshotsArgs>),
 }
@@ -185,10 +187,10 @@ pub struct SimulateArgs {
     #[arg(long)]
     pub no_contact: bool,
     /// Contact penalty stiffness (MPa per mm of penetration).
-    #[arg(long, default_value_t = 100.0)]
+    #[arg(long, default_value_t = 20.0)]
     pub contact_stiffness: f64,
     /// Contact smoothing width (mm): contact pressure starts at this gap.
-    #[arg(long, default_value_t = 0.02)]
+    #[arg(long, default_value_t = 0.05)]
     pub contact_smoothing: f64,
     /// Largest pressure increment of one load substep (bar).
     #[arg(long, default_value_t = 0.5)]
@@ -200,6 +202,29 @@ pub struct SimulateArgs {
     /// JSON summary (to --out).
     #[arg(long)]
     pub bench: bool,
+}
+
+/// `surrogate validate`.
+#[derive(Debug, Args)]
+pub struct ValidateArgs {
+    /// Material (see `simulate --help`).
+    #[arg(long, default_value = "ogden_002")]
+    pub material: String,
+    /// Mesh level.
+    #[arg(long, default_value = "standard")]
+    pub mesh: String,
+    /// Element size override (mm).
+    #[arg(long)]
+    pub element_size: Option<f64>,
+    /// Contact penalty stiffness (MPa/mm).
+    #[arg(long, default_value_t = 20.0)]
+    pub contact_stiffness: f64,
+    /// Contact smoothing width (mm).
+    #[arg(long, default_value_t = 0.05)]
+    pub contact_smoothing: f64,
+    /// Output CSV (one row per configuration); an SVG plot is written beside it.
+    #[arg(long)]
+    pub out: PathBuf,
 }
 
 /// `surrogate demo`.

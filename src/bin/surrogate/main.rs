@@ -7,6 +7,7 @@ mod predict;
 mod simulate;
 mod snapshots;
 mod train;
+mod validate;
 
 use std::process::ExitCode;
 
@@ -20,6 +21,7 @@ fn main() -> ExitCode {
         args::Command::Train(a) => train::run(a),
         args::Command::Predict(a) => predict::run(a),
         args::Command::Export(a) => export::run(a),
+        args::Command::Validate(a) => validate::run(a),
         args::Command::Snapshots(a) => snapshots::run(*a),
     };
     match result {

@@ -1,0 +1,179 @@
+//! The literature baseline: the full FE model (with contact) against every experimental
+//! configuration, for one material set.
+//!
+//! For each design (N, T) of the shipped experiments, one bending ramp and one blocked-force
+//! ramp through 0 and the measured pressures; per (N, T, P) the simulated and measured tip
+//! Uz, Uy, angle, the tip bending error `BE` and the force error `F_sim − F_exp`.
+
+use rayon::prelude::*;
+use serde::Serialize;
+
+use super::experiments::{bending_error, BendingRecord, ForceRecord};
+use crate::fe::geometry::DesignParams;
+use crate::fe::material::Material;
+use crate::fe::mesh::MeshOptions;
+use crate::fe::simulate::{simulate, Case, ContactSettings, Mode, SimulateError};
+use crate::fe::solver::SolverSettings;
+
+/// One row of the baseline table.
+#[derive(Clone, Debug, Serialize)]
+pub struct BaselineRow {
+    /// Number of bellows.
+    pub n_bellows: usize,
+    /// Wall thickness (mm).
+    pub wall_thickness_mm: f64,
+    /// Pressure (bar).
+    pub pressure_bar: f64,
+    /// Measured tip Uz (mm).
+    pub uz_exp_mm: f64,
+    /// Simulated tip Uz (mm).
+    pub uz_sim_mm: f64,
+    /// Measured tip Uy (mm).
+    pub uy_exp_mm: f64,
+    /// Simulated tip Uy (mm).
+    pub uy_sim_mm: f64,
+    /// Measured angle (deg).
+    pub angle_exp_deg: f64,
+    /// Simulated angle (deg).
+    pub angle_sim_deg: f64,
+    /// Tip bending error (mm).
+    pub be_mm: f64,
+    /// Measured blocked force (N).
+    pub force_exp_n: f64,
+    /// Simulated blocked force (N).
+    pub force_sim_n: f64,
+    /// `F_sim − F_exp` (N).
+    pub force_error_n: f64,
+}
+
+/// Summary of a baseline table.
+#[derive(Clone, Debug, Serialize)]
+pub struct BaselineSummary {
+    /// Configurations.
+    pub configurations: usize,
+    /// Mean BE (mm).
+    pub mean_be_mm: f64,
+    /// Median BE (mm).
+    pub median_be_mm: f64,
+    /// Mean |F_sim − F_exp| (N).
+    pub mean_abs_force_error_n: f64,
+    /// Mean F_sim − F_exp (N): positive = over-prediction.
+    pub mean_force_error_n: f64,
+}
+
+/// Runs the sweep for one material; `progress(done, total)` after every FE ramp.
+///
+/// # Errors
+/// The first FE failure (design, material or solver).
+pub fn run_baseline(
+    material: &Material,
+    mesh: MeshOptions,
+    contact: ContactSettings,
+    bending: &[BendingRecord],
+    force: &[ForceRecord],
+    progress: impl Fn(usize, usize) + Sync,
+) -> Result<Vec<BaselineRow>, SimulateError> {
+    let mut designs: Vec<(usize, f64)> = bending
+        .iter()
+        .map(|r| (r.n_bellows, r.wall_thickness_mm))
+        .collect();
+    designs.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    designs.dedup();
+    let jobs: Vec<((usize, f64), Mode)> = designs
+        .iter()
+        .flat_map(|&d| [(d, Mode::Bending), (d, Mode::Force)])
+        .collect();
+    let done = std::sync::atomic::AtomicUsize::new(0);
+    let results: Vec<Result<_, SimulateError>> = jobs
+        .par_iter()
+        .map(|&((n, t), mode)| {
+            let mut pressures: Vec<f64> = bending
+                .iter()
+                .filter(|r| r.n_bellows == n && r.wall_thickness_mm == t)
+                .map(|r| r.pressure_bar)
+                .collect();
+            pressures.sort_by(f64::total_cmp);
+            pressures.insert(0, 0.0);
+            pressures.dedup();
+            let case = Case {
+                design: DesignParams::new(n, t).validate()?,
+                material: material.clone(),
+                pressures_bar: pressures,
+                gravity: true,
+                mesh,
+                solver: SolverSettings::default(),
+                mode,
+                contact,
+            };
+            let r = simulate(&case);
+            let k = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
+            progress(k, jobs.len());
+            Ok(((n, t), mode, r?))
+        })
+        .collect();
+    let mut rows = Vec::new();
+    let results = results.into_iter().collect::<Result<Vec<_>, _>>()?;
+    for rec in bending {
+        let find = |mode: Mode| {
+            results
+                .iter()
+                .find(|(d, m, _)| {
+                    *m == mode && d.0 == rec.n_bellows && d.1 == rec.wall_thickness_mm
+                })
+                .and_then(|(_, _, resp)| {
+                    resp.steps
+                        .iter()
+                        .find(|s| (s.pressure_bar - rec.pressure_bar).abs() < 1e-9)
+                })
+        };
+        let (Some(b), Some(f)) = (find(Mode::Bending), find(Mode::Force)) else {
+            continue;
+        };
+        let f_exp = force
+            .iter()
+            .find(|r| {
+                r.n_bellows == rec.n_bellows
+                    && r.wall_thickness_mm == rec.wall_thickness_mm
+                    && r.pressure_bar == rec.pressure_bar
+            })
+            .map_or(f64::NAN, |r| r.force_n);
+        let f_sim = f.force_n.unwrap_or(f64::NAN);
+        rows.push(BaselineRow {
+            n_bellows: rec.n_bellows,
+            wall_thickness_mm: rec.wall_thickness_mm,
+            pressure_bar: rec.pressure_bar,
+            uz_exp_mm: rec.tip_uz_mm,
+            uz_sim_mm: b.tip_uz_mm,
+            uy_exp_mm: rec.tip_uy_mm,
+            uy_sim_mm: b.tip_uy_mm,
+            angle_exp_deg: rec.angle_deg,
+            angle_sim_deg: b.angle_deg,
+            be_mm: bending_error(rec.tip_uz_mm, rec.tip_uy_mm, b.tip_uz_mm, b.tip_uy_mm),
+            force_exp_n: f_exp,
+            force_sim_n: f_sim,
+            force_error_n: f_sim - f_exp,
+        });
+    }
+    Ok(rows)
+}
+
+/// Mean / median BE and force errors of a table.
+pub fn summarize(rows: &[BaselineRow]) -> BaselineSummary {
+    let n = rows.len().max(1) as f64;
+    let mut be: Vec<f64> = rows.iter().map(|r| r.be_mm).collect();
+    be.sort_by(f64::total_cmp);
+    let median = if be.is_empty() {
+        f64::NAN
+    } else if be.len() % 2 == 1 {
+        be[be.len() / 2]
+    } else {
+        0.5 * (be[be.len() / 2 - 1] + be[be.len() / 2])
+    };
+    BaselineSummary {
+        configurations: rows.len(),
+        mean_be_mm: be.iter().sum::<f64>() / n,
+        median_be_mm: median,
+        mean_abs_force_error_n: rows.iter().map(|r| r.force_error_n.abs()).sum::<f64>() / n,
+        mean_force_error_n: rows.iter().map(|r| r.force_error_n).sum::<f64>() / n,
+    }
+}
