@@ -355,7 +355,8 @@ fn gap_value(z: &[f64; 9], orientation: f64) -> f64 {
 /// assumes small relative sliding of the facing walls, which holds for the bellows: they
 /// bulge towards each other and bend together. `x0_back` are the back face's reference
 /// coordinates, `x_back`, `x_front` the current ones. Adds into `r` (54) and `k` (54 × 54
-/// row-major) and returns (energy, normal contact force, smallest gap at a quadrature point).
+/// row-major) and returns (energy, magnitude of the force the two faces exchange, smallest gap
+/// at a quadrature point).
 pub fn pair_face(
     settings: &PairSettings,
     orientation: f64,
@@ -366,7 +367,7 @@ pub fn pair_face(
     mut k: Option<&mut [f64; PAIR_DOFS * PAIR_DOFS]>,
 ) -> (f64, f64, f64) {
     let mut energy = 0.0;
-    let mut force = 0.0;
+    let mut front = [0.0; 3];
     let mut min_gap = f64::INFINITY;
     for (jt, &t) in GAUSS3.0.iter().enumerate() {
         for (js, &s) in GAUSS3.0.iter().enumerate() {
@@ -408,7 +409,6 @@ pub fn pair_face(
                 continue;
             }
             energy += psi * da;
-            force -= dpsi * da;
             let g = gap_function(&z, orientation);
             // A = ∂z/∂y: per node a and side, coefficients of the (d, t₁, t₂) blocks
             let mut coef = [[0.0; 3]; 18];
@@ -424,6 +424,11 @@ pub fn pair_face(
             }
             for (ri, gi) in r.iter_mut().zip(&dg) {
                 *ri += dpsi * gi * da;
+            }
+            for a in 0..9 {
+                for c in 0..3 {
+                    front[c] += dpsi * dg[27 + 3 * a + c] * da;
+                }
             }
             if let Some(k) = k.as_deref_mut() {
                 for (n, cn) in coef.iter().enumerate() {
@@ -447,6 +452,7 @@ pub fn pair_face(
             }
         }
     }
+    let force = (front[0] * front[0] + front[1] * front[1] + front[2] * front[2]).sqrt();
     (energy, force, min_gap)
 }
 
