@@ -11,7 +11,7 @@ mkdir -p "$out"
 for level in coarse standard fine; do
   if [ ! -s "$out/n11_t2.0_$level.json" ]; then
     ./target/release/surrogate simulate --n 11 --t 2.0 --pressures 0,1,2,3 \
-      --material ogden_002 --mesh "$level" --out "$out/n11_t2.0_$level.json"
+      --material ogden_002 --mesh "$level" --no-contact --out "$out/n11_t2.0_$level.json"
   fi
 done
 python3 - "$out" <<'PY'
