@@ -31,6 +31,9 @@ fn bad_input_is_a_named_error_with_nonzero_exit() {
         (&["--mesh", "medium"], "unknown mesh level 'medium'"),
         (&["--bulk-ratio=-5"], "bulk_ratio"),
         (&["--element-size", "0"], "--element-size"),
+        (&["--contact-stiffness", "0"], "contact stiffness = 0"),
+        (&["--contact-smoothing", "2"], "contact smoothing = 2"),
+        (&["--mode", "push"], "push"),
     ];
     for (args, needle) in cases {
         let (ok, _, err) = simulate(args);
@@ -89,5 +92,36 @@ fn small_run_writes_json_and_vtk() {
     let vtu = std::fs::read_to_string(vtk.join("step_001.vtu")).unwrap();
     assert!(vtu.contains("Name=\"displacement\"") && vtu.contains("Name=\"von_mises\""));
     assert!(vtk.join("step_001_surfaces.vtu").exists());
+    let contact = std::fs::read_to_string(vtk.join("step_001_contact.vtu")).unwrap();
+    assert!(contact.contains("Name=\"gap_mm\"") && contact.contains("contact_pressure_mpa"));
+    std::fs::remove_dir_all(&dir).ok();
+}
+
+#[test]
+fn force_mode_reports_the_plate_reaction() {
+    let dir = std::env::temp_dir().join(format!("surrogate_fe_force_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let json = dir.join("f.json");
+    let (ok, _, err) = simulate(&[
+        "--n",
+        "7",
+        "--t",
+        "2.4",
+        "--pressures",
+        "0,0.1",
+        "--mesh",
+        "coarse",
+        "--mode",
+        "force",
+        "--out",
+        json.to_str().unwrap(),
+    ]);
+    assert!(ok, "{err}");
+    let v: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    let steps = v["steps"].as_array().unwrap();
+    // the plate is 5 mm below the hanging tip: no force at P = 0 (the scale is tared)
+    assert_eq!(steps[0]["force_n"].as_f64().unwrap(), 0.0);
+    assert!(steps[1]["force_n"].as_f64().unwrap() >= 0.0);
     std::fs::remove_dir_all(&dir).ok();
 }

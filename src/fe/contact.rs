@@ -456,21 +456,26 @@ pub fn pair_face(
     (energy, force, min_gap)
 }
 
-/// The orientation (±1) that makes the gap of a pair positive in its reference state.
-pub fn pair_orientation(x0_back: &[[f64; 3]; 9], x0_front: &[[f64; 3]; 9]) -> f64 {
+/// Gap at the centre of a face pair (current coordinates, back face's tensor order).
+pub fn pair_centre_gap(orientation: f64, x_back: &[[f64; 3]; 9], x_front: &[[f64; 3]; 9]) -> f64 {
     let (ls, ds) = lagrange2(0.0);
     let mut z = [0.0; 9];
     for j in 0..3 {
         for i in 0..3 {
             let a = i + 3 * j;
             for c in 0..3 {
-                z[c] += ls[i] * ls[j] * (x0_front[a][c] - x0_back[a][c]);
-                z[3 + c] += 0.5 * ds[i] * ls[j] * (x0_front[a][c] + x0_back[a][c]);
-                z[6 + c] += 0.5 * ls[i] * ds[j] * (x0_front[a][c] + x0_back[a][c]);
+                z[c] += ls[i] * ls[j] * (x_front[a][c] - x_back[a][c]);
+                z[3 + c] += 0.5 * ds[i] * ls[j] * (x_front[a][c] + x_back[a][c]);
+                z[6 + c] += 0.5 * ls[i] * ds[j] * (x_front[a][c] + x_back[a][c]);
             }
         }
     }
-    if gap_value(&z, 1.0) >= 0.0 {
+    gap_value(&z, orientation)
+}
+
+/// The orientation (±1) that makes the gap of a pair positive in its reference state.
+pub fn pair_orientation(x0_back: &[[f64; 3]; 9], x0_front: &[[f64; 3]; 9]) -> f64 {
+    if pair_centre_gap(1.0, x0_back, x0_front) >= 0.0 {
         1.0
     } else {
         -1.0

@@ -184,7 +184,69 @@ pub fn write_step(
     let path = dir.join(format!("step_{index:03}.vtu"));
     write_atomic(&path, &s)?;
     write_surfaces(&dir.join(format!("step_{index:03}_surfaces.vtu")), model, u)?;
+    if !model.fe.pairs.is_empty() {
+        write_contact(&dir.join(format!("step_{index:03}_contact.vtu")), model, u)?;
+    }
     Ok(path)
+}
+
+/// The facing walls of every gap (both sides) with the gap and contact pressure at each face
+/// pair's centre.
+fn write_contact(path: &Path, model: &ActuatorModel, u: &[f64]) -> io::Result<()> {
+    let fe = &model.fe;
+    let pos = |n: usize| {
+        let x = fe.mesh.nodes[n];
+        [x[0] + u[3 * n], x[1] + u[3 * n + 1], x[2] + u[3 * n + 2]]
+    };
+    let set = fe.pair_settings;
+    let values: Vec<(f64, f64)> = fe
+        .pairs
+        .iter()
+        .map(|p| {
+            let g =
+                super::contact::pair_centre_gap(p.orientation, &p.back.map(pos), &p.front.map(pos));
+            let (_, dpsi, _) = super::contact::barrier(set.stiffness, set.smoothing, g);
+            (g, -dpsi)
+        })
+        .collect();
+    let quads = |n: [usize; 9]| {
+        [
+            [n[0], n[1], n[4], n[3]],
+            [n[1], n[2], n[5], n[4]],
+            [n[3], n[4], n[7], n[6]],
+            [n[4], n[5], n[8], n[7]],
+        ]
+    };
+    let n_cells = 8 * fe.pairs.len();
+    let mut s = String::new();
+    grid_head(&mut s, &fe.mesh, u, n_cells);
+    int_array(
+        &mut s,
+        "connectivity",
+        fe.pairs
+            .iter()
+            .flat_map(|p| quads(p.back).into_iter().chain(quads(p.front)).flatten()),
+    );
+    int_array(&mut s, "offsets", (1..=n_cells).map(|c| 4 * c));
+    s.push_str("<DataArray type=\"UInt8\" Name=\"types\" format=\"ascii\">");
+    for _ in 0..n_cells {
+        s.push_str("9 ");
+    }
+    s.push_str("</DataArray>\n</Cells>\n<CellData>\n");
+    data_array(
+        &mut s,
+        "gap_mm",
+        1,
+        values.iter().flat_map(|v| std::iter::repeat_n(v.0, 8)),
+    );
+    data_array(
+        &mut s,
+        "contact_pressure_mpa",
+        1,
+        values.iter().flat_map(|v| std::iter::repeat_n(v.1, 8)),
+    );
+    s.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
+    write_atomic(path, &s)
 }
 
 fn write_surfaces(path: &Path, model: &ActuatorModel, u: &[f64]) -> io::Result<()> {
