@@ -82,7 +82,7 @@ pub fn run(a: DemoArgs) -> Result<()> {
     }
     if !errors.is_empty() {
         println!(
-            "mean tip bending error BE = {:.2} mm over {} pressures (literature parameters, no contact yet)",
+            "mean tip bending error BE = {:.2} mm over {} pressures (literature parameters, with contact)",
             errors.iter().sum::<f64>() / errors.len() as f64,
             errors.len()
         );
