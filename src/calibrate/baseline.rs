@@ -12,7 +12,7 @@ use super::experiments::{bending_error, BendingRecord, ForceRecord};
 use crate::fe::geometry::DesignParams;
 use crate::fe::material::Material;
 use crate::fe::mesh::MeshOptions;
-use crate::fe::simulate::{simulate, Case, ContactSettings, Mode, SimulateError};
+use crate::fe::simulate::{simulate_with, Case, ContactSettings, Mode, SimulateError};
 use crate::fe::solver::SolverSettings;
 
 /// One row of the baseline table.
@@ -44,6 +44,8 @@ pub struct BaselineRow {
     pub force_sim_n: f64,
     /// `F_sim − F_exp` (N).
     pub force_error_n: f64,
+    /// Solver message if a ramp stopped before this pressure (its values are then `NaN`).
+    pub error: String,
 }
 
 /// Summary of a baseline table.
@@ -51,6 +53,8 @@ pub struct BaselineRow {
 pub struct BaselineSummary {
     /// Configurations.
     pub configurations: usize,
+    /// Configurations the FE did not reach (bending or force).
+    pub failed: usize,
     /// Mean BE (mm).
     pub mean_be_mm: f64,
     /// Median BE (mm).
@@ -61,10 +65,12 @@ pub struct BaselineSummary {
     pub mean_force_error_n: f64,
 }
 
-/// Runs the sweep for one material; `progress(done, total)` after every FE ramp.
+/// Runs the sweep for one material; `progress(done, total)` after every FE ramp. A ramp that
+/// stops keeps the pressures it reached; the others get `NaN` values and the solver's message
+/// in [`BaselineRow::error`].
 ///
 /// # Errors
-/// The first FE failure (design, material or solver).
+/// An invalid experimental design (N or T out of the model's range).
 pub fn run_baseline(
     material: &Material,
     mesh: MeshOptions,
@@ -105,10 +111,15 @@ pub fn run_baseline(
                 mode,
                 contact,
             };
-            let r = simulate(&case);
+            let mut steps = Vec::new();
+            let outcome = simulate_with(&case, |_, _| {}, |_, r, _| steps.push(r.clone()));
+            let r = (
+                steps,
+                outcome.err().map_or(String::new(), |e| e.to_string()),
+            );
             let k = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
             progress(k, jobs.len());
-            Ok(((n, t), mode, r?))
+            Ok(((n, t), mode, r))
         })
         .collect();
     let mut rows = Vec::new();
@@ -120,15 +131,27 @@ pub fn run_baseline(
                 .find(|(d, m, _)| {
                     *m == mode && d.0 == rec.n_bellows && d.1 == rec.wall_thickness_mm
                 })
-                .and_then(|(_, _, resp)| {
-                    resp.steps
-                        .iter()
-                        .find(|s| (s.pressure_bar - rec.pressure_bar).abs() < 1e-9)
+                .map(|(_, _, (steps, err))| {
+                    (
+                        steps
+                            .iter()
+                            .find(|s| (s.pressure_bar - rec.pressure_bar).abs() < 1e-9),
+                        err.as_str(),
+                    )
                 })
+                .unwrap_or((None, "not run"))
         };
-        let (Some(b), Some(f)) = (find(Mode::Bending), find(Mode::Force)) else {
-            continue;
-        };
+        let ((b, eb), (f, ef)) = (find(Mode::Bending), find(Mode::Force));
+        let nan = f64::NAN;
+        let (uz, uy, angle) =
+            b.map_or((nan, nan, nan), |b| (b.tip_uz_mm, b.tip_uy_mm, b.angle_deg));
+        let mut error = Vec::new();
+        if b.is_none() {
+            error.push(format!("bending: {eb}"));
+        }
+        if f.is_none() {
+            error.push(format!("force: {ef}"));
+        }
         let f_exp = force
             .iter()
             .find(|r| {
@@ -137,31 +160,47 @@ pub fn run_baseline(
                     && r.pressure_bar == rec.pressure_bar
             })
             .map_or(f64::NAN, |r| r.force_n);
-        let f_sim = f.force_n.unwrap_or(f64::NAN);
+        let f_sim = f.and_then(|f| f.force_n).unwrap_or(f64::NAN);
         rows.push(BaselineRow {
             n_bellows: rec.n_bellows,
             wall_thickness_mm: rec.wall_thickness_mm,
             pressure_bar: rec.pressure_bar,
             uz_exp_mm: rec.tip_uz_mm,
-            uz_sim_mm: b.tip_uz_mm,
+            uz_sim_mm: uz,
             uy_exp_mm: rec.tip_uy_mm,
-            uy_sim_mm: b.tip_uy_mm,
+            uy_sim_mm: uy,
             angle_exp_deg: rec.angle_deg,
-            angle_sim_deg: b.angle_deg,
-            be_mm: bending_error(rec.tip_uz_mm, rec.tip_uy_mm, b.tip_uz_mm, b.tip_uy_mm),
+            angle_sim_deg: angle,
+            be_mm: bending_error(rec.tip_uz_mm, rec.tip_uy_mm, uz, uy),
             force_exp_n: f_exp,
             force_sim_n: f_sim,
             force_error_n: f_sim - f_exp,
+            error: error.join("; "),
         });
     }
     Ok(rows)
 }
 
-/// Mean / median BE and force errors of a table.
+/// Mean / median BE and force errors of a table, over the configurations the FE reached.
 pub fn summarize(rows: &[BaselineRow]) -> BaselineSummary {
-    let n = rows.len().max(1) as f64;
-    let mut be: Vec<f64> = rows.iter().map(|r| r.be_mm).collect();
+    let mut be: Vec<f64> = rows
+        .iter()
+        .map(|r| r.be_mm)
+        .filter(|v| v.is_finite())
+        .collect();
     be.sort_by(f64::total_cmp);
+    let fe: Vec<f64> = rows
+        .iter()
+        .map(|r| r.force_error_n)
+        .filter(|v| v.is_finite())
+        .collect();
+    let mean = |v: &[f64]| {
+        if v.is_empty() {
+            f64::NAN
+        } else {
+            v.iter().sum::<f64>() / v.len() as f64
+        }
+    };
     let median = if be.is_empty() {
         f64::NAN
     } else if be.len() % 2 == 1 {
@@ -171,9 +210,10 @@ pub fn summarize(rows: &[BaselineRow]) -> BaselineSummary {
     };
     BaselineSummary {
         configurations: rows.len(),
-        mean_be_mm: be.iter().sum::<f64>() / n,
+        failed: rows.iter().filter(|r| !r.error.is_empty()).count(),
+        mean_be_mm: mean(&be),
         median_be_mm: median,
-        mean_abs_force_error_n: rows.iter().map(|r| r.force_error_n.abs()).sum::<f64>() / n,
-        mean_force_error_n: rows.iter().map(|r| r.force_error_n).sum::<f64>() / n,
+        mean_abs_force_error_n: mean(&fe.iter().map(|v| v.abs()).collect::<Vec<_>>()),
+        mean_force_error_n: mean(&fe),
     }
 }

@@ -61,10 +61,11 @@ pub fn run(a: ValidateArgs) -> Result<()> {
     plot(&svg, &rows, &a.material)?;
     let s = summarize(&rows);
     println!(
-        "{}: {} configurations, mean BE {:.2} mm, median BE {:.2} mm, mean |F error| {:.3} N, \
+        "{}: {} configurations ({} not reached), mean BE {:.2} mm, median BE {:.2} mm, mean |F error| {:.3} N, \
          mean F error {:+.3} N",
         a.material,
         s.configurations,
+        s.failed,
         s.mean_be_mm,
         s.median_be_mm,
         s.mean_abs_force_error_n,
