@@ -23,6 +23,44 @@ fn sym_matvec(col_ptr: &[usize], row_idx: &[usize], k: &[f64], x: &[f64], y: &mu
     }
 }
 
+/// Largest error of `K v` against the central difference of the residual along `v` at the
+/// free state `free`, relative to max |K v|.
+fn directional_fd_error(
+    fe: &surrogate::fe::assembly::FeModel,
+    free: &[f64],
+    level: &LoadLevel,
+    v: &[f64],
+) -> f64 {
+    let n = 3 * fe.mesh.n_nodes();
+    let nf = fe.dofs.n_free;
+    let mut u = vec![0.0; n];
+    fe.expand(free, level, &mut u);
+    let mut r = vec![0.0; n];
+    let mut k = vec![0.0; fe.pattern.nnz()];
+    fe.assemble(&u, level, &mut r, Some(&mut k)).unwrap();
+    let mut kv = vec![0.0; nf];
+    sym_matvec(&fe.pattern.col_ptr, &fe.pattern.row_idx, &k, v, &mut kv);
+    let h = 1e-6;
+    let shifted = |s: f64| {
+        let f: Vec<f64> = free.iter().zip(v).map(|(a, b)| a + s * b).collect();
+        let mut uu = vec![0.0; n];
+        fe.expand(&f, level, &mut uu);
+        let mut rr = vec![0.0; n];
+        fe.assemble(&uu, level, &mut rr, None).unwrap();
+        let mut out = vec![0.0; nf];
+        fe.restrict(&rr, &mut out);
+        out
+    };
+    let (rp, rm) = (shifted(h), shifted(-h));
+    let scale = kv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
+    let err = kv
+        .iter()
+        .zip(rp.iter().zip(&rm))
+        .map(|(a, (p, m))| (a - (p - m) / (2.0 * h)).abs())
+        .fold(0.0f64, f64::max);
+    err / scale
+}
+
 #[test]
 fn actuator_tangent_matches_directional_finite_differences() {
     let design = DesignParams::new(9, 2.0).validate().unwrap();
@@ -36,7 +74,6 @@ fn actuator_tangent_matches_directional_finite_differences() {
     )
     .unwrap();
     let fe = &model.fe;
-    let n = 3 * fe.mesh.n_nodes();
     let nf = fe.dofs.n_free;
     let level = LoadLevel {
         pressure: 0.1,
@@ -51,37 +88,11 @@ fn actuator_tangent_matches_directional_finite_differences() {
         if amplitude == 0.0 {
             free.iter_mut().for_each(|v| *v = 0.0);
         }
-        let mut u = vec![0.0; n];
-        fe.expand(&free, &level, &mut u);
-        let mut r = vec![0.0; n];
-        let mut k = vec![0.0; fe.pattern.nnz()];
-        fe.assemble(&u, &level, &mut r, Some(&mut k)).unwrap();
         let v: Vec<f64> = (0..nf).map(|_| rng.gen_range(-1.0..1.0)).collect();
-        let mut kv = vec![0.0; nf];
-        sym_matvec(&fe.pattern.col_ptr, &fe.pattern.row_idx, &k, &v, &mut kv);
-        let h = 1e-6;
-        let shifted = |s: f64| {
-            let f: Vec<f64> = free.iter().zip(&v).map(|(a, b)| a + s * b).collect();
-            let mut uu = vec![0.0; n];
-            fe.expand(&f, &level, &mut uu);
-            let mut rr = vec![0.0; n];
-            fe.assemble(&uu, &level, &mut rr, None).unwrap();
-            let mut out = vec![0.0; nf];
-            fe.restrict(&rr, &mut out);
-            out
-        };
-        let rp = shifted(h);
-        let rm = shifted(-h);
-        let scale = kv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-        let err = kv
-            .iter()
-            .zip(rp.iter().zip(&rm))
-            .map(|(a, (p, m))| (a - (p - m) / (2.0 * h)).abs())
-            .fold(0.0f64, f64::max);
+        let rel = directional_fd_error(fe, &free, &level, &v);
         assert!(
-            err / scale < 1e-6,
-            "amplitude {amplitude}: directional FD error {:e}",
-            err / scale
+            rel < 1e-6,
+            "amplitude {amplitude}: directional FD error {rel:e}"
         );
     }
 }
@@ -216,25 +227,6 @@ fn actuator_tangent_with_contact_active_matches_finite_differences() {
         info.pair_min_gap
     );
     let v: Vec<f64> = (0..nf).map(|_| rng.gen_range(-1.0..1.0)).collect();
-    let mut kv = vec![0.0; nf];
-    sym_matvec(&fe.pattern.col_ptr, &fe.pattern.row_idx, &k, &v, &mut kv);
-    let h = 1e-6;
-    let shifted = |s: f64| {
-        let f: Vec<f64> = free.iter().zip(&v).map(|(a, b)| a + s * b).collect();
-        let mut uu = vec![0.0; n];
-        fe.expand(&f, &level, &mut uu);
-        let mut rr = vec![0.0; n];
-        fe.assemble(&uu, &level, &mut rr, None).unwrap();
-        let mut out = vec![0.0; nf];
-        fe.restrict(&rr, &mut out);
-        out
-    };
-    let (rp, rm) = (shifted(h), shifted(-h));
-    let scale = kv.iter().fold(0.0f64, |m, x| m.max(x.abs()));
-    let err = kv
-        .iter()
-        .zip(rp.iter().zip(&rm))
-        .map(|(a, (p, m))| (a - (p - m) / (2.0 * h)).abs())
-        .fold(0.0f64, f64::max);
-    assert!(err / scale < 1e-6, "directional FD error {:e}", err / scale);
+    let rel = directional_fd_error(fe, &free, &level, &v);
+    assert!(rel < 1e-6, "directional FD error {rel:e}");
 }
