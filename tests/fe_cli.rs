@@ -31,6 +31,8 @@ fn bad_input_is_a_named_error_with_nonzero_exit() {
         (&["--mesh", "medium"], "unknown mesh level 'medium'"),
         (&["--bulk-ratio=-5"], "bulk_ratio"),
         (&["--element-size", "0"], "--element-size"),
+        (&["--wall-elements", "0"], "--wall-elements 0"),
+        (&["--rtol", "0.5"], "--rtol 0.5"),
         (&["--contact-stiffness", "0"], "contact stiffness = 0"),
         (&["--contact-smoothing", "2"], "contact smoothing = 2"),
         (&["--mode", "push"], "push"),

@@ -30,6 +30,7 @@ fn tiny_plan(cases: usize, seed: u64, edit: impl FnOnce(&mut PlanSettings)) -> P
         mesh: MeshOptions {
             level: MeshLevel::Coarse,
             element_size: Some(20.0),
+            wall_elements: None,
         },
         ..PlanSettings::default()
     };
@@ -118,6 +119,7 @@ fn fe_snapshots_reproduce_when_re_simulated() {
         mesh: MeshOptions {
             level: r0[col("mesh")].parse().unwrap(),
             element_size: Some(f(r0, "element_size_mm")),
+            wall_elements: None,
         },
         solver: surrogate::fe::solver::SolverSettings {
             rtol: f(r0, "solver_rtol"),

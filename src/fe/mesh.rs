@@ -324,11 +324,11 @@ impl<K: Copy + PartialEq> GridMesh<K> {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "lowercase")]
 pub enum MeshLevel {
-    /// Quick looks and tests.
+    /// Quick looks, tests and snapshots: h = 6 mm, one element through a wall.
     Coarse,
-    /// Production level (within 1 % of the extrapolated tip displacement).
+    /// Production level: h = 3 mm, two elements through a wall.
     Standard,
-    /// Convergence studies.
+    /// Convergence studies: h = 2 mm, three elements through a wall.
     Fine,
 }
 
@@ -337,8 +337,8 @@ impl MeshLevel {
     pub fn sizing(self) -> (f64, usize) {
         match self {
             MeshLevel::Coarse => (6.0, 1),
-            MeshLevel::Standard => (3.0, 1),
-            MeshLevel::Fine => (2.0, 2),
+            MeshLevel::Standard => (3.0, 2),
+            MeshLevel::Fine => (2.0, 3),
         }
     }
     /// Name as used on the command line.
@@ -372,6 +372,9 @@ pub struct MeshOptions {
     pub level: MeshLevel,
     /// Element size override (mm); through-wall count becomes ceil(T / h).
     pub element_size: Option<f64>,
+    /// Override of the minimum number of elements through a wall.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_elements: Option<usize>,
 }
 
 impl MeshOptions {
@@ -380,13 +383,15 @@ impl MeshOptions {
         Self {
             level,
             element_size: None,
+            wall_elements: None,
         }
     }
     fn sizing(&self) -> (f64, usize) {
-        match self.element_size {
+        let (h, div) = match self.element_size {
             Some(h) => (h, 1),
             None => self.level.sizing(),
-        }
+        };
+        (h, self.wall_elements.unwrap_or(div).max(1))
     }
 }
 
@@ -568,6 +573,30 @@ mod tests {
                 assert!(f.iter().all(|&l| pos(l)[axis] == sign));
             }
         }
+    }
+
+    #[test]
+    fn levels_are_one_refinement_family() {
+        let d = DesignParams::new(11, 2.0).validate().unwrap();
+        let elements = |o: MeshOptions| ActuatorMesh::new(&d, &o).mesh().n_elements();
+        let coarse = elements(MeshOptions::level(MeshLevel::Coarse));
+        let standard = elements(MeshOptions::level(MeshLevel::Standard));
+        let fine = elements(MeshOptions::level(MeshLevel::Fine));
+        // h 6 → 3 → 2 and 1 → 2 → 3 elements through a wall; segments shorter than h (the
+        // 1 mm gaps) keep one element, so the counts grow by less than 8 and 27
+        assert!(
+            (4 * coarse..=8 * coarse).contains(&standard),
+            "{coarse} → {standard}"
+        );
+        assert!(
+            (2 * standard..=4 * standard).contains(&fine),
+            "{standard} → {fine}"
+        );
+        // the wall override adds elements through the walls only
+        let mut o = MeshOptions::level(MeshLevel::Coarse);
+        o.wall_elements = Some(2);
+        let w2 = elements(o);
+        assert!(w2 > coarse && w2 < standard, "{coarse} → {w2}");
     }
 
     #[test]

@@ -187,6 +187,11 @@ impl LinearSolver {
         })
     }
 
+    /// Stored entries of the factor L.
+    pub fn nnz_l(&self) -> usize {
+        self.symbolic.len_val()
+    }
+
     /// Solves `K x = b` in place, K given by its lower triangle.
     ///
     /// # Errors

@@ -173,6 +173,9 @@ pub struct SimulateArgs {
     /// Element size override in mm.
     #[arg(long)]
     pub element_size: Option<f64>,
+    /// Minimum number of elements through a wall (overrides the level's).
+    #[arg(long)]
+    pub wall_elements: Option<usize>,
     /// Write the result as JSON here (stdout if absent).
     #[arg(long)]
     pub out: Option<PathBuf>,
@@ -198,6 +201,12 @@ pub struct SimulateArgs {
     /// Line search on the directional residual in every Newton iteration.
     #[arg(long)]
     pub line_search: bool,
+    /// Newton tolerance on the normalised residual.
+    #[arg(long, default_value_t = surrogate::fe::solver::SolverSettings::default().rtol)]
+    pub rtol: f64,
+    /// Grow the next increment after a substep that took at most this many iterations.
+    #[arg(long, default_value_t = surrogate::fe::solver::SolverSettings::default().grow_below_iterations)]
+    pub grow_below: usize,
     /// Benchmark mode: run the full ramp 0→3 bar (0.5 bar steps) on each mesh level and write a
     /// JSON summary (to --out).
     #[arg(long)]

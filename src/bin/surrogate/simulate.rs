@@ -39,6 +39,17 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
             "--element-size {h}: expected an element size in (0.2, 50] mm"
         );
     }
+    if let Some(k) = a.wall_elements {
+        anyhow::ensure!(
+            (1..=8).contains(&k),
+            "--wall-elements {k}: expected 1 to 8 elements through a wall"
+        );
+    }
+    anyhow::ensure!(
+        a.rtol.is_finite() && a.rtol > 0.0 && a.rtol < 1e-2,
+        "--rtol {}: expected a residual tolerance in (0, 1e-2)",
+        a.rtol
+    );
     surrogate::fe::simulate::validate_pressures(&pressures)?;
     anyhow::ensure!(
         a.max_increment.is_finite() && a.max_increment > 0.0 && a.max_increment <= 5.0,
@@ -53,11 +64,14 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
         mesh: MeshOptions {
             level,
             element_size: a.element_size,
+            wall_elements: a.wall_elements,
         },
         solver: SolverSettings {
             trace: std::env::var_os("SURROGATE_TRACE").is_some(),
             max_pressure_increment: a.max_increment * surrogate::fe::simulate::BAR,
             line_search: a.line_search,
+            rtol: a.rtol,
+            grow_below_iterations: a.grow_below,
             ..SolverSettings::default()
         },
         mode: match a.mode {

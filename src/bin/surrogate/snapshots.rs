@@ -239,6 +239,7 @@ fn plan(a: PlanArgs) -> Result<()> {
         mesh: MeshOptions {
             level,
             element_size: a.element_size,
+            wall_elements: None,
         },
         bulk_ratio: a.bulk_ratio,
         ..PlanSettings::default()

@@ -34,6 +34,7 @@ pub fn run(a: ValidateArgs) -> Result<()> {
         MeshOptions {
             level,
             element_size: a.element_size,
+            wall_elements: None,
         },
         contact,
         &bending,
