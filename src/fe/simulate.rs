@@ -327,7 +327,8 @@ impl ActuatorModel {
         d
     }
 
-    /// Smallest deformed gap between facing bellow walls (and the first wall and the clamp).
+    /// Smallest deformed gap between facing bellow walls (node to node, signed along the back
+    /// wall's current normal) and between the first wall and the clamp plane.
     pub fn min_gap(&self, u: &[f64]) -> (f64, String) {
         let pos = |n: usize| {
             let x = self.fe.mesh.nodes[n];
@@ -348,17 +349,28 @@ impl ActuatorModel {
                         }
                     }
                     for f in faces {
+                        // the back wall's current normal, oriented into the gap as in the
+                        // reference (+z): the sign survives any rotation of the bellow
+                        let normal = |p: &dyn Fn(usize) -> [f64; 3]| {
+                            let (a, b, c) = (p(f.nodes[0]), p(f.nodes[2]), p(f.nodes[6]));
+                            let (s, t) = (sub(b, a), sub(c, a));
+                            [
+                                s[1] * t[2] - s[2] * t[1],
+                                s[2] * t[0] - s[0] * t[2],
+                                s[0] * t[1] - s[1] * t[0],
+                            ]
+                        };
+                        let n_ref = normal(&|n| self.fe.mesh.nodes[n]);
+                        let n_cur = normal(&pos);
+                        let orient = n_ref[2].signum();
                         for &n in &f.nodes {
                             let x = self.fe.mesh.nodes[n];
                             if let Some(&m) = lookup.get(&key(x[0], x[1])) {
-                                let (a, b) = (pos(n), pos(m));
-                                let x0m = self.fe.mesh.nodes[m];
-                                // signed distance along the reference gap direction, rotated
-                                // with the local wall: use the chord between the two walls
-                                let g0 = x0m[2] - x[2];
-                                let d = [b[0] - a[0], b[1] - a[1], b[2] - a[2]];
+                                let d = sub(pos(m), pos(n));
                                 let len = (d[0] * d[0] + d[1] * d[1] + d[2] * d[2]).sqrt();
-                                let gap = if d[2] * g0 >= 0.0 { len } else { -len };
+                                let along =
+                                    orient * (d[0] * n_cur[0] + d[1] * n_cur[1] + d[2] * n_cur[2]);
+                                let gap = if along >= 0.0 { len } else { -len };
                                 if gap < best.0 {
                                     best = (gap, format!("gap {}-{}", i + 1, i + 2));
                                 }
@@ -632,4 +644,8 @@ fn measure(model: &ActuatorModel, state: &PathState, rep: &StepReport, lf: f64) 
         clamp_force_n,
         min_contact_gap_mm: pair_gap.min(clamp_gap),
     }
+}
+
+fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
+    [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
 }
