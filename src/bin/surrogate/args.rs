@@ -201,6 +201,9 @@ pub struct SimulateArgs {
     /// Line search on the directional residual in every Newton iteration.
     #[arg(long)]
     pub line_search: bool,
+    /// Secant predictor: start each increment from the extrapolated previous increment.
+    #[arg(long)]
+    pub predictor: bool,
     /// Newton tolerance on the normalised residual.
     #[arg(long, default_value_t = surrogate::fe::solver::SolverSettings::default().rtol)]
     pub rtol: f64,
