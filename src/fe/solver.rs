@@ -18,6 +18,15 @@
 //! solution, quadratic convergence after the first two iterations, ≈ 6–8 iterations per
 //! increment of 0.05–0.1 bar (N = 11, T = 2, coarse: 314 → 90 iterations for 0 → 3 bar).
 //! Line searches and secant predictors do not help here and are off by default.
+//!
+//! Giving up early and retrying: an iteration whose residual is more than 10× the best one
+//! since the first (from the third on), or two iterations in a row that each keep more than
+//! 90 % of the residual while it is still above 1e-3, end the attempt; the increment actually
+//! tried is halved and retried. Contact guard: a step that would push a contact point more than
+//! 0.1 mm deeper than the deepest current penetration (or 0.1 mm into the penalty zone) is
+//! shortened to that depth. Measured on a snapshot case with bellows in contact from 0.75 bar
+//! (N = 11, T = 1.94, coarse, 0 → 3.5 bar): 1473 → 575 Newton iterations, same solution to
+//! 3e-8 mm.
 
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
@@ -290,6 +299,22 @@ pub struct Solver<'m> {
     force_scale: f64,
     /// Pressure increment of the last converged substep.
     last_increment: Option<f64>,
+    /// Smallest contact gap (mm) at the current Newton iterate.
+    current_min_gap: f64,
+}
+
+/// Deepest penetration (mm) a Newton step may add at a contact point; a longer step is
+/// shortened (see `Solver::line_search`).
+const MAX_STEP_PENETRATION_MM: f64 = 0.1;
+
+/// A Newton iteration that keeps more than this share of the residual makes no progress.
+const STALL_RATIO: f64 = 0.9;
+
+/// The smallest gap at any contact quadrature point (planes and face pairs).
+fn min_contact_gap(info: &AssemblyInfo) -> f64 {
+    info.plane_min_gaps
+        .iter()
+        .fold(info.pair_min_gap, |m, &g| m.min(g))
 }
 
 impl<'m> Solver<'m> {
@@ -314,6 +339,7 @@ impl<'m> Solver<'m> {
             factor_seconds: 0.0,
             assembly_seconds: 0.0,
             last_increment: None,
+            current_min_gap: f64::INFINITY,
             force_scale: {
                 let v: f64 = model.geometry.iter().map(|g| g.volume()).sum();
                 1e-3 * model.material.mu0() * v.powf(2.0 / 3.0)
@@ -389,7 +415,9 @@ impl<'m> Solver<'m> {
                 state.u_free = saved;
                 report.cutbacks += 1;
                 consecutive_cuts += 1;
-                frac *= 0.5;
+                // halve the increment actually tried (it may have been clipped to the end
+                // of the step), so that the retry is a different, smaller one
+                frac = 0.5 * (s_next - s);
                 self.last_increment = None;
                 if consecutive_cuts > self.settings.max_cutbacks {
                     self.model
@@ -483,11 +511,16 @@ impl<'m> Solver<'m> {
             update: f64::INFINITY,
         };
         let mut best_residual = f64::INFINITY;
+        let mut previous_residual = f64::INFINITY;
+        let mut stalled = 0;
         self.use_tangent_pressure = false;
         for it in 0..=self.settings.max_iterations {
             self.model.expand(&state.u_free, level, u_full);
             let ext = match self.assemble(u_full, level, true) {
-                Ok(info) => info.external_norm,
+                Ok(info) => {
+                    self.current_min_gap = min_contact_gap(&info);
+                    info.external_norm
+                }
                 Err(_) => return Ok(out),
             };
             let reactions = self.reaction_norm();
@@ -522,6 +555,17 @@ impl<'m> Solver<'m> {
                 // diverging: give up early and let the step be cut back
                 return Ok(out);
             }
+            // stagnating far from the solution (two iterations in a row that barely reduce
+            // the residual): Newton will not recover in the iterations left
+            stalled = if it >= 2 && rn > STALL_RATIO * previous_residual {
+                stalled + 1
+            } else {
+                0
+            };
+            if stalled >= 2 && out.residual > 1e-3 {
+                return Ok(out);
+            }
+            previous_residual = rn;
             for (d, r) in self.du.iter_mut().zip(&self.r_free) {
                 *d = -r;
             }
@@ -602,6 +646,7 @@ impl<'m> Solver<'m> {
         let mut alpha = 1.0;
         let lo = (0.0, s0);
         let mut admissible = false;
+        let gap0 = self.current_min_gap;
         for _ in 0..16 {
             for ((t, u), d) in self.trial.iter_mut().zip(&state.u_free).zip(&self.du) {
                 *t = u + alpha * d;
@@ -609,12 +654,24 @@ impl<'m> Solver<'m> {
             let trial = std::mem::take(&mut self.trial);
             self.model.expand(&trial, level, u_full);
             self.trial = trial;
-            if self.assemble(u_full, level, false).is_err() {
+            let assembled = self.assemble(u_full, level, false);
+            let Ok(info) = assembled else {
                 // det F guard: shorten the step until every element is admissible
                 if admissible {
                     return lo.0;
                 }
                 alpha *= 0.5;
+                continue;
+            };
+            // contact guard: a linearised step that was taken with a contact point still
+            // open may drive it deep into the penalty zone, where the barrier's force and
+            // stiffness are far from the tangent's; shorten it to the allowed penetration
+            let gap = min_contact_gap(&info);
+            let allowed = gap0.min(0.0) - MAX_STEP_PENETRATION_MM;
+            if gap < allowed && gap0.is_finite() && gap0 > gap {
+                let shrink = ((gap0 - allowed) / (gap0 - gap)).clamp(0.05, 0.9);
+                alpha *= shrink;
+                admissible = true;
                 continue;
             }
             admissible = true;
