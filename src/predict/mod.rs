@@ -7,7 +7,7 @@
 //!
 //! The evaluation mirrors the library's [`Surrogate`](../rom/struct.Surrogate.html):
 //!
-//! 1. features `z = (N, T, ln μ₁α₁, α₁, ln μ₂α₂, α₂)`, scaled `x_d = (z_d − c_d)·s_d`;
+//! 1. features `z = (N, T, ln μ0, α₁, s, α₂)` (μ0 = ½(μ₁α₁ + μ₂α₂), s = μ₁α₁/(2μ0)), scaled `x_d = (z_d − c_d)·s_d`;
 //! 2. POD coefficients `a = f(x)` from a Matérn-5/2 Gaussian process (posterior mean
 //!    `a_c = Σᵢ k(x, xᵢ) αᵢc`) or a polynomial (`a_c = Σ_p x^{e_p} β_pc`);
 //! 3. per output block, the snapshot ramp at the pressure nodes of a cubic Hermite stencil,
@@ -23,7 +23,7 @@
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
 
-/// Number of raw regression features: `N, T, ln μ₁α₁, α₁, ln μ₂α₂, α₂`.
+/// Number of raw regression features: `N, T, ln μ0, α₁, s, α₂`.
 pub const N_FEATURES: usize = 6;
 /// Number of query inputs: `N, T, P, μ₁, α₁, μ₂, α₂`.
 pub const N_INPUTS: usize = 7;
@@ -401,7 +401,7 @@ impl EmbeddedError {
     }
 }
 
-/// Raw features `(N, T, ln μ₁α₁, α₁, ln μ₂α₂, α₂)` of a query `[N, T, P, μ₁, α₁, μ₂, α₂]`.
+/// Raw features `(N, T, ln μ0, α₁, s, α₂)` of a query `[N, T, P, μ₁, α₁, μ₂, α₂]`.
 pub fn raw_features(input: &[f64; N_INPUTS]) -> Result<[f64; N_FEATURES], EmbeddedError> {
     let mut i = 0;
     while i < N_INPUTS {
@@ -414,7 +414,14 @@ pub fn raw_features(input: &[f64; N_INPUTS]) -> Result<[f64; N_FEATURES], Embedd
     if !(k1 > 0.0 && k2 > 0.0) {
         return Err(EmbeddedError::Inadmissible);
     }
-    Ok([input[0], input[1], ln(k1), input[4], ln(k2), input[6]])
+    Ok([
+        input[0],
+        input[1],
+        ln(0.5 * (k1 + k2)),
+        input[4],
+        k1 / (k1 + k2),
+        input[6],
+    ])
 }
 
 /// Evaluates all 22 quantities (markers, tip, angle, force) of `model` at

@@ -23,7 +23,7 @@
 //! ## Regression ([`regression`])
 //!
 //! The coefficients of all blocks are regressed on the scaled features
-//! `z = (N, T, ln μ₁α₁, α₁, ln μ₂α₂, α₂)` by a Gaussian process (Matérn 5/2, shared ARD
+//! `z = (N, T, ln μ0, α₁, s, α₂)` (μ0 = ½(μ₁α₁ + μ₂α₂), s = μ₁α₁/(2μ0)) by a Gaussian process (Matérn 5/2, shared ARD
 //! length scales, profiled variance) and by a polynomial (total degree and ridge chosen by
 //! PRESS). `N` is discrete: it enters as a numeric input, and only the trained values of `N`
 //! are accepted at prediction. The **regression error** is `s ⊙ Φ(a − â)`.

@@ -1,7 +1,7 @@
 //! Model files: portable, versioned JSON with a checksum.
 //!
 //! ```text
-//! {"format":"surrogate-rom","format_version":1,"checksum":"crc32:1a2b3c4d","model":{…}}
+//! {"format":"surrogate-rom","format_version":2,"checksum":"crc32:1a2b3c4d","model":{…}}
 //! ```
 //! `model` is the serialised [`Surrogate`] (inputs with units and training bounds, scalers,
 //! POD bases, regression weights, validation errors, provenance). The checksum is the CRC-32
@@ -21,7 +21,7 @@ use super::RomError;
 /// Format name written in every model file.
 pub const FORMAT_NAME: &str = "surrogate-rom";
 /// Format version this build writes and reads.
-pub const FORMAT_VERSION: u32 = 1;
+pub const FORMAT_VERSION: u32 = 2;
 
 #[derive(Serialize)]
 struct EnvelopeOut<'a> {

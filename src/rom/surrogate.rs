@@ -485,14 +485,24 @@ impl Surrogate {
             self.poly
                 .jacobian_into(&w.x, &mut w.coef[1], &mut w.jac[1], &mut w.scratch);
         }
-        // dz_f/du_i for u = (T, P, μ1, α1, μ2, α2), z = (N, T, ln μ1α1, α1, ln μ2α2, α2)
+        // dz_f/du_i for u = (T, P, μ1, α1, μ2, α2), z = (N, T, ln μ0, α1, s, α2) with
+        // k_i = μ_i α_i, μ0 = (k1 + k2)/2, s = k1/(k1 + k2)
+        let (k1, k2) = (q.mu1 * q.alpha1, q.mu2 * q.alpha2);
+        let ks = k1 + k2;
+        // d/dk1 and d/dk2 of ln μ0 and of s
+        let (dl1, dl2) = (1.0 / ks, 1.0 / ks);
+        let (ds1, ds2) = (k2 / (ks * ks), -k1 / (ks * ks));
         let mut dz = [[0.0; N_GRAD_INPUTS]; N_FEATURES];
         dz[1][0] = 1.0;
-        dz[2][2] = 1.0 / q.mu1;
-        dz[2][3] = 1.0 / q.alpha1;
+        dz[2][2] = dl1 * q.alpha1;
+        dz[2][3] = dl1 * q.mu1;
+        dz[2][4] = dl2 * q.alpha2;
+        dz[2][5] = dl2 * q.mu2;
         dz[3][3] = 1.0;
-        dz[4][4] = 1.0 / q.mu2;
-        dz[4][5] = 1.0 / q.alpha2;
+        dz[4][2] = ds1 * q.alpha1;
+        dz[4][3] = ds1 * q.mu1;
+        dz[4][4] = ds2 * q.alpha2;
+        dz[4][5] = ds2 * q.mu2;
         dz[5][5] = 1.0;
         let d = self.features.dim();
         let st = stencil(&self.pressures, q.p_bar);
