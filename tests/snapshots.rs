@@ -31,6 +31,7 @@ fn run(plan: &Plan, dir: &Path, shard: Shard, threads: usize, runner: &dyn CaseR
     let options = RunOptions {
         shard,
         threads: Some(threads),
+        retry_failed: false,
     };
     run_shard(plan, dir, &options, runner, &quiet).unwrap();
 }
@@ -143,6 +144,7 @@ fn resume_reruns_only_missing_cases_and_cleans_temporaries() {
     let options = RunOptions {
         shard: Shard::ALL,
         threads: Some(2),
+        retry_failed: false,
     };
     let summary = run_shard(&p, &dir, &options, &counting, &quiet).unwrap();
     assert_eq!(calls.load(Ordering::SeqCst), 2);
@@ -164,6 +166,46 @@ fn resume_reruns_only_missing_cases_and_cleans_temporaries() {
         std::fs::read(root.join("m.csv")).unwrap(),
         single_run(&p, &root)
     );
+    std::fs::remove_dir_all(root).unwrap();
+}
+
+#[test]
+fn retry_failed_reruns_only_failed_cases() {
+    let root = scratch("retry");
+    let p = plan(10, 6);
+    let dir = root.join("d");
+    run(&p, &dir, Shard::ALL, 2, &FAILING);
+    // cases 3 and 7 failed (fail_every = 4); a fixed runner fills them in
+    let calls = std::sync::Mutex::new(Vec::new());
+    let fixed = AnalyticRunner {
+        delay: Duration::ZERO,
+        fail_every: 0,
+    };
+    let counting = |c: &PlannedCase, s: &PlanSettings| {
+        calls.lock().unwrap().push(c.id);
+        fixed.run(c, s)
+    };
+    let options = RunOptions {
+        shard: Shard::ALL,
+        threads: Some(2),
+        retry_failed: true,
+    };
+    let summary = run_shard(&p, &dir, &options, &counting, &quiet).unwrap();
+    let mut ids = calls.lock().unwrap().clone();
+    ids.sort_unstable();
+    assert_eq!(ids, vec![3, 7]);
+    assert_eq!((summary.skipped, summary.done, summary.failed), (8, 2, 0));
+    // the directory now equals a run of the fixed runner
+    let other = root.join("fixed");
+    run(&p, &other, Shard::ALL, 1, &fixed);
+    assert_eq!(case_files(&dir), case_files(&other));
+    for name in case_files(&dir) {
+        assert_eq!(
+            std::fs::read(dir.join("cases").join(&name)).unwrap(),
+            std::fs::read(other.join("cases").join(&name)).unwrap(),
+            "{name}"
+        );
+    }
     std::fs::remove_dir_all(root).unwrap();
 }
 
@@ -269,6 +311,7 @@ fn a_directory_of_another_plan_is_refused() {
     let options = RunOptions {
         shard: Shard::ALL,
         threads: Some(1),
+        retry_failed: false,
     };
     let err = run_shard(&b, &dir, &options, &FAILING, &quiet).unwrap_err();
     assert!(matches!(err, SnapshotError::PlanMismatch { .. }), "{err}");
@@ -333,6 +376,7 @@ fn a_tampered_case_file_is_reported_not_overwritten() {
     let options = RunOptions {
         shard: Shard::ALL,
         threads: Some(1),
+        retry_failed: false,
     };
     let err = run_shard(&p, &dir, &options, &FAILING, &quiet)
         .unwrap_err()

@@ -46,6 +46,7 @@ fn run_all(plan: &Plan, dir: &std::path::Path, threads: usize) {
     let options = RunOptions {
         shard: Shard::ALL,
         threads: Some(threads),
+        retry_failed: false,
     };
     run_shard(plan, dir, &options, &fe_runner, &|_: Progress| {}).unwrap();
 }

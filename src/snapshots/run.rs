@@ -94,6 +94,9 @@ pub struct RunOptions {
     pub shard: Shard,
     /// Worker threads (cases in parallel); `None`: rayon's default (one per core).
     pub threads: Option<usize>,
+    /// Run again the cases whose file records a failure (after a solver improvement); the
+    /// new file replaces the old one atomically.
+    pub retry_failed: bool,
 }
 
 /// Progress after each case.
@@ -156,7 +159,7 @@ pub fn run_shard(
     let start = Instant::now();
     let store = ShardDir::create(dir, plan)?;
     let cases = plan.shard_cases(options.shard);
-    let pending = pending_cases(Some(&store), plan, options.shard)?;
+    let pending = pending_cases(Some(&store), plan, options.shard, options.retry_failed)?;
     for case in &pending {
         store.remove_temporaries(case.id)?;
     }
@@ -202,12 +205,14 @@ pub fn run_shard(
     })
 }
 
-/// The cases of `shard` without a case file in `store` (all of them without a store), after
-/// validating the files that exist.
+/// The cases of `shard` without a case file in `store` (all of them without a store), and
+/// with `retry_failed` those whose file records a failure, after validating the files that
+/// exist.
 fn pending_cases<'p>(
     store: Option<&ShardDir>,
     plan: &'p Plan,
     shard: Shard,
+    retry_failed: bool,
 ) -> Result<Vec<&'p PlannedCase>, SnapshotError> {
     let cases = plan.shard_cases(shard);
     let Some(store) = store else {
@@ -218,7 +223,9 @@ fn pending_cases<'p>(
     for case in cases {
         match finished.get(&case.id) {
             Some(path) => {
-                read_case_file(path, case, &plan.settings)?;
+                if read_case_file(path, case, &plan.settings)?.failed && retry_failed {
+                    pending.push(case);
+                }
             }
             None => pending.push(case),
         }
@@ -236,7 +243,7 @@ pub fn shard_status(
     shard: Shard,
 ) -> Result<(usize, usize), SnapshotError> {
     let store = ShardDir::existing(dir, plan)?;
-    let pending = pending_cases(store.as_ref(), plan, shard)?;
+    let pending = pending_cases(store.as_ref(), plan, shard, false)?;
     let cases = plan.shard_cases(shard).len();
     Ok((cases, cases - pending.len()))
 }

@@ -78,6 +78,10 @@ pub struct RunArgs {
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,
+    /// Run the cases that failed again (e.g. after a solver improvement); their files are
+    /// replaced atomically, finished cases are kept.
+    #[arg(long)]
+    pub retry_failed: bool,
     /// Check plan, shard and directory and print how far the shard is; run nothing.
     #[arg(long)]
     pub dry_run: bool,
@@ -309,6 +313,7 @@ fn run_plan(a: RunArgs) -> Result<()> {
     let options = RunOptions {
         shard,
         threads: a.threads,
+        retry_failed: a.retry_failed,
     };
     let summary = run_shard(&plan, &a.out, &options, runner, &progress).with_context(|| {
         format!(
