@@ -283,3 +283,72 @@ fn cli_plan_and_bad_shards() {
     assert!(!d.exists(), "nothing written on bad input");
     std::fs::remove_dir_all(root).unwrap();
 }
+
+/// Smallest pairwise distance of cases in the unit box of (N, T, ln μ0, s, α1, α2).
+fn min_spacing(p: &Plan, cases: &[&surrogate::snapshots::PlannedCase]) -> f64 {
+    let r = &p.ranges;
+    let u = |v: f64, lo: f64, hi: f64| (v - lo) / (hi - lo);
+    let (nl, nh) = (r.n_bellows[0] as f64, *r.n_bellows.last().unwrap() as f64);
+    let x: Vec<[f64; 6]> = cases
+        .iter()
+        .map(|c| {
+            let (k1, k2) = (c.mu1_mpa * c.alpha1, c.mu2_mpa * c.alpha2);
+            let mu0 = 0.5 * (k1 + k2);
+            [
+                u(c.n_bellows as f64, nl, nh),
+                u(c.wall_thickness_mm, r.wall_thickness_mm[0], r.wall_thickness_mm[1]),
+                u(mu0.ln(), r.mu0_mpa[0].ln(), r.mu0_mpa[1].ln()),
+                u(k1 / (2.0 * mu0), r.term1_share[0], r.term1_share[1]),
+                u(c.alpha1, r.alpha1[0], r.alpha1[1]),
+                u(c.alpha2, r.alpha2[0], r.alpha2[1]),
+            ]
+        })
+        .collect();
+    let mut m = f64::INFINITY;
+    for i in 0..x.len() {
+        for j in 0..i {
+            let d: f64 = x[i].iter().zip(&x[j]).map(|(a, b)| (a - b) * (a - b)).sum();
+            m = m.min(d.sqrt());
+        }
+    }
+    m
+}
+
+#[test]
+fn subset_keeps_cases_spreads_them_and_balances_n() {
+    use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+    let p = plan(90, 5);
+    let mesh = MeshOptions::level(MeshLevel::Fine);
+    let s = p.subset(12, mesh).unwrap();
+    assert_eq!(s, p.subset(12, mesh).unwrap(), "deterministic");
+    assert_eq!(s.cases.len(), 12);
+    assert_eq!(s.settings.mesh, mesh);
+    assert_eq!(s.settings.pressures_bar, p.settings.pressures_bar);
+    assert_eq!(s.ranges, p.ranges);
+    assert!(s.sampler.contains(&p.hash()), "{}", s.sampler);
+    // every case is a parent case, unchanged, ids increasing
+    for w in s.cases.windows(2) {
+        assert!(w[0].id < w[1].id);
+    }
+    for c in &s.cases {
+        assert_eq!(p.cases.iter().find(|q| q.id == c.id), Some(c));
+    }
+    // N in turn: counts differ by at most one
+    let mut counts = BTreeMap::new();
+    for c in &s.cases {
+        *counts.entry(c.n_bellows).or_insert(0) += 1;
+    }
+    let (lo, hi) = (counts.values().min().unwrap(), counts.values().max().unwrap());
+    assert!(hi - lo <= 1, "{counts:?}");
+    // maximin: better spread than the parent's first 12 cases
+    let chosen: Vec<_> = s.cases.iter().collect();
+    let first: Vec<_> = p.cases.iter().take(12).collect();
+    let (a, b) = (min_spacing(&p, &chosen), min_spacing(&p, &first));
+    assert!(a > 1.2 * b, "subset spacing {a} vs first cases {b}");
+    // the subset runs as a plan of its own
+    assert_eq!(Plan::from_json(&s.pretty_json(), "subset").unwrap(), s);
+    for k in [0, 91] {
+        let e = p.subset(k, mesh).unwrap_err().to_string();
+        assert!(e.contains(&format!("{k}")) && e.contains("1 ..= 90"), "{e}");
+    }
+}

@@ -582,6 +582,95 @@ impl Plan {
         format!("{:08x}", crc32fast::hash(self.canonical_json().as_bytes()))
     }
 
+    /// A plan of `k` of this plan's cases (same ids and inputs) with other mesh settings: the
+    /// high-fidelity subset of a multi-fidelity training set, whose cases pair one to one with
+    /// the low-fidelity ones.
+    ///
+    /// Cases are picked greedily for the largest distance to those already picked (maximin) in
+    /// the unit box of `(N, T, ln μ0, s, α1, α2)` over the plan's ranges, taking the values of
+    /// `N` in turn; the first is the case nearest the centre. Deterministic: ties go to the
+    /// smaller id.
+    ///
+    /// # Errors
+    /// [`SnapshotError::PlanField`] for `k = 0` or `k` larger than the plan, or bad settings.
+    pub fn subset(&self, k: usize, mesh: MeshOptions) -> Result<Self, SnapshotError> {
+        if k == 0 || k > self.cases.len() {
+            return Err(SnapshotError::field(
+                "cases",
+                k,
+                &format!("1 ..= {} (the cases of the plan)", self.cases.len()),
+            ));
+        }
+        let r = &self.ranges;
+        let unit = |v: f64, lo: f64, hi: f64| if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
+        let n_lo = r.n_bellows.iter().copied().min().unwrap_or(0) as f64;
+        let n_hi = r.n_bellows.iter().copied().max().unwrap_or(0) as f64;
+        let coords: Vec<[f64; 6]> = self
+            .cases
+            .iter()
+            .map(|c| {
+                let (k1, k2) = (c.mu1_mpa * c.alpha1, c.mu2_mpa * c.alpha2);
+                let mu0 = 0.5 * (k1 + k2);
+                [
+                    unit(c.n_bellows as f64, n_lo, n_hi),
+                    unit(c.wall_thickness_mm, r.wall_thickness_mm[0], r.wall_thickness_mm[1]),
+                    unit(mu0.ln(), r.mu0_mpa[0].ln(), r.mu0_mpa[1].ln()),
+                    unit(k1 / (2.0 * mu0), r.term1_share[0], r.term1_share[1]),
+                    unit(c.alpha1, r.alpha1[0], r.alpha1[1]),
+                    unit(c.alpha2, r.alpha2[0], r.alpha2[1]),
+                ]
+            })
+            .collect();
+        let dist2 = |a: &[f64; 6], b: &[f64; 6]| -> f64 {
+            a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum()
+        };
+        // smallest squared distance of each case to the picked ones (centre before the first)
+        let mut nearest: Vec<f64> = coords.iter().map(|c| -dist2(c, &[0.5; 6])).collect();
+        let mut picked = vec![false; self.cases.len()];
+        let mut chosen = Vec::with_capacity(k);
+        let mut turn = 0;
+        while chosen.len() < k {
+            let n = r.n_bellows[turn % r.n_bellows.len()];
+            turn += 1;
+            let best = (0..self.cases.len())
+                .filter(|&i| !picked[i] && self.cases[i].n_bellows == n)
+                .max_by(|&a, &b| {
+                    nearest[a]
+                        .total_cmp(&nearest[b])
+                        .then(self.cases[b].id.cmp(&self.cases[a].id))
+                });
+            let Some(i) = best else {
+                continue;
+            };
+            picked[i] = true;
+            chosen.push(i);
+            for (j, c) in coords.iter().enumerate() {
+                let d = dist2(c, &coords[i]);
+                nearest[j] = if chosen.len() == 1 { d } else { nearest[j].min(d) };
+            }
+        }
+        chosen.sort_by_key(|&i| self.cases[i].id);
+        let plan = Self {
+            format_version: FORMAT_VERSION,
+            seed: self.seed,
+            sampler: format!(
+                "subset of plan {} ({} cases): greedy maximin in the unit box of (N, T, ln mu0, s, \
+                 alpha1, alpha2), N in turn; parent sampler: {}",
+                self.hash(),
+                self.cases.len(),
+                self.sampler
+            ),
+            ranges: self.ranges.clone(),
+            settings: PlanSettings {
+                mesh,
+                ..self.settings.clone()
+            },
+            cases: chosen.iter().map(|&i| self.cases[i].clone()).collect(),
+        };
+        plan.validate()?;
+        Ok(plan)
+    }
+
     /// The cases of `shard`, in plan order (see [`Shard`]).
     pub fn shard_cases(&self, shard: Shard) -> Vec<&PlannedCase> {
         self.cases

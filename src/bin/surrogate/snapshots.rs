@@ -17,6 +17,26 @@ use surrogate::snapshots::{
     merge, run_shard, CaseRunner, Plan, PlanSettings, Ranges, RunOptions, Shard,
 };
 
+/// `surrogate snapshots subset`.
+#[derive(Debug, Args)]
+pub struct SubsetArgs {
+    /// The parent plan.
+    #[arg(long)]
+    pub plan: PathBuf,
+    /// Number of cases to keep.
+    #[arg(long)]
+    pub cases: usize,
+    /// Mesh level of the subset: coarse | standard | fine.
+    #[arg(long, default_value = "standard")]
+    pub mesh: String,
+    /// Element size override (mm).
+    #[arg(long)]
+    pub element_size: Option<f64>,
+    /// Output plan file.
+    #[arg(long)]
+    pub out: PathBuf,
+}
+
 /// `surrogate snapshots`.
 #[derive(Debug, Args)]
 #[command(args_conflicts_with_subcommands = true, subcommand_negates_reqs = true)]
@@ -36,6 +56,9 @@ pub enum SnapshotsCommand {
     Plan(PlanArgs),
     /// Run a shard of a plan into a directory (resumes where a previous run stopped).
     Run(RunArgs),
+    /// A subset of a plan's cases on another mesh (the high-fidelity part of a multi-fidelity
+    /// set): greedy maximin, stratified over N, same case ids and inputs.
+    Subset(SubsetArgs),
     /// Join shard directories into one snapshot CSV (identical to a single run).
     Merge(MergeArgs),
     /// Re-simulate random cases of a snapshot CSV and compare with the stored values.
@@ -175,6 +198,7 @@ pub struct VerifyArgs {
 pub fn run(a: SnapshotsArgs) -> Result<()> {
     match (a.command, a.run) {
         (Some(SnapshotsCommand::Plan(p)), _) => plan(p),
+        (Some(SnapshotsCommand::Subset(s)), _) => subset(s),
         (Some(SnapshotsCommand::Run(r)), _) | (None, Some(r)) => run_plan(r),
         (Some(SnapshotsCommand::Merge(m)), _) => merge_dirs(m),
         (Some(SnapshotsCommand::Verify(v)), _) => verify(v),
@@ -263,6 +287,30 @@ fn plan(a: PlanArgs) -> Result<()> {
         plan.settings.pressures_bar.len(),
         plan.hash(),
         inside.join(", ")
+    );
+    Ok(())
+}
+
+fn subset(a: SubsetArgs) -> Result<()> {
+    let parent = Plan::read(&a.plan)?;
+    let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
+    let mesh = MeshOptions {
+        level,
+        element_size: a.element_size,
+        wall_elements: None,
+    };
+    let plan = parent.subset(a.cases, mesh)?;
+    surrogate::snapshots::store::write_atomic(&a.out, plan.pretty_json().as_bytes())?;
+    let ids: Vec<String> = plan.cases.iter().map(|c| c.id.to_string()).collect();
+    eprintln!(
+        "wrote {}: {} of the {} cases of plan {} on the {} mesh, plan hash {}; ids {}",
+        a.out.display(),
+        plan.cases.len(),
+        parent.cases.len(),
+        parent.hash(),
+        a.mesh,
+        plan.hash(),
+        ids.join(",")
     );
     Ok(())
 }
