@@ -296,7 +296,11 @@ fn min_spacing(p: &Plan, cases: &[&surrogate::snapshots::PlannedCase]) -> f64 {
             let mu0 = 0.5 * (k1 + k2);
             [
                 u(c.n_bellows as f64, nl, nh),
-                u(c.wall_thickness_mm, r.wall_thickness_mm[0], r.wall_thickness_mm[1]),
+                u(
+                    c.wall_thickness_mm,
+                    r.wall_thickness_mm[0],
+                    r.wall_thickness_mm[1],
+                ),
                 u(mu0.ln(), r.mu0_mpa[0].ln(), r.mu0_mpa[1].ln()),
                 u(k1 / (2.0 * mu0), r.term1_share[0], r.term1_share[1]),
                 u(c.alpha1, r.alpha1[0], r.alpha1[1]),
@@ -338,7 +342,10 @@ fn subset_keeps_cases_spreads_them_and_balances_n() {
     for c in &s.cases {
         *counts.entry(c.n_bellows).or_insert(0) += 1;
     }
-    let (lo, hi) = (counts.values().min().unwrap(), counts.values().max().unwrap());
+    let (lo, hi) = (
+        counts.values().min().unwrap(),
+        counts.values().max().unwrap(),
+    );
     assert!(hi - lo <= 1, "{counts:?}");
     // maximin: better spread than the parent's first 12 cases
     let chosen: Vec<_> = s.cases.iter().collect();

@@ -63,6 +63,7 @@
 pub mod batch;
 pub mod data;
 pub mod export;
+pub mod fidelity;
 pub mod metrics;
 pub mod model;
 pub mod pod;

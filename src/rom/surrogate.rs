@@ -215,6 +215,9 @@ pub struct TrainingInfo {
     pub code_version: String,
     /// How N is treated.
     pub n_treatment: String,
+    /// Multi-fidelity correction of the training set, if any ([`super::fidelity`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correction: Option<super::fidelity::CorrectionInfo>,
 }
 
 /// The reduced-order surrogate (see the [module docs](super)).

@@ -598,6 +598,7 @@ pub fn train(
         skipped_unconverged,
         code_version: env!("CARGO_PKG_VERSION").to_string(),
         n_treatment: "numeric regression input; predictions only at trained N".into(),
+        correction: None,
     };
     let surrogate = assemble(
         set,

@@ -613,7 +613,11 @@ impl Plan {
                 let mu0 = 0.5 * (k1 + k2);
                 [
                     unit(c.n_bellows as f64, n_lo, n_hi),
-                    unit(c.wall_thickness_mm, r.wall_thickness_mm[0], r.wall_thickness_mm[1]),
+                    unit(
+                        c.wall_thickness_mm,
+                        r.wall_thickness_mm[0],
+                        r.wall_thickness_mm[1],
+                    ),
                     unit(mu0.ln(), r.mu0_mpa[0].ln(), r.mu0_mpa[1].ln()),
                     unit(k1 / (2.0 * mu0), r.term1_share[0], r.term1_share[1]),
                     unit(c.alpha1, r.alpha1[0], r.alpha1[1]),
@@ -646,7 +650,11 @@ impl Plan {
             chosen.push(i);
             for (j, c) in coords.iter().enumerate() {
                 let d = dist2(c, &coords[i]);
-                nearest[j] = if chosen.len() == 1 { d } else { nearest[j].min(d) };
+                nearest[j] = if chosen.len() == 1 {
+                    d
+                } else {
+                    nearest[j].min(d)
+                };
             }
         }
         chosen.sort_by_key(|&i| self.cases[i].id);

@@ -49,6 +49,10 @@ pub struct TrainArgs {
     /// Train on a built-in synthetic set of this many cases instead of --data (demos, tests).
     #[arg(long, conflicts_with = "data")]
     pub synthetic: Option<usize>,
+    /// High-fidelity snapshots of a subset of the --data cases (`snapshots subset`, same case
+    /// ids): the low-fidelity set is corrected by a surrogate of the discrepancy before training.
+    #[arg(long, requires = "data")]
+    pub high_fidelity: Option<PathBuf>,
     /// Output model file.
     #[arg(long, default_value = "models/actuator.json")]
     pub out: PathBuf,

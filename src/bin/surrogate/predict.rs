@@ -13,6 +13,14 @@ pub fn run(a: PredictArgs) -> Result<()> {
     let model = Surrogate::load(&a.model)?;
     if a.validation {
         eprintln!("{}", model.validation.table());
+        if let Some(c) = &model.training.correction {
+            eprintln!(
+                "trained on a corrected set: {} high-fidelity cases ({}); discrepancy surrogate, held out (adds to the errors above):\n{}",
+                c.matched_cases,
+                c.high_source,
+                c.validation.table()
+            );
+        }
     }
     if let (Some(csv), Some(out)) = (&a.csv, &a.out) {
         return batch(&model, &a, csv, out);

@@ -2,11 +2,42 @@
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::rom::data::SnapshotSet;
+use surrogate::rom::fidelity::{correct, discrepancy, CorrectionInfo};
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::{train, TrainConfig};
 
 use crate::args::{OnlyArg, TrainArgs};
+
+/// The low-fidelity set corrected by a discrepancy surrogate fitted on the high-fidelity one.
+fn correct_set(
+    low: &SnapshotSet,
+    high: &SnapshotSet,
+    cfg: &TrainConfig,
+) -> Result<(SnapshotSet, CorrectionInfo)> {
+    let delta = discrepancy(low, high)?;
+    let source = delta.source.clone();
+    let cases = delta.into_cases()?;
+    eprintln!(
+        "discrepancy {source}: {} cases on a {}-pressure grid ({} dropped)",
+        cases.cases.len(),
+        cases.pressures.len(),
+        cases.dropped.len()
+    );
+    let report = train(&cases, &source, 0, cfg, &|_, _| {})?;
+    println!("discrepancy surrogate (high − low fidelity), held out:");
+    println!("{}", report.surrogate.validation.table());
+    let (set, replaced_rows, corrected_rows) = correct(low, high, &report.surrogate)?;
+    eprintln!("corrected set: {replaced_rows} rows replaced by high fidelity, {corrected_rows} rows corrected");
+    let info = CorrectionInfo {
+        high_source: high.source.clone(),
+        matched_cases: cases.cases.len(),
+        replaced_rows,
+        corrected_rows,
+        validation: report.surrogate.validation,
+    };
+    Ok((set, info))
+}
 
 pub fn run(a: TrainArgs) -> Result<()> {
     anyhow::ensure!(
@@ -27,6 +58,25 @@ pub fn run(a: TrainArgs) -> Result<()> {
         }
         (Some(path), None) => SnapshotSet::read(path)?,
         (None, None) => anyhow::bail!("give --data or --synthetic"),
+    };
+    let cfg = TrainConfig {
+        folds: a.folds,
+        seed: a.seed,
+        pod_tol: a.pod_tol,
+        only: a.only.map(|o| match o {
+            OnlyArg::Gp => RegressorKind::Gp,
+            OnlyArg::Poly => RegressorKind::Poly,
+        }),
+        prefer_poly_within: a.prefer_poly_within,
+        fill_truncated: a.fill_truncated,
+        ..Default::default()
+    };
+    let (set, correction) = match &a.high_fidelity {
+        Some(path) => {
+            let (set, info) = correct_set(&set, &SnapshotSet::read(path)?, &cfg)?;
+            (set, Some(info))
+        }
+        None => (set, None),
     };
     let (source, skipped) = (set.source.clone(), set.skipped_unconverged);
     let cases = set.into_cases()?;
@@ -52,18 +102,6 @@ pub fn run(a: TrainArgs) -> Result<()> {
             cases.partial.len()
         );
     }
-    let cfg = TrainConfig {
-        folds: a.folds,
-        seed: a.seed,
-        pod_tol: a.pod_tol,
-        only: a.only.map(|o| match o {
-            OnlyArg::Gp => RegressorKind::Gp,
-            OnlyArg::Poly => RegressorKind::Poly,
-        }),
-        prefer_poly_within: a.prefer_poly_within,
-        fill_truncated: a.fill_truncated,
-        ..Default::default()
-    };
     let bar = if a.quiet {
         ProgressBar::hidden()
     } else {
@@ -78,6 +116,8 @@ pub fn run(a: TrainArgs) -> Result<()> {
         bar.set_position(done as u64);
     })?;
     bar.finish_and_clear();
+    let mut report = report;
+    report.surrogate.training.correction = correction;
     let s = &report.surrogate;
     report
         .surrogate

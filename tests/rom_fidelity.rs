@@ -1,0 +1,200 @@
+//! Multi-fidelity training: a biased low-fidelity set corrected by the discrepancy to a
+//! high-fidelity subset of its cases (`rom::fidelity`, `train --high-fidelity`).
+
+mod rom_common;
+
+use rom_common::synthetic_csv;
+use surrogate::rom::data::{SnapshotRow, SnapshotSet};
+use surrogate::rom::fidelity::{correct, discrepancy};
+use surrogate::rom::{train, Query, Surrogate, TrainConfig};
+
+/// The "high-fidelity" values of a row: a smooth, input-dependent bias of the synthetic
+/// (low-fidelity) ones, as a finer mesh softens the response by a few per cent.
+fn high_values(r: &SnapshotRow) -> [f64; 22] {
+    let f = 1.0 + 0.04 * (2.8 - r.inputs.wall_thickness_mm) + 0.01 * r.pressure_bar;
+    r.values.map(|v| v * f + 0.1)
+}
+
+fn low_set() -> SnapshotSet {
+    SnapshotSet::from_reader(synthetic_csv(90, 3).as_bytes(), "low").unwrap()
+}
+
+/// High-fidelity rows of every `every`-th case of `low`.
+fn high_subset(low: &SnapshotSet, every: usize) -> SnapshotSet {
+    let mut ids: Vec<&str> = low.rows.iter().map(|r| r.case_id.as_str()).collect();
+    ids.dedup();
+    let keep: Vec<&str> = ids.iter().step_by(every).copied().collect();
+    let rows = low
+        .rows
+        .iter()
+        .filter(|r| keep.contains(&r.case_id.as_str()))
+        .map(|r| SnapshotRow {
+            values: high_values(r),
+            ..r.clone()
+        })
+        .collect();
+    SnapshotSet {
+        source: "high".into(),
+        rows,
+        skipped_unconverged: 0,
+    }
+}
+
+fn fit(set: SnapshotSet) -> Surrogate {
+    let cfg = TrainConfig {
+        folds: 3,
+        ..Default::default()
+    };
+    train(&set.into_cases().unwrap(), "t", 0, &cfg, &|_, _| {})
+        .unwrap()
+        .surrogate
+}
+
+/// RMS error against the high-fidelity truth over the rows of cases not run at high fidelity.
+fn rms_against_high(model: &Surrogate, low: &SnapshotSet, high: &SnapshotSet) -> f64 {
+    let (mut s, mut n) = (0.0, 0);
+    for r in &low.rows {
+        if high.rows.iter().any(|h| h.case_id == r.case_id) {
+            continue;
+        }
+        let p = model
+            .predict(&Query::from_case(&r.inputs, r.pressure_bar))
+            .unwrap();
+        for (a, b) in p.values.iter().zip(high_values(r)) {
+            s += (a - b) * (a - b);
+            n += 1;
+        }
+    }
+    (s / n as f64).sqrt()
+}
+
+#[test]
+fn a_high_fidelity_subset_removes_the_low_fidelity_bias() {
+    let low = low_set();
+    let high = high_subset(&low, 4);
+    let delta = discrepancy(&low, &high).unwrap();
+    assert_eq!(delta.rows.len(), high.rows.len());
+    let (d, h) = (&delta.rows[5], &high.rows[5]);
+    let l = low
+        .rows
+        .iter()
+        .find(|r| r.case_id == h.case_id && r.pressure_bar == h.pressure_bar)
+        .unwrap();
+    for q in 0..22 {
+        assert_eq!(d.values[q], h.values[q] - l.values[q]);
+    }
+    let delta_model = fit(delta);
+    let (corrected, replaced, fixed) = correct(&low, &high, &delta_model).unwrap();
+    assert_eq!(replaced, high.rows.len());
+    assert_eq!(replaced + fixed, low.rows.len());
+    // rows run at high fidelity are taken as they are
+    let c = corrected
+        .rows
+        .iter()
+        .find(|r| r.case_id == h.case_id && r.pressure_bar == h.pressure_bar)
+        .unwrap();
+    assert_eq!(c.values, h.values);
+    let plain = rms_against_high(&fit(low_set()), &low, &high);
+    let multi = rms_against_high(&fit(corrected), &low, &high);
+    assert!(
+        multi < 0.2 * plain,
+        "RMS against high fidelity: corrected {multi}, low fidelity only {plain}"
+    );
+}
+
+#[test]
+fn mismatched_high_fidelity_cases_are_named() {
+    let low = low_set();
+    let mut high = high_subset(&low, 10);
+    high.rows[0].inputs.wall_thickness_mm += 0.1;
+    let e = discrepancy(&low, &high).unwrap_err().to_string();
+    assert!(
+        e.contains(&high.rows[0].case_id) && e.contains("inputs"),
+        "{e}"
+    );
+    // every 3rd synthetic case has the same N: the correction cannot cover the others
+    let high = high_subset(&low, 3);
+    let delta = fit(discrepancy(&low, &high).unwrap());
+    let e = correct(&low, &high, &delta).unwrap_err().to_string();
+    assert!(
+        e.contains("n_bellows") && e.contains("cover every N"),
+        "{e}"
+    );
+    let mut high = high_subset(&low, 10);
+    high.rows[0].case_id = "case_999999".into();
+    let e = discrepancy(&low, &high).unwrap_err().to_string();
+    assert!(
+        e.contains("case_999999") && e.contains("low-fidelity"),
+        "{e}"
+    );
+}
+
+#[test]
+fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
+    let dir = std::env::temp_dir().join(format!("surrogate_fidelity_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let low_csv = synthetic_csv(40, 5);
+    std::fs::write(dir.join("low.csv"), &low_csv).unwrap();
+    // high fidelity: every 3rd case, values through `high_values`, written as CSV
+    let low = SnapshotSet::from_reader(low_csv.as_bytes(), "low").unwrap();
+    let high = high_subset(&low, 2);
+    let mut lines = low_csv.lines();
+    let mut text = format!("{}\n", lines.next().unwrap());
+    for line in lines {
+        let cells: Vec<&str> = line.split(',').collect();
+        let Some(h) = high
+            .rows
+            .iter()
+            .find(|h| h.case_id == cells[0] && h.pressure_bar == cells[7].parse::<f64>().unwrap())
+        else {
+            continue;
+        };
+        let mut out: Vec<String> = cells.iter().map(|s| s.to_string()).collect();
+        for q in 0..22 {
+            out[9 + q] = format!("{}", h.values[q]);
+        }
+        text.push_str(&out.join(","));
+        text.push('\n');
+    }
+    std::fs::write(dir.join("high.csv"), text).unwrap();
+    let model = dir.join("m.json");
+    let run = |args: &[&str]| {
+        std::process::Command::new(env!("CARGO_BIN_EXE_surrogate"))
+            .args(args)
+            .output()
+            .unwrap()
+    };
+    let out = run(&[
+        "train",
+        "--data",
+        dir.join("low.csv").to_str().unwrap(),
+        "--high-fidelity",
+        dir.join("high.csv").to_str().unwrap(),
+        "--out",
+        model.to_str().unwrap(),
+        "--folds",
+        "3",
+        "--quiet",
+    ]);
+    assert!(
+        out.status.success(),
+        "{}",
+        String::from_utf8_lossy(&out.stderr)
+    );
+    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(stdout.contains("discrepancy surrogate"), "{stdout}");
+    let m = Surrogate::load(&model).unwrap();
+    let c = m.training.correction.as_ref().unwrap();
+    assert_eq!(c.matched_cases, 20);
+    assert_eq!(c.replaced_rows, high.rows.len());
+    let out = run(&[
+        "predict",
+        "--model",
+        model.to_str().unwrap(),
+        "--validation",
+    ]);
+    assert!(out.status.success());
+    let err = String::from_utf8_lossy(&out.stderr);
+    assert!(err.contains("20 high-fidelity cases"), "{err}");
+    std::fs::remove_dir_all(dir).unwrap();
+}
