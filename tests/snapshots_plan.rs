@@ -284,30 +284,9 @@ fn cli_plan_and_bad_shards() {
     std::fs::remove_dir_all(root).unwrap();
 }
 
-/// Smallest pairwise distance of cases in the unit box of (N, T, ln μ0, s, α1, α2).
+/// Smallest pairwise distance of cases in the unit box of the sampling axes.
 fn min_spacing(p: &Plan, cases: &[&surrogate::snapshots::PlannedCase]) -> f64 {
-    let r = &p.ranges;
-    let u = |v: f64, lo: f64, hi: f64| (v - lo) / (hi - lo);
-    let (nl, nh) = (r.n_bellows[0] as f64, *r.n_bellows.last().unwrap() as f64);
-    let x: Vec<[f64; 6]> = cases
-        .iter()
-        .map(|c| {
-            let (k1, k2) = (c.mu1_mpa * c.alpha1, c.mu2_mpa * c.alpha2);
-            let mu0 = 0.5 * (k1 + k2);
-            [
-                u(c.n_bellows as f64, nl, nh),
-                u(
-                    c.wall_thickness_mm,
-                    r.wall_thickness_mm[0],
-                    r.wall_thickness_mm[1],
-                ),
-                u(mu0.ln(), r.mu0_mpa[0].ln(), r.mu0_mpa[1].ln()),
-                u(k1 / (2.0 * mu0), r.term1_share[0], r.term1_share[1]),
-                u(c.alpha1, r.alpha1[0], r.alpha1[1]),
-                u(c.alpha2, r.alpha2[0], r.alpha2[1]),
-            ]
-        })
-        .collect();
+    let x: Vec<[f64; 6]> = cases.iter().map(|c| p.ranges.unit_coordinates(c)).collect();
     let mut m = f64::INFINITY;
     for i in 0..x.len() {
         for j in 0..i {

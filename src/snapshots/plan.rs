@@ -285,6 +285,25 @@ impl Ranges {
         }
     }
 
+    /// A case's place in the unit box of `(N, T, ln μ0, s, α₁, α₂)` over these ranges (the
+    /// sampling axes; 0.5 on a degenerate axis).
+    pub fn unit_coordinates(&self, c: &PlannedCase) -> [f64; 6] {
+        let unit = |v: f64, lo: f64, hi: f64| if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
+        let n_lo = self.n_bellows.iter().copied().min().unwrap_or(0) as f64;
+        let n_hi = self.n_bellows.iter().copied().max().unwrap_or(0) as f64;
+        let (k1, k2) = (c.mu1_mpa * c.alpha1, c.mu2_mpa * c.alpha2);
+        let mu0 = 0.5 * (k1 + k2);
+        let t = self.wall_thickness_mm;
+        [
+            unit(c.n_bellows as f64, n_lo, n_hi),
+            unit(c.wall_thickness_mm, t[0], t[1]),
+            unit(mu0.ln(), self.mu0_mpa[0].ln(), self.mu0_mpa[1].ln()),
+            unit(k1 / (2.0 * mu0), self.term1_share[0], self.term1_share[1]),
+            unit(c.alpha1, self.alpha1[0], self.alpha1[1]),
+            unit(c.alpha2, self.alpha2[0], self.alpha2[1]),
+        ]
+    }
+
     /// Whether the Ogden set `[μ₁, α₁, μ₂, α₂]` lies inside the material ranges (terms taken
     /// in either order).
     pub fn contains_ogden(&self, p: [f64; 4]) -> bool {
@@ -602,29 +621,7 @@ impl Plan {
             ));
         }
         let r = &self.ranges;
-        let unit = |v: f64, lo: f64, hi: f64| if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
-        let n_lo = r.n_bellows.iter().copied().min().unwrap_or(0) as f64;
-        let n_hi = r.n_bellows.iter().copied().max().unwrap_or(0) as f64;
-        let coords: Vec<[f64; 6]> = self
-            .cases
-            .iter()
-            .map(|c| {
-                let (k1, k2) = (c.mu1_mpa * c.alpha1, c.mu2_mpa * c.alpha2);
-                let mu0 = 0.5 * (k1 + k2);
-                [
-                    unit(c.n_bellows as f64, n_lo, n_hi),
-                    unit(
-                        c.wall_thickness_mm,
-                        r.wall_thickness_mm[0],
-                        r.wall_thickness_mm[1],
-                    ),
-                    unit(mu0.ln(), r.mu0_mpa[0].ln(), r.mu0_mpa[1].ln()),
-                    unit(k1 / (2.0 * mu0), r.term1_share[0], r.term1_share[1]),
-                    unit(c.alpha1, r.alpha1[0], r.alpha1[1]),
-                    unit(c.alpha2, r.alpha2[0], r.alpha2[1]),
-                ]
-            })
-            .collect();
+        let coords: Vec<[f64; 6]> = self.cases.iter().map(|c| r.unit_coordinates(c)).collect();
         let dist2 = |a: &[f64; 6], b: &[f64; 6]| -> f64 {
             a.iter().zip(b).map(|(x, y)| (x - y) * (x - y)).sum()
         };
