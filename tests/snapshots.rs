@@ -13,6 +13,7 @@ use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
 use surrogate::rom::data::SnapshotSet;
+use surrogate::snapshots::merge::merge_with;
 use surrogate::snapshots::run::{AnalyticRunner, Progress};
 use surrogate::snapshots::store::{case_csv, header_line};
 use surrogate::snapshots::{
@@ -360,6 +361,41 @@ fn merge_reports_missing_and_duplicate_cases() {
         .to_string();
     assert!(err.contains("3 cases in more than one directory"), "{err}");
     assert!(!root.join("m.csv").exists(), "no output on error");
+    std::fs::remove_dir_all(root).unwrap();
+}
+
+#[test]
+fn a_partial_merge_holds_the_finished_cases_of_a_full_one() {
+    let root = scratch("merge_partial");
+    let p = plan(9, 3);
+    let (d1, d2, d3) = (root.join("1"), root.join("2"), root.join("3"));
+    run(&p, &d1, shard("1/3"), 1, &FAILING);
+    run(&p, &d2, shard("2/3"), 1, &FAILING);
+    let s = merge_with(&[d1.clone(), d2.clone()], &root.join("part.csv"), true).unwrap();
+    assert_eq!((s.cases, s.missing_cases), (6, 3));
+    // duplicates stay an error
+    run(&p, &d3, shard("1/3"), 1, &FAILING);
+    let err = merge_with(&[d1.clone(), d3.clone()], &root.join("x.csv"), true)
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("more than one directory"), "{err}");
+    // the partial file is the full one without the rows of the missing cases
+    let full_dir = root.join("full");
+    run(&p, &full_dir, Shard::ALL, 1, &FAILING);
+    merge(&[full_dir], &root.join("full.csv")).unwrap();
+    let missing = ["case_000002,", "case_000005,", "case_000008,"];
+    let expected: Vec<String> = std::fs::read_to_string(root.join("full.csv"))
+        .unwrap()
+        .lines()
+        .filter(|l| !missing.iter().any(|m| l.starts_with(m)))
+        .map(str::to_owned)
+        .collect();
+    let got: Vec<String> = std::fs::read_to_string(root.join("part.csv"))
+        .unwrap()
+        .lines()
+        .map(str::to_owned)
+        .collect();
+    assert_eq!(got, expected);
     std::fs::remove_dir_all(root).unwrap();
 }
 

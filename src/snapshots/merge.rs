@@ -24,6 +24,8 @@ pub struct MergeSummary {
     pub failed_cases: usize,
     /// Rows with `converged = false`.
     pub unconverged_rows: usize,
+    /// Plan cases without a file (only with `allow_missing`).
+    pub missing_cases: usize,
     /// The plan hash.
     pub plan_hash: String,
 }
@@ -81,7 +83,8 @@ fn check_complete(
     plan: &Plan,
     found: &BTreeMap<usize, PathBuf>,
     duplicates: &[usize],
-) -> Result<(), SnapshotError> {
+    allow_missing: bool,
+) -> Result<usize, SnapshotError> {
     let missing: Vec<usize> = plan
         .cases
         .iter()
@@ -94,7 +97,7 @@ fn check_complete(
         .filter(|id| !plan.cases.iter().any(|c| c.id == *id))
         .collect();
     let mut parts = Vec::new();
-    if !missing.is_empty() {
+    if !missing.is_empty() && !allow_missing {
         parts.push(format!(
             "{} cases missing ({})",
             missing.len(),
@@ -110,7 +113,7 @@ fn check_complete(
         parts.push(format!("{n} case files not in the plan ({ids})"));
     }
     if parts.is_empty() {
-        Ok(())
+        Ok(missing.len())
     } else {
         Err(merge_error(format!(
             "plan {}: {}",
@@ -128,9 +131,27 @@ fn check_complete(
 /// [`SnapshotError::Merge`] if the directories hold different plans, a case is missing, or a
 /// case appears more than once; case-file and I/O errors. Nothing is written on error.
 pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeSummary, SnapshotError> {
+    merge_with(dirs, out, false)
+}
+
+/// [`merge`], or with `allow_missing` the finished cases only (to train on a set that is
+/// still running): missing cases are counted in [`MergeSummary::missing_cases`]; duplicates
+/// and files of cases not in the plan are still errors.
+///
+/// # Errors
+/// As [`merge`], less the missing cases when they are allowed.
+pub fn merge_with(
+    dirs: &[PathBuf],
+    out: &Path,
+    allow_missing: bool,
+) -> Result<MergeSummary, SnapshotError> {
     let (plan, found, duplicates) = collect(dirs)?;
-    check_complete(&plan, &found, &duplicates)?;
-    let mut cases: Vec<&PlannedCase> = plan.cases.iter().collect();
+    let missing_cases = check_complete(&plan, &found, &duplicates, allow_missing)?;
+    let mut cases: Vec<&PlannedCase> = plan
+        .cases
+        .iter()
+        .filter(|c| found.contains_key(&c.id))
+        .collect();
     cases.sort_by_key(|c| c.id);
     let mut text = header_line().into_bytes();
     text.push(b'\n');
@@ -139,6 +160,7 @@ pub fn merge(dirs: &[PathBuf], out: &Path) -> Result<MergeSummary, SnapshotError
         rows: 0,
         failed_cases: 0,
         unconverged_rows: 0,
+        missing_cases,
         plan_hash: plan.hash(),
     };
     for case in cases {

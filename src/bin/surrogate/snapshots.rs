@@ -9,13 +9,11 @@ use clap::{Args, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::snapshots::fe_runner::fe_runner;
-use surrogate::snapshots::merge::sidecar_path;
+use surrogate::snapshots::merge::{merge_with, sidecar_path};
 use surrogate::snapshots::run::{shard_status, AnalyticRunner, Progress};
 use surrogate::snapshots::store::case_name;
 use surrogate::snapshots::verify::resimulate;
-use surrogate::snapshots::{
-    merge, run_shard, CaseRunner, Plan, PlanSettings, Ranges, RunOptions, Shard,
-};
+use surrogate::snapshots::{run_shard, CaseRunner, Plan, PlanSettings, Ranges, RunOptions, Shard};
 
 /// `surrogate snapshots subset`.
 #[derive(Debug, Args)]
@@ -166,6 +164,10 @@ pub struct MergeArgs {
     /// Output CSV (the plan is copied beside it as <stem>.plan.json).
     #[arg(long)]
     pub out: PathBuf,
+    /// Merge the finished cases only (to train on a set still running); missing cases are
+    /// reported, not an error.
+    #[arg(long)]
+    pub partial: bool,
 }
 
 /// `snapshots verify`.
@@ -376,16 +378,21 @@ fn run_plan(a: RunArgs) -> Result<()> {
 }
 
 fn merge_dirs(a: MergeArgs) -> Result<()> {
-    let s = merge(&a.from, &a.out)?;
+    let s = merge_with(&a.from, &a.out, a.partial)?;
     eprintln!(
-        "merged {} shard directories into {}: {} cases ({} failed), {} rows ({} unconverged), plan {}",
+        "merged {} shard directories into {}: {} cases ({} failed), {} rows ({} unconverged), plan {}{}",
         a.from.len(),
         a.out.display(),
         s.cases,
         s.failed_cases,
         s.rows,
         s.unconverged_rows,
-        s.plan_hash
+        s.plan_hash,
+        if a.partial {
+            format!("; {} plan cases not finished (partial merge)", s.missing_cases)
+        } else {
+            String::new()
+        }
     );
     Ok(())
 }
