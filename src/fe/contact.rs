@@ -131,6 +131,50 @@ pub fn barrier(e: f64, d: f64, g: f64) -> (f64, f64, f64) {
     }
 }
 
+/// A Gauss point of a 9-node face: shape functions, their derivatives in the face's
+/// parameters `s`, `t`, and the reference area element (with the quadrature weight).
+struct FacePoint {
+    na: [f64; 9],
+    nas: [f64; 9],
+    nat: [f64; 9],
+    da: f64,
+}
+
+/// The 3×3 Gauss points of a 9-node face with reference coordinates `x0`.
+fn face_points(x0: &[[f64; 3]; 9]) -> impl Iterator<Item = FacePoint> + '_ {
+    (0..9).map(move |q| {
+        let (js, jt) = (q % 3, q / 3);
+        let (ls, ds) = lagrange2(GAUSS3.0[js]);
+        let (lt, dt) = lagrange2(GAUSS3.0[jt]);
+        let mut p = FacePoint {
+            na: [0.0; 9],
+            nas: [0.0; 9],
+            nat: [0.0; 9],
+            da: 0.0,
+        };
+        let (mut xs, mut xt) = ([0.0; 3], [0.0; 3]);
+        for j in 0..3 {
+            for i in 0..3 {
+                let a = i + 3 * j;
+                p.na[a] = ls[i] * lt[j];
+                p.nas[a] = ds[i] * lt[j];
+                p.nat[a] = ls[i] * dt[j];
+                for c in 0..3 {
+                    xs[c] += p.nas[a] * x0[a][c];
+                    xt[c] += p.nat[a] * x0[a][c];
+                }
+            }
+        }
+        let cr = [
+            xs[1] * xt[2] - xs[2] * xt[1],
+            xs[2] * xt[0] - xs[0] * xt[2],
+            xs[0] * xt[1] - xs[1] * xt[0],
+        ];
+        p.da = GAUSS3.1[js] * GAUSS3.1[jt] * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]).sqrt();
+        p
+    })
+}
+
 /// Contact of one 9-node face (reference coordinates `x0`, current `x`) with a plane: adds the
 /// residual into `r` (27), the tangent into `k` (27 × 27 row-major) if given, and returns
 /// (energy, normal reaction force on the body, smallest gap at a quadrature point).
@@ -145,54 +189,33 @@ pub fn plane_face(
     let mut energy = 0.0;
     let mut force = 0.0;
     let mut min_gap = f64::INFINITY;
-    for (jt, &t) in GAUSS3.0.iter().enumerate() {
-        for (js, &s) in GAUSS3.0.iter().enumerate() {
-            let (ls, ds) = lagrange2(s);
-            let (lt, dt) = lagrange2(t);
-            let mut na = [0.0; 9];
-            let mut xs = [0.0; 3];
-            let mut xt = [0.0; 3];
-            let mut xq = [0.0; 3];
-            for j in 0..3 {
-                for i in 0..3 {
-                    let a = i + 3 * j;
-                    na[a] = ls[i] * lt[j];
-                    for c in 0..3 {
-                        xs[c] += ds[i] * lt[j] * x0[a][c];
-                        xt[c] += ls[i] * dt[j] * x0[a][c];
-                        xq[c] += na[a] * x[a][c];
-                    }
-                }
+    for FacePoint { na, da, .. } in face_points(x0) {
+        let mut xq = [0.0; 3];
+        for a in 0..9 {
+            for c in 0..3 {
+                xq[c] += na[a] * x[a][c];
             }
-            let cr = [
-                xs[1] * xt[2] - xs[2] * xt[1],
-                xs[2] * xt[0] - xs[0] * xt[2],
-                xs[0] * xt[1] - xs[1] * xt[0],
-            ];
-            let da = GAUSS3.1[js]
-                * GAUSS3.1[jt]
-                * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]).sqrt();
-            let g = plane.gap(xq);
-            min_gap = min_gap.min(g);
-            let (psi, dpsi, ddpsi) = plane.barrier(g);
-            if dpsi == 0.0 && ddpsi == 0.0 {
-                continue;
+        }
+        let g = plane.gap(xq);
+        min_gap = min_gap.min(g);
+        let (psi, dpsi, ddpsi) = plane.barrier(g);
+        if dpsi == 0.0 && ddpsi == 0.0 {
+            continue;
+        }
+        energy += psi * da;
+        force -= dpsi * da;
+        for a in 0..9 {
+            for c in 0..3 {
+                r[3 * a + c] += dpsi * na[a] * n[c] * da;
             }
-            energy += psi * da;
-            force -= dpsi * da;
+        }
+        if let Some(k) = k.as_deref_mut() {
             for a in 0..9 {
-                for c in 0..3 {
-                    r[3 * a + c] += dpsi * na[a] * n[c] * da;
-                }
-            }
-            if let Some(k) = k.as_deref_mut() {
-                for a in 0..9 {
-                    for b in 0..9 {
-                        let w = ddpsi * na[a] * na[b] * da;
-                        for c in 0..3 {
-                            for d in 0..3 {
-                                k[(3 * a + c) * 27 + 3 * b + d] += w * n[c] * n[d];
-                            }
+                for b in 0..9 {
+                    let w = ddpsi * na[a] * na[b] * da;
+                    for c in 0..3 {
+                        for d in 0..3 {
+                            k[(3 * a + c) * 27 + 3 * b + d] += w * n[c] * n[d];
                         }
                     }
                 }
@@ -369,83 +392,57 @@ pub fn pair_face(
     let mut energy = 0.0;
     let mut front = [0.0; 3];
     let mut min_gap = f64::INFINITY;
-    for (jt, &t) in GAUSS3.0.iter().enumerate() {
-        for (js, &s) in GAUSS3.0.iter().enumerate() {
-            let (ls, ds) = lagrange2(s);
-            let (lt, dt) = lagrange2(t);
-            let mut na = [0.0; 9];
-            let mut nas = [0.0; 9];
-            let mut nat = [0.0; 9];
-            let mut xs = [0.0; 3];
-            let mut xt = [0.0; 3];
-            let mut z = [0.0; 9];
-            for j in 0..3 {
-                for i in 0..3 {
-                    let a = i + 3 * j;
-                    na[a] = ls[i] * lt[j];
-                    nas[a] = ds[i] * lt[j];
-                    nat[a] = ls[i] * dt[j];
-                    for c in 0..3 {
-                        xs[c] += nas[a] * x0_back[a][c];
-                        xt[c] += nat[a] * x0_back[a][c];
-                        z[c] += na[a] * (x_front[a][c] - x_back[a][c]);
-                        z[3 + c] += 0.5 * nas[a] * (x_front[a][c] + x_back[a][c]);
-                        z[6 + c] += 0.5 * nat[a] * (x_front[a][c] + x_back[a][c]);
-                    }
-                }
+    for FacePoint { na, nas, nat, da } in face_points(x0_back) {
+        let mut z = [0.0; 9];
+        for a in 0..9 {
+            for c in 0..3 {
+                z[c] += na[a] * (x_front[a][c] - x_back[a][c]);
+                z[3 + c] += 0.5 * nas[a] * (x_front[a][c] + x_back[a][c]);
+                z[6 + c] += 0.5 * nat[a] * (x_front[a][c] + x_back[a][c]);
             }
-            let cr = [
-                xs[1] * xt[2] - xs[2] * xt[1],
-                xs[2] * xt[0] - xs[0] * xt[2],
-                xs[0] * xt[1] - xs[1] * xt[0],
-            ];
-            let da = GAUSS3.1[js]
-                * GAUSS3.1[jt]
-                * (cr[0] * cr[0] + cr[1] * cr[1] + cr[2] * cr[2]).sqrt();
-            let g0 = gap_value(&z, orientation);
-            min_gap = min_gap.min(g0);
-            let (psi, dpsi, ddpsi) = barrier(settings.stiffness, settings.smoothing, g0);
-            if dpsi == 0.0 && ddpsi == 0.0 {
-                continue;
+        }
+        let g0 = gap_value(&z, orientation);
+        min_gap = min_gap.min(g0);
+        let (psi, dpsi, ddpsi) = barrier(settings.stiffness, settings.smoothing, g0);
+        if dpsi == 0.0 && ddpsi == 0.0 {
+            continue;
+        }
+        energy += psi * da;
+        let g = gap_function(&z, orientation);
+        // A = ∂z/∂y: per node a and side, coefficients of the (d, t₁, t₂) blocks
+        let mut coef = [[0.0; 3]; 18];
+        for a in 0..9 {
+            coef[a] = [-na[a], 0.5 * nas[a], 0.5 * nat[a]];
+            coef[9 + a] = [na[a], 0.5 * nas[a], 0.5 * nat[a]];
+        }
+        let mut dg = [0.0; PAIR_DOFS];
+        for (n, cf) in coef.iter().enumerate() {
+            for c in 0..3 {
+                dg[3 * n + c] = cf[0] * g.g[c] + cf[1] * g.g[3 + c] + cf[2] * g.g[6 + c];
             }
-            energy += psi * da;
-            let g = gap_function(&z, orientation);
-            // A = ∂z/∂y: per node a and side, coefficients of the (d, t₁, t₂) blocks
-            let mut coef = [[0.0; 3]; 18];
-            for a in 0..9 {
-                coef[a] = [-na[a], 0.5 * nas[a], 0.5 * nat[a]];
-                coef[9 + a] = [na[a], 0.5 * nas[a], 0.5 * nat[a]];
+        }
+        for (ri, gi) in r.iter_mut().zip(&dg) {
+            *ri += dpsi * gi * da;
+        }
+        for a in 0..9 {
+            for c in 0..3 {
+                front[c] += dpsi * dg[27 + 3 * a + c] * da;
             }
-            let mut dg = [0.0; PAIR_DOFS];
-            for (n, cf) in coef.iter().enumerate() {
+        }
+        if let Some(k) = k.as_deref_mut() {
+            for (n, cn) in coef.iter().enumerate() {
                 for c in 0..3 {
-                    dg[3 * n + c] = cf[0] * g.g[c] + cf[1] * g.g[3 + c] + cf[2] * g.g[6 + c];
-                }
-            }
-            for (ri, gi) in r.iter_mut().zip(&dg) {
-                *ri += dpsi * gi * da;
-            }
-            for a in 0..9 {
-                for c in 0..3 {
-                    front[c] += dpsi * dg[27 + 3 * a + c] * da;
-                }
-            }
-            if let Some(k) = k.as_deref_mut() {
-                for (n, cn) in coef.iter().enumerate() {
-                    for c in 0..3 {
-                        let row = 3 * n + c;
-                        for (m, cm) in coef.iter().enumerate() {
-                            for e in 0..3 {
-                                let col = 3 * m + e;
-                                let mut h = 0.0;
-                                for bi in 0..3 {
-                                    for bj in 0..3 {
-                                        h += cn[bi] * cm[bj] * g.h[3 * bi + c][3 * bj + e];
-                                    }
+                    let row = 3 * n + c;
+                    for (m, cm) in coef.iter().enumerate() {
+                        for e in 0..3 {
+                            let col = 3 * m + e;
+                            let mut h = 0.0;
+                            for bi in 0..3 {
+                                for bj in 0..3 {
+                                    h += cn[bi] * cm[bj] * g.h[3 * bi + c][3 * bj + e];
                                 }
-                                k[row * PAIR_DOFS + col] +=
-                                    (ddpsi * dg[row] * dg[col] + dpsi * h) * da;
                             }
+                            k[row * PAIR_DOFS + col] += (ddpsi * dg[row] * dg[col] + dpsi * h) * da;
                         }
                     }
                 }
