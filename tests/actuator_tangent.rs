@@ -181,12 +181,23 @@ fn actuator_residual_is_the_gradient_of_the_total_potential() {
 /// barrier (gap ≈ 0.3 mm < δ = 0.5 mm) by a smooth axial wave, then perturbed at random.
 #[test]
 fn actuator_tangent_with_contact_active_matches_finite_differences() {
+    tangent_with_contact(false);
+}
+
+/// The same with the closest-point gap between the walls.
+#[test]
+fn actuator_tangent_with_closest_point_contact_matches_finite_differences() {
+    tangent_with_contact(true);
+}
+
+fn tangent_with_contact(closest_point: bool) {
     let design = DesignParams::new(9, 2.0).validate().unwrap();
     let mat = Material::from_spec("ogden_002", 1000.0).unwrap();
     let contact = ContactSettings {
         enabled: true,
         stiffness: 20.0,
         smoothing: 0.5,
+        closest_point,
     };
     let model = ActuatorModel::new(
         &design,
@@ -228,5 +239,8 @@ fn actuator_tangent_with_contact_active_matches_finite_differences() {
     );
     let v: Vec<f64> = (0..nf).map(|_| rng.gen_range(-1.0..1.0)).collect();
     let rel = directional_fd_error(fe, &free, &level, &v);
-    assert!(rel < 1e-6, "directional FD error {rel:e}");
+    assert!(
+        rel < 1e-6,
+        "closest point {closest_point}: directional FD error {rel:e}"
+    );
 }

@@ -333,6 +333,7 @@ impl FeModel {
             pair_settings: PairSettings {
                 stiffness: 0.0,
                 smoothing: 0.0,
+                closest_point: false,
             },
             pair_maps: Vec::new(),
             mesh,

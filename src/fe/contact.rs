@@ -26,6 +26,7 @@
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use super::contact_cp;
 use super::element::{lagrange2, GAUSS3};
 
 /// Errors of contact settings.
@@ -134,6 +135,7 @@ pub fn barrier(e: f64, d: f64, g: f64) -> (f64, f64, f64) {
 /// A Gauss point of a 9-node face: shape functions, their derivatives in the face's
 /// parameters `s`, `t`, and the reference area element (with the quadrature weight).
 struct FacePoint {
+    xi: [f64; 2],
     na: [f64; 9],
     nas: [f64; 9],
     nat: [f64; 9],
@@ -147,6 +149,7 @@ fn face_points(x0: &[[f64; 3]; 9]) -> impl Iterator<Item = FacePoint> + '_ {
         let (ls, ds) = lagrange2(GAUSS3.0[js]);
         let (lt, dt) = lagrange2(GAUSS3.0[jt]);
         let mut p = FacePoint {
+            xi: [GAUSS3.0[js], GAUSS3.0[jt]],
             na: [0.0; 9],
             nas: [0.0; 9],
             nat: [0.0; 9],
@@ -232,6 +235,9 @@ pub struct PairSettings {
     pub stiffness: f64,
     /// Smoothing width δ (mm).
     pub smoothing: f64,
+    /// Gap to the closest point of the facing face ([`super::contact_cp`]: frictionless under
+    /// any sliding) instead of between points of equal reference position.
+    pub closest_point: bool,
 }
 
 /// Two facing 9-node faces across a gap whose nodes are matched by their reference position
@@ -389,10 +395,16 @@ pub fn pair_face(
     r: &mut [f64; PAIR_DOFS],
     mut k: Option<&mut [f64; PAIR_DOFS * PAIR_DOFS]>,
 ) -> (f64, f64, f64) {
+    if settings.closest_point {
+        return pair_face_closest(settings, orientation, x0_back, x_back, x_front, r, k);
+    }
     let mut energy = 0.0;
     let mut front = [0.0; 3];
     let mut min_gap = f64::INFINITY;
-    for FacePoint { na, nas, nat, da } in face_points(x0_back) {
+    for FacePoint {
+        na, nas, nat, da, ..
+    } in face_points(x0_back)
+    {
         let mut z = [0.0; 9];
         for a in 0..9 {
             for c in 0..3 {
@@ -445,6 +457,55 @@ pub fn pair_face(
                             k[row * PAIR_DOFS + col] += (ddpsi * dg[row] * dg[col] + dpsi * h) * da;
                         }
                     }
+                }
+            }
+        }
+    }
+    let force = (front[0] * front[0] + front[1] * front[1] + front[2] * front[2]).sqrt();
+    (energy, force, min_gap)
+}
+
+/// [`pair_face`] with the closest-point gap ([`super::contact_cp`]). A quadrature point whose
+/// projection does not converge is open.
+fn pair_face_closest(
+    settings: &PairSettings,
+    orientation: f64,
+    x0_back: &[[f64; 3]; 9],
+    x_back: &[[f64; 3]; 9],
+    x_front: &[[f64; 3]; 9],
+    r: &mut [f64; PAIR_DOFS],
+    mut k: Option<&mut [f64; PAIR_DOFS * PAIR_DOFS]>,
+) -> (f64, f64, f64) {
+    let mut energy = 0.0;
+    let mut front = [0.0; 3];
+    let mut min_gap = f64::INFINITY;
+    let mut hess = [0.0; PAIR_DOFS * PAIR_DOFS];
+    for FacePoint { xi, na, da, .. } in face_points(x0_back) {
+        let Some((g, dg)) = contact_cp::gap_gradient(&na, xi, x_back, x_front, orientation) else {
+            continue;
+        };
+        min_gap = min_gap.min(g);
+        let (psi, dpsi, ddpsi) = barrier(settings.stiffness, settings.smoothing, g);
+        if dpsi == 0.0 && ddpsi == 0.0 {
+            continue;
+        }
+        energy += psi * da;
+        for (ri, gi) in r.iter_mut().zip(&dg) {
+            *ri += dpsi * gi * da;
+        }
+        for a in 0..9 {
+            for c in 0..3 {
+                front[c] += dpsi * dg[27 + 3 * a + c] * da;
+            }
+        }
+        if let Some(k) = k.as_deref_mut() {
+            if contact_cp::gap_hessian(&na, xi, x_back, x_front, orientation, &mut hess).is_none() {
+                continue;
+            }
+            for row in 0..PAIR_DOFS {
+                for col in 0..PAIR_DOFS {
+                    k[row * PAIR_DOFS + col] +=
+                        (ddpsi * dg[row] * dg[col] + dpsi * hess[row * PAIR_DOFS + col]) * da;
                 }
             }
         }
@@ -567,6 +628,7 @@ mod tests {
         let set = PairSettings {
             stiffness: 60.0,
             smoothing: 0.2,
+            closest_point: false,
         };
         let x0b = face(0.0, 0.0);
         let x0f = face(1.0, 0.0);
@@ -638,6 +700,7 @@ mod tests {
         let set = PairSettings {
             stiffness: 100.0,
             smoothing: 0.0,
+            closest_point: false,
         };
         let x0b = std::array::from_fn(|a| [(a % 3) as f64, (a / 3) as f64, 0.0]);
         let x0f = x0b.map(|p: [f64; 3]| [p[0], p[1], 1.0]);

@@ -5,6 +5,7 @@
 //! [`solver`] (load stepping + Newton) → [`simulate`] (markers, tip, angle).
 pub mod assembly;
 pub mod contact;
+pub mod contact_cp;
 pub mod element;
 pub mod geometry;
 pub mod loads;

@@ -53,6 +53,12 @@ pub struct ContactSettings {
     pub stiffness: f64,
     /// Smoothing width δ (mm).
     pub smoothing: f64,
+    /// Bellow walls: gap to the closest point of the facing wall (frictionless under any
+    /// sliding) instead of between points of equal reference position. Off by default until
+    /// the facing faces' neighbours are searched too; not written when off, so plans
+    /// written before it keep their hash.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub closest_point: bool,
 }
 
 impl Default for ContactSettings {
@@ -61,6 +67,7 @@ impl Default for ContactSettings {
             enabled: true,
             stiffness: 20.0,
             smoothing: 0.05,
+            closest_point: false,
         }
     }
 }
@@ -263,6 +270,7 @@ impl ActuatorModel {
             PairSettings {
                 stiffness: contact.stiffness,
                 smoothing: contact.smoothing,
+                closest_point: contact.closest_point,
             },
         )?;
         let mut clamp = None;

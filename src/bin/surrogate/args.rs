@@ -199,6 +199,10 @@ pub struct SimulateArgs {
     /// Contact smoothing width (mm): contact pressure starts at this gap.
     #[arg(long, default_value_t = 0.05)]
     pub contact_smoothing: f64,
+    /// Bellow walls in contact: gap to the closest point of the facing wall (frictionless
+    /// under sliding) instead of between points of equal reference position.
+    #[arg(long)]
+    pub closest_point_contact: bool,
     /// Largest pressure increment of one load substep (bar).
     #[arg(long, default_value_t = 0.5)]
     pub max_increment: f64,
@@ -238,6 +242,9 @@ pub struct ValidateArgs {
     /// Contact smoothing width (mm).
     #[arg(long, default_value_t = 0.05)]
     pub contact_smoothing: f64,
+    /// Bellow walls in contact: gap to the closest point of the facing wall.
+    #[arg(long)]
+    pub closest_point_contact: bool,
     /// Output CSV (one row per configuration); an SVG plot is written beside it.
     #[arg(long)]
     pub out: PathBuf,

@@ -83,6 +83,7 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
             enabled: !a.no_contact,
             stiffness: a.contact_stiffness,
             smoothing: a.contact_smoothing,
+            closest_point: a.closest_point_contact,
         },
     })
 }

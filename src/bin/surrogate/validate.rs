@@ -21,6 +21,7 @@ pub fn run(a: ValidateArgs) -> Result<()> {
         enabled: true,
         stiffness: a.contact_stiffness,
         smoothing: a.contact_smoothing,
+        closest_point: a.closest_point_contact,
     };
     contact.validate()?;
     let bending = shipped_bending()?;
