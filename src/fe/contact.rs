@@ -382,7 +382,8 @@ fn gap_value(z: &[f64; 9], orientation: f64) -> f64 {
 ///
 /// with `y` the 54 nodal positions (back face first). Matching points by reference position
 /// assumes small relative sliding of the facing walls, which holds for the bellows: they
-/// bulge towards each other and bend together. `x0_back` are the back face's reference
+/// bulge towards each other and bend together (the closest-point gap of
+/// [`PairSettings::closest_point`] moves the tip by 0.01 % at 3 bar). `x0_back` are the back face's reference
 /// coordinates, `x_back`, `x_front` the current ones. Adds into `r` (54) and `k` (54 × 54
 /// row-major) and returns (energy, magnitude of the force the two faces exchange, smallest gap
 /// at a quadrature point).

@@ -54,9 +54,10 @@ pub struct ContactSettings {
     /// Smoothing width δ (mm).
     pub smoothing: f64,
     /// Bellow walls: gap to the closest point of the facing wall (frictionless under any
-    /// sliding) instead of between points of equal reference position. Off by default until
-    /// the facing faces' neighbours are searched too; not written when off, so plans
-    /// written before it keep their hash.
+    /// sliding) instead of between points of equal reference position. Off by default: on the
+    /// actuator the two agree to 0.01 % (`fe_reference/contact/README.md`), and the projection
+    /// stays on the paired face (its polynomial extended), which suits small sliding only.
+    /// Not written when off, so plans written before it keep their hash.
     #[serde(default, skip_serializing_if = "std::ops::Not::not")]
     pub closest_point: bool,
 }
