@@ -4,15 +4,22 @@
 //! For each design (N, T) of the shipped experiments, one bending ramp and one blocked-force
 //! ramp through 0 and the measured pressures; per (N, T, P) the simulated and measured tip
 //! Uz, Uy, angle, the tip bending error `BE` and the force error `F_sim − F_exp`.
+//!
+//! With a cache directory every finished ramp is written there atomically (one JSON per design
+//! and mode, keyed by everything that defines the ramp), and a later run with the same
+//! settings takes it from there: a long standard-mesh sweep resumes after an interruption.
+
+use std::path::{Path, PathBuf};
 
 use rayon::prelude::*;
-use serde::Serialize;
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
 
 use super::experiments::{bending_error, BendingRecord, ForceRecord};
 use crate::fe::geometry::DesignParams;
 use crate::fe::material::Material;
 use crate::fe::mesh::MeshOptions;
-use crate::fe::simulate::{simulate_with, Case, ContactSettings, Mode, SimulateError};
+use crate::fe::simulate::{simulate_with, Case, ContactSettings, Mode, SimulateError, StepResult};
 use crate::fe::solver::SolverSettings;
 
 /// One row of the baseline table.
@@ -65,20 +72,111 @@ pub struct BaselineSummary {
     pub mean_force_error_n: f64,
 }
 
+/// Errors of [`run_baseline`].
+#[derive(Debug, Error)]
+pub enum BaselineError {
+    /// A design or solver setting error.
+    #[error(transparent)]
+    Simulate(#[from] SimulateError),
+    /// The ramp cache could not be written.
+    #[error("ramp cache {path}: {message}")]
+    Cache {
+        /// File or directory.
+        path: String,
+        /// What failed.
+        message: String,
+    },
+}
+
+impl BaselineError {
+    fn cache(path: &Path, e: impl std::fmt::Display) -> Self {
+        BaselineError::Cache {
+            path: path.display().to_string(),
+            message: e.to_string(),
+        }
+    }
+}
+
+/// A cached ramp: the key (everything that defines it) and its outcome.
+#[derive(Serialize, Deserialize)]
+struct CachedRamp {
+    key: String,
+    steps: Vec<StepResult>,
+    error: String,
+}
+
+/// Where one ramp of the baseline is cached, and its key.
+struct RampCache {
+    path: PathBuf,
+    key: String,
+}
+
+impl RampCache {
+    fn at(dir: &Path, case: &Case) -> Self {
+        let mode = match case.mode {
+            Mode::Bending => "bending",
+            Mode::Force => "force",
+        };
+        let p = case.design.params();
+        let key = serde_json::json!({
+            "code_version": env!("CARGO_PKG_VERSION"),
+            "design": [p.n_bellows, p.wall_thickness],
+            "material": case.material,
+            "pressures_bar": case.pressures_bar,
+            "gravity": case.gravity,
+            "mesh": case.mesh,
+            "solver": case.solver,
+            "mode": mode,
+            "contact": case.contact,
+        })
+        .to_string();
+        RampCache {
+            path: dir.join(format!(
+                "n{}_t{}_{mode}.json",
+                p.n_bellows, p.wall_thickness
+            )),
+            key,
+        }
+    }
+
+    /// The cached outcome if the file exists, parses and carries the same key.
+    fn load(&self) -> Option<(Vec<StepResult>, String)> {
+        let text = std::fs::read_to_string(&self.path).ok()?;
+        let c: CachedRamp = serde_json::from_str(&text).ok()?;
+        (c.key == self.key).then_some((c.steps, c.error))
+    }
+
+    fn store(&self, r: &(Vec<StepResult>, String)) -> Result<(), BaselineError> {
+        let c = CachedRamp {
+            key: self.key.clone(),
+            steps: r.0.clone(),
+            error: r.1.clone(),
+        };
+        let text = serde_json::to_string(&c).map_err(|e| BaselineError::cache(&self.path, e))?;
+        crate::snapshots::store::write_atomic(&self.path, text.as_bytes())
+            .map_err(|e| BaselineError::cache(&self.path, e))
+    }
+}
+
 /// Runs the sweep for one material; `progress(done, total)` after every FE ramp. A ramp that
 /// stops keeps the pressures it reached; the others get `NaN` values and the solver's message
 /// in [`BaselineRow::error`].
 ///
 /// # Errors
-/// An invalid experimental design (N or T out of the model's range).
+/// An invalid experimental design (N or T out of the model's range); a cache directory that
+/// cannot be written.
 pub fn run_baseline(
     material: &Material,
     mesh: MeshOptions,
     contact: ContactSettings,
     bending: &[BendingRecord],
     force: &[ForceRecord],
+    cache: Option<&Path>,
     progress: impl Fn(usize, usize) + Sync,
-) -> Result<Vec<BaselineRow>, SimulateError> {
+) -> Result<Vec<BaselineRow>, BaselineError> {
+    if let Some(dir) = cache {
+        std::fs::create_dir_all(dir).map_err(|e| BaselineError::cache(dir, e))?;
+    }
     let mut designs: Vec<(usize, f64)> = bending
         .iter()
         .map(|r| (r.n_bellows, r.wall_thickness_mm))
@@ -90,7 +188,7 @@ pub fn run_baseline(
         .flat_map(|&d| [(d, Mode::Bending), (d, Mode::Force)])
         .collect();
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let results: Vec<Result<_, SimulateError>> = jobs
+    let results: Vec<Result<_, BaselineError>> = jobs
         .par_iter()
         .map(|&((n, t), mode)| {
             let mut pressures: Vec<f64> = bending
@@ -102,7 +200,9 @@ pub fn run_baseline(
             pressures.insert(0, 0.0);
             pressures.dedup();
             let case = Case {
-                design: DesignParams::new(n, t).validate()?,
+                design: DesignParams::new(n, t)
+                    .validate()
+                    .map_err(SimulateError::from)?,
                 material: material.clone(),
                 pressures_bar: pressures,
                 gravity: true,
@@ -111,12 +211,22 @@ pub fn run_baseline(
                 mode,
                 contact,
             };
-            let mut steps = Vec::new();
-            let outcome = simulate_with(&case, |_, _| {}, |_, r, _| steps.push(r.clone()));
-            let r = (
-                steps,
-                outcome.err().map_or(String::new(), |e| e.to_string()),
-            );
+            let cached = cache.map(|dir| RampCache::at(dir, &case));
+            let r = match cached.as_ref().and_then(RampCache::load) {
+                Some(r) => r,
+                None => {
+                    let mut steps = Vec::new();
+                    let outcome = simulate_with(&case, |_, _| {}, |_, r, _| steps.push(r.clone()));
+                    let r = (
+                        steps,
+                        outcome.err().map_or(String::new(), |e| e.to_string()),
+                    );
+                    if let Some(c) = &cached {
+                        c.store(&r)?;
+                    }
+                    r
+                }
+            };
             let k = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
             progress(k, jobs.len());
             Ok(((n, t), mode, r))
@@ -215,5 +325,47 @@ pub fn summarize(rows: &[BaselineRow]) -> BaselineSummary {
         median_be_mm: median,
         mean_abs_force_error_n: mean(&fe.iter().map(|v| v.abs()).collect::<Vec<_>>()),
         mean_force_error_n: mean(&fe),
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::mesh::MeshLevel;
+
+    fn case(stiffness: f64) -> Case {
+        Case {
+            design: DesignParams::new(11, 2.0).validate().unwrap(),
+            material: Material::from_spec("ogden_002", 1000.0).unwrap(),
+            pressures_bar: vec![0.0, 1.0, 2.0],
+            gravity: true,
+            mesh: MeshOptions::level(MeshLevel::Standard),
+            solver: SolverSettings::default(),
+            mode: Mode::Force,
+            contact: ContactSettings {
+                stiffness,
+                ..ContactSettings::default()
+            },
+        }
+    }
+
+    #[test]
+    fn cached_ramps_are_reused_only_for_the_same_settings() {
+        let dir = std::env::temp_dir().join(format!("surrogate_ramps_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let c = RampCache::at(&dir, &case(20.0));
+        assert!(c.path.ends_with("n11_t2_force.json"), "{}", c.path.display());
+        assert!(c.load().is_none(), "nothing cached yet");
+        let ramp = (Vec::new(), "stopped at 1.5 bar".to_string());
+        c.store(&ramp).unwrap();
+        assert_eq!(c.load(), Some(ramp));
+        // another setting: same file name, other key, not reused
+        let other = RampCache::at(&dir, &case(40.0));
+        assert_eq!(other.path, c.path);
+        assert!(other.load().is_none());
+        // a damaged file is recomputed, not trusted
+        std::fs::write(&c.path, "{\"key\": ").unwrap();
+        assert!(c.load().is_none());
+        std::fs::remove_dir_all(dir).unwrap();
     }
 }

@@ -248,6 +248,10 @@ pub struct ValidateArgs {
     /// Output CSV (one row per configuration); an SVG plot is written beside it.
     #[arg(long)]
     pub out: PathBuf,
+    /// Directory caching each finished FE ramp (default: `<out stem>_ramps/` beside the CSV);
+    /// a later run with the same settings resumes from it.
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
 }
 
 /// `surrogate demo`.

@@ -26,6 +26,17 @@ pub fn run(a: ValidateArgs) -> Result<()> {
     contact.validate()?;
     let bending = shipped_bending()?;
     let force = shipped_force()?;
+    let cache = a.cache.clone().unwrap_or_else(|| {
+        let stem = a
+            .out
+            .file_stem()
+            .map_or("baseline".into(), |s| s.to_string_lossy().into_owned());
+        a.out.with_file_name(format!("{stem}_ramps"))
+    });
+    eprintln!(
+        "FE ramps cached in {} (a rerun resumes from there)",
+        cache.display()
+    );
     let bar = ProgressBar::new(0);
     bar.set_style(ProgressStyle::with_template(
         "{spinner} FE ramps [{bar:30}] {pos}/{len}, {elapsed_precise}, eta {eta}",
@@ -40,6 +51,7 @@ pub fn run(a: ValidateArgs) -> Result<()> {
         contact,
         &bending,
         &force,
+        Some(&cache),
         |k, n| {
             bar.set_length(n as u64);
             bar.set_position(k as u64);
