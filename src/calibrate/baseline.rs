@@ -354,7 +354,11 @@ mod tests {
         let dir = std::env::temp_dir().join(format!("surrogate_ramps_{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
         let c = RampCache::at(&dir, &case(20.0));
-        assert!(c.path.ends_with("n11_t2_force.json"), "{}", c.path.display());
+        assert!(
+            c.path.ends_with("n11_t2_force.json"),
+            "{}",
+            c.path.display()
+        );
         assert!(c.load().is_none(), "nothing cached yet");
         let ramp = (Vec::new(), "stopped at 1.5 bar".to_string());
         c.store(&ramp).unwrap();
