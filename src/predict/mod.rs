@@ -119,6 +119,40 @@ pub fn exp(x: f64) -> f64 {
     scale_pow2(p * r + 1.0, k as i32)
 }
 
+/// `eˣ` for `x ≤ 0`, branch-free so that a loop over it vectorises: the same Cody–Waite
+/// reduction and degree-13 series as [`exp`], with `2ᵏ` built from the bits of
+/// `x/ln2 + 1.5·2⁵²` (round to nearest). Arguments below −708 are clamped (result ≈ 3·10⁻³⁰⁸
+/// instead of a smaller number or 0); positive arguments are not allowed (debug assertion).
+#[inline(always)]
+pub fn exp_nonpos(x: f64) -> f64 {
+    debug_assert!(x <= 0.0 || x.is_nan());
+    const LN2_HI: f64 = 6.931_471_803_691_238e-1;
+    const LN2_LO: f64 = 1.908_214_929_270_587_7e-10;
+    const LOG2E: f64 = core::f64::consts::LOG2_E;
+    const ROUND: f64 = 6_755_399_441_055_744.0; // 1.5 · 2^52
+    let x = if x < -708.0 { -708.0 } else { x };
+    let t = x * LOG2E + ROUND;
+    let k = t - ROUND;
+    let r = (x - k * LN2_HI) - k * LN2_LO;
+    let mut p = 1.0 / 6_227_020_800.0;
+    p = p * r + 1.0 / 479_001_600.0;
+    p = p * r + 1.0 / 39_916_800.0;
+    p = p * r + 1.0 / 3_628_800.0;
+    p = p * r + 1.0 / 362_880.0;
+    p = p * r + 1.0 / 40_320.0;
+    p = p * r + 1.0 / 5_040.0;
+    p = p * r + 1.0 / 720.0;
+    p = p * r + 1.0 / 120.0;
+    p = p * r + 1.0 / 24.0;
+    p = p * r + 1.0 / 6.0;
+    p = p * r + 0.5;
+    p = p * r + 1.0;
+    // the low mantissa bits of t hold k (two's complement, k ∈ [−1022, 0]); adding the
+    // exponent bias and shifting by 52 leaves exactly the biased exponent k + 1023
+    let scale = f64::from_bits(t.to_bits().wrapping_add(1023) << 52);
+    (p * r + 1.0) * scale
+}
+
 /// `ln x` with `core` only: `x = m·2ᵉ`, `m ∈ [√½, √2)`, `ln m = 2 atanh((m−1)/(m+1))`.
 /// Returns NaN for `x ≤ 0` or NaN.
 pub fn ln(x: f64) -> f64 {
@@ -205,7 +239,7 @@ fn scale_pow2(x: f64, k: i32) -> f64 {
 /// `∂k/∂x_d = −g Δ_d / ℓ_d²` with `Δ = x − xᵢ`.
 pub fn matern52(r: f64) -> (f64, f64) {
     const S5: f64 = 2.236_067_977_499_79;
-    let e = exp(-S5 * r);
+    let e = exp_nonpos(-S5 * r);
     let k = (1.0 + S5 * r + 5.0 / 3.0 * r * r) * e;
     let g = 5.0 / 3.0 * (1.0 + S5 * r) * e;
     (k, g)
@@ -575,6 +609,19 @@ mod tests {
         }
         assert_eq!(sqrt(0.0), 0.0);
         assert!(exp(-740.0) < 1e-320 && exp(-800.0) == 0.0);
+        // the branch-free variant on x ≤ 0, including the ends of each reduction interval
+        let mut x = -708.0;
+        while x <= 0.0 {
+            for y in [x, x - 0.5 * LN2, x + 1e-9] {
+                if y <= 0.0 && y >= -708.0 {
+                    let (a, b) = (exp_nonpos(y), y.exp());
+                    assert!((a - b).abs() <= 4e-16 * b, "exp_nonpos({y}): {a} vs {b}");
+                }
+            }
+            x += 0.173;
+        }
+        assert_eq!(exp_nonpos(0.0), 1.0);
+        assert!(exp_nonpos(-1e4) > 0.0 && exp_nonpos(-1e4) < 1e-307);
         assert!(ln(-1.0).is_nan() && sqrt(-1.0).is_nan());
         assert!((sqrt(4e-320) - 4e-320f64.sqrt()).abs() <= 1e-15 * 4e-320f64.sqrt());
     }

@@ -103,18 +103,18 @@ fn correlation(x: &[f64], n: usize, d: usize, theta: &[f64]) -> Vec<f64> {
     r
 }
 
-/// Matérn-5/2 value with `std` maths (the library's hot path; the embedded predictor uses
-/// [`crate::predict::matern52`] with its `core`-only `exp`).
+/// Matérn-5/2 value with the branch-free [`crate::predict::exp_nonpos`] (shared with the
+/// embedded predictor) and `std`'s square root.
 #[inline]
 fn kernel(r: f64) -> f64 {
     kernel_and_g(r).0
 }
 
-/// Matérn-5/2 value and `g = −(1/r) dk/dr` with `std` maths (see [`crate::predict::matern52`]).
+/// Matérn-5/2 value and `g = −(1/r) dk/dr` (see [`crate::predict::matern52`]).
 #[inline]
 fn kernel_and_g(r: f64) -> (f64, f64) {
     const S5: f64 = 2.236_067_977_499_79;
-    let e = (-S5 * r).exp();
+    let e = crate::predict::exp_nonpos(-S5 * r);
     (
         (1.0 + S5 * r + 5.0 / 3.0 * r * r) * e,
         5.0 / 3.0 * (1.0 + S5 * r) * e,
@@ -370,7 +370,8 @@ impl Regressor for Gp {
         scratch: &mut [f64],
     ) {
         let (d, m, n) = (self.d, self.m, self.n);
-        // phase 1: the kernel vector (independent exps pipeline well)
+        // phase 1: the kernel vector: squared distances, then the branch-free Matérn over the
+        // contiguous vector (this loop vectorises)
         let mut xq = [0.0; 8];
         for j in 0..d {
             xq[j] = x[j] * self.inv_len[j];
@@ -383,7 +384,10 @@ impl Regressor for Gp {
                 let t = xq[j] - xi[j];
                 r2 += t * t;
             }
-            *ki = kernel(r2.sqrt());
+            *ki = r2;
+        }
+        for ki in k.iter_mut() {
+            *ki = kernel(ki.sqrt());
         }
         // phase 2: out[cols] = αᵀ k
         out[cols.clone()].iter_mut().for_each(|o| *o = 0.0);
