@@ -344,3 +344,42 @@ fn corrupt_model_file_is_a_clear_error() {
         "{err}"
     );
 }
+
+#[test]
+fn speedup_benchmark_rejects_bad_input_before_any_fe_run() {
+    let base = ["--n", "11", "--t", "2.0", "--material", "ogden_002"];
+    let out = dir().join("speedup.json");
+    let o = predict(
+        &[&base[..], &["--bench-fe", "medium", "--bench-out"]]
+            .concat()
+            .into_iter()
+            .chain([out.to_str().unwrap()])
+            .collect::<Vec<_>>(),
+    );
+    let err = text(&o).1;
+    assert!(
+        !o.status.success() && err.contains("medium") && err.contains("coarse"),
+        "{err}"
+    );
+    let o = predict(&[&base[..], &["--bench-fe", "coarse"]].concat());
+    let err = text(&o).1;
+    assert!(!o.status.success() && err.contains("--bench-out"), "{err}");
+    let o = predict(&[
+        "--n",
+        "10",
+        "--t",
+        "2.0",
+        "--material",
+        "ogden_002",
+        "--bench-fe",
+        "coarse",
+        "--bench-out",
+        out.to_str().unwrap(),
+    ]);
+    let err = text(&o).1;
+    assert!(
+        !o.status.success() && err.contains("invalid n = 10"),
+        "{err}"
+    );
+    assert!(!out.exists());
+}

@@ -93,7 +93,7 @@ pub struct PredictArgs {
     #[arg(long, required_unless_present_any = ["csv", "validation"])]
     pub t: Option<f64>,
     /// Gauge pressure, bar.
-    #[arg(long, required_unless_present_any = ["csv", "validation"])]
+    #[arg(long, required_unless_present_any = ["csv", "validation", "bench_fe"])]
     pub pressure: Option<f64>,
     /// Material: a name (ogden_002, ogden_005) or `mu1,alpha1,mu2,alpha2`.
     #[arg(long, required_unless_present_any = ["csv", "validation"], allow_hyphen_values = true)]
@@ -113,6 +113,14 @@ pub struct PredictArgs {
     /// Print the model's stored validation table (and nothing else without a query).
     #[arg(long)]
     pub validation: bool,
+    /// Speed-up benchmark on this mesh level (coarse, standard, fine): one full FE ramp of the
+    /// query's design and material (bending, contact, gravity, on the model's pressure grid),
+    /// then the surrogate at the same pressures, in the same run; JSON to --bench-out.
+    #[arg(long, value_name = "MESH", requires_all = ["n", "t", "material", "bench_out"], conflicts_with = "csv")]
+    pub bench_fe: Option<String>,
+    /// Where the speed-up benchmark writes its JSON summary.
+    #[arg(long, requires = "bench_fe")]
+    pub bench_out: Option<PathBuf>,
 }
 
 /// Export precision.

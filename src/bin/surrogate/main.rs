@@ -6,6 +6,7 @@ mod export;
 mod predict;
 mod simulate;
 mod snapshots;
+mod speedup;
 mod train;
 mod validate;
 

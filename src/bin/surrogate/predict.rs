@@ -25,6 +25,9 @@ pub fn run(a: PredictArgs) -> Result<()> {
     if let (Some(csv), Some(out)) = (&a.csv, &a.out) {
         return batch(&model, &a, csv, out);
     }
+    if let (Some(mesh), Some(out)) = (&a.bench_fe, &a.bench_out) {
+        return crate::speedup::run(&model, &a, mesh, out);
+    }
     let (Some(n), Some(t), Some(p), Some(mat)) = (a.n, a.t, a.pressure, a.material.as_deref())
     else {
         if a.validation {
