@@ -175,3 +175,71 @@ fn frictionless_plate_leaves_no_tangential_reaction() {
         "tangential {fx} {fz}"
     );
 }
+
+#[test]
+fn augmented_lagrangian_makes_the_block_touch_whatever_the_penalty() {
+    let traction = 0.5;
+    let mut heights = Vec::new();
+    let mut heights_plain = Vec::new();
+    for stiffness in [20.0, 200.0] {
+        let model = block(traction, stiffness);
+        let levels = [LoadLevel {
+            traction: 1.0,
+            ..Default::default()
+        }];
+        let run = |augmented_updates: usize| {
+            let settings = SolverSettings {
+                initial_fraction: 0.2,
+                augmented_updates,
+                ..SolverSettings::default()
+            };
+            let mut out = None;
+            solve_path(&model, settings, &levels, |_, st, rep| {
+                out = Some((
+                    st.u_full.clone(),
+                    rep.augmented_updates,
+                    rep.augmented_failed,
+                ))
+            })
+            .unwrap();
+            out.unwrap()
+        };
+        // plain penalty: the bottom sits at δ/2 − p/ε = 0.005 − 0.025 = −0.02 mm for ε = 20
+        let (u_plain, _, _) = run(0);
+        let (u, updates, failed) = run(20);
+        assert!(
+            updates >= 1 && !failed,
+            "ε = {stiffness}: {updates} updates"
+        );
+        let mut r = vec![0.0; u.len()];
+        let info = model.assemble(&u, &levels[0], &mut r, None).unwrap();
+        let applied = traction * 4.0;
+        assert!(
+            (info.plane_forces[0] - applied).abs() < 1e-6 * applied,
+            "ε = {stiffness}: plate reaction {} vs applied {applied}",
+            info.plane_forces[0]
+        );
+        let info_plain = model.assemble(&u_plain, &levels[0], &mut r, None);
+        let gap_plain = info_plain.unwrap().plane_min_gaps[0];
+        let gap = info.plane_min_gaps[0];
+        assert!(
+            gap.abs() < 2e-3 && gap.abs() < 0.2 * gap_plain.abs(),
+            "ε = {stiffness}: gap {gap} (plain penalty {gap_plain})"
+        );
+        // the top corner's height: the quantity a user reads
+        let top = u.len() - 2;
+        heights.push(u[top]);
+        heights_plain.push(u_plain[top]);
+    }
+    assert!(
+        (heights_plain[0] - heights_plain[1]).abs() > 1e-2,
+        "plain penalty: {heights_plain:?}"
+    );
+    // a 10× stiffer penalty changes the result by far less than the plain penalty's offset
+    assert!(
+        (heights[0] - heights[1]).abs() < 2e-3,
+        "top displacement {} vs {}",
+        heights[0],
+        heights[1]
+    );
+}

@@ -11,6 +11,8 @@
 // i, j, k, l: components); iterator chains would hide it.
 #![allow(clippy::needless_range_loop)]
 
+use std::sync::atomic::{AtomicU64, Ordering};
+
 use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 
@@ -236,6 +238,32 @@ pub struct FeModel {
     /// Per pair: position in the tangent's value array of local entry (row, col) (row-major
     /// 54 × 54, `u32::MAX` if not stored).
     pair_maps: Vec<Vec<u32>>,
+    /// Augmented-Lagrangian gap shifts ([`contact::update_shift`]) of the plane-contact faces,
+    /// per element in the order of `contact_faces`, one per quadrature point (f64 bits; set
+    /// between Newton solves, read by the parallel assembly).
+    plane_shifts: Vec<Vec<[AtomicU64; 9]>>,
+    /// Gap shifts of the face pairs.
+    pair_shifts: Vec<[AtomicU64; 9]>,
+}
+
+fn load_shifts(a: &[AtomicU64; 9]) -> [f64; 9] {
+    std::array::from_fn(|q| f64::from_bits(a[q].load(Ordering::Relaxed)))
+}
+
+fn zero_shifts() -> [AtomicU64; 9] {
+    std::array::from_fn(|_| AtomicU64::new(0.0f64.to_bits()))
+}
+
+/// What one Uzawa update of the contact gap shifts did ([`FeModel::update_contact_shifts`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq)]
+pub struct ShiftUpdate {
+    /// Largest change of a contact point's multiplier divided by the penalty stiffness (mm):
+    /// how far the penalty's contact surface was from the true one.
+    pub max_change: f64,
+    /// Contact points carrying pressure.
+    pub active_points: usize,
+    /// Whether the shifts were changed (the change exceeded the tolerance).
+    pub applied: bool,
 }
 
 /// Node couplings that a list of face pairs adds to the sparse pattern.
@@ -329,6 +357,8 @@ impl FeModel {
             pressure_origin: [0.0; 3],
             planes: Vec::new(),
             contact_faces: vec![Vec::new(); mesh.n_elements()],
+            plane_shifts: (0..mesh.n_elements()).map(|_| Vec::new()).collect(),
+            pair_shifts: Vec::new(),
             pairs: Vec::new(),
             pair_settings: PairSettings {
                 stiffness: 0.0,
@@ -383,6 +413,7 @@ impl FeModel {
         }
         self.pairs = pairs;
         self.pair_settings = settings;
+        self.pair_shifts = (0..self.pairs.len()).map(|_| zero_shifts()).collect();
         self.pair_maps = maps;
         Ok(())
     }
@@ -407,6 +438,7 @@ impl FeModel {
         self.planes.push(plane);
         for f in faces {
             self.contact_faces[f.element].push((index, face_local_nodes(f.axis, f.positive)));
+            self.plane_shifts[f.element].push(zero_shifts());
         }
         Ok(index)
     }
@@ -512,6 +544,106 @@ impl FeModel {
         tangent_pressure: Option<&[[f64; 4]]>,
     ) -> Result<AssemblyInfo, ElementError> {
         self.assemble_impl(u, level, r_full, k_values, false, tangent_pressure)
+    }
+
+    /// One Uzawa update of the augmented-Lagrangian gap shifts at a converged displacement
+    /// `u` (all dofs): every contact point in contact gets its shift moved by its gap, every
+    /// open point the shift −δ ([`contact::update_shift`]). The shifts are changed only if some
+    /// point's multiplier changes by more than `tol` (mm, divided by ε), so that a converged
+    /// state stays in equilibrium with the shifts it was solved with.
+    pub fn update_contact_shifts(&self, u: &[f64], tol: f64) -> ShiftUpdate {
+        let mut out = ShiftUpdate::default();
+        let mut new = Vec::with_capacity(self.n_contact_points());
+        self.visit_contact_points(u, |e, d, g, c| {
+            let (c_new, change) = contact::update_shift(e, d, g, c);
+            out.max_change = out.max_change.max(change);
+            if g.is_finite() && contact::barrier(e, d, g - c).1 < 0.0 {
+                out.active_points += 1;
+            }
+            new.push(c_new);
+        });
+        if out.max_change > tol {
+            self.set_contact_shifts(&new);
+            out.applied = true;
+        }
+        out
+    }
+
+    fn n_contact_points(&self) -> usize {
+        9 * (self.plane_shifts.iter().map(Vec::len).sum::<usize>() + self.pair_shifts.len())
+    }
+
+    /// Calls `f(ε, δ, g, c)` for every contact quadrature point (plane faces by element, then
+    /// pairs: the order of [`Self::contact_shifts`]).
+    fn visit_contact_points(&self, u: &[f64], mut f: impl FnMut(f64, f64, f64, f64)) {
+        let pos = |n: usize| {
+            let x = self.mesh.nodes[n];
+            [x[0] + u[3 * n], x[1] + u[3 * n + 1], x[2] + u[3 * n + 2]]
+        };
+        for (e, faces) in self.contact_faces.iter().enumerate() {
+            let conn = &self.mesh.elements[e];
+            for ((pi, local), shift) in faces.iter().zip(&self.plane_shifts[e]) {
+                let plane = &self.planes[*pi];
+                let x0: [[f64; 3]; 9] = local.map(|l| self.mesh.nodes[conn[l]]);
+                let x: [[f64; 3]; 9] = local.map(|l| pos(conn[l]));
+                let gaps = contact::plane_face_gaps(plane, &x0, &x);
+                for (g, c) in gaps.into_iter().zip(load_shifts(shift)) {
+                    f(plane.stiffness, plane.smoothing, g, c);
+                }
+            }
+        }
+        let set = self.pair_settings;
+        for (p, shift) in self.pairs.iter().zip(&self.pair_shifts) {
+            let x0b = p.back.map(|n| self.mesh.nodes[n]);
+            let gaps = contact::pair_face_gaps(
+                &set,
+                p.orientation,
+                &x0b,
+                &p.back.map(pos),
+                &p.front.map(pos),
+            );
+            for (g, c) in gaps.into_iter().zip(load_shifts(shift)) {
+                f(set.stiffness, set.smoothing, g, c);
+            }
+        }
+    }
+
+    /// All contact gap shifts (plane faces by element, then pairs; 9 per face).
+    pub fn contact_shifts(&self) -> Vec<f64> {
+        self.plane_shifts
+            .iter()
+            .flatten()
+            .chain(&self.pair_shifts)
+            .flat_map(load_shifts)
+            .collect()
+    }
+
+    /// Sets the contact gap shifts (in the order of [`Self::contact_shifts`]).
+    pub fn set_contact_shifts(&self, values: &[f64]) {
+        let cells = self.plane_shifts.iter().flatten().chain(&self.pair_shifts);
+        for (a, v) in cells.flatten().zip(values) {
+            a.store(v.to_bits(), Ordering::Relaxed);
+        }
+    }
+
+    /// Sets every contact gap shift to zero (the plain penalty).
+    pub fn reset_contact_shifts(&self) {
+        for a in self
+            .plane_shifts
+            .iter()
+            .flatten()
+            .chain(&self.pair_shifts)
+            .flatten()
+        {
+            a.store(0.0f64.to_bits(), Ordering::Relaxed);
+        }
+    }
+
+    /// The gap shift of a face pair's centre quadrature point (for output).
+    pub fn pair_centre_shift(&self, pair: usize) -> f64 {
+        self.pair_shifts
+            .get(pair)
+            .map_or(0.0, |s| f64::from_bits(s[4].load(Ordering::Relaxed)))
     }
 
     /// Per element, the projected pressure linearised about `u` and evaluated at `u + du`
@@ -627,7 +759,9 @@ impl FeModel {
                         }
                         let mut forces = [0.0; MAX_PLANES];
                         let mut gaps = [f64::INFINITY; MAX_PLANES];
-                        for (pi, local) in &self.contact_faces[e] {
+                        for ((pi, local), shift) in
+                            self.contact_faces[e].iter().zip(&self.plane_shifts[e])
+                        {
                             let x0: [[f64; 3]; 9] = local.map(|l| self.mesh.nodes[conn[l]]);
                             let xf: [[f64; 3]; 9] = std::array::from_fn(|a| {
                                 let l = local[a];
@@ -643,6 +777,7 @@ impl FeModel {
                                 &self.planes[*pi],
                                 &x0,
                                 &xf,
+                                &load_shifts(shift),
                                 &mut rf,
                                 with_k.then_some(&mut kf),
                             );
@@ -707,7 +842,8 @@ impl FeModel {
             let results: Vec<PairOut> = self
                 .pairs
                 .par_iter()
-                .map(|p| {
+                .zip(&self.pair_shifts)
+                .map(|(p, shift)| {
                     let x0b = p.back.map(|n| self.mesh.nodes[n]);
                     let xb = p.back.map(pos);
                     let xf = p.front.map(pos);
@@ -719,6 +855,7 @@ impl FeModel {
                         &x0b,
                         &xb,
                         &xf,
+                        &load_shifts(shift),
                         &mut r,
                         k.as_deref_mut(),
                     );

@@ -180,11 +180,14 @@ fn face_points(x0: &[[f64; 3]; 9]) -> impl Iterator<Item = FacePoint> + '_ {
 
 /// Contact of one 9-node face (reference coordinates `x0`, current `x`) with a plane: adds the
 /// residual into `r` (27), the tangent into `k` (27 × 27 row-major) if given, and returns
-/// (energy, normal reaction force on the body, smallest gap at a quadrature point).
+/// (energy, normal reaction force on the body, smallest gap at a quadrature point). The
+/// barrier of quadrature point `q` acts on `g − shift[q]` (the augmented-Lagrangian gap shift,
+/// [`update_shift`]; zeros for the plain penalty).
 pub fn plane_face(
     plane: &RigidPlane,
     x0: &[[f64; 3]; 9],
     x: &[[f64; 3]; 9],
+    shift: &[f64; 9],
     r: &mut [f64; 27],
     mut k: Option<&mut [f64; 729]>,
 ) -> (f64, f64, f64) {
@@ -192,7 +195,7 @@ pub fn plane_face(
     let mut energy = 0.0;
     let mut force = 0.0;
     let mut min_gap = f64::INFINITY;
-    for FacePoint { na, da, .. } in face_points(x0) {
+    for (q, FacePoint { na, da, .. }) in face_points(x0).enumerate() {
         let mut xq = [0.0; 3];
         for a in 0..9 {
             for c in 0..3 {
@@ -201,7 +204,7 @@ pub fn plane_face(
         }
         let g = plane.gap(xq);
         min_gap = min_gap.min(g);
-        let (psi, dpsi, ddpsi) = plane.barrier(g);
+        let (psi, dpsi, ddpsi) = plane.barrier(g - shift[q]);
         if dpsi == 0.0 && ddpsi == 0.0 {
             continue;
         }
@@ -358,6 +361,27 @@ fn gap_function(z: &[f64; 9], orientation: f64) -> Hd {
     dn.mul(&inv).scale(orientation)
 }
 
+/// The variables `z = (d, t₁, t₂)` of the gap function at a face point with shape values `na`
+/// and parameter derivatives `nas`, `nat`: `d = x_f − x_b`, `t = ∂m/∂s, ∂m/∂t` of the
+/// mid-surface `m = (x_b + x_f)/2`.
+fn gap_variables(
+    na: &[f64; 9],
+    nas: &[f64; 9],
+    nat: &[f64; 9],
+    x_back: &[[f64; 3]; 9],
+    x_front: &[[f64; 3]; 9],
+) -> [f64; 9] {
+    let mut z = [0.0; 9];
+    for a in 0..9 {
+        for c in 0..3 {
+            z[c] += na[a] * (x_front[a][c] - x_back[a][c]);
+            z[3 + c] += 0.5 * nas[a] * (x_front[a][c] + x_back[a][c]);
+            z[6 + c] += 0.5 * nat[a] * (x_front[a][c] + x_back[a][c]);
+        }
+    }
+    z
+}
+
 /// Plain value of the gap function.
 fn gap_value(z: &[f64; 9], orientation: f64) -> f64 {
     let nu = [
@@ -386,37 +410,36 @@ fn gap_value(z: &[f64; 9], orientation: f64) -> f64 {
 /// [`PairSettings::closest_point`] moves the tip by 0.01 % at 3 bar). `x0_back` are the back face's reference
 /// coordinates, `x_back`, `x_front` the current ones. Adds into `r` (54) and `k` (54 × 54
 /// row-major) and returns (energy, magnitude of the force the two faces exchange, smallest gap
-/// at a quadrature point).
+/// at a quadrature point). The barrier of quadrature point `q` acts on `g − shift[q]` (see
+/// [`plane_face`]).
+#[allow(clippy::too_many_arguments)]
 pub fn pair_face(
     settings: &PairSettings,
     orientation: f64,
     x0_back: &[[f64; 3]; 9],
     x_back: &[[f64; 3]; 9],
     x_front: &[[f64; 3]; 9],
+    shift: &[f64; 9],
     r: &mut [f64; PAIR_DOFS],
     mut k: Option<&mut [f64; PAIR_DOFS * PAIR_DOFS]>,
 ) -> (f64, f64, f64) {
     if settings.closest_point {
-        return pair_face_closest(settings, orientation, x0_back, x_back, x_front, r, k);
+        return pair_face_closest(settings, orientation, x0_back, x_back, x_front, shift, r, k);
     }
     let mut energy = 0.0;
     let mut front = [0.0; 3];
     let mut min_gap = f64::INFINITY;
-    for FacePoint {
-        na, nas, nat, da, ..
-    } in face_points(x0_back)
+    for (
+        q,
+        FacePoint {
+            na, nas, nat, da, ..
+        },
+    ) in face_points(x0_back).enumerate()
     {
-        let mut z = [0.0; 9];
-        for a in 0..9 {
-            for c in 0..3 {
-                z[c] += na[a] * (x_front[a][c] - x_back[a][c]);
-                z[3 + c] += 0.5 * nas[a] * (x_front[a][c] + x_back[a][c]);
-                z[6 + c] += 0.5 * nat[a] * (x_front[a][c] + x_back[a][c]);
-            }
-        }
+        let z = gap_variables(&na, &nas, &nat, x_back, x_front);
         let g0 = gap_value(&z, orientation);
         min_gap = min_gap.min(g0);
-        let (psi, dpsi, ddpsi) = barrier(settings.stiffness, settings.smoothing, g0);
+        let (psi, dpsi, ddpsi) = barrier(settings.stiffness, settings.smoothing, g0 - shift[q]);
         if dpsi == 0.0 && ddpsi == 0.0 {
             continue;
         }
@@ -468,12 +491,14 @@ pub fn pair_face(
 
 /// [`pair_face`] with the closest-point gap ([`super::contact_cp`]). A quadrature point whose
 /// projection does not converge is open.
+#[allow(clippy::too_many_arguments)]
 fn pair_face_closest(
     settings: &PairSettings,
     orientation: f64,
     x0_back: &[[f64; 3]; 9],
     x_back: &[[f64; 3]; 9],
     x_front: &[[f64; 3]; 9],
+    shift: &[f64; 9],
     r: &mut [f64; PAIR_DOFS],
     mut k: Option<&mut [f64; PAIR_DOFS * PAIR_DOFS]>,
 ) -> (f64, f64, f64) {
@@ -481,12 +506,12 @@ fn pair_face_closest(
     let mut front = [0.0; 3];
     let mut min_gap = f64::INFINITY;
     let mut hess = [0.0; PAIR_DOFS * PAIR_DOFS];
-    for FacePoint { xi, na, da, .. } in face_points(x0_back) {
+    for (q, FacePoint { xi, na, da, .. }) in face_points(x0_back).enumerate() {
         let Some((g, dg)) = contact_cp::gap_gradient(&na, xi, x_back, x_front, orientation) else {
             continue;
         };
         min_gap = min_gap.min(g);
-        let (psi, dpsi, ddpsi) = barrier(settings.stiffness, settings.smoothing, g);
+        let (psi, dpsi, ddpsi) = barrier(settings.stiffness, settings.smoothing, g - shift[q]);
         if dpsi == 0.0 && ddpsi == 0.0 {
             continue;
         }
@@ -513,6 +538,71 @@ fn pair_face_closest(
     }
     let force = (front[0] * front[0] + front[1] * front[1] + front[2] * front[2]).sqrt();
     (energy, force, min_gap)
+}
+
+/// Gaps at the 3×3 quadrature points of a face against a plane (order of [`plane_face`]).
+pub fn plane_face_gaps(plane: &RigidPlane, x0: &[[f64; 3]; 9], x: &[[f64; 3]; 9]) -> [f64; 9] {
+    let mut gaps = [0.0; 9];
+    for (q, FacePoint { na, .. }) in face_points(x0).enumerate() {
+        let mut xq = [0.0; 3];
+        for a in 0..9 {
+            for c in 0..3 {
+                xq[c] += na[a] * x[a][c];
+            }
+        }
+        gaps[q] = plane.gap(xq);
+    }
+    gaps
+}
+
+/// Gaps at the 3×3 quadrature points of a face pair (order of [`pair_face`]); a closest-point
+/// projection that fails gives an open point (`+∞`).
+pub fn pair_face_gaps(
+    settings: &PairSettings,
+    orientation: f64,
+    x0_back: &[[f64; 3]; 9],
+    x_back: &[[f64; 3]; 9],
+    x_front: &[[f64; 3]; 9],
+) -> [f64; 9] {
+    let mut gaps = [0.0; 9];
+    for (
+        q,
+        FacePoint {
+            xi, na, nas, nat, ..
+        },
+    ) in face_points(x0_back).enumerate()
+    {
+        gaps[q] = if settings.closest_point {
+            contact_cp::gap_gradient(&na, xi, x_back, x_front, orientation)
+                .map_or(f64::INFINITY, |(g, _)| g)
+        } else {
+            gap_value(
+                &gap_variables(&na, &nas, &nat, x_back, x_front),
+                orientation,
+            )
+        };
+    }
+    gaps
+}
+
+/// One Uzawa update of the augmented-Lagrangian gap shift of a contact point at a converged
+/// state with gap `g` and shift `c`; returns the new shift and the change of the point's
+/// multiplier (its contact pressure at `g = 0`) divided by ε, in mm.
+///
+/// The barrier acts on `g − c`, so the point carries the pressure `λ = P(g − c)`,
+/// `P = −ψ'` (decreasing, zero from δ on). The shift stands for the multiplier `P(−c)`: the
+/// pressure the point would carry when just touching. The update sets it to the pressure the
+/// point carries now, `c ← −P⁻¹(λ) = c − g` for a point in contact, so that the same pressure
+/// is reached at `g = 0`; an open point (`λ = 0`) gets `c = −δ`, the shift whose pressure
+/// starts exactly at `g = 0`. At the fixed point every point either touches (`g = 0`,
+/// `λ ≥ 0`) or is open without pressure, for any ε and δ: the penalty's offset from the true
+/// contact (`δ/2 − λ/ε` for the plain penalty) is gone.
+pub fn update_shift(stiffness: f64, smoothing: f64, g: f64, c: f64) -> (f64, f64) {
+    let pressure = |x: f64| -barrier(stiffness, smoothing, x).1;
+    let before = pressure(-c);
+    let now = if g.is_finite() { pressure(g - c) } else { 0.0 };
+    let c_new = if now > 0.0 { c - g } else { -smoothing };
+    (c_new, (now - before).abs() / stiffness)
 }
 
 /// Gap at the centre of a face pair (current coordinates, back face's tensor order).
@@ -553,6 +643,32 @@ mod tests {
     }
 
     #[test]
+    fn uzawa_update_moves_the_pressure_to_zero_gap() {
+        let (e, d) = (20.0, 0.05);
+        let p = |x: f64| -barrier(e, d, x).1;
+        // in penetration and in the smoothing zone: the same pressure is reached at g = 0
+        for (g, c) in [(-0.03, 0.0), (0.02, 0.0), (-0.01, 0.04), (0.01, -0.02)] {
+            let (c_new, change) = update_shift(e, d, g, c);
+            assert!(
+                (p(0.0 - c_new) - p(g - c)).abs() < 1e-12,
+                "g = {g}, c = {c}"
+            );
+            assert!((change - (p(g - c) - p(-c)).abs() / e).abs() < 1e-15);
+        }
+        // open: the pressure starts exactly at g = 0
+        let (c_new, _) = update_shift(e, d, 0.2, 0.0);
+        assert_eq!(c_new, -d);
+        assert_eq!(p(1e-9 - c_new), 0.0);
+        assert!(p(-1e-3 - c_new) > 0.0);
+        // a failed projection is open
+        assert_eq!(update_shift(e, d, f64::INFINITY, 0.01).0, -d);
+        // at the fixed point nothing changes
+        let (c1, _) = update_shift(e, d, -0.02, 0.0);
+        let (c2, change) = update_shift(e, d, 0.0, c1);
+        assert_eq!((c1, change), (c2, 0.0));
+    }
+
+    #[test]
     fn barrier_is_c2() {
         let p = RigidPlane::new([0.0; 3], [0.0, 0.0, 1.0], 50.0, 0.1).unwrap();
         for g0 in [0.0, 0.1] {
@@ -577,7 +693,7 @@ mod tests {
         let x = face(0.02, -0.04);
         let mut r = [0.0; 27];
         let mut k = [0.0; 729];
-        plane_face(&plane, &x0, &x, &mut r, Some(&mut k));
+        plane_face(&plane, &x0, &x, &[0.0; 9], &mut r, Some(&mut k));
         let h = 1e-7;
         for b in 0..9 {
             for d in 0..3 {
@@ -585,8 +701,8 @@ mod tests {
                 xp[b][d] += h;
                 xm[b][d] -= h;
                 let (mut rp, mut rm) = ([0.0; 27], [0.0; 27]);
-                let ep = plane_face(&plane, &x0, &xp, &mut rp, None).0;
-                let em = plane_face(&plane, &x0, &xm, &mut rm, None).0;
+                let ep = plane_face(&plane, &x0, &xp, &[0.0; 9], &mut rp, None).0;
+                let em = plane_face(&plane, &x0, &xm, &[0.0; 9], &mut rm, None).0;
                 assert!(
                     ((ep - em) / (2.0 * h) - r[3 * b + d]).abs() < 1e-5,
                     "residual {b} {d}"
@@ -608,7 +724,7 @@ mod tests {
         let x0 = std::array::from_fn(|a| [(a % 3) as f64, (a / 3) as f64, 0.0]);
         let x = x0.map(|p: [f64; 3]| [p[0], p[1], -0.01]);
         let mut r = [0.0; 27];
-        let (_, f, g) = plane_face(&plane, &x0, &x, &mut r, None);
+        let (_, f, g) = plane_face(&plane, &x0, &x, &[0.0; 9], &mut r, None);
         // 2 × 2 mm face, 0.01 mm penetration, 100 MPa/mm → 1 MPa × 4 mm² = 4 N
         assert!((f - 4.0).abs() < 1e-12, "{f}");
         assert!((g + 0.01).abs() < 1e-15);
@@ -654,14 +770,14 @@ mod tests {
         });
         let mut r = [0.0; PAIR_DOFS];
         let mut k = [0.0; PAIR_DOFS * PAIR_DOFS];
-        let (_, f, g) = pair_face(&set, o, &x0b, &xb, &xf, &mut r, Some(&mut k));
+        let (_, f, g) = pair_face(&set, o, &x0b, &xb, &xf, &[0.0; 9], &mut r, Some(&mut k));
         assert!(
             f > 0.0 && g < 0.0,
             "the test state must be in contact: f {f}, g {g}"
         );
         let eval = |xb: &[[f64; 3]; 9], xf: &[[f64; 3]; 9]| {
             let mut r = [0.0; PAIR_DOFS];
-            let e = pair_face(&set, o, &x0b, xb, xf, &mut r, None).0;
+            let e = pair_face(&set, o, &x0b, xb, xf, &[0.0; 9], &mut r, None).0;
             (e, r)
         };
         let h = 1e-6;
@@ -710,7 +826,7 @@ mod tests {
         let xf = x0f.map(|p| [p[0] + 0.3, p[1], p[2] - 1.01]);
         let mut r = [0.0; PAIR_DOFS];
         let o = pair_orientation(&x0b, &x0f);
-        let (_, f, g) = pair_face(&set, o, &x0b, &x0b, &xf, &mut r, None);
+        let (_, f, g) = pair_face(&set, o, &x0b, &x0b, &xf, &[0.0; 9], &mut r, None);
         assert!((f - 4.0).abs() < 1e-10, "{f}");
         assert!((g + 0.01).abs() < 1e-12, "{g}");
         let sum = |side: usize, c: usize| (0..9).map(|a| r[27 * side + 3 * a + c]).sum::<f64>();

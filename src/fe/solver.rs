@@ -80,7 +80,23 @@ pub struct SolverSettings {
     /// Print every Newton iteration to stderr.
     #[serde(default)]
     pub trace: bool,
+    /// Augmented-Lagrangian contact: after each converged output step, up to this many Uzawa
+    /// updates of the contact gap shifts ([`super::contact::update_shift`]), each followed by
+    /// a Newton solve at the same load, until no contact point's multiplier changes by more
+    /// than ε · [`AUGMENTED_GAP_TOL`]; 0 gives the plain penalty. Default 6 (2–4 are used).
+    /// Settings written before this field existed read as 0: the plain penalty they were
+    /// computed with.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub augmented_updates: usize,
 }
+
+fn is_zero(v: &usize) -> bool {
+    *v == 0
+}
+
+/// Change of a contact point's multiplier, divided by ε (mm), below which the
+/// augmented-Lagrangian updates stop: the walls then touch to within about this distance.
+pub const AUGMENTED_GAP_TOL: f64 = 1e-3;
 
 fn yes() -> bool {
     true
@@ -100,6 +116,7 @@ impl Default for SolverSettings {
             predictor: false,
             mixed_tangent: true,
             trace: false,
+            augmented_updates: 6,
         }
     }
 }
@@ -125,6 +142,13 @@ pub struct StepReport {
     pub factor_seconds: f64,
     /// Seconds in assembly.
     pub assembly_seconds: f64,
+    /// Augmented-Lagrangian updates of the contact gap shifts made at this step.
+    #[serde(default)]
+    pub augmented_updates: usize,
+    /// An update's Newton solve failed: the step keeps the state converged with the shifts
+    /// before it (contact accurate to that update's change rather than to the tolerance).
+    #[serde(default)]
+    pub augmented_failed: bool,
 }
 
 /// Why a solve stopped.
@@ -268,8 +292,9 @@ pub struct PathState {
 }
 
 impl PathState {
-    /// The undeformed state at zero load.
+    /// The undeformed state at zero load (and the model's contact gap shifts reset).
     pub fn new(model: &FeModel) -> Self {
+        model.reset_contact_shifts();
         Self {
             u_free: vec![0.0; model.dofs.n_free],
             u_full: vec![0.0; 3 * model.mesh.n_nodes()],
@@ -375,6 +400,8 @@ impl<'m> Solver<'m> {
             converged: false,
             factor_seconds: 0.0,
             assembly_seconds: 0.0,
+            augmented_updates: 0,
+            augmented_failed: false,
         };
         let (f0, a0) = (self.factor_seconds, self.assembly_seconds);
         let mut consecutive_cuts = 0;
@@ -432,6 +459,61 @@ impl<'m> Solver<'m> {
         report.factor_seconds = self.factor_seconds - f0;
         report.assembly_seconds = self.assembly_seconds - a0;
         Ok(report)
+    }
+
+    /// Uzawa updates of the contact gap shifts at the converged `level`, each followed by a
+    /// Newton solve at the same load (see [`SolverSettings::augmented_updates`]).
+    ///
+    /// # Errors
+    /// [`SolverError::Factorization`] / [`SolverError::Element`] from the Newton solves. A
+    /// solve that does not converge is not an error: the step keeps the state converged with
+    /// the shifts before that update ([`StepReport::augmented_failed`]).
+    pub fn augment(
+        &mut self,
+        state: &mut PathState,
+        level: LoadLevel,
+        report: &mut StepReport,
+    ) -> Result<(), SolverError> {
+        let (f0, a0) = (self.factor_seconds, self.assembly_seconds);
+        for _ in 0..self.settings.augmented_updates {
+            let saved = self.model.contact_shifts();
+            let update = self
+                .model
+                .update_contact_shifts(&state.u_full, AUGMENTED_GAP_TOL);
+            if self.settings.trace {
+                eprintln!(
+                    "  augmented update: {} points in contact, largest change {:.3e} mm",
+                    update.active_points, update.max_change
+                );
+            }
+            if !update.applied {
+                break;
+            }
+            report.augmented_updates += 1;
+            // one Newton solve at the same load (cutting back a zero load increment would
+            // only repeat it)
+            let saved_u = state.u_free.clone();
+            let out = self.newton(state, &level)?;
+            report.newton_iterations += out.iterations;
+            if out.converged {
+                report.residual = out.residual;
+                report.update = out.update;
+                self.model
+                    .expand(&state.u_free, &state.level, &mut state.u_full);
+            } else {
+                // the jump of contact pressures was too large for Newton: keep the state
+                // converged with the previous shifts
+                state.u_free = saved_u;
+                self.model
+                    .expand(&state.u_free, &state.level, &mut state.u_full);
+                self.model.set_contact_shifts(&saved);
+                report.augmented_failed = true;
+                break;
+            }
+        }
+        report.factor_seconds += self.factor_seconds - f0;
+        report.assembly_seconds += self.assembly_seconds - a0;
+        Ok(())
     }
 
     /// Secant predictor from the previous converged increment.
@@ -718,10 +800,17 @@ pub fn solve_path_from(
     levels: &[LoadLevel],
     mut observe: impl FnMut(usize, &PathState, &StepReport),
 ) -> Result<Vec<StepReport>, SolverError> {
+    let augmented = settings.augmented_updates > 0;
     let mut solver = Solver::new(model, settings)?;
     let mut reports = Vec::with_capacity(levels.len());
     for (i, level) in levels.iter().enumerate() {
-        match solver.advance(state, *level) {
+        let step = solver.advance(state, *level).and_then(|mut rep| {
+            if augmented {
+                solver.augment(state, *level, &mut rep)?;
+            }
+            Ok(rep)
+        });
+        match step {
             Ok(rep) => {
                 observe(i, state, &rep);
                 reports.push(rep);

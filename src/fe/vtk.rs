@@ -202,10 +202,12 @@ fn write_contact(path: &Path, model: &ActuatorModel, u: &[f64]) -> io::Result<()
     let values: Vec<(f64, f64)> = fe
         .pairs
         .iter()
-        .map(|p| {
+        .enumerate()
+        .map(|(i, p)| {
             let g =
                 super::contact::pair_centre_gap(p.orientation, &p.back.map(pos), &p.front.map(pos));
-            let (_, dpsi, _) = super::contact::barrier(set.stiffness, set.smoothing, g);
+            let c = fe.pair_centre_shift(i);
+            let (_, dpsi, _) = super::contact::barrier(set.stiffness, set.smoothing, g - c);
             (g, -dpsi)
         })
         .collect();

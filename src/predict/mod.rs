@@ -613,7 +613,7 @@ mod tests {
         let mut x = -708.0;
         while x <= 0.0 {
             for y in [x, x - 0.5 * LN2, x + 1e-9] {
-                if y <= 0.0 && y >= -708.0 {
+                if (-708.0..=0.0).contains(&y) {
                     let (a, b) = (exp_nonpos(y), y.exp());
                     assert!((a - b).abs() <= 4e-16 * b, "exp_nonpos({y}): {a} vs {b}");
                 }

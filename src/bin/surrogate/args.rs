@@ -226,6 +226,11 @@ pub struct SimulateArgs {
     /// Grow the next increment after a substep that took at most this many iterations.
     #[arg(long, default_value_t = surrogate::fe::solver::SolverSettings::default().grow_below_iterations)]
     pub grow_below: usize,
+    /// Augmented-Lagrangian contact: up to this many Uzawa updates of the contact gap shifts
+    /// per output step, so that walls in contact touch (gap within 1e-3 mm) whatever the
+    /// penalty stiffness (0: plain penalty).
+    #[arg(long, default_value_t = surrogate::fe::solver::SolverSettings::default().augmented_updates)]
+    pub augmented: usize,
     /// Benchmark mode: run the full ramp 0→3 bar (0.5 bar steps) on each mesh level and write a
     /// JSON summary (to --out).
     #[arg(long)]

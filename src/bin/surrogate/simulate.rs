@@ -73,6 +73,7 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
             rtol: a.rtol,
             predictor: a.predictor,
             grow_below_iterations: a.grow_below,
+            augmented_updates: a.augmented,
             ..SolverSettings::default()
         },
         mode: match a.mode {
