@@ -51,6 +51,19 @@ pub struct Query {
 }
 
 impl Query {
+    /// A query from the design, the pressure and the Ogden parameters `[μ₁, α₁, μ₂, α₂]`.
+    pub fn new(n: u32, t_mm: f64, p_bar: f64, material: [f64; 4]) -> Self {
+        Query {
+            n,
+            t_mm,
+            p_bar,
+            mu1: material[0],
+            alpha1: material[1],
+            mu2: material[2],
+            alpha2: material[3],
+        }
+    }
+
     /// The query of a case at pressure `p_bar`.
     pub fn from_case(c: &CaseInputs, p_bar: f64) -> Self {
         Query {

@@ -36,15 +36,7 @@ pub fn run(a: PredictArgs) -> Result<()> {
         bail!("give --n, --t, --pressure and --material, or --csv and --out");
     };
     let m = material_params(mat)?;
-    let q = Query {
-        n,
-        t_mm: t,
-        p_bar: p,
-        mu1: m[0],
-        alpha1: m[1],
-        mu2: m[2],
-        alpha2: m[3],
-    };
+    let q = Query::new(n, t, p, m);
     let warnings = domain_check(&model, &q, a.strict, "query")?;
     let mut pred = model.new_prediction();
     if a.std {

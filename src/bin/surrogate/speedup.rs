@@ -52,18 +52,7 @@ pub fn run(model: &Surrogate, a: &PredictArgs, mesh: &str, out: &Path) -> Result
     let spec = a.material.clone().unwrap_or_default();
     let m = material_params(&spec)?;
     let pressures: Vec<f64> = model.pressures.clone();
-    let queries: Vec<Query> = pressures
-        .iter()
-        .map(|&p| Query {
-            n,
-            t_mm: t,
-            p_bar: p,
-            mu1: m[0],
-            alpha1: m[1],
-            mu2: m[2],
-            alpha2: m[3],
-        })
-        .collect();
+    let queries: Vec<Query> = pressures.iter().map(|&p| Query::new(n, t, p, m)).collect();
     for q in &queries {
         model.check_query(q)?;
     }
