@@ -13,7 +13,7 @@ use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::simulate::{ActuatorModel, ContactSettings, Mode};
-use surrogate::fe::solver::LinearSolver;
+use surrogate::fe::solver::{LinearSolver, Ordering};
 
 fn fe(c: &mut Criterion) {
     let design = DesignParams::new(11, 2.0).validate().expect("valid design");
@@ -83,5 +83,51 @@ fn fe(c: &mut Criterion) {
     group.finish();
 }
 
-criterion_group!(benches, fe);
+/// One LDLᵀ factorisation + solve of the standard-mesh actuator in force mode (contact pairs
+/// and plate in the pattern) with each fill-reducing ordering.
+fn orderings(c: &mut Criterion) {
+    let design = DesignParams::new(11, 2.0).validate().expect("valid design");
+    let material = Material::from_spec("ogden_002", 1000.0).expect("literature set");
+    let model = ActuatorModel::new(
+        &design,
+        &material,
+        &MeshOptions::level(MeshLevel::Standard),
+        Mode::Force,
+        &ContactSettings::default(),
+    )
+    .expect("mesh");
+    let fe = &model.fe;
+    let u = vec![0.0; 3 * fe.mesh.n_nodes()];
+    let level = LoadLevel {
+        pressure: 0.01,
+        gravity: 1.0,
+        ..Default::default()
+    };
+    let mut r = vec![0.0; u.len()];
+    let mut k = vec![0.0; fe.pattern.nnz()];
+    fe.assemble(&u, &level, &mut r, Some(&mut k))
+        .expect("admissible");
+    let mut rhs = vec![0.0; fe.dofs.n_free];
+    fe.restrict(&r, &mut rhs);
+    let mut group = c.benchmark_group("standard actuator, force mode (101k dofs)");
+    group.sample_size(10);
+    for ordering in [Ordering::MinimumDegree, Ordering::NestedDissection] {
+        let mut solver =
+            LinearSolver::with_ordering(fe, Some(ordering)).expect("symbolic analysis");
+        let name = format!(
+            "LDLT factorisation + solve, {ordering:?}, nnz(L) = {}",
+            solver.nnz_l()
+        );
+        group.bench_function(name, |b| {
+            b.iter(|| {
+                let mut x = rhs.clone();
+                solver.solve(&k, &mut x).expect("factorisable");
+                x
+            })
+        });
+    }
+    group.finish();
+}
+
+criterion_group!(benches, fe, orderings);
 criterion_main!(benches);

@@ -11,6 +11,7 @@ pub mod geometry;
 pub mod loads;
 pub mod material;
 pub mod mesh;
+pub mod ordering;
 pub mod simulate;
 pub mod solver;
 pub mod vtk;
