@@ -44,17 +44,18 @@
 //!
 //! // a small synthetic snapshot set in the snapshot CSV contract
 //! let mut csv = Vec::new();
-//! write_csv(&SyntheticConfig { n_cases: 24, ..Default::default() }, &mut csv).unwrap();
-//! let cases = SnapshotSet::from_reader(csv.as_slice(), "demo").unwrap().into_cases().unwrap();
+//! write_csv(&SyntheticConfig { n_cases: 24, ..Default::default() }, &mut csv)?;
+//! let cases = SnapshotSet::from_reader(csv.as_slice(), "demo")?.into_cases()?;
 //! let cfg = TrainConfig { folds: 3, ..Default::default() };
-//! let model: Surrogate = train(&cases, "demo", 0, &cfg, &|_, _| {}).unwrap().surrogate;
+//! let model: Surrogate = train(&cases, "demo", 0, &cfg, &|_, _| {})?.surrogate;
 //!
 //! // optimisation loops: reuse one Prediction, no allocation per call
 //! let q = Query { n: 11, t_mm: 2.0, p_bar: 2.0, mu1: 1.13, alpha1: 3.11, mu2: -13.17, alpha2: -0.6 };
 //! let mut pred = model.new_prediction();
 //! let mut jac = Jacobian::default();
-//! model.gradient_into(&q, &mut pred, &mut jac).unwrap();
+//! model.gradient_into(&q, &mut pred, &mut jac)?;
 //! assert!(pred.tip_uy_mm() < 0.0 && jac.d[surrogate::rom::Q_TIP_UY][1] < 0.0); // bends down with P
+//! # Ok::<(), Box<dyn std::error::Error>>(())
 //! ```
 
 // index loops mirror the equations and the table layouts

@@ -77,11 +77,11 @@ fn diff(a: f64, b: f64) -> f64 {
 }
 
 /// The rows of a case CSV written by [`case_csv`].
-fn own_rows(bytes: &[u8]) -> Vec<csv::StringRecord> {
+fn own_rows(bytes: &[u8]) -> Result<Vec<csv::StringRecord>, String> {
     csv::Reader::from_reader(bytes)
         .records()
-        .map(|r| r.expect("CSV written by case_csv"))
-        .collect()
+        .collect::<Result<_, _>>()
+        .map_err(|e| format!("re-reading the rows written for the case: {e}"))
 }
 
 /// Compares the stored rows of a case with rows written for it: row count, inputs and
@@ -153,7 +153,8 @@ pub fn resimulate(
             max_abs_diff: 0.0,
             same_convergence: true,
         };
-        let planned = own_rows(&case_csv(case, &plan.settings, &CaseOutcome::default()));
+        let planned = own_rows(&case_csv(case, &plan.settings, &CaseOutcome::default()))
+            .map_err(|m| bad(name, m))?;
         compare(&rows[name], &planned, &mut check, true).map_err(|m| bad(name, m))?;
         chosen.push((name, case, check));
     }
@@ -166,7 +167,8 @@ pub fn resimulate(
                 case,
                 &plan.settings,
                 &runner.run(case, &plan.settings),
-            ));
+            ))
+            .map_err(|m| bad(name, m))?;
             compare(&rows[name], &fresh, &mut check, false).map_err(|m| bad(name, m))?;
             Ok(check)
         })
