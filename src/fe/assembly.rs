@@ -575,6 +575,19 @@ impl FeModel {
 
     /// Calls `f(ε, δ, g, c)` for every contact quadrature point (plane faces by element, then
     /// pairs: the order of [`Self::contact_shifts`]).
+    /// Smallest shifted gap `g − c` over every contact point (mm) at the displacement `u`
+    /// (all dofs), and the largest smoothing δ; `(∞, 0)` without contact.
+    pub fn min_shifted_gap(&self, u: &[f64]) -> (f64, f64) {
+        let (mut gmin, mut dmax) = (f64::INFINITY, 0.0f64);
+        self.visit_contact_points(u, |_, d, g, c| {
+            if (g - c) < gmin {
+                gmin = g - c;
+            }
+            dmax = dmax.max(d);
+        });
+        (gmin, dmax)
+    }
+
     fn visit_contact_points(&self, u: &[f64], mut f: impl FnMut(f64, f64, f64, f64)) {
         let pos = |n: usize| {
             let x = self.mesh.nodes[n];

@@ -17,7 +17,28 @@
 //! (the mixed u–θ–π Newton of Simo–Taylor–Pister, condensed per element): same residual, same
 //! solution, quadratic convergence after the first two iterations, ≈ 6–8 iterations per
 //! increment of 0.05–0.1 bar (N = 11, T = 2, coarse: 314 → 90 iterations for 0 → 3 bar).
-//! Line searches and secant predictors do not help here and are off by default.
+//! Line searches do not help here and are off by default.
+//!
+//! Predictor (on by default): each increment starts from the path extrapolated in the
+//! pressure, quadratic through the last three converged states (linear through two). A
+//! linear extrapolation of rotations violates J = 1 at second order, like the Newton step
+//! itself, but the quadratic one only at third order, and it carries the curvature of the
+//! path, which the tangent does not. Two guards: a prediction that would push a contact point
+//! deeper than the smoothing width δ below the smallest gap of the last state (contact that
+//! the extrapolation cannot know about) is not used, and an increment that fails from a
+//! prediction is retried once from the last converged state before it is cut back. After an
+//! augmented-Lagrangian update the stored states are moved by the same correction as the
+//! current one, so that the extrapolation does not see the jump. Measured, one thread, coarse,
+//! 0 → 3.5 bar in 0.25 bar output steps, same solutions to 3e-9 mm:
+//!
+//! | case | Newton iterations without → with | wall time |
+//! |---|---|---|
+//! | N = 11, T = 2, Ogden 002, bending | 369 → 203 | 170 → 119 s |
+//! | N = 11, T = 2, Ogden 002, blocked force | 255 → 254 | 147 → 145 s |
+//! | snapshot case 15 (N = 13, T = 1.86, soft), bending | 1531 → 388 | 851 → 270 s |
+//!
+//! In force mode most iterations are the Uzawa re-solves at each output level, which the
+//! predictor does not touch.
 //!
 //! Giving up early and retrying: an iteration whose residual is more than 10× the best one
 //! since the first (from the third on), or two iterations in a row that each keep more than
@@ -75,9 +96,11 @@ pub struct SolverSettings {
     pub max_pressure_increment: f64,
     /// Line-search on/off.
     pub line_search: bool,
-    /// Secant predictor from the previous increment. Off by default: for nearly
-    /// incompressible bending, linear extrapolation of rotations violates J = 1 at second
-    /// order, and κ turns that into residuals far larger than the load increment.
+    /// Start each increment from the pressure-extrapolated path: quadratic through the
+    /// last three converged states (linear through two), not used where it would push a
+    /// contact point into penetration, and dropped for a plain retry if Newton fails from it
+    /// (module docs). On by default; settings written before it was the default (without
+    /// the field) read as off, as they were computed.
     #[serde(default)]
     pub predictor: bool,
     /// Mixed (u, θ, π) Newton iteration: the tangent's initial-stress term uses the pressure
@@ -122,7 +145,7 @@ impl Default for SolverSettings {
             max_pressure_increment: 0.05,
             grow_below_iterations: 8,
             line_search: false,
-            predictor: false,
+            predictor: true,
             mixed_tangent: true,
             trace: false,
             augmented_updates: 6,
@@ -355,7 +378,8 @@ pub struct PathState {
     pub u_full: Vec<f64>,
     /// The last converged level.
     pub level: LoadLevel,
-    prev_u_free: Option<(Vec<f64>, LoadLevel)>,
+    /// Up to two earlier converged states (oldest first), for the predictor.
+    history: Vec<(Vec<f64>, LoadLevel)>,
 }
 
 impl PathState {
@@ -366,7 +390,7 @@ impl PathState {
             u_free: vec![0.0; model.dofs.n_free],
             u_full: vec![0.0; 3 * model.mesh.n_nodes()],
             level: LoadLevel::default(),
-            prev_u_free: None,
+            history: Vec::new(),
         }
     }
 }
@@ -384,6 +408,7 @@ pub struct Solver<'m> {
     linear: LinearSolver,
     settings: SolverSettings,
     r_full: Vec<f64>,
+    u_pred: Vec<f64>,
     r_free: Vec<f64>,
     k: Vec<f64>,
     du: Vec<f64>,
@@ -415,6 +440,7 @@ impl<'m> Solver<'m> {
             linear: LinearSolver::new(model)?,
             settings,
             r_full: vec![0.0; 3 * model.mesh.n_nodes()],
+            u_pred: Vec::new(),
             r_free: vec![0.0; n],
             k: vec![0.0; model.pattern.nnz()],
             du: vec![0.0; n],
@@ -472,19 +498,28 @@ impl<'m> Solver<'m> {
         };
         let (f0, a0) = (self.factor_seconds, self.assembly_seconds);
         let mut consecutive_cuts = 0;
+        let mut retry_plain = false;
         while s < 1.0 - 1e-12 {
             let s_next = (s + frac).min(1.0);
             let level = start.lerp(&target, s_next);
             let saved = state.u_free.clone();
-            if self.settings.predictor {
-                self.predict(state, &level);
-            }
+            let predicted = self.settings.predictor && !retry_plain && self.predict(state, &level);
+            retry_plain = false;
             let out = self.newton(state, &level)?;
             report.newton_iterations += out.iterations;
             report.residual = out.residual;
             report.update = out.update;
+            if !out.converged && predicted {
+                // retry the same increment from the last converged state
+                state.u_free = saved;
+                retry_plain = true;
+                continue;
+            }
             if out.converged {
-                state.prev_u_free = Some((saved, state.level));
+                if state.history.len() == 2 {
+                    state.history.remove(0);
+                }
+                state.history.push((saved, state.level));
                 state.level = level;
                 s = s_next;
                 report.substeps += 1;
@@ -567,6 +602,13 @@ impl<'m> Solver<'m> {
                 report.update = out.update;
                 self.model
                     .expand(&state.u_free, &state.level, &mut state.u_full);
+                // the predictor's earlier states move with the correction (they were
+                // converged with the previous shifts)
+                for (h, _) in &mut state.history {
+                    for ((hv, now), before) in h.iter_mut().zip(&state.u_free).zip(&saved_u) {
+                        *hv += now - before;
+                    }
+                }
             } else {
                 // the jump of contact pressures was too large for Newton: keep the state
                 // converged with the previous shifts
@@ -583,33 +625,90 @@ impl<'m> Solver<'m> {
         Ok(())
     }
 
-    /// Secant predictor from the previous converged increment.
-    fn predict(&mut self, state: &mut PathState, level: &LoadLevel) {
-        let Some((prev, prev_level)) = &state.prev_u_free else {
-            return;
+    /// Predictor: moves `state.u_free` to the extrapolated path at `level` and returns
+    /// whether it did ([`SolverSettings::predictor`]).
+    fn predict(&mut self, state: &mut PathState, level: &LoadLevel) -> bool {
+        // extrapolate along a path on which one load component varies (the one that differs
+        // between the last level and this one): quadratic through the last three converged
+        // states, linear through two
+        let parts = |l: &LoadLevel| [l.pressure, l.gravity, l.traction, l.prescribed];
+        let (now, target) = (parts(&state.level), parts(level));
+        let varying: Vec<usize> = (0..4).filter(|&c| now[c] != target[c]).collect();
+        let [c] = varying[..] else {
+            return false;
         };
-        let d_now = level_distance(&state.level, level);
-        let d_prev = level_distance(prev_level, &state.level);
-        if d_prev <= 0.0 {
-            return;
+        let same_path = |l: &LoadLevel| {
+            let p = parts(l);
+            (0..4).all(|i| i == c || p[i] == target[i])
+        };
+        let param = |l: &LoadLevel| parts(l)[c];
+        let k = state.history.len();
+        let usable = state
+            .history
+            .iter()
+            .rev()
+            .take_while(|(_, l)| same_path(l))
+            .count();
+        if usable == 0 {
+            return false;
         }
-        let ratio = (d_now / d_prev).min(2.0);
-        for (u, p) in state.u_free.iter_mut().zip(prev) {
-            *u += ratio * (*u - p);
+        let t = param(level);
+        let t2 = param(&state.level);
+        let mut u_pred = std::mem::take(&mut self.u_pred);
+        u_pred.clear();
+        if usable >= 2 {
+            let (u0, l0) = &state.history[k - 2];
+            let (u1, l1) = &state.history[k - 1];
+            let (t0, t1) = (param(l0), param(l1));
+            if t0 == t1 || t1 == t2 || t0 == t2 {
+                self.u_pred = u_pred;
+                return false;
+            }
+            let w0 = (t - t1) * (t - t2) / ((t0 - t1) * (t0 - t2));
+            let w1 = (t - t0) * (t - t2) / ((t1 - t0) * (t1 - t2));
+            let w2 = (t - t0) * (t - t1) / ((t2 - t0) * (t2 - t1));
+            u_pred.extend(
+                u0.iter()
+                    .zip(u1)
+                    .zip(&state.u_free)
+                    .map(|((a, b), c)| w0 * a + w1 * b + w2 * c),
+            );
+        } else {
+            let (u1, l1) = &state.history[k - 1];
+            let t1 = param(l1);
+            if t1 == t2 {
+                self.u_pred = u_pred;
+                return false;
+            }
+            let w = (t - t2) / (t2 - t1);
+            u_pred.extend(u1.iter().zip(&state.u_free).map(|(a, c)| c + w * (c - a)));
         }
-        // reject a predictor that inverts an element
+        // reject a prediction that inverts an element, or pushes a contact point deeper
+        // than the smoothing zone below where the last state had it (a contact that the
+        // extrapolation does not know about: Newton would start from a deep penetration)
         let mut u_full = std::mem::take(&mut state.u_full);
-        self.model.expand(&state.u_free, level, &mut u_full);
-        if self
+        self.model.expand(&state.u_free, &state.level, &mut u_full);
+        let (g_last, delta) = self.model.min_shifted_gap(&u_full);
+        self.model.expand(&u_pred, level, &mut u_full);
+        let (g_pred, _) = self.model.min_shifted_gap(&u_full);
+        let admissible = self
             .model
             .assemble(&u_full, level, &mut self.r_full, None)
-            .is_err()
-        {
-            for (u, p) in state.u_free.iter_mut().zip(prev) {
-                *u = (*u + ratio * p) / (1.0 + ratio);
-            }
+            .is_ok();
+        let accept = admissible && g_pred >= g_last.min(0.0) - delta;
+        if self.settings.trace {
+            eprintln!(
+                "  predictor ({} points): smallest gap {g_pred:.3e} mm (last {g_last:.3e}): {}",
+                usable.min(2) + 1,
+                if accept { "used" } else { "rejected" }
+            );
+        }
+        if accept {
+            state.u_free.copy_from_slice(&u_pred);
         }
         state.u_full = u_full;
+        self.u_pred = u_pred;
+        accept
     }
 
     fn assemble(

@@ -21,10 +21,10 @@
 //! 2 % tolerance on the tip deflection and shortening. `k = 3` gives a tip rotation of 56.5°
 //! (elastica: δ/L = 0.3017, 0.4935, 0.6033 at k = 1, 2, 3, the classical Bisshopp–Drucker values).
 
-use super::{fix, node_at, plane_strain_layer, ramp, solve, uniform, Check};
+use super::{fix, node_at, plane_strain_layer, ramp, uniform, Check};
 use surrogate::fe::assembly::{FeModel, LoadLevel};
 use surrogate::fe::material::Material;
-use surrogate::fe::solver::SolverSettings;
+use surrogate::fe::solver::{solve_path, SolverSettings};
 
 /// Case name.
 pub const CASE: &str = "cantilever_elastica";
@@ -82,6 +82,12 @@ pub fn elastica(k: f64) -> (f64, f64, f64) {
 
 /// FE tip `(deflection, shortening)` (centre of the tip face) at every output level.
 pub fn tip_displacements(nx: usize, ny: usize) -> Vec<(f64, f64)> {
+    tip_displacements_with(nx, ny, SolverSettings::default().predictor).0
+}
+
+/// As [`tip_displacements`], with the solver's predictor on or off; also the Newton
+/// iterations of the whole ramp.
+pub fn tip_displacements_with(nx: usize, ny: usize, predictor: bool) -> (Vec<(f64, f64)>, usize) {
     let (gm, mut cons) = plane_strain_layer(uniform(0.0, LENGTH, nx), uniform(0.0, THICKNESS, ny));
     let e = 2.0 * MU * (1.0 + NU);
     let kappa = e / (3.0 * (1.0 - 2.0 * NU));
@@ -101,10 +107,18 @@ pub fn tip_displacements(nx: usize, ny: usize) -> Vec<(f64, f64)> {
         ..Default::default()
     };
     let tip = node_at(&gm, [LENGTH, 0.5 * THICKNESS, 0.0]);
-    solve(CASE, &model, SolverSettings::default(), &ramp(full, STEPS))
-        .iter()
-        .map(|u| (-u[3 * tip + 1], -u[3 * tip]))
-        .collect()
+    let settings = SolverSettings {
+        predictor,
+        ..Default::default()
+    };
+    let mut iterations = 0;
+    let mut tips = Vec::new();
+    solve_path(&model, settings, &ramp(full, STEPS), |_, state, report| {
+        iterations += report.newton_iterations;
+        tips.push((-state.u_full[3 * tip + 1], -state.u_full[3 * tip]));
+    })
+    .unwrap_or_else(|e| panic!("{CASE}: solver failed: {e}"));
+    (tips, iterations)
 }
 
 /// The checks on an `nx × ny` mesh (asserted at [`ASSERTED`]).

@@ -20,10 +20,10 @@
 //! each applied pressure gives `p_analytic(a/A)`, compared with the applied `p`, and the
 //! FE inner displacement `a − A` is compared with the analytic one at the applied pressure.
 
-use super::{fix, nodes_on, plane_strain_layer, solve, uniform, Check};
+use super::{fix, nodes_on, plane_strain_layer, uniform, Check};
 use surrogate::fe::assembly::{FeModel, LoadLevel};
 use surrogate::fe::material::Material;
-use surrogate::fe::solver::SolverSettings;
+use surrogate::fe::solver::{solve_path, SolverSettings};
 
 /// Case name.
 pub const CASE: &str = "cylinder_inflation";
@@ -70,6 +70,11 @@ pub fn pressure_by_quadrature(la: f64, n: usize) -> f64 {
 
 /// Mean deformed inner radius at each pressure of [`STRETCHES`] on a `nr × nt` mesh.
 pub fn inner_radii(nr: usize, nt: usize) -> Vec<f64> {
+    inner_radii_with(nr, nt, SolverSettings::default().predictor).0
+}
+
+/// As [`inner_radii`], with the solver's predictor on or off; also the Newton iterations.
+pub fn inner_radii_with(nr: usize, nt: usize, predictor: bool) -> (Vec<f64>, usize) {
     let (a0, b0) = RADII;
     let half_pi = std::f64::consts::FRAC_PI_2;
     let (mut gm, mut cons) = plane_strain_layer(uniform(a0, b0, nr), uniform(0.0, half_pi, nt));
@@ -95,20 +100,24 @@ pub fn inner_radii(nr: usize, nt: usize) -> Vec<f64> {
     let settings = SolverSettings {
         initial_pressure_increment: 0.05,
         max_pressure_increment: 0.2,
+        predictor,
         ..Default::default()
     };
     let inner = nodes_on(&gm, &[(0, a0), (2, 0.0)]);
     let x = &model.mesh.nodes;
-    solve(CASE, &model, settings, &levels)
-        .iter()
-        .map(|u| {
-            let r: f64 = inner
-                .iter()
-                .map(|&n| (x[n][0] + u[3 * n]).hypot(x[n][1] + u[3 * n + 1]))
-                .sum();
-            r / inner.len() as f64
-        })
-        .collect()
+    let mut iterations = 0;
+    let mut radii = Vec::new();
+    solve_path(&model, settings, &levels, |_, state, report| {
+        iterations += report.newton_iterations;
+        let u = &state.u_full;
+        let r: f64 = inner
+            .iter()
+            .map(|&n| (x[n][0] + u[3 * n]).hypot(x[n][1] + u[3 * n + 1]))
+            .sum();
+        radii.push(r / inner.len() as f64);
+    })
+    .unwrap_or_else(|e| panic!("{CASE}: solver failed: {e}"));
+    (radii, iterations)
 }
 
 /// The checks on a `nr × nt` mesh (asserted at [`ASSERTED`]).

@@ -217,9 +217,10 @@ pub struct SimulateArgs {
     /// Line search on the directional residual in every Newton iteration.
     #[arg(long)]
     pub line_search: bool,
-    /// Secant predictor: start each increment from the extrapolated previous increment.
+    /// No predictor: start each increment from the last converged state instead of the
+    /// extrapolated path (for comparisons; the predictor is on by default).
     #[arg(long)]
-    pub predictor: bool,
+    pub no_predictor: bool,
     /// Newton tolerance on the normalised residual.
     #[arg(long, default_value_t = surrogate::fe::solver::SolverSettings::default().rtol)]
     pub rtol: f64,

@@ -71,7 +71,7 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
             max_pressure_increment: a.max_increment * surrogate::fe::simulate::BAR,
             line_search: a.line_search,
             rtol: a.rtol,
-            predictor: a.predictor,
+            predictor: !a.no_predictor,
             grow_below_iterations: a.grow_below,
             augmented_updates: a.augmented,
             ..SolverSettings::default()
