@@ -573,8 +573,6 @@ impl FeModel {
         9 * (self.plane_shifts.iter().map(Vec::len).sum::<usize>() + self.pair_shifts.len())
     }
 
-    /// Calls `f(ε, δ, g, c)` for every contact quadrature point (plane faces by element, then
-    /// pairs: the order of [`Self::contact_shifts`]).
     /// Smallest shifted gap `g − c` over every contact point (mm) at the displacement `u`
     /// (all dofs), and the largest smoothing δ; `(∞, 0)` without contact.
     pub fn min_shifted_gap(&self, u: &[f64]) -> (f64, f64) {
@@ -588,6 +586,8 @@ impl FeModel {
         (gmin, dmax)
     }
 
+    /// Calls `f(ε, δ, g, c)` for every contact quadrature point (plane faces by element, then
+    /// pairs: the order of [`Self::contact_shifts`]).
     fn visit_contact_points(&self, u: &[f64], mut f: impl FnMut(f64, f64, f64, f64)) {
         let pos = |n: usize| {
             let x = self.mesh.nodes[n];
