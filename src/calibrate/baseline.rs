@@ -70,6 +70,67 @@ pub struct BaselineSummary {
     pub mean_abs_force_error_n: f64,
     /// Mean F_sim − F_exp (N): positive = over-prediction.
     pub mean_force_error_n: f64,
+    /// Mean F_sim − F_exp (N) at the highest measured pressure (3 bar in the shipped data).
+    pub mean_force_error_top_pressure_n: f64,
+    /// The highest measured pressure (bar).
+    pub top_pressure_bar: f64,
+    /// Configurations of the Taguchi L9 subset found in the table (see [`in_l9_subset`]).
+    pub l9_configurations: usize,
+    /// Mean BE over the L9 subset (mm).
+    pub l9_mean_be_mm: f64,
+    /// Median BE over the L9 subset (mm).
+    pub l9_median_be_mm: f64,
+}
+
+/// Whether a configuration belongs to the Taguchi L9 fractional factorial of the three
+/// experimental levels of N, T and P (columns 1–3 of the standard L9(3⁴) array: with level
+/// indices `i, j, k ∈ {0, 1, 2}` in increasing order, `k = (i + j) mod 3`).
+///
+/// The reference study compared its model on a 9-configuration fractional-factorial subset
+/// without listing it; this standard array is the natural reading, and every pair of factor
+/// levels appears in it exactly once. `None` when a value is not one of three levels.
+pub fn in_l9_subset(
+    levels_n: &[usize],
+    levels_t: &[f64],
+    levels_p: &[f64],
+    n: usize,
+    t: f64,
+    p: f64,
+) -> Option<bool> {
+    if levels_n.len() != 3 || levels_t.len() != 3 || levels_p.len() != 3 {
+        return None;
+    }
+    let i = levels_n.iter().position(|&v| v == n)?;
+    let j = levels_t.iter().position(|&v| (v - t).abs() < 1e-9)?;
+    let k = levels_p.iter().position(|&v| (v - p).abs() < 1e-9)?;
+    Some(k == (i + j) % 3)
+}
+
+fn sorted_levels(values: impl Iterator<Item = f64>) -> Vec<f64> {
+    let mut v: Vec<f64> = values.collect();
+    v.sort_by(f64::total_cmp);
+    v.dedup_by(|a, b| (*a - *b).abs() < 1e-9);
+    v
+}
+
+fn mean(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        f64::NAN
+    } else {
+        v.iter().sum::<f64>() / v.len() as f64
+    }
+}
+
+fn median(v: &mut [f64]) -> f64 {
+    v.sort_by(f64::total_cmp);
+    let n = v.len();
+    if n == 0 {
+        f64::NAN
+    } else if n % 2 == 1 {
+        v[n / 2]
+    } else {
+        0.5 * (v[n / 2 - 1] + v[n / 2])
+    }
 }
 
 /// Errors of [`run_baseline`].
@@ -291,40 +352,62 @@ pub fn run_baseline(
     Ok(rows)
 }
 
-/// Mean / median BE and force errors of a table, over the configurations the FE reached.
+/// Mean / median BE and force errors of a table, over the configurations the FE reached; the
+/// same over the L9 subset ([`in_l9_subset`]), and the force error at the top pressure.
 pub fn summarize(rows: &[BaselineRow]) -> BaselineSummary {
     let mut be: Vec<f64> = rows
         .iter()
         .map(|r| r.be_mm)
         .filter(|v| v.is_finite())
         .collect();
-    be.sort_by(f64::total_cmp);
     let fe: Vec<f64> = rows
         .iter()
         .map(|r| r.force_error_n)
         .filter(|v| v.is_finite())
         .collect();
-    let mean = |v: &[f64]| {
-        if v.is_empty() {
-            f64::NAN
-        } else {
-            v.iter().sum::<f64>() / v.len() as f64
-        }
-    };
-    let median = if be.is_empty() {
-        f64::NAN
-    } else if be.len() % 2 == 1 {
-        be[be.len() / 2]
-    } else {
-        0.5 * (be[be.len() / 2 - 1] + be[be.len() / 2])
-    };
+    let levels_n: Vec<usize> = sorted_levels(rows.iter().map(|r| r.n_bellows as f64))
+        .into_iter()
+        .map(|v| v as usize)
+        .collect();
+    let levels_t = sorted_levels(rows.iter().map(|r| r.wall_thickness_mm));
+    let levels_p = sorted_levels(rows.iter().map(|r| r.pressure_bar));
+    let l9: Vec<&BaselineRow> = rows
+        .iter()
+        .filter(|r| {
+            in_l9_subset(
+                &levels_n,
+                &levels_t,
+                &levels_p,
+                r.n_bellows,
+                r.wall_thickness_mm,
+                r.pressure_bar,
+            ) == Some(true)
+        })
+        .collect();
+    let mut l9_be: Vec<f64> = l9
+        .iter()
+        .map(|r| r.be_mm)
+        .filter(|v| v.is_finite())
+        .collect();
+    let top = levels_p.last().copied().unwrap_or(f64::NAN);
+    let fe_top: Vec<f64> = rows
+        .iter()
+        .filter(|r| (r.pressure_bar - top).abs() < 1e-9)
+        .map(|r| r.force_error_n)
+        .filter(|v| v.is_finite())
+        .collect();
     BaselineSummary {
         configurations: rows.len(),
         failed: rows.iter().filter(|r| !r.error.is_empty()).count(),
         mean_be_mm: mean(&be),
-        median_be_mm: median,
+        median_be_mm: median(&mut be),
         mean_abs_force_error_n: mean(&fe.iter().map(|v| v.abs()).collect::<Vec<_>>()),
         mean_force_error_n: mean(&fe),
+        mean_force_error_top_pressure_n: mean(&fe_top),
+        top_pressure_bar: top,
+        l9_configurations: l9.len(),
+        l9_mean_be_mm: mean(&l9_be),
+        l9_median_be_mm: median(&mut l9_be),
     }
 }
 
@@ -371,5 +454,84 @@ mod tests {
         std::fs::write(&c.path, "{\"key\": ").unwrap();
         assert!(c.load().is_none());
         std::fs::remove_dir_all(dir).unwrap();
+    }
+
+    fn row(n: usize, t: f64, p: f64, be: f64, force_error: f64) -> BaselineRow {
+        BaselineRow {
+            n_bellows: n,
+            wall_thickness_mm: t,
+            pressure_bar: p,
+            uz_exp_mm: 0.0,
+            uz_sim_mm: 0.0,
+            uy_exp_mm: 0.0,
+            uy_sim_mm: 0.0,
+            angle_exp_deg: 0.0,
+            angle_sim_deg: 0.0,
+            be_mm: be,
+            force_exp_n: 0.0,
+            force_sim_n: 0.0,
+            force_error_n: force_error,
+            error: String::new(),
+        }
+    }
+
+    #[test]
+    fn l9_subset_is_an_orthogonal_array() {
+        let (ns, ts, ps) = ([9, 11, 13], [1.6, 2.0, 2.4], [1.0, 2.0, 3.0]);
+        let mut chosen = Vec::new();
+        for (i, &n) in ns.iter().enumerate() {
+            for (j, &t) in ts.iter().enumerate() {
+                for (k, &p) in ps.iter().enumerate() {
+                    if in_l9_subset(&ns, &ts, &ps, n, t, p).unwrap() {
+                        chosen.push((i, j, k));
+                    }
+                }
+            }
+        }
+        assert_eq!(chosen.len(), 9);
+        // every pair of factors sees each pair of levels exactly once
+        for (a, b) in [(0, 1), (0, 2), (1, 2)] {
+            let mut pairs: Vec<(usize, usize)> = chosen
+                .iter()
+                .map(|c| {
+                    let c = [c.0, c.1, c.2];
+                    (c[a], c[b])
+                })
+                .collect();
+            pairs.sort_unstable();
+            pairs.dedup();
+            assert_eq!(pairs.len(), 9, "factors {a}, {b}");
+        }
+        assert_eq!(in_l9_subset(&ns, &ts, &ps, 10, 2.0, 1.0), None);
+        assert!(in_l9_subset(&ns, &ts, &ps, 9, 1.6, 1.0).unwrap());
+        assert!(!in_l9_subset(&ns, &ts, &ps, 9, 1.6, 2.0).unwrap());
+    }
+
+    #[test]
+    fn summary_separates_the_l9_subset_and_the_top_pressure() {
+        let mut rows = Vec::new();
+        for n in [9, 11, 13] {
+            for t in [1.6, 2.0, 2.4] {
+                for p in [1.0, 2.0, 3.0] {
+                    // BE 1 inside the L9 subset and 4 outside; force error p − 2
+                    let l9 =
+                        in_l9_subset(&[9, 11, 13], &[1.6, 2.0, 2.4], &[1.0, 2.0, 3.0], n, t, p)
+                            .unwrap();
+                    rows.push(row(n, t, p, if l9 { 1.0 } else { 4.0 }, p - 2.0));
+                }
+            }
+        }
+        rows[0].be_mm = f64::NAN;
+        rows[0].error = "stopped".into();
+        let s = summarize(&rows);
+        assert_eq!(
+            (s.configurations, s.failed, s.l9_configurations),
+            (27, 1, 9)
+        );
+        assert!((s.l9_mean_be_mm - 1.0).abs() < 1e-12);
+        assert!((s.mean_be_mm - (8.0 * 1.0 + 18.0 * 4.0) / 26.0).abs() < 1e-12);
+        assert!((s.mean_force_error_top_pressure_n - 1.0).abs() < 1e-12);
+        assert!(s.mean_force_error_n.abs() < 1e-12);
+        assert_eq!(s.top_pressure_bar, 3.0);
     }
 }

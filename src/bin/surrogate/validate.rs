@@ -85,6 +85,14 @@ pub fn run(a: ValidateArgs) -> Result<()> {
         s.mean_abs_force_error_n,
         s.mean_force_error_n
     );
+    println!(
+        "  L9 subset ({} configurations): mean BE {:.2} mm, median BE {:.2} mm; at {} bar: mean F error {:+.3} N",
+        s.l9_configurations,
+        s.l9_mean_be_mm,
+        s.l9_median_be_mm,
+        s.top_pressure_bar,
+        s.mean_force_error_top_pressure_n
+    );
     println!("wrote {} and {}", a.out.display(), svg.display());
     Ok(())
 }
