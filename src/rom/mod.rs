@@ -64,6 +64,7 @@
 pub mod batch;
 pub mod data;
 pub mod export;
+pub mod fast;
 pub mod fidelity;
 pub mod metrics;
 pub mod model;

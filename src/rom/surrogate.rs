@@ -11,6 +11,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::data::CaseInputs;
+use super::fast::{Derived, ScalarPath, Source, SCALARS};
 use super::metrics::Validation;
 use super::pod::PodBasis;
 use super::regression::gp::Gp;
@@ -263,6 +264,9 @@ pub struct Surrogate {
     pub validation: Validation,
     /// Provenance.
     pub training: TrainingInfo,
+    /// Tables derived from the above on first use (the scalar fast path); not stored.
+    #[serde(skip)]
+    pub derived: Derived,
 }
 
 fn kind_index(k: RegressorKind) -> usize {
@@ -280,9 +284,32 @@ impl Surrogate {
         p
     }
 
+    /// The folded tables of the scalar fast path (built on first call).
+    fn scalar_path(&self) -> &ScalarPath {
+        self.derived.get_or_build(|| {
+            let sources: Vec<Source<'_>> = SCALARS
+                .map(|q| {
+                    let b = &self.blocks[self.output_block[q]];
+                    Source {
+                        quantity: q,
+                        pod: &b.pod,
+                        regressor: b.regressor,
+                        coef_offset: b.coef_offset,
+                        slot: self.output_slot[q],
+                    }
+                })
+                .collect();
+            ScalarPath::build(&self.gp, &self.poly, &sources, self.pressures.len())
+        })
+    }
+
     fn ensure_workspace(&self, w: &mut Workspace) {
         let (d, m) = (self.features.dim(), self.gp.m);
-        let s = self.gp.scratch_len().max(self.poly.scratch_len());
+        let s = self
+            .gp
+            .scratch_len()
+            .max(self.poly.scratch_len())
+            .max(self.scalar_path().scratch_len());
         if w.x.len() != d || w.coef[0].len() != m || w.scratch.len() != s || w.jac[0].len() != m * d
         {
             w.x = vec![0.0; d];
@@ -394,7 +421,34 @@ impl Surrogate {
     /// # Errors
     /// Invalid query.
     pub fn predict_scalars_into(&self, q: &Query, pred: &mut Prediction) -> Result<(), RomError> {
-        self.predict_range_into(q, pred, super::Q_TIP_UZ..22)
+        self.check_query(q)?;
+        self.ensure_workspace(&mut pred.work);
+        let w = &mut pred.work;
+        self.features_into(q, w);
+        let st = stencil(&self.pressures, q.p_bar);
+        self.scalar_path().predict_into(
+            &self.gp,
+            &self.poly,
+            &w.x,
+            &st,
+            &mut pred.values,
+            &mut w.scratch,
+        );
+        pred.has_std = false;
+        Ok(())
+    }
+
+    /// [`Self::predict_scalars_into`] through the general path (all modes of the scalar
+    /// blocks, no folding): the reference the fast path is tested against.
+    ///
+    /// # Errors
+    /// Invalid query.
+    pub fn predict_scalars_unfolded_into(
+        &self,
+        q: &Query,
+        pred: &mut Prediction,
+    ) -> Result<(), RomError> {
+        self.predict_range_into(q, pred, SCALARS)
     }
 
     /// Allocating convenience wrapper of [`Self::predict_into`].
@@ -419,8 +473,13 @@ impl Surrogate {
         self.features_into(q, w);
         let [gp_cols, poly_cols] = self.needed_cols(range.clone());
         if gp_cols.start < gp_cols.end {
-            self.gp
-                .predict_cols_into(&w.x, gp_cols, &mut w.coef[0], &mut w.scratch);
+            self.scalar_path().gp_coefficients_into(
+                &self.gp,
+                &w.x,
+                gp_cols,
+                &mut w.coef[0],
+                &mut w.scratch,
+            );
         }
         if poly_cols.start < poly_cols.end {
             self.poly

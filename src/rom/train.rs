@@ -559,6 +559,7 @@ fn assemble(
         std_scale,
         validation,
         training,
+        derived: Default::default(),
     }
 }
 

@@ -294,6 +294,90 @@ fn optimise(data: &Data<'_>, params: &GpParams) -> Result<Vec<f64>, RomError> {
     })
 }
 
+impl Gp {
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn predict_cols_avx2(
+        &self,
+        x: &[f64],
+        cols: Range<usize>,
+        out: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        self.predict_cols_body(x, cols, out, scratch);
+    }
+
+    /// `out[cols] = αᵀ k(x)`; the same code for every instruction set (no fused
+    /// multiply-adds are formed, so the results are bit-identical).
+    #[inline(always)]
+    fn predict_cols_body(
+        &self,
+        x: &[f64],
+        cols: Range<usize>,
+        out: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        let k = &mut scratch[..self.n];
+        self.kernel_vector_into(x, k);
+        self.combine_body(k, cols, out);
+    }
+
+    /// `out[cols] = αᵀ k` for a kernel vector `k` (length `n`). No allocation.
+    pub fn combine_into(&self, k: &[f64], cols: Range<usize>, out: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+                // SAFETY: the CPU supports the features the function is compiled for.
+                unsafe { self.combine_avx2(k, cols, out) };
+                return;
+            }
+        }
+        self.combine_body(k, cols, out);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn combine_avx2(&self, k: &[f64], cols: Range<usize>, out: &mut [f64]) {
+        self.combine_body(k, cols, out);
+    }
+
+    #[inline(always)]
+    fn combine_body(&self, k: &[f64], cols: Range<usize>, out: &mut [f64]) {
+        let m = self.m;
+        out[cols.clone()].iter_mut().for_each(|o| *o = 0.0);
+        for (i, ki) in k.iter().enumerate() {
+            let a = &self.alpha[i * m + cols.start..i * m + cols.end];
+            for (o, ac) in out[cols.clone()].iter_mut().zip(a) {
+                *o += ki * ac;
+            }
+        }
+    }
+
+    /// The kernel vector `k_i = k(x, x_i)` at the scaled features `x` into `k` (length `n`):
+    /// squared distances, then the branch-free Matérn over the contiguous vector (this loop
+    /// vectorises).
+    #[inline(always)]
+    pub fn kernel_vector_into(&self, x: &[f64], k: &mut [f64]) {
+        let d = self.d;
+        let mut xq = [0.0; 8];
+        for j in 0..d {
+            xq[j] = x[j] * self.inv_len[j];
+        }
+        for (i, ki) in k.iter_mut().enumerate() {
+            let xi = &self.xs[i * d..(i + 1) * d];
+            let mut r2 = 0.0;
+            for j in 0..d {
+                let t = xq[j] - xi[j];
+                r2 += t * t;
+            }
+            *ki = r2;
+        }
+        for ki in k.iter_mut() {
+            *ki = kernel(ki.sqrt());
+        }
+    }
+}
+
 impl Regressor for Gp {
     type Params = GpParams;
 
@@ -369,34 +453,15 @@ impl Regressor for Gp {
         out: &mut [f64],
         scratch: &mut [f64],
     ) {
-        let (d, m, n) = (self.d, self.m, self.n);
-        // phase 1: the kernel vector: squared distances, then the branch-free Matérn over the
-        // contiguous vector (this loop vectorises)
-        let mut xq = [0.0; 8];
-        for j in 0..d {
-            xq[j] = x[j] * self.inv_len[j];
-        }
-        let k = &mut scratch[..n];
-        for (i, ki) in k.iter_mut().enumerate() {
-            let xi = &self.xs[i * d..(i + 1) * d];
-            let mut r2 = 0.0;
-            for j in 0..d {
-                let t = xq[j] - xi[j];
-                r2 += t * t;
-            }
-            *ki = r2;
-        }
-        for ki in k.iter_mut() {
-            *ki = kernel(ki.sqrt());
-        }
-        // phase 2: out[cols] = αᵀ k
-        out[cols.clone()].iter_mut().for_each(|o| *o = 0.0);
-        for (i, ki) in k.iter().enumerate() {
-            let a = &self.alpha[i * m + cols.start..i * m + cols.end];
-            for (o, ac) in out[cols.clone()].iter_mut().zip(a) {
-                *o += ki * ac;
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+                // SAFETY: the CPU supports the features the function is compiled for.
+                unsafe { self.predict_cols_avx2(x, cols, out, scratch) };
+                return;
             }
         }
+        self.predict_cols_body(x, cols, out, scratch);
     }
 
     fn jacobian_into(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], _scratch: &mut [f64]) {

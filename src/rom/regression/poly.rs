@@ -319,6 +319,12 @@ impl Poly {
     pub fn n_terms(&self) -> usize {
         self.exponents.len().checked_div(self.d).unwrap_or(1)
     }
+
+    /// The monomials at `x` into `phi` (length [`Self::n_terms`]): the outputs are
+    /// `out_c = Σ_k φ_k coef[k·m + c]`.
+    pub fn basis_values_into(&self, x: &[f64], phi: &mut [f64]) {
+        basis_into(&self.exponents, x, phi);
+    }
 }
 
 #[cfg(test)]

@@ -1,0 +1,328 @@
+//! The fast paths of the surrogate: the scalar path of [`super::Surrogate::predict_scalars_into`]
+//! (tip Uz, tip Uy, angle and force with the POD basis folded into the regression weights) and
+//! the GP kernel vector from the training inputs stored by feature (every prediction).
+//!
+//! A quantity `q` of a block is `y_q(P) = Σ_s w_s(P) (ȳ_e + s_e Σ_k Φ_ek a_k(x))` with
+//! `e = j_s·|Q| + slot_q` and coefficients linear in the regressor's basis,
+//! `a_k(x) = Σ_b φ_b(x) W_{b,k}` (the GP's kernel vector and `α`, or the polynomial's monomials
+//! and coefficients). So `y_q(P) = Σ_s w_s (ȳ_e + Σ_b φ_b(x) C_{b,j_s,q})` with the folded table
+//! `C_{b,j,q} = s_e Σ_k Φ_ek W_{b,k}`: per basis function, 4 stencil nodes × 4 quantities instead
+//! of all the modes of the four scalar blocks (32 columns for the shipped models). Same algebra,
+//! so the same values up to rounding (tested to 1e-12 relative).
+//!
+//! The GP kernel vector is computed from the training inputs stored by feature (`d × n`), so
+//! that the distance loop and the branch-free Matérn both run over contiguous vectors; on
+//! x86-64 with AVX2 and FMA (detected at run time) the same code is compiled for 4-wide lanes.
+//! No fused multiply-adds are formed, so every path gives bit-identical kernel values.
+//!
+//! The tables are derived from the model on first use (never stored in the model file).
+
+use std::sync::OnceLock;
+
+use super::pod::PodBasis;
+use super::regression::gp::Gp;
+use super::regression::poly::Poly;
+use super::regression::RegressorKind;
+use crate::predict::Stencil;
+
+/// Quantities of the fast path: tip Uz, tip Uy, angle, force.
+pub const SCALARS: std::ops::Range<usize> = super::Q_TIP_UZ..22;
+const NS: usize = 4;
+
+/// Derived tables, built once per model (`OnceLock`), equal for every equal model: the
+/// comparison of two surrogates ignores them.
+#[derive(Debug, Clone, Default)]
+pub struct Derived(OnceLock<ScalarPath>);
+
+impl PartialEq for Derived {
+    fn eq(&self, _: &Self) -> bool {
+        true
+    }
+}
+
+impl Derived {
+    /// The tables, built on first call.
+    pub fn get_or_build(&self, build: impl FnOnce() -> ScalarPath) -> &ScalarPath {
+        self.0.get_or_init(build)
+    }
+}
+
+/// One regressor's part of the fast path.
+#[derive(Debug, Clone)]
+struct Part {
+    /// Output indices served (in 18..22), at most 4.
+    quantities: Vec<usize>,
+    /// `ȳ` at each pressure node, `n_p × |quantities|`.
+    mean: Vec<f64>,
+    /// `C`, `n_basis × n_p × |quantities|`.
+    table: Vec<f64>,
+    n_basis: usize,
+}
+
+/// Folded tables of the scalar quantities, per regressor kind.
+#[derive(Debug, Clone)]
+pub struct ScalarPath {
+    n_p: usize,
+    gp: Option<Part>,
+    poly: Option<Part>,
+    /// GP training inputs / length scales by feature, `d × n`.
+    gp_xs_t: Vec<f64>,
+    gp_n: usize,
+}
+
+/// Where each scalar quantity comes from: its block and slot.
+pub struct Source<'a> {
+    /// Output index.
+    pub quantity: usize,
+    /// Block's POD basis.
+    pub pod: &'a PodBasis,
+    /// Block's regressor.
+    pub regressor: RegressorKind,
+    /// First coefficient column of the block.
+    pub coef_offset: usize,
+    /// Index of the quantity among the block's quantities.
+    pub slot: usize,
+}
+
+fn fold(
+    sources: &[&Source<'_>],
+    weights: &[f64],
+    m: usize,
+    n_basis: usize,
+    n_p: usize,
+) -> Option<Part> {
+    if sources.is_empty() {
+        return None;
+    }
+    let nq = sources.len();
+    let mut mean = vec![0.0; n_p * nq];
+    let mut table = vec![0.0; n_basis * n_p * nq];
+    for (j, s) in sources.iter().enumerate() {
+        let (qb, r) = (s.pod.quantities.len(), s.pod.n_modes);
+        for node in 0..n_p {
+            let e = node * qb + s.slot;
+            mean[node * nq + j] = s.pod.mean[e];
+            let phi = &s.pod.modes[e * r..(e + 1) * r];
+            for b in 0..n_basis {
+                let w = &weights[b * m + s.coef_offset..b * m + s.coef_offset + r];
+                let v: f64 = phi.iter().zip(w).map(|(p, w)| p * w).sum();
+                table[(b * n_p + node) * nq + j] = s.pod.scale[e] * v;
+            }
+        }
+    }
+    Some(Part {
+        quantities: sources.iter().map(|s| s.quantity).collect(),
+        mean,
+        table,
+        n_basis,
+    })
+}
+
+impl ScalarPath {
+    /// Folds the POD bases of `sources` into the regressors' weights.
+    pub fn build(gp: &Gp, poly: &Poly, sources: &[Source<'_>], n_p: usize) -> Self {
+        let of = |k: RegressorKind| -> Vec<&Source<'_>> {
+            sources.iter().filter(|s| s.regressor == k).collect()
+        };
+        let (d, n) = (gp.d, gp.n);
+        let mut gp_xs_t = vec![0.0; d * n];
+        for i in 0..n {
+            for j in 0..d {
+                gp_xs_t[j * n + i] = gp.xs[i * d + j];
+            }
+        }
+        ScalarPath {
+            n_p,
+            gp: fold(&of(RegressorKind::Gp), &gp.alpha, gp.m, gp.n, n_p),
+            poly: fold(
+                &of(RegressorKind::Poly),
+                &poly.coef,
+                poly.m,
+                poly.n_terms(),
+                n_p,
+            ),
+            gp_xs_t,
+            gp_n: n,
+        }
+    }
+
+    /// The GP's coefficients `cols` at the scaled features `x` (the kernel vector from the
+    /// inputs stored by feature): the same values as [`Regressor::predict_cols_into`].
+    ///
+    /// [`Regressor::predict_cols_into`]: super::regression::Regressor::predict_cols_into
+    pub fn gp_coefficients_into(
+        &self,
+        gp: &Gp,
+        x: &[f64],
+        cols: std::ops::Range<usize>,
+        out: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        let k = &mut scratch[..gp.n];
+        kernel_vector(&self.gp_xs_t, &gp.inv_len, x, k);
+        gp.combine_into(k, cols, out);
+    }
+
+    /// Length of the scratch buffer [`Self::predict_into`] needs.
+    pub fn scratch_len(&self) -> usize {
+        let nb = |p: &Option<Part>| p.as_ref().map_or(0, |p| p.n_basis);
+        nb(&self.gp).max(nb(&self.poly)).max(self.gp_n)
+    }
+
+    /// The scalar quantities at the scaled features `x` and the pressure stencil `st` into
+    /// `values` (indexed by output). No allocation.
+    pub fn predict_into(
+        &self,
+        gp: &Gp,
+        poly: &Poly,
+        x: &[f64],
+        st: &Stencil<f64>,
+        values: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        if let Some(part) = &self.gp {
+            let k = &mut scratch[..part.n_basis];
+            kernel_vector(&self.gp_xs_t, &gp.inv_len, x, k);
+            part.apply(self.n_p, k, st, values);
+        }
+        if let Some(part) = &self.poly {
+            let phi = &mut scratch[..part.n_basis];
+            poly.basis_values_into(x, phi);
+            part.apply(self.n_p, phi, st, values);
+        }
+    }
+}
+
+impl Part {
+    fn apply(&self, n_p: usize, phi: &[f64], st: &Stencil<f64>, values: &mut [f64]) {
+        // a window of 4 nodes (zero weights where the stencil is shorter), so that the
+        // accumulation runs over a fixed-length row
+        let nq = self.quantities.len();
+        let start = if n_p >= NS { st.start.min(n_p - NS) } else { 0 };
+        let win = NS.min(n_p);
+        let mut w = [0.0; NS];
+        for s in 0..st.len {
+            w[st.start + s - start] = st.w[s];
+        }
+        let mut acc = [0.0; NS * NS];
+        match (win * nq, n_p >= NS) {
+            (16, true) => accumulate::<16>(&self.table, n_p * nq, start * nq, phi, &mut acc),
+            (12, true) => accumulate::<12>(&self.table, n_p * nq, start * nq, phi, &mut acc),
+            (8, true) => accumulate::<8>(&self.table, n_p * nq, start * nq, phi, &mut acc),
+            (4, true) => accumulate::<4>(&self.table, n_p * nq, start * nq, phi, &mut acc),
+            (len, _) => {
+                let acc = &mut acc[..len];
+                for (b, &ph) in phi.iter().enumerate() {
+                    let row = &self.table[b * n_p * nq + start * nq..][..len];
+                    for (a, c) in acc.iter_mut().zip(row) {
+                        *a += ph * c;
+                    }
+                }
+            }
+        }
+        for (j, &q) in self.quantities.iter().enumerate() {
+            let mut v = 0.0;
+            for s in 0..win {
+                if w[s] != 0.0 {
+                    v += w[s] * (self.mean[(start + s) * nq + j] + acc[s * nq + j]);
+                }
+            }
+            values[q] = v;
+        }
+    }
+}
+
+/// `acc[..L] += Σ_b φ_b table[b·stride + offset ..][..L]`.
+fn accumulate<const L: usize>(
+    table: &[f64],
+    stride: usize,
+    offset: usize,
+    phi: &[f64],
+    acc: &mut [f64; NS * NS],
+) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+            // SAFETY: the CPU supports the features the function is compiled for.
+            unsafe { accumulate_avx2::<L>(table, stride, offset, phi, acc) };
+            return;
+        }
+    }
+    accumulate_body::<L>(table, stride, offset, phi, acc);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn accumulate_avx2<const L: usize>(
+    table: &[f64],
+    stride: usize,
+    offset: usize,
+    phi: &[f64],
+    acc: &mut [f64; NS * NS],
+) {
+    accumulate_body::<L>(table, stride, offset, phi, acc);
+}
+
+#[inline(always)]
+fn accumulate_body<const L: usize>(
+    table: &[f64],
+    stride: usize,
+    offset: usize,
+    phi: &[f64],
+    acc: &mut [f64; NS * NS],
+) {
+    let mut a = [0.0; L];
+    for (b, &ph) in phi.iter().enumerate() {
+        let row: &[f64; L] = table[b * stride + offset..][..L]
+            .try_into()
+            .unwrap_or(&[0.0; L]); // the slice has length L: never taken
+        for l in 0..L {
+            a[l] += ph * row[l];
+        }
+    }
+    acc[..L].copy_from_slice(&a);
+}
+
+/// The Matérn-5/2 kernel vector `k_i = k(‖x ⊙ ℓ⁻¹ − xs_i‖)` from training inputs stored by
+/// feature (`xs_t`, `d × n`).
+pub fn kernel_vector(xs_t: &[f64], inv_len: &[f64], x: &[f64], k: &mut [f64]) {
+    #[cfg(target_arch = "x86_64")]
+    {
+        if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+            // SAFETY: the CPU supports the features the function is compiled for.
+            unsafe { kernel_vector_avx2(xs_t, inv_len, x, k) };
+            return;
+        }
+    }
+    kernel_vector_body(xs_t, inv_len, x, k);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx2,fma")]
+unsafe fn kernel_vector_avx2(xs_t: &[f64], inv_len: &[f64], x: &[f64], k: &mut [f64]) {
+    kernel_vector_body(xs_t, inv_len, x, k);
+}
+
+#[inline(always)]
+fn kernel_vector_body(xs_t: &[f64], inv_len: &[f64], x: &[f64], k: &mut [f64]) {
+    let n = k.len();
+    k.iter_mut().for_each(|v| *v = 0.0);
+    for (j, (&xj, &il)) in x.iter().zip(inv_len).enumerate() {
+        let q = xj * il;
+        for (kv, &xs) in k.iter_mut().zip(&xs_t[j * n..(j + 1) * n]) {
+            let t = q - xs;
+            *kv += t * t;
+        }
+    }
+    for kv in k.iter_mut() {
+        *kv = matern52(kv.sqrt());
+    }
+}
+
+/// Matérn-5/2 correlation at scaled distance `r` (the same expression as the GP's).
+#[inline(always)]
+fn matern52(r: f64) -> f64 {
+    const S5: f64 = 2.236_067_977_499_79;
+    let e = crate::predict::exp_nonpos(-S5 * r);
+    (1.0 + S5 * r + 5.0 / 3.0 * r * r) * e
+}
