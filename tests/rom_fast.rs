@@ -18,6 +18,7 @@ fn queries() -> Vec<Query> {
 }
 
 /// Largest |fast − general| relative to each scalar's largest |value|.
+#[allow(clippy::needless_range_loop)]
 fn max_gap(m: &Surrogate) -> f64 {
     let mut fast = m.new_prediction();
     let mut general = m.new_prediction();
