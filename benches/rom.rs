@@ -8,6 +8,7 @@ use criterion::{criterion_group, criterion_main, Criterion};
 use surrogate::predict::evaluate;
 use surrogate::rom::data::SnapshotSet;
 use surrogate::rom::export::EmbeddedTables;
+use surrogate::rom::fast::kernel_vector;
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::{train, Jacobian, Query, Surrogate, TrainConfig};
@@ -43,6 +44,17 @@ fn bench(c: &mut Criterion) {
         mu2: -13.17,
         alpha2: -0.6,
     };
+    // the GP kernel vector alone: 300 training points, 6 features
+    let (n, d) = (300, 6);
+    let xs_t: Vec<f64> = (0..n * d)
+        .map(|e| ((e * 7919) % 1000) as f64 / 500.0 - 1.0)
+        .collect();
+    let inv_len = [1.3, 0.7, 2.0, 0.9, 1.1, 0.5];
+    let x = [0.1, -0.2, 0.3, 0.05, -0.7, 0.4];
+    let mut k = vec![0.0; n];
+    c.bench_function("gp/kernel_vector_300x6", |b| {
+        b.iter(|| kernel_vector(black_box(&xs_t), &inv_len, black_box(&x), &mut k))
+    });
     for kind in [RegressorKind::Gp, RegressorKind::Poly] {
         let m = model(kind);
         let name = kind.name();

@@ -54,7 +54,8 @@ struct Part {
     quantities: Vec<usize>,
     /// `ȳ` at each pressure node, `n_p × |quantities|`.
     mean: Vec<f64>,
-    /// `C`, `n_basis × n_p × |quantities|`.
+    /// `C`, `n_p × n_basis × |quantities|` (node-major: the rows of one stencil node are
+    /// contiguous).
     table: Vec<f64>,
     n_basis: usize,
 }
@@ -62,7 +63,6 @@ struct Part {
 /// Folded tables of the scalar quantities, per regressor kind.
 #[derive(Debug, Clone)]
 pub struct ScalarPath {
-    n_p: usize,
     gp: Option<Part>,
     poly: Option<Part>,
     /// GP training inputs / length scales by feature, `d × n`.
@@ -106,7 +106,7 @@ fn fold(
             for b in 0..n_basis {
                 let w = &weights[b * m + s.coef_offset..b * m + s.coef_offset + r];
                 let v: f64 = phi.iter().zip(w).map(|(p, w)| p * w).sum();
-                table[(b * n_p + node) * nq + j] = s.pod.scale[e] * v;
+                table[(node * n_basis + b) * nq + j] = s.pod.scale[e] * v;
             }
         }
     }
@@ -132,7 +132,6 @@ impl ScalarPath {
             }
         }
         ScalarPath {
-            n_p,
             gp: fold(&of(RegressorKind::Gp), &gp.alpha, gp.m, gp.n, n_p),
             poly: fold(
                 &of(RegressorKind::Poly),
@@ -183,104 +182,82 @@ impl ScalarPath {
         if let Some(part) = &self.gp {
             let k = &mut scratch[..part.n_basis];
             kernel_vector(&self.gp_xs_t, &gp.inv_len, x, k);
-            part.apply(self.n_p, k, st, values);
+            part.apply(k, st, values);
         }
         if let Some(part) = &self.poly {
             let phi = &mut scratch[..part.n_basis];
             poly.basis_values_into(x, phi);
-            part.apply(self.n_p, phi, st, values);
+            part.apply(phi, st, values);
         }
     }
 }
 
 impl Part {
-    fn apply(&self, n_p: usize, phi: &[f64], st: &Stencil<f64>, values: &mut [f64]) {
-        // a window of 4 nodes (zero weights where the stencil is shorter), so that the
-        // accumulation runs over a fixed-length row
+    fn apply(&self, phi: &[f64], st: &Stencil<f64>, values: &mut [f64]) {
         let nq = self.quantities.len();
-        let start = if n_p >= NS { st.start.min(n_p - NS) } else { 0 };
-        let win = NS.min(n_p);
-        let mut w = [0.0; NS];
-        for s in 0..st.len {
-            w[st.start + s - start] = st.w[s];
-        }
-        let mut acc = [0.0; NS * NS];
-        match (win * nq, n_p >= NS) {
-            (16, true) => accumulate::<16>(&self.table, n_p * nq, start * nq, phi, &mut acc),
-            (12, true) => accumulate::<12>(&self.table, n_p * nq, start * nq, phi, &mut acc),
-            (8, true) => accumulate::<8>(&self.table, n_p * nq, start * nq, phi, &mut acc),
-            (4, true) => accumulate::<4>(&self.table, n_p * nq, start * nq, phi, &mut acc),
-            (len, _) => {
-                let acc = &mut acc[..len];
-                for (b, &ph) in phi.iter().enumerate() {
-                    let row = &self.table[b * n_p * nq + start * nq..][..len];
-                    for (a, c) in acc.iter_mut().zip(row) {
-                        *a += ph * c;
-                    }
-                }
-            }
+        let block = self.n_basis * nq;
+        let mut acc = [[0.0; NS]; NS];
+        for (s, a) in acc.iter_mut().enumerate().take(st.len) {
+            let t = &self.table[(st.start + s) * block..(st.start + s + 1) * block];
+            *a = match nq {
+                4 => accumulate::<4>(t, phi),
+                3 => accumulate::<3>(t, phi),
+                2 => accumulate::<2>(t, phi),
+                _ => accumulate::<1>(t, phi),
+            };
         }
         for (j, &q) in self.quantities.iter().enumerate() {
             let mut v = 0.0;
-            for s in 0..win {
-                if w[s] != 0.0 {
-                    v += w[s] * (self.mean[(start + s) * nq + j] + acc[s * nq + j]);
-                }
+            for s in 0..st.len {
+                v += st.w[s] * (self.mean[(st.start + s) * nq + j] + acc[s][j]);
             }
             values[q] = v;
         }
     }
 }
 
-/// `acc[..L] += Σ_b φ_b table[b·stride + offset ..][..L]`.
-fn accumulate<const L: usize>(
-    table: &[f64],
-    stride: usize,
-    offset: usize,
-    phi: &[f64],
-    acc: &mut [f64; NS * NS],
-) {
+/// `Σ_b φ_b t[b·Q .. (b+1)·Q]` (the first `Q` entries of the result; `Q ≤ 4`).
+fn accumulate<const Q: usize>(t: &[f64], phi: &[f64]) -> [f64; NS] {
     #[cfg(target_arch = "x86_64")]
     {
         if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
             // SAFETY: the CPU supports the features the function is compiled for.
-            unsafe { accumulate_avx2::<L>(table, stride, offset, phi, acc) };
-            return;
+            return unsafe { accumulate_avx2::<Q>(t, phi) };
         }
     }
-    accumulate_body::<L>(table, stride, offset, phi, acc);
+    accumulate_body::<Q>(t, phi)
 }
 
 #[cfg(target_arch = "x86_64")]
 #[target_feature(enable = "avx2,fma")]
-unsafe fn accumulate_avx2<const L: usize>(
-    table: &[f64],
-    stride: usize,
-    offset: usize,
-    phi: &[f64],
-    acc: &mut [f64; NS * NS],
-) {
-    accumulate_body::<L>(table, stride, offset, phi, acc);
+unsafe fn accumulate_avx2<const Q: usize>(t: &[f64], phi: &[f64]) -> [f64; NS] {
+    accumulate_body::<Q>(t, phi)
 }
 
 #[inline(always)]
-fn accumulate_body<const L: usize>(
-    table: &[f64],
-    stride: usize,
-    offset: usize,
-    phi: &[f64],
-    acc: &mut [f64; NS * NS],
-) {
-    let mut a = [0.0; L];
-    for (b, &ph) in phi.iter().enumerate() {
-        let row: &[f64; L] = table[b * stride + offset..][..L]
-            .try_into()
-            .unwrap_or(&[0.0; L]); // the slice has length L: never taken
-        for l in 0..L {
-            a[l] += ph * row[l];
+fn accumulate_body<const Q: usize>(t: &[f64], phi: &[f64]) -> [f64; NS] {
+    // two interleaved sums (even and odd basis functions) so that consecutive additions do
+    // not wait for each other
+    let (mut a0, mut a1) = ([0.0; Q], [0.0; Q]);
+    let mut rows = t.chunks_exact(2 * Q);
+    let mut pairs = phi.chunks_exact(2);
+    for (r, p) in rows.by_ref().zip(pairs.by_ref()) {
+        for l in 0..Q {
+            a0[l] += p[0] * r[l];
+            a1[l] += p[1] * r[Q + l];
         }
     }
-    acc[..L].copy_from_slice(&a);
+    if let [ph] = pairs.remainder() {
+        let r = rows.remainder();
+        for l in 0..Q {
+            a0[l] += ph * r[l];
+        }
+    }
+    let mut out = [0.0; NS];
+    for l in 0..Q {
+        out[l] = a0[l] + a1[l];
+    }
+    out
 }
 
 /// The Matérn-5/2 kernel vector `k_i = k(‖x ⊙ ℓ⁻¹ − xs_i‖)` from training inputs stored by
@@ -288,12 +265,23 @@ fn accumulate_body<const L: usize>(
 pub fn kernel_vector(xs_t: &[f64], inv_len: &[f64], x: &[f64], k: &mut [f64]) {
     #[cfg(target_arch = "x86_64")]
     {
+        if std::is_x86_feature_detected!("avx512f") {
+            // SAFETY: the CPU supports the features the function is compiled for.
+            unsafe { kernel_vector_avx512(xs_t, inv_len, x, k) };
+            return;
+        }
         if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
             // SAFETY: the CPU supports the features the function is compiled for.
             unsafe { kernel_vector_avx2(xs_t, inv_len, x, k) };
             return;
         }
     }
+    kernel_vector_body(xs_t, inv_len, x, k);
+}
+
+#[cfg(target_arch = "x86_64")]
+#[target_feature(enable = "avx512f")]
+unsafe fn kernel_vector_avx512(xs_t: &[f64], inv_len: &[f64], x: &[f64], k: &mut [f64]) {
     kernel_vector_body(xs_t, inv_len, x, k);
 }
 

@@ -326,12 +326,23 @@ impl Gp {
     pub fn combine_into(&self, k: &[f64], cols: Range<usize>, out: &mut [f64]) {
         #[cfg(target_arch = "x86_64")]
         {
+            if std::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU supports the features the function is compiled for.
+                unsafe { self.combine_avx512(k, cols, out) };
+                return;
+            }
             if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
                 // SAFETY: the CPU supports the features the function is compiled for.
                 unsafe { self.combine_avx2(k, cols, out) };
                 return;
             }
         }
+        self.combine_body(k, cols, out);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn combine_avx512(&self, k: &[f64], cols: Range<usize>, out: &mut [f64]) {
         self.combine_body(k, cols, out);
     }
 
