@@ -364,6 +364,71 @@ impl Gp {
         }
     }
 
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx512f")]
+    unsafe fn jacobian_avx512(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], s: &mut [f64]) {
+        self.jacobian_body(x, out, jac, s);
+    }
+
+    #[cfg(target_arch = "x86_64")]
+    #[target_feature(enable = "avx2,fma")]
+    unsafe fn jacobian_avx2(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], s: &mut [f64]) {
+        self.jacobian_body(x, out, jac, s);
+    }
+
+    /// Outputs and `jac[c·d + j] = ∂out_c/∂x_j`: kernel values and `g = −k′/r` first, over the
+    /// contiguous vector of training points; then the Jacobian is accumulated transposed
+    /// (`d × m`) so that the inner loop runs over the contiguous weights. `scratch` holds
+    /// `2n + d·m` values.
+    #[inline(always)]
+    fn jacobian_body(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], scratch: &mut [f64]) {
+        let (d, m, n) = (self.d, self.m, self.n);
+        let (kv, rest) = scratch.split_at_mut(n);
+        let (gv, rest) = rest.split_at_mut(n);
+        let jt = &mut rest[..d * m];
+        let mut xq = [0.0; 8];
+        let mut il2 = [0.0; 8];
+        for j in 0..d {
+            xq[j] = x[j] * self.inv_len[j];
+            il2[j] = self.inv_len[j] * self.inv_len[j];
+        }
+        for (i, ki) in kv.iter_mut().enumerate() {
+            let xi = &self.xs[i * d..(i + 1) * d];
+            let mut r2 = 0.0;
+            for j in 0..d {
+                let t = xq[j] - xi[j];
+                r2 += t * t;
+            }
+            *ki = r2;
+        }
+        for (ki, gi) in kv.iter_mut().zip(gv.iter_mut()) {
+            let (k, g) = kernel_and_g(ki.sqrt());
+            *ki = k;
+            *gi = g;
+        }
+        jt.iter_mut().for_each(|v| *v = 0.0);
+        out[..m].iter_mut().for_each(|o| *o = 0.0);
+        for i in 0..n {
+            let xi = &self.x[i * d..(i + 1) * d];
+            let a = &self.alpha[i * m..(i + 1) * m];
+            let k = kv[i];
+            for (o, ac) in out[..m].iter_mut().zip(a) {
+                *o += k * ac;
+            }
+            for j in 0..d {
+                let v = gv[i] * (x[j] - xi[j]) * il2[j];
+                for (r, ac) in jt[j * m..(j + 1) * m].iter_mut().zip(a) {
+                    *r -= v * ac;
+                }
+            }
+        }
+        for c in 0..m {
+            for j in 0..d {
+                jac[c * d + j] = jt[j * m + c];
+            }
+        }
+    }
+
     /// The kernel vector `k_i = k(x, x_i)` at the scaled features `x` into `k` (length `n`):
     /// squared distances, then the branch-free Matérn over the contiguous vector (this loop
     /// vectorises).
@@ -454,7 +519,9 @@ impl Regressor for Gp {
     }
 
     fn scratch_len(&self) -> usize {
-        self.n
+        // the kernel vector, or kernel values, `g` and the transposed Jacobian of
+        // `jacobian_into`
+        2 * self.n + self.m * self.d
     }
 
     fn predict_cols_into(
@@ -475,22 +542,21 @@ impl Regressor for Gp {
         self.predict_cols_body(x, cols, out, scratch);
     }
 
-    fn jacobian_into(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], _scratch: &mut [f64]) {
-        let (d, m) = (self.d, self.m);
-        out[..m].iter_mut().for_each(|o| *o = 0.0);
-        jac[..m * d].iter_mut().for_each(|o| *o = 0.0);
-        for i in 0..self.n {
-            let xi = &self.x[i * d..(i + 1) * d];
-            let (k, g) = kernel_and_g(scaled_dist(x, xi, &self.inv_len));
-            let a = &self.alpha[i * m..(i + 1) * m];
-            for c in 0..m {
-                out[c] += k * a[c];
-                for j in 0..d {
-                    let il = self.inv_len[j];
-                    jac[c * d + j] -= g * (x[j] - xi[j]) * il * il * a[c];
-                }
+    fn jacobian_into(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], scratch: &mut [f64]) {
+        #[cfg(target_arch = "x86_64")]
+        {
+            if std::is_x86_feature_detected!("avx512f") {
+                // SAFETY: the CPU supports the features the function is compiled for.
+                unsafe { self.jacobian_avx512(x, out, jac, scratch) };
+                return;
+            }
+            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+                // SAFETY: the CPU supports the features the function is compiled for.
+                unsafe { self.jacobian_avx2(x, out, jac, scratch) };
+                return;
             }
         }
+        self.jacobian_body(x, out, jac, scratch);
     }
 
     fn variance_into(&self, x: &[f64], var: &mut [f64], scratch: &mut [f64]) {
