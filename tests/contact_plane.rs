@@ -243,3 +243,49 @@ fn augmented_lagrangian_makes_the_block_touch_whatever_the_penalty() {
         heights[1]
     );
 }
+
+#[test]
+fn reusing_the_factor_in_uzawa_resolves_gives_the_same_solution() {
+    let model = block(0.5, 20.0);
+    let levels = [LoadLevel {
+        traction: 1.0,
+        ..Default::default()
+    }];
+    let run = |reuse_factor: bool| {
+        let settings = SolverSettings {
+            initial_fraction: 0.2,
+            augmented_updates: 20,
+            reuse_factor,
+            ..SolverSettings::default()
+        };
+        let mut out = None;
+        solve_path(&model, settings, &levels, |_, st, rep| {
+            out = Some((st.u_full.clone(), rep.clone()))
+        })
+        .unwrap();
+        out.unwrap()
+    };
+    let (u0, rep0) = run(false);
+    let (u1, rep1) = run(true);
+    assert!(rep0.augmented_updates >= 1 && rep1.augmented_updates >= 1);
+    assert!(!rep1.augmented_failed);
+    // every iteration factorises without reuse; with it, the re-solves mostly do not
+    assert_eq!(rep0.factorizations, rep0.newton_iterations);
+    assert!(
+        rep1.factorizations < rep0.factorizations,
+        "{} vs {} factorisations",
+        rep1.factorizations,
+        rep0.factorizations
+    );
+    // the same equilibrium and contact state: both stop when no multiplier changes by more
+    // than ε · 1e-3 mm
+    let diff = u0
+        .iter()
+        .zip(&u1)
+        .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+    assert!(diff < 2e-3, "largest displacement difference {diff} mm");
+    let mut r = vec![0.0; u1.len()];
+    let info = model.assemble(&u1, &levels[0], &mut r, None).unwrap();
+    let applied = 0.5 * 4.0;
+    assert!((info.plane_forces[0] - applied).abs() < 1e-6 * applied);
+}

@@ -221,6 +221,10 @@ pub struct SimulateArgs {
     /// extrapolated path (for comparisons; the predictor is on by default).
     #[arg(long)]
     pub no_predictor: bool,
+    /// Modified Newton in the re-solves after each augmented-Lagrangian update: reuse the last
+    /// factorised tangent while the residual falls at least fourfold per iteration.
+    #[arg(long)]
+    pub reuse_factor: bool,
     /// Newton tolerance on the normalised residual.
     #[arg(long, default_value_t = surrogate::fe::solver::SolverSettings::default().rtol)]
     pub rtol: f64,
