@@ -1,6 +1,7 @@
 //! `surrogate snapshots`: sampling plans, shard runs (resumable), merges.
 //!
 //! `surrogate snapshots --plan P --shard k/n --out DIR` is `snapshots run`.
+use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Duration;
 
@@ -351,6 +352,9 @@ fn run_plan(a: RunArgs) -> Result<()> {
         "{msg} [{bar:30}] {pos}/{len} cases, {elapsed_precise} elapsed, ETA {eta_precise}",
     )?);
     bar.set_message(format!("shard {shard}"));
+    // in a batch log (Slurm, nohup) the bar is not drawn: one line per finished case instead
+    let lines = !a.quiet && !std::io::stderr().is_terminal();
+    let started = std::time::Instant::now();
     let progress = |p: Progress| {
         bar.set_length(p.total as u64);
         bar.set_position(p.done as u64);
@@ -359,6 +363,20 @@ fn run_plan(a: RunArgs) -> Result<()> {
             n - p.total,
             p.failed
         ));
+        if lines && p.done > 0 {
+            let elapsed = started.elapsed().as_secs_f64();
+            let eta = elapsed / p.done as f64 * (p.total - p.done) as f64;
+            eprintln!(
+                "shard {shard}: {}/{} cases of this run finished ({} failed, {} done before), \
+                 {} elapsed, ETA {}",
+                p.done,
+                p.total,
+                p.failed,
+                n - p.total,
+                hms(elapsed),
+                hms(eta)
+            );
+        }
     };
     let options = RunOptions {
         shard,
@@ -375,6 +393,12 @@ fn run_plan(a: RunArgs) -> Result<()> {
     bar.finish_and_clear();
     eprintln!("{summary}");
     Ok(())
+}
+
+/// `h:mm:ss`.
+fn hms(seconds: f64) -> String {
+    let s = seconds.max(0.0).round() as u64;
+    format!("{}:{:02}:{:02}", s / 3600, (s / 60) % 60, s % 60)
 }
 
 fn merge_dirs(a: MergeArgs) -> Result<()> {
