@@ -290,4 +290,7 @@ pub struct DemoArgs {
     /// Where the plot and the JSON go.
     #[arg(long, default_value = "demo_output")]
     pub out_dir: PathBuf,
+    /// Surrogate to compare with the FE model (skipped with a note if it cannot be used).
+    #[arg(long, default_value = "models/actuator_coarse_61.json")]
+    pub model: PathBuf,
 }

@@ -2,7 +2,8 @@
 //!
 //! Today: the full FE model of one experimental design (default N = 11, T = 2.0 mm) with the
 //! literature Ogden 002 parameters over 0–3 bar, compared with the shipped experiments (tip
-//! Uz, Uy, angle and the study's bending error BE), printed and plotted.
+//! Uz, Uy, angle and the study's bending error BE) and with the shipped surrogate at the same
+//! inputs (values and time per query), printed and plotted.
 use std::path::Path;
 
 use anyhow::{Context, Result};
@@ -14,6 +15,7 @@ use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::simulate::{simulate_with_progress, Case, ContactSettings, Mode, StepResult};
 use surrogate::fe::solver::SolverSettings;
+use surrogate::rom::{Query, Surrogate};
 
 use crate::args::DemoArgs;
 
@@ -87,23 +89,109 @@ pub fn run(a: DemoArgs) -> Result<()> {
             errors.len()
         );
     }
+    let surrogate_tips = surrogate_comparison(&a, &case, &response.steps, &response.wall_time_s);
     std::fs::create_dir_all(&a.out_dir)
         .with_context(|| format!("creating {}", a.out_dir.display()))?;
     let svg = a.out_dir.join("demo_tip.svg");
-    plot(&svg, &response.steps, &experiments, 92.0)?;
+    plot(&svg, &response.steps, &experiments, &surrogate_tips, 92.0)?;
     let json = a.out_dir.join("demo_response.json");
     std::fs::write(&json, serde_json::to_string_pretty(&response)?)?;
     println!("wrote {} and {}", svg.display(), json.display());
     Ok(())
 }
 
-/// Deformed marker lines (simulated) and measured tips in the (z, y) plane.
-fn plot(path: &Path, steps: &[StepResult], exp: &[BendingRecord], lf: f64) -> Result<()> {
+/// The shipped surrogate at the FE's inputs: a table beside the FE values, the time per
+/// query and the tips `(P, Uz, Uy)` for the plot. A model that cannot be used (missing file,
+/// this design or material outside it) is reported and skipped: the FE comparison stands.
+fn surrogate_comparison(
+    a: &DemoArgs,
+    case: &Case,
+    steps: &[StepResult],
+    fe_wall_s: &f64,
+) -> Vec<(f64, f64, f64)> {
+    let model = match Surrogate::load(&a.model) {
+        Ok(m) => m,
+        Err(e) => {
+            println!("surrogate: skipped ({e})");
+            return Vec::new();
+        }
+    };
+    let Some(params) = case.material.ogden_params() else {
+        println!(
+            "surrogate: skipped ({} is not an Ogden material)",
+            a.material
+        );
+        return Vec::new();
+    };
+    let query = |p: f64| Query::new(a.n as u32, a.t, p, params);
+    if let Err(e) = model.check_query(&query(0.0)) {
+        println!("surrogate: skipped ({e})");
+        return Vec::new();
+    }
+    let mut pred = model.new_prediction();
+    let mut tips = Vec::new();
+    println!();
+    let tip_rmse = model
+        .validation
+        .outputs
+        .iter()
+        .find(|o| o.name == "tip_uz_mm")
+        .map_or(f64::NAN, |o| o.total.rmse);
+    println!(
+        "Surrogate {} ({} training cases from {}; held-out tip Uz RMSE {:.2} mm):",
+        a.model.display(),
+        model.training.n_cases,
+        model.training.source,
+        tip_rmse
+    );
+    println!(
+        "| P (bar) | Uz FE | Uz surrogate | Uy FE | Uy surrogate | angle FE | angle surrogate |"
+    );
+    println!("|---|---|---|---|---|---|---|");
+    for s in steps {
+        if model
+            .predict_into(&query(s.pressure_bar), &mut pred)
+            .is_err()
+        {
+            continue;
+        }
+        let v = &pred.values;
+        println!(
+            "| {:.0} | {:.2} | {:.2} | {:.2} | {:.2} | {:.1} | {:.1} |",
+            s.pressure_bar, s.tip_uz_mm, v[18], s.tip_uy_mm, v[19], s.angle_deg, v[20]
+        );
+        tips.push((s.pressure_bar, v[18], v[19]));
+    }
+    let n = 20_000;
+    let t = std::time::Instant::now();
+    for i in 0..n {
+        let q = query(3.0 * (i % 100) as f64 / 99.0);
+        if model.predict_into(&q, &mut pred).is_err() {
+            return tips;
+        }
+    }
+    let per_query = t.elapsed().as_secs_f64() / n as f64;
+    println!(
+        "surrogate: {:.2} µs per query (all 22 outputs); the FE ramp above took {:.1} s",
+        per_query * 1e6,
+        fe_wall_s
+    );
+    tips
+}
+
+/// Deformed marker lines (simulated), measured tips and surrogate tips in the (z, y) plane.
+fn plot(
+    path: &Path,
+    steps: &[StepResult],
+    exp: &[BendingRecord],
+    surrogate_tips: &[(f64, f64, f64)],
+    lf: f64,
+) -> Result<()> {
     let root = SVGBackend::new(path, (800, 600)).into_drawing_area();
     root.fill(&WHITE)?;
     let mut chart = ChartBuilder::on(&root)
         .caption(
-            "Bottom-face markers: FE (lines) vs measured tip (crosses)",
+            "Bottom-face markers: FE (lines), measured tip (crosses), surrogate tip (circles)",
             ("sans-serif", 20),
         )
         .margin(15)
@@ -136,6 +224,16 @@ fn plot(path: &Path, steps: &[StepResult], exp: &[BendingRecord], lf: f64) -> Re
             chart.draw_series(std::iter::once(Cross::new(
                 (lf - e.tip_uz_mm, e.tip_uy_mm),
                 6,
+                c.stroke_width(2),
+            )))?;
+        }
+        if let Some(&(_, uz, uy)) = surrogate_tips
+            .iter()
+            .find(|t| (t.0 - s.pressure_bar).abs() < 1e-9)
+        {
+            chart.draw_series(std::iter::once(Circle::new(
+                (lf - uz, uy),
+                5,
                 c.stroke_width(2),
             )))?;
         }
