@@ -61,6 +61,41 @@
 // index loops mirror the equations and the table layouts
 #![allow(clippy::needless_range_loop)]
 
+/// A method of `$self_ty` that runs its `#[inline(always)]` body compiled for AVX-512, or for AVX2 + FMA,
+/// when the CPU has it (detected at run time), else as compiled for the baseline target. No
+/// fused multiply-adds are formed by the compiler, so every path gives the same bits.
+macro_rules! simd_method {
+    (
+        $self_ty:ty;
+        $(#[$meta:meta])*
+        $vis:vis fn $name:ident(&self $(, $arg:ident: $ty:ty)* $(,)?) => $body:ident
+    ) => {
+        $(#[$meta])*
+        $vis fn $name(&self $(, $arg: $ty)*) {
+            #[cfg(target_arch = "x86_64")]
+            {
+                #[target_feature(enable = "avx512f")]
+                unsafe fn avx512(this: &$self_ty $(, $arg: $ty)*) {
+                    this.$body($($arg),*)
+                }
+                #[target_feature(enable = "avx2,fma")]
+                unsafe fn avx2(this: &$self_ty $(, $arg: $ty)*) {
+                    this.$body($($arg),*)
+                }
+                if std::is_x86_feature_detected!("avx512f") {
+                    // SAFETY: the CPU supports the features the function is compiled for.
+                    return unsafe { avx512(self $(, $arg)*) };
+                }
+                if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
+                    // SAFETY: as above.
+                    return unsafe { avx2(self $(, $arg)*) };
+                }
+            }
+            self.$body($($arg),*)
+        }
+    };
+}
+
 pub mod batch;
 pub mod data;
 pub mod export;

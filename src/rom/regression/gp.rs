@@ -295,18 +295,6 @@ fn optimise(data: &Data<'_>, params: &GpParams) -> Result<Vec<f64>, RomError> {
 }
 
 impl Gp {
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn predict_cols_avx2(
-        &self,
-        x: &[f64],
-        cols: Range<usize>,
-        out: &mut [f64],
-        scratch: &mut [f64],
-    ) {
-        self.predict_cols_body(x, cols, out, scratch);
-    }
-
     /// `out[cols] = αᵀ k(x)`; the same code for every instruction set (no fused
     /// multiply-adds are formed, so the results are bit-identical).
     #[inline(always)]
@@ -322,34 +310,10 @@ impl Gp {
         self.combine_body(k, cols, out);
     }
 
-    /// `out[cols] = αᵀ k` for a kernel vector `k` (length `n`). No allocation.
-    pub fn combine_into(&self, k: &[f64], cols: Range<usize>, out: &mut [f64]) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::is_x86_feature_detected!("avx512f") {
-                // SAFETY: the CPU supports the features the function is compiled for.
-                unsafe { self.combine_avx512(k, cols, out) };
-                return;
-            }
-            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-                // SAFETY: the CPU supports the features the function is compiled for.
-                unsafe { self.combine_avx2(k, cols, out) };
-                return;
-            }
-        }
-        self.combine_body(k, cols, out);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn combine_avx512(&self, k: &[f64], cols: Range<usize>, out: &mut [f64]) {
-        self.combine_body(k, cols, out);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn combine_avx2(&self, k: &[f64], cols: Range<usize>, out: &mut [f64]) {
-        self.combine_body(k, cols, out);
+    simd_method! {
+        Gp;
+        /// `out[cols] = αᵀ k` for a kernel vector `k` (length `n`). No allocation.
+        pub fn combine_into(&self, k: &[f64], cols: Range<usize>, out: &mut [f64]) => combine_body
     }
 
     #[inline(always)]
@@ -362,18 +326,6 @@ impl Gp {
                 *o += ki * ac;
             }
         }
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn jacobian_avx512(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], s: &mut [f64]) {
-        self.jacobian_body(x, out, jac, s);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn jacobian_avx2(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], s: &mut [f64]) {
-        self.jacobian_body(x, out, jac, s);
     }
 
     /// Outputs and `jac[c·d + j] = ∂out_c/∂x_j`: kernel values and `g = −k′/r` first, over the
@@ -427,18 +379,6 @@ impl Gp {
                 jac[c * d + j] = jt[j * m + c];
             }
         }
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx512f")]
-    unsafe fn variance_avx512(&self, x: &[f64], var: &mut [f64], scratch: &mut [f64]) {
-        self.variance_body(x, var, scratch);
-    }
-
-    #[cfg(target_arch = "x86_64")]
-    #[target_feature(enable = "avx2,fma")]
-    unsafe fn variance_avx2(&self, x: &[f64], var: &mut [f64], scratch: &mut [f64]) {
-        self.variance_body(x, var, scratch);
     }
 
     /// Predictive variance `σ_c² (1 − kᵀR⁻¹k)`: the kernel vector, then a forward substitution
@@ -574,56 +514,25 @@ impl Regressor for Gp {
         2 * self.n + self.m * self.d
     }
 
-    fn predict_cols_into(
-        &self,
-        x: &[f64],
-        cols: Range<usize>,
-        out: &mut [f64],
-        scratch: &mut [f64],
-    ) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-                // SAFETY: the CPU supports the features the function is compiled for.
-                unsafe { self.predict_cols_avx2(x, cols, out, scratch) };
-                return;
-            }
-        }
-        self.predict_cols_body(x, cols, out, scratch);
+    simd_method! {
+        Gp;
+        fn predict_cols_into(
+            &self,
+            x: &[f64],
+            cols: Range<usize>,
+            out: &mut [f64],
+            scratch: &mut [f64],
+        ) => predict_cols_body
     }
 
-    fn jacobian_into(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], scratch: &mut [f64]) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::is_x86_feature_detected!("avx512f") {
-                // SAFETY: the CPU supports the features the function is compiled for.
-                unsafe { self.jacobian_avx512(x, out, jac, scratch) };
-                return;
-            }
-            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-                // SAFETY: the CPU supports the features the function is compiled for.
-                unsafe { self.jacobian_avx2(x, out, jac, scratch) };
-                return;
-            }
-        }
-        self.jacobian_body(x, out, jac, scratch);
+    simd_method! {
+        Gp;
+        fn jacobian_into(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], scratch: &mut [f64]) => jacobian_body
     }
 
-    fn variance_into(&self, x: &[f64], var: &mut [f64], scratch: &mut [f64]) {
-        #[cfg(target_arch = "x86_64")]
-        {
-            if std::is_x86_feature_detected!("avx512f") {
-                // SAFETY: the CPU supports the features the function is compiled for.
-                unsafe { self.variance_avx512(x, var, scratch) };
-                return;
-            }
-            if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
-                // SAFETY: the CPU supports the features the function is compiled for.
-                unsafe { self.variance_avx2(x, var, scratch) };
-                return;
-            }
-        }
-        self.variance_body(x, var, scratch);
+    simd_method! {
+        Gp;
+        fn variance_into(&self, x: &[f64], var: &mut [f64], scratch: &mut [f64]) => variance_body
     }
 }
 
