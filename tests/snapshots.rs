@@ -14,7 +14,7 @@ use std::time::{Duration, Instant};
 
 use surrogate::rom::data::SnapshotSet;
 use surrogate::snapshots::merge::merge_with;
-use surrogate::snapshots::run::{AnalyticRunner, Progress};
+use surrogate::snapshots::run::{shard_status, AnalyticRunner, Progress};
 use surrogate::snapshots::store::{case_csv, header_line};
 use surrogate::snapshots::{
     merge, run_shard, CaseOutcome, CaseRunner, Plan, PlanSettings, PlannedCase, RunOptions, Shard,
@@ -191,7 +191,16 @@ fn retry_failed_reruns_only_failed_cases() {
         threads: Some(2),
         retry_failed: true,
     };
+    // the status lists them with the runner's message before the retry
+    let st = shard_status(&p, &dir, Shard::ALL).unwrap();
+    assert_eq!((st.cases, st.finished), (10, 10));
+    let failed: Vec<usize> = st.failed.iter().map(|f| f.0).collect();
+    assert_eq!(failed, vec![3, 7]);
+    assert!(st.failed.iter().all(|f| f.1.contains("non-convergence")), "{st:?}");
+    assert!(st.unconverged_rows > 0);
     let summary = run_shard(&p, &dir, &options, &counting, &quiet).unwrap();
+    let st = shard_status(&p, &dir, Shard::ALL).unwrap();
+    assert!(st.failed.is_empty() && st.unconverged_rows == 0, "{st:?}");
     let mut ids = calls.lock().unwrap().clone();
     ids.sort_unstable();
     assert_eq!(ids, vec![3, 7]);

@@ -233,19 +233,46 @@ fn pending_cases<'p>(
     Ok(pending)
 }
 
-/// How far a shard is, without running or writing anything: `(cases in the shard, finished)`.
+/// How far a shard is ([`shard_status`]).
+#[derive(Clone, Debug, PartialEq)]
+pub struct ShardStatus {
+    /// Cases in the shard.
+    pub cases: usize,
+    /// Of which finished (a case file exists, failed or not).
+    pub finished: usize,
+    /// Finished cases that failed: id and the solver's message (their converged steps are
+    /// kept; the rest of the ramp has `converged = false`).
+    pub failed: Vec<(usize, String)>,
+    /// Rows with `converged = false` over the finished cases.
+    pub unconverged_rows: usize,
+}
+
+/// How far a shard is, without running or writing anything.
 ///
 /// # Errors
 /// As [`run_shard`] before it runs anything: another plan in `dir`, an invalid case file.
-pub fn shard_status(
-    plan: &Plan,
-    dir: &Path,
-    shard: Shard,
-) -> Result<(usize, usize), SnapshotError> {
-    let store = ShardDir::existing(dir, plan)?;
-    let pending = pending_cases(store.as_ref(), plan, shard, false)?;
-    let cases = plan.shard_cases(shard).len();
-    Ok((cases, cases - pending.len()))
+pub fn shard_status(plan: &Plan, dir: &Path, shard: Shard) -> Result<ShardStatus, SnapshotError> {
+    let mut status = ShardStatus {
+        cases: plan.shard_cases(shard).len(),
+        finished: 0,
+        failed: Vec::new(),
+        unconverged_rows: 0,
+    };
+    let Some(store) = ShardDir::existing(dir, plan)? else {
+        return Ok(status);
+    };
+    let files = store.case_ids()?;
+    for case in plan.shard_cases(shard) {
+        if let Some(path) = files.get(&case.id) {
+            let f = read_case_file(path, case, &plan.settings)?;
+            status.finished += 1;
+            status.unconverged_rows += f.unconverged_rows;
+            if f.failed {
+                status.failed.push((case.id, f.error.unwrap_or_default()));
+            }
+        }
+    }
+    Ok(status)
 }
 
 /// Runs one case, turning a panic into a failed outcome.

@@ -204,6 +204,8 @@ pub struct CaseFile {
     pub failed: bool,
     /// Rows with `converged = false`.
     pub unconverged_rows: usize,
+    /// The first error message of the case's rows, if any.
+    pub error: Option<String>,
 }
 
 /// Checks one data row (0-based `j`) of a case file; returns whether it converged.
@@ -274,6 +276,7 @@ pub fn read_case_file(
         body: body.to_vec(),
         failed: false,
         unconverged_rows: 0,
+        error: None,
     };
     let mut rdr = csv::ReaderBuilder::new()
         .has_headers(false)
@@ -283,7 +286,11 @@ pub fn read_case_file(
         let rec = rec.map_err(|e| bad(j + 2, e.to_string()))?;
         let converged = check_row(&rec, j, case, settings).map_err(|m| bad(j + 2, m))?;
         out.unconverged_rows += usize::from(!converged);
-        out.failed |= !rec[n_columns() - 1].is_empty();
+        let error = &rec[n_columns() - 1];
+        if !error.is_empty() && out.error.is_none() {
+            out.error = Some(error.to_string());
+        }
+        out.failed |= !error.is_empty();
         rows += 1;
     }
     let n = settings.pressures_bar.len();

@@ -325,13 +325,21 @@ fn run_plan(a: RunArgs) -> Result<()> {
         anyhow::ensure!(t >= 1, "--threads {t}: expected at least 1");
     }
     if a.dry_run {
-        let (cases, finished) = shard_status(&plan, &a.out, shard)?;
+        let st = shard_status(&plan, &a.out, shard)?;
         eprintln!(
-            "shard {shard} of {} (plan {}): {finished} of {cases} cases finished in {}",
+            "shard {shard} of {} (plan {}): {} of {} cases finished in {}, {} failed, {} \
+             unconverged rows",
             a.plan.display(),
             plan.hash(),
-            a.out.display()
+            st.finished,
+            st.cases,
+            a.out.display(),
+            st.failed.len(),
+            st.unconverged_rows
         );
+        for (id, error) in &st.failed {
+            eprintln!("  case {id} failed: {error}");
+        }
         return Ok(());
     }
     let analytic = AnalyticRunner {
