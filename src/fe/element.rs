@@ -233,8 +233,10 @@ pub struct ElementWork {
     /// Element tangent, row-major 81 × 81.
     pub k: Vec<f64>,
     b: Vec<[f64; DOFS]>,
-    g: Vec<[f64; 27]>,
-    kt: Vec<[f64; 27]>,
+    /// Per quadrature point: `g[(i, k, L)][a] = Σ_J ∂N_a/∂X_J Â[(3i+J), (3k+L)]`.
+    g: Vec<[[f64; 27]; 27]>,
+    /// Per quadrature point: `∂N_b/∂X_L` by `L`, contiguous in `b`.
+    dt: Vec<[[f64; 27]; 3]>,
 }
 
 impl Default for ElementWork {
@@ -247,8 +249,8 @@ impl Default for ElementWork {
             r: vec![0.0; DOFS],
             k: vec![0.0; DOFS * DOFS],
             b: vec![[0.0; DOFS]; 4],
-            g: vec![[0.0; 27]; 27],
-            kt: vec![[0.0; 27]; 243],
+            g: vec![[[0.0; 27]; 27]; QP],
+            dt: vec![[[0.0; 27]; 3]; QP],
         }
     }
 }
@@ -320,9 +322,6 @@ pub fn residual_tangent(
         for row in work.b.iter_mut() {
             row.iter_mut().for_each(|v| *v = 0.0);
         }
-        for row in work.kt.iter_mut() {
-            row.iter_mut().for_each(|v| *v = 0.0);
-        }
     }
     let mut p_iso = Matrix3::zeros();
     let mut a_iso = Tangent9::zeros();
@@ -366,8 +365,9 @@ pub fn residual_tangent(
                 }
             }
         }
-        // g[(i, k, l)][a] = Σ_J ∂N_a/∂X_J Â[(3i+J), (3k+l)], contiguous in a
-        let mut dt = [[0.0; 27]; 3];
+        // g[(i, k, l)][a] = Σ_J ∂N_a/∂X_J Â[(3i+J), (3k+l)], contiguous in a; kept per point
+        // for the accumulation after this loop
+        let dt = &mut work.dt[q];
         for b in 0..27 {
             for l in 0..3 {
                 dt[l][b] = d[b][l];
@@ -382,27 +382,9 @@ pub fn residual_tangent(
                         a_iso[(3 * i + 1, c)],
                         a_iso[(3 * i + 2, c)],
                     );
-                    let g = &mut work.g[(3 * i + k) * 3 + l];
+                    let g = &mut work.g[q][(3 * i + k) * 3 + l];
                     for a in 0..27 {
                         g[a] = dt[0][a] * a0 + dt[1][a] * a1 + dt[2][a] * a2;
-                    }
-                }
-            }
-        }
-        // K_(a,i),(b,k) += w Σ_L g[(i,k,L)][a] ∂N_b/∂X_L, accumulated in `kt[(a, i, k)][b]` so
-        // that the innermost loop runs over contiguous b (vectorisable)
-        for a in 0..27 {
-            for i in 0..3 {
-                for k in 0..3 {
-                    let gi = (3 * i + k) * 3;
-                    let (g0, g1, g2) = (
-                        w * work.g[gi][a],
-                        w * work.g[gi + 1][a],
-                        w * work.g[gi + 2][a],
-                    );
-                    let row = &mut work.kt[(3 * a + i) * 3 + k];
-                    for b in a..27 {
-                        row[b] += g0 * dt[0][b] + g1 * dt[1][b] + g2 * dt[2][b];
                     }
                 }
             }
@@ -418,13 +400,26 @@ pub fn residual_tangent(
         }
     }
     if with_tangent {
-        // node blocks b ≥ a from the accumulator, then mirror the upper node blocks
+        // K_(a,i),(b,k) = Σ_q w_q Σ_L g_q[(i,k,L)][a] ∂N_b/∂X_L for the node blocks b ≥ a: one
+        // row at a time over all points (the row stays in cache; the per-point terms are
+        // added in point order, as a per-point accumulation would), then mirrored
         for a in 0..27 {
             for i in 0..3 {
                 for k in 0..3 {
-                    let acc = &work.kt[(3 * a + i) * 3 + k];
+                    let gi = (3 * i + k) * 3;
+                    let mut acc = [0.0; 27];
+                    for q in 0..QP {
+                        let w = geo.wdet[q];
+                        let g = &work.g[q];
+                        let (g0, g1, g2) = (w * g[gi][a], w * g[gi + 1][a], w * g[gi + 2][a]);
+                        let dt = &work.dt[q];
+                        for b in a..27 {
+                            acc[b] += g0 * dt[0][b] + g1 * dt[1][b] + g2 * dt[2][b];
+                        }
+                    }
+                    let row = (3 * a + i) * DOFS;
                     for b in a..27 {
-                        work.k[(3 * a + i) * DOFS + 3 * b + k] = acc[b];
+                        work.k[row + 3 * b + k] = acc[b];
                     }
                 }
             }
