@@ -75,6 +75,13 @@
 //! contact changes), so full Newton takes over; on the coarse mesh the assembly (58 % of the
 //! time in force mode) limits what a saved factorisation buys. Off by default.
 //!
+//! The step guard's residual (the det F check assembles the residual at the state the step
+//! moves to) is kept: when it already meets the tolerance, the next iteration returns
+//! without assembling a tangent it would not use. Same residual, same decisions: the coarse
+//! N = 11, T = 2 ramps (0 → 3.5 bar, 0.25 bar steps) give bit-identical steps, with about
+//! 11 % less CPU time (bending 58.3 → 52.1 s, blocked force 73.6 → 65.7 s, one thread, loaded
+//! machine).
+//!
 //! The fill-reducing ordering is the one of AMD and METIS nested dissection
 //! ([`super::ordering`]) that gives the smaller factor: nested dissection on the standard mesh
 //! (nnz(L) 64.5 M → 52.5 M, one factorisation about 30 % faster, `cargo bench --bench fe --
@@ -480,6 +487,9 @@ pub struct Solver<'m> {
     /// Element pressures carried by the mixed iteration (valid when `use_tangent_pressure`).
     tangent_pressure: Vec<[f64; 4]>,
     use_tangent_pressure: bool,
+    /// External-force norm of the residual that the step guard of [`Self::line_search`]
+    /// assembled at exactly the state the step moved to (then in `r_full` / `r_free`).
+    guard_residual: Option<f64>,
     factor_seconds: f64,
     assembly_seconds: f64,
     /// Floor of the force scale: 1e-3 · μ0 · V^(2/3) (a characteristic internal force).
@@ -511,6 +521,7 @@ impl<'m> Solver<'m> {
             trial: vec![0.0; n],
             tangent_pressure: vec![[0.0; 4]; model.mesh.n_elements()],
             use_tangent_pressure: false,
+            guard_residual: None,
             factor_seconds: 0.0,
             assembly_seconds: 0.0,
             last_increment: None,
@@ -824,8 +835,29 @@ impl<'m> Solver<'m> {
         self.use_tangent_pressure = false;
         // modified Newton (the last factor) while it contracts fast enough
         let mut modified = reuse && self.linear.has_factor();
+        self.guard_residual = None;
         for it in 0..=self.settings.max_iterations {
             self.model.expand(&state.u_free, level, u_full);
+            // the step guard already assembled the residual at this state: if it meets the
+            // tolerance, the tangent is not needed (same residual, same decision)
+            if let Some(ext) = self.guard_residual.take() {
+                let scale = ext.max(self.reaction_norm()).max(self.force_scale);
+                let rn = norm(&self.r_free);
+                if rn <= self.settings.rtol * scale
+                    && (it > 0 || level_is_zero_increment(state, level))
+                {
+                    out.residual = rn / scale;
+                    out.iterations = it;
+                    out.converged = true;
+                    if self.settings.trace {
+                        eprintln!(
+                            "  newton {it:2}  level p={:.4} g={:.2}  |r|/f = {:.3e}  (|r| = {rn:.3e}, f = {scale:.3e})",
+                            level.pressure, level.gravity, out.residual
+                        );
+                    }
+                    return Ok(out);
+                }
+            }
             let mut ext = match self.assemble(u_full, level, !modified) {
                 Ok(info) => info.external_norm,
                 Err(_) => return Ok(out),
@@ -962,6 +994,7 @@ impl<'m> Solver<'m> {
     /// negative at α = 0. The full step is accepted while the potential still decreases there
     /// (`s(1) ≤ 0`) or has its minimum nearby (`|s| ≤ ½|s₀|`); otherwise regula falsi on `s`.
     fn line_search(&mut self, state: &PathState, level: &LoadLevel, u_full: &mut [f64]) -> f64 {
+        self.guard_residual = None;
         let s0 = dot(&self.du, &self.r_free);
         let mut alpha = 1.0;
         let lo = (0.0, s0);
@@ -973,17 +1006,20 @@ impl<'m> Solver<'m> {
             let trial = std::mem::take(&mut self.trial);
             self.model.expand(&trial, level, u_full);
             self.trial = trial;
-            if self.assemble(u_full, level, false).is_err() {
+            self.guard_residual = None;
+            let Ok(info) = self.assemble(u_full, level, false) else {
                 // det F guard: shorten the step until every element is admissible
                 if admissible {
                     return lo.0;
                 }
                 alpha *= 0.5;
                 continue;
-            }
+            };
             admissible = true;
             let s = dot(&self.du, &self.r_free);
             if !self.settings.line_search || s0 >= 0.0 || s <= 0.0 || s.abs() <= 0.5 * s0.abs() {
+                // the residual at the state the step moves to is in `r_full` / `r_free`
+                self.guard_residual = Some(info.external_norm);
                 return alpha;
             }
             // overshoot: minimum between lo.0 and alpha
