@@ -196,7 +196,10 @@ fn retry_failed_reruns_only_failed_cases() {
     assert_eq!((st.cases, st.finished), (10, 10));
     let failed: Vec<usize> = st.failed.iter().map(|f| f.0).collect();
     assert_eq!(failed, vec![3, 7]);
-    assert!(st.failed.iter().all(|f| f.1.contains("non-convergence")), "{st:?}");
+    assert!(
+        st.failed.iter().all(|f| f.1.contains("non-convergence")),
+        "{st:?}"
+    );
     assert!(st.unconverged_rows > 0);
     let summary = run_shard(&p, &dir, &options, &counting, &quiet).unwrap();
     let st = shard_status(&p, &dir, Shard::ALL).unwrap();
