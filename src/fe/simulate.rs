@@ -13,7 +13,7 @@ use thiserror::Error;
 use super::assembly::{pair_couplings, Constraint, FeModel, LoadLevel};
 use super::contact::{pair_orientation, ContactError, FacePair, PairSettings, RigidPlane};
 use super::element::{shape, ElementError};
-use super::geometry::{Design, GeometryError};
+use super::geometry::{Design, GeometryError, Region};
 use super::material::Material;
 use super::mesh::{ActuatorMesh, GapSide, MeshOptions};
 use super::solver::{solve_path_from, PathState, SolverError, SolverSettings, StepReport};
@@ -289,16 +289,21 @@ impl ActuatorModel {
         let mut plate = None;
         if mode == Mode::Force {
             let lf = design.free_length();
+            // every outer face of the tip region: the bottom layer that meets the plate first,
+            // and the end cap and bellow flanks that reach it once the tip has turned past
+            // vertical (the symmetry plane x = W/2 is not a surface)
+            let half_width = design.width() / 2.0;
             let faces: Vec<_> = mesh
                 .grid
-                .boundary_faces(|k| k.is_none())
+                .boundary_faces(|k| matches!(k, None | Some(Region::Exterior)))
                 .into_iter()
                 .map(|(f, _)| f)
                 .filter(|f| {
-                    f.nodes.iter().all(|&n| {
-                        let x = mesh.mesh().nodes[n];
-                        x[1] == 0.0 && x[2] >= lf - PLATE_REACH.0 - 1e-9
-                    })
+                    let x = |n: usize| mesh.mesh().nodes[n];
+                    f.nodes
+                        .iter()
+                        .all(|&n| x(n)[2] >= lf - PLATE_REACH.0 - 1e-9)
+                        && !f.nodes.iter().all(|&n| (x(n)[0] - half_width).abs() < 1e-9)
                 })
                 .collect();
             // placed under the hanging actuator once its self-weight is applied

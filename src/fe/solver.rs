@@ -153,6 +153,31 @@ pub struct SolverSettings {
     /// written to settings only when on, so that results computed before it keep their keys.
     #[serde(default, skip_serializing_if = "is_false")]
     pub reuse_factor: bool,
+    /// Stabilised continuation where plain load control stops (module docs, "Through an
+    /// instability"): when an output step has been cut back [`Self::max_cutbacks`] times in
+    /// a row, the rest of it is taken with a viscous term `β · diag(K₀) · (u − u_prev)` (β is
+    /// this value, `K₀` the tangent where the step stopped, `u_prev` the state of the last
+    /// substep), and the output level is then solved again without it, so that every reported
+    /// state is an undamped equilibrium. 0 switches it off (the step fails there). It acts
+    /// only where the solver used to stop, so results that converged without it are
+    /// unchanged; written to settings only when it differs from the default.
+    #[serde(
+        default = "default_stabilization",
+        skip_serializing_if = "is_default_stabilization"
+    )]
+    pub stabilization: f64,
+}
+
+/// Default of [`SolverSettings::stabilization`].
+pub const DEFAULT_STABILIZATION: f64 = 1e-3;
+
+fn default_stabilization() -> f64 {
+    DEFAULT_STABILIZATION
+}
+
+#[allow(clippy::trivially_copy_pass_by_ref)]
+fn is_default_stabilization(v: &f64) -> bool {
+    *v == DEFAULT_STABILIZATION
 }
 
 fn is_false(v: &bool) -> bool {
@@ -191,6 +216,7 @@ impl Default for SolverSettings {
             trace: false,
             augmented_updates: 6,
             reuse_factor: false,
+            stabilization: DEFAULT_STABILIZATION,
         }
     }
 }
@@ -227,6 +253,10 @@ pub struct StepReport {
     /// [`SolverSettings::reuse_factor`]).
     #[serde(default)]
     pub factorizations: usize,
+    /// The step was completed through an instability with the stabilised continuation
+    /// ([`SolverSettings::stabilization`]); its final state is an undamped equilibrium.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub stabilized: bool,
 }
 
 /// Why a solve stopped.
@@ -496,7 +526,31 @@ pub struct Solver<'m> {
     force_scale: f64,
     /// Pressure increment of the last converged substep.
     last_increment: Option<f64>,
+    /// Viscous term of the stabilised continuation, while it is on.
+    stab: Option<Stabilization>,
+    /// Force scale of the last Newton iteration's convergence test.
+    last_force_scale: f64,
 }
+
+/// The viscous term `c ⊙ (u − u_ref)` of the stabilised continuation
+/// ([`SolverSettings::stabilization`]), on the free unknowns.
+struct Stabilization {
+    /// β · |K₀ᵢᵢ| per free unknown.
+    damping: Vec<f64>,
+    /// The state of the last substep.
+    u_ref: Vec<f64>,
+    /// The undamped equilibrium it started from, restored if it fails.
+    origin: (Vec<f64>, LoadLevel),
+    /// Factor on `damping` (pseudo-time step⁻¹ of the relaxation).
+    scale: f64,
+}
+
+/// Stabilised relaxation steps at the output level, each followed by an undamped solve,
+/// before the stabilised continuation gives up.
+const MAX_RELAXATIONS: usize = 40;
+
+/// First pressure increment (MPa) of the stabilised continuation.
+const STABILIZED_INCREMENT: f64 = 0.0025;
 
 /// A Newton iteration that keeps more than this share of the residual makes no progress.
 const STALL_RATIO: f64 = 0.9;
@@ -525,6 +579,8 @@ impl<'m> Solver<'m> {
             factor_seconds: 0.0,
             assembly_seconds: 0.0,
             last_increment: None,
+            stab: None,
+            last_force_scale: 0.0,
             force_scale: {
                 let v: f64 = model.geometry.iter().map(|g| g.volume()).sum();
                 1e-3 * model.material.mu0() * v.powf(2.0 / 3.0)
@@ -570,16 +626,21 @@ impl<'m> Solver<'m> {
             augmented_updates: 0,
             augmented_failed: false,
             factorizations: 0,
+            stabilized: false,
         };
         let (f0, a0) = (self.factor_seconds, self.assembly_seconds);
         let n0 = self.linear.factorizations;
         let mut consecutive_cuts = 0;
         let mut retry_plain = false;
+        self.stab = None;
         while s < 1.0 - 1e-12 {
             let s_next = (s + frac).min(1.0);
             let level = start.lerp(&target, s_next);
             let saved = state.u_free.clone();
-            let predicted = self.settings.predictor && !retry_plain && self.predict(state, &level);
+            let predicted = self.settings.predictor
+                && !retry_plain
+                && self.stab.is_none()
+                && self.predict(state, &level);
             retry_plain = false;
             let out = self.newton(state, &level, false)?;
             report.newton_iterations += out.iterations;
@@ -592,10 +653,17 @@ impl<'m> Solver<'m> {
                 continue;
             }
             if out.converged {
-                if state.history.len() == 2 {
-                    state.history.remove(0);
+                if let Some(st) = &mut self.stab {
+                    // the next substep is damped against this state; the predictor must not
+                    // extrapolate across the jump
+                    st.u_ref.copy_from_slice(&state.u_free);
+                    state.history.clear();
+                } else {
+                    if state.history.len() == 2 {
+                        state.history.remove(0);
+                    }
+                    state.history.push((saved, state.level));
                 }
-                state.history.push((saved, state.level));
                 state.level = level;
                 s = s_next;
                 report.substeps += 1;
@@ -617,7 +685,23 @@ impl<'m> Solver<'m> {
                 // of the step), so that the retry is a different, smaller one
                 frac = 0.5 * (s_next - s);
                 self.last_increment = None;
+                if consecutive_cuts > self.settings.max_cutbacks
+                    && self.stab.is_none()
+                    && self.settings.stabilization > 0.0
+                    && self.start_stabilization(state)
+                {
+                    // through the instability with the viscous term (module docs)
+                    report.stabilized = true;
+                    consecutive_cuts = 0;
+                    frac = (STABILIZED_INCREMENT / dp.max(1e-300)).min(1.0 - s);
+                    continue;
+                }
                 if consecutive_cuts > self.settings.max_cutbacks {
+                    if let Some(st) = self.stab.take() {
+                        // report the last undamped equilibrium
+                        (state.u_free, state.level) = st.origin;
+                        state.history.clear();
+                    }
                     self.model
                         .expand(&state.u_free, &state.level, &mut state.u_full);
                     return Err(SolverError::NotConverged {
@@ -629,6 +713,25 @@ impl<'m> Solver<'m> {
                         reports: Vec::new(),
                     });
                 }
+            }
+        }
+        let origin = self.stab.as_ref().map(|st| st.origin.clone());
+        if let Some(origin) = origin.filter(|_| self.stab.is_some()) {
+            if !self.finish_stabilization(state, &target, &mut report)? {
+                // the output level was reached only with the viscous term: report the last
+                // undamped equilibrium
+                (state.u_free, state.level) = origin;
+                state.history.clear();
+                self.model
+                    .expand(&state.u_free, &state.level, &mut state.u_full);
+                return Err(SolverError::NotConverged {
+                    target,
+                    reached: state.level,
+                    cutbacks: report.cutbacks,
+                    residual: report.residual,
+                    completed: 0,
+                    reports: Vec::new(),
+                });
             }
         }
         self.model
@@ -787,8 +890,11 @@ impl<'m> Solver<'m> {
         accept
     }
 
+    /// Residual (and tangent) at `u_full`, the expansion of `u_free` at `level`; with the
+    /// stabilised continuation on, its viscous term is added on the free unknowns.
     fn assemble(
         &mut self,
+        u_free: &[f64],
         u_full: &[f64],
         level: &LoadLevel,
         with_k: bool,
@@ -800,8 +906,135 @@ impl<'m> Solver<'m> {
             .model
             .assemble_mixed(u_full, level, &mut self.r_full, k, tp)?;
         self.model.restrict(&self.r_full, &mut self.r_free);
+        if let Some(st) = &self.stab {
+            for (((r, c), u), u0) in self
+                .r_free
+                .iter_mut()
+                .zip(&st.damping)
+                .zip(u_free)
+                .zip(&st.u_ref)
+            {
+                *r += st.scale * c * (u - u0);
+            }
+            if with_k {
+                for (&p, c) in self.model.pattern.col_ptr.iter().zip(&st.damping) {
+                    self.k[p] += st.scale * c;
+                }
+            }
+        }
         self.assembly_seconds += t.elapsed().as_secs_f64();
         Ok(info)
+    }
+
+    /// Switches the stabilised continuation on at the converged `state`: the viscous
+    /// coefficients from the diagonal of the tangent there. Returns false if that tangent
+    /// cannot be assembled.
+    fn start_stabilization(&mut self, state: &mut PathState) -> bool {
+        self.stab = None;
+        self.use_tangent_pressure = false;
+        let mut u_full = std::mem::take(&mut state.u_full);
+        self.model.expand(&state.u_free, &state.level, &mut u_full);
+        let ok = self
+            .assemble(&state.u_free, &u_full, &state.level, true)
+            .is_ok();
+        state.u_full = u_full;
+        if !ok {
+            return false;
+        }
+        let pattern = &self.model.pattern;
+        let beta = self.settings.stabilization;
+        let mut damping: Vec<f64> = (0..self.model.dofs.n_free)
+            .map(|j| {
+                let p = pattern.col_ptr[j];
+                // rows are sorted and ≥ the column: the diagonal comes first
+                debug_assert_eq!(pattern.row_idx[p], j);
+                beta * self.k[p].abs()
+            })
+            .collect();
+        let mean = damping.iter().sum::<f64>() / damping.len().max(1) as f64;
+        for c in &mut damping {
+            if *c <= 0.0 || !c.is_finite() {
+                *c = mean;
+            }
+        }
+        if self.settings.trace {
+            eprintln!(
+                "  stabilised continuation from p={:.4} (β = {beta:.1e})",
+                state.level.pressure
+            );
+        }
+        self.stab = Some(Stabilization {
+            damping,
+            u_ref: state.u_free.clone(),
+            origin: (state.u_free.clone(), state.level),
+            scale: 1.0,
+        });
+        true
+    }
+
+    /// End of a stabilised output step at `level`: pseudo-transient relaxation at the same
+    /// load. Each relaxation step solves with the viscous term against the state before it;
+    /// the term is then weakened fourfold (a longer pseudo-time step), or strengthened if the
+    /// step failed. Once the viscous force of a step is below 1 % of the force scale, an
+    /// undamped Newton solve is tried from there. Returns whether an undamped equilibrium was
+    /// reached; the viscous term is off afterwards.
+    fn finish_stabilization(
+        &mut self,
+        state: &mut PathState,
+        level: &LoadLevel,
+        report: &mut StepReport,
+    ) -> Result<bool, SolverError> {
+        let Some(mut st) = self.stab.take() else {
+            return Ok(true);
+        };
+        let mut try_undamped = true;
+        for relaxation in 0..MAX_RELAXATIONS {
+            if try_undamped {
+                let saved = state.u_free.clone();
+                let out = self.newton(state, level, false)?;
+                report.newton_iterations += out.iterations;
+                if self.settings.trace {
+                    eprintln!(
+                        "  undamped solve after {relaxation} relaxations (viscous scale {:.1e}): {}",
+                        st.scale,
+                        if out.converged { "converged" } else { "not converged" }
+                    );
+                }
+                if out.converged {
+                    report.residual = out.residual;
+                    report.update = out.update;
+                    return Ok(true);
+                }
+                state.u_free = saved;
+            }
+            st.u_ref.copy_from_slice(&state.u_free);
+            self.stab = Some(st);
+            let out = self.newton(state, level, false);
+            st = self.stab.take().expect("set above");
+            let out = out?;
+            report.newton_iterations += out.iterations;
+            if !out.converged {
+                state.u_free.copy_from_slice(&st.u_ref);
+                st.scale *= 4.0;
+                try_undamped = false;
+                if st.scale > 1e3 {
+                    break;
+                }
+                continue;
+            }
+            // the viscous force of this step is what the undamped residual now is
+            let viscous = st
+                .damping
+                .iter()
+                .zip(&state.u_free)
+                .zip(&st.u_ref)
+                .map(|((c, u), u0)| (st.scale * c * (u - u0)).powi(2))
+                .sum::<f64>()
+                .sqrt();
+            try_undamped = viscous <= 1e-2 * self.last_force_scale;
+            st.scale *= 0.25;
+        }
+        Ok(false)
     }
 
     fn newton(
@@ -858,20 +1091,21 @@ impl<'m> Solver<'m> {
                     return Ok(out);
                 }
             }
-            let mut ext = match self.assemble(u_full, level, !modified) {
+            let mut ext = match self.assemble(&state.u_free, u_full, level, !modified) {
                 Ok(info) => info.external_norm,
                 Err(_) => return Ok(out),
             };
             if modified && it >= 1 && norm(&self.r_free) > REUSE_CONTRACTION * previous_residual {
                 // too slow: the tangent of this state from here on
                 modified = false;
-                ext = match self.assemble(u_full, level, true) {
+                ext = match self.assemble(&state.u_free, u_full, level, true) {
                     Ok(info) => info.external_norm,
                     Err(_) => return Ok(out),
                 };
             }
             let reactions = self.reaction_norm();
             let scale = ext.max(reactions).max(self.force_scale);
+            self.last_force_scale = scale;
             let rn = norm(&self.r_free);
             out.residual = rn / scale;
             out.iterations = it;
@@ -932,10 +1166,18 @@ impl<'m> Solver<'m> {
             }
             let alpha = self.line_search(state, level, u_full);
             if self.settings.trace {
-                eprintln!(
-                    "           step |du|max = {:.3e}, alpha = {alpha:.3}",
-                    self.du.iter().fold(0.0f64, |m, v| m.max(v.abs()))
-                );
+                // where the largest component of the step is (reference position of its node)
+                let (imax, dmax) = self.du.iter().enumerate().fold((0, 0.0f64), |m, (i, v)| {
+                    if v.abs() > m.1 {
+                        (i, v.abs())
+                    } else {
+                        m
+                    }
+                });
+                let at = (0..u_full.len())
+                    .find(|&d| self.model.dofs.eq(d) == Some(imax))
+                    .map(|d| (self.model.mesh.nodes[d / 3], d % 3));
+                eprintln!("           step |du|max = {dmax:.3e} at {at:?}, alpha = {alpha:.3}");
             }
             let un = norm(&state.u_free).max(1e-12);
             out.update = alpha * norm(&self.du) / un;
@@ -1005,9 +1247,10 @@ impl<'m> Solver<'m> {
             }
             let trial = std::mem::take(&mut self.trial);
             self.model.expand(&trial, level, u_full);
-            self.trial = trial;
             self.guard_residual = None;
-            let Ok(info) = self.assemble(u_full, level, false) else {
+            let assembled = self.assemble(&trial, u_full, level, false);
+            self.trial = trial;
+            let Ok(info) = assembled else {
                 // det F guard: shorten the step until every element is admissible
                 if admissible {
                     return lo.0;
