@@ -39,7 +39,10 @@ pub enum Mode {
     #[default]
     Bending,
     /// Blocked force: a rigid plate 5 mm below the tip of the actuator hanging unpressurised
-    /// under its own weight; the plate's reaction per pressure step.
+    /// under its own weight; the plate's reaction per pressure step. The plate is an infinite
+    /// frictionless plane; every outer face of the tip region (reference z ≥ Lf − 25: bottom
+    /// layer, end cap, bellow flanks and tops, side wall) is searched against it, so a tip
+    /// that turns past vertical rests on its end cap instead of passing through the plate.
     Force,
 }
 

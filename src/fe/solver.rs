@@ -82,6 +82,24 @@
 //! 11 % less CPU time (bending 58.3 → 52.1 s, blocked force 73.6 → 65.7 s, one thread, loaded
 //! machine).
 //!
+//! Through an instability ([`SolverSettings::stabilization`]): where an output step has been
+//! cut back [`SolverSettings::max_cutbacks`] times in a row (a limit or bifurcation point:
+//! the tangent is nearly singular and Newton steps shoot off along its soft mode), the rest
+//! of the step is taken with a viscous term `β · diag(K₀) · (u − u_prev)` added to the
+//! residual and `β · diag(K₀)` to the tangent, `K₀` the tangent where the step stopped and
+//! `u_prev` the state of the previous substep (pseudo-time stepping, as the "stabilize"
+//! option of commercial codes). At the output level the term is relaxed at constant load,
+//! weakened fourfold per relaxation step (pseudo-transient continuation), and an undamped
+//! Newton solve is tried whenever the viscous force of a step has fallen below 1 % of the
+//! force scale: only an undamped equilibrium is reported ([`StepReport::stabilized`] marks
+//! the step), otherwise the step fails as before. It acts only where the solver used to
+//! stop, so every result that converged without it is unchanged. Test: a clamped shallow arch
+//! under a dead load snaps through two instabilities to its inverted shape
+//! (`tests/solver_stabilization.rs`). On the actuator, the blocked-force failures it was
+//! written for (thin N = 13, soft sets, above 2.5 bar) turned out to be a missing contact
+//! instead: the tip had turned past vertical on the plate and the end cap went through it
+//! ([`super::simulate`]).
+//!
 //! The fill-reducing ordering is the one of AMD and METIS nested dissection
 //! ([`super::ordering`]) that gives the smaller factor: nested dissection on the standard mesh
 //! (nnz(L) 64.5 M → 52.5 M, one factorisation about 30 % faster, `cargo bench --bench fe --
