@@ -119,7 +119,7 @@ fn unconverged_rows_are_skipped_and_truncated_ramps_dropped() {
     let mut buf = Vec::new();
     surrogate::rom::synthetic::write_csv(&cfg, &mut buf).unwrap();
     let set = SnapshotSet::from_reader(buf.as_slice(), "s").unwrap();
-    assert!(set.skipped_unconverged > 0 && set.skipped_unconverged % 2 == 0);
+    assert!(set.skipped_unconverged > 0 && set.skipped_unconverged.is_multiple_of(2));
     let dropped_expected = set.skipped_unconverged / 2;
     let cases = set.into_cases().unwrap();
     assert_eq!(cases.pressures.len(), 15);

@@ -148,7 +148,7 @@ impl TensorGrid {
     /// Coordinate of grid node `g` (0..=2·cells) along `axis` (odd indices are mid-points).
     pub fn node_coord(&self, axis: usize, g: usize) -> f64 {
         let l = &self.lines[axis];
-        if g % 2 == 0 {
+        if g.is_multiple_of(2) {
             l[g / 2]
         } else {
             0.5 * (l[g / 2] + l[g / 2 + 1])
