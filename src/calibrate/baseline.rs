@@ -19,7 +19,9 @@ use super::experiments::{bending_error, BendingRecord, ForceRecord};
 use crate::fe::geometry::DesignParams;
 use crate::fe::material::Material;
 use crate::fe::mesh::MeshOptions;
-use crate::fe::simulate::{simulate_with, Case, ContactSettings, Mode, SimulateError, StepResult};
+use crate::fe::simulate::{
+    simulate_with, Case, ContactSettings, Mode, SimulateError, StepResult, FORCE_MODEL_REVISION,
+};
 use crate::fe::solver::SolverSettings;
 
 /// One row of the baseline table.
@@ -179,7 +181,7 @@ impl RampCache {
             Mode::Force => "force",
         };
         let p = case.design.params();
-        let key = serde_json::json!({
+        let mut key = serde_json::json!({
             "code_version": env!("CARGO_PKG_VERSION"),
             "design": [p.n_bellows, p.wall_thickness],
             "material": case.material,
@@ -189,8 +191,11 @@ impl RampCache {
             "solver": case.solver,
             "mode": mode,
             "contact": case.contact,
-        })
-        .to_string();
+        });
+        if case.mode == Mode::Force {
+            key["plate_revision"] = FORCE_MODEL_REVISION.into();
+        }
+        let key = key.to_string();
         RampCache {
             path: dir.join(format!(
                 "n{}_t{}_{mode}.json",

@@ -31,6 +31,11 @@ pub const PLATE_OFFSET: f64 = 5.0;
 /// The plate lies under z ∈ [Lf − 25, Lf + 5] (mm, SPEC).
 pub const PLATE_REACH: (f64, f64) = (25.0, 5.0);
 
+/// Revision of the blocked-force model, part of the key of cached force ramps
+/// ([`crate::calibrate::baseline`]): 2 = the plate meets every outer face of the tip region
+/// (1: the bottom layer only, which let a tip turned past vertical pass through the plate).
+pub const FORCE_MODEL_REVISION: u32 = 2;
+
 /// What the rig measures.
 #[derive(Clone, Copy, Debug, Default, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
