@@ -734,7 +734,7 @@ impl<'m> Solver<'m> {
             }
         }
         let origin = self.stab.as_ref().map(|st| st.origin.clone());
-        if let Some(origin) = origin.filter(|_| self.stab.is_some()) {
+        if let Some(origin) = origin {
             if !self.finish_stabilization(state, &target, &mut report)? {
                 // the output level was reached only with the viscous term: report the last
                 // undamped equilibrium
