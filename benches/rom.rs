@@ -72,6 +72,17 @@ fn bench(c: &mut Criterion) {
         c.bench_function(&format!("{name}/library/gradient"), |b| {
             b.iter(|| m.gradient_into(black_box(&q), &mut pred, &mut jac).unwrap())
         });
+        // design and material fixed, pressure varying: the prepared ramp
+        c.bench_function(&format!("{name}/ramp/build"), |b| {
+            b.iter(|| m.ramp(black_box(&q)).unwrap())
+        });
+        let ramp = m.ramp(&q).unwrap();
+        c.bench_function(&format!("{name}/ramp/tip_angle_force"), |b| {
+            b.iter(|| ramp.predict_scalars(black_box(q.p_bar)).unwrap())
+        });
+        c.bench_function(&format!("{name}/ramp/all_outputs"), |b| {
+            b.iter(|| ramp.predict_into(black_box(q.p_bar), &mut pred).unwrap())
+        });
         let t32 = EmbeddedTables::<f32>::from_surrogate(&m).unwrap();
         let b32 = t32.block_tables();
         let e32 = t32.view(&b32);

@@ -49,4 +49,12 @@ fn predict_into_std_and_gradient_do_not_allocate() {
         m.gradient_into(&qi, &mut pred, &mut jac).unwrap();
     }
     assert_eq!(ALLOCS.load(Ordering::SeqCst) - before, 0);
+    // a prepared ramp (design and material fixed) neither
+    let ramp = m.ramp(&q).unwrap();
+    let before = ALLOCS.load(Ordering::SeqCst);
+    for i in 0..100 {
+        ramp.predict_into(0.03 * i as f64, &mut pred).unwrap();
+        ramp.predict_scalars(0.03 * i as f64).unwrap();
+    }
+    assert_eq!(ALLOCS.load(Ordering::SeqCst) - before, 0);
 }

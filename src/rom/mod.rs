@@ -104,6 +104,7 @@ pub mod fidelity;
 pub mod metrics;
 pub mod model;
 pub mod pod;
+pub mod ramp;
 pub mod regression;
 pub mod surrogate;
 pub mod synthetic;
@@ -111,6 +112,7 @@ pub mod train;
 
 pub use data::{CaseInputs, SnapshotSet};
 pub use model::FORMAT_VERSION;
+pub use ramp::Ramp;
 pub use surrogate::{Jacobian, Prediction, Query, Surrogate};
 pub use train::{train, TrainConfig, TrainReport};
 
