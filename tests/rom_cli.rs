@@ -383,3 +383,42 @@ fn speedup_benchmark_rejects_bad_input_before_any_fe_run() {
     );
     assert!(!out.exists());
 }
+
+#[test]
+fn learning_curve_prints_one_row_per_size_and_rejects_bad_sizes() {
+    let out = dir().join("curve.json");
+    let o = bin()
+        .args(["train", "--synthetic", "24", "--folds", "3", "--quiet"])
+        .args(["--learning-curve", "6,12,24", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let (stdout, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    let rows: Vec<Vec<f64>> = stdout
+        .lines()
+        .filter_map(|l| l.strip_prefix("learning curve: "))
+        .map(|l| l.split(' ').map(|v| v.parse().unwrap()).collect())
+        .collect();
+    assert_eq!(rows.len(), 3, "{stdout}");
+    assert_eq!(
+        rows.iter().map(|r| r[0]).collect::<Vec<_>>(),
+        [6.0, 12.0, 24.0]
+    );
+    // 5 outputs per row; more cases, smaller tip error on this smooth synthetic set
+    assert!(rows.iter().all(|r| r.len() == 6));
+    assert!(rows[2][2] < rows[0][2], "{stdout}");
+    // the last size is the whole set: the same errors as the model saved
+    assert!(stdout.contains("validation:"));
+    let o = bin()
+        .args(["train", "--synthetic", "24", "--folds", "3", "--quiet"])
+        .args(["--learning-curve", "2", "--out"])
+        .arg(&out)
+        .output()
+        .unwrap();
+    let err = text(&o).1;
+    assert!(
+        !o.status.success() && err.contains("--learning-curve size 2"),
+        "{err}"
+    );
+}

@@ -75,6 +75,11 @@ pub struct TrainArgs {
     /// Also use truncated ramps (≥ half the grid converged) for the regression, through gappy POD.
     #[arg(long)]
     pub fill_truncated: bool,
+    /// Learning curve: also train on the first K cases (by case id) for each K of this
+    /// comma-separated list and print the held-out RMSE of every output per K (the model
+    /// saved is the one trained on all cases).
+    #[arg(long, value_delimiter = ',')]
+    pub learning_curve: Vec<usize>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,

@@ -1,7 +1,7 @@
 //! `surrogate train`: read snapshots → train with cross-validation → save → print validation.
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use surrogate::rom::data::SnapshotSet;
+use surrogate::rom::data::{CaseSet, SnapshotSet};
 use surrogate::rom::fidelity::{correct, discrepancy, CorrectionInfo};
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
@@ -37,6 +37,49 @@ fn correct_set(
         validation: report.surrogate.validation,
     };
     Ok((set, info))
+}
+
+/// Trains on the first `k` cases (by case id) for each `k` and prints the held-out RMSE of
+/// every output: how accuracy grows with the size of the set.
+fn learning_curve(
+    cases: &CaseSet,
+    source: &str,
+    skipped: usize,
+    cfg: &TrainConfig,
+    sizes: &[usize],
+) -> Result<()> {
+    let mut order: Vec<usize> = (0..cases.cases.len()).collect();
+    order.sort_by(|&i, &j| cases.cases[i].case_id.cmp(&cases.cases[j].case_id));
+    let mut header = false;
+    for &k in sizes {
+        anyhow::ensure!(
+            (cfg.folds..=cases.cases.len()).contains(&k),
+            "invalid --learning-curve size {k}: expected {} to {} (folds to the number of complete cases)",
+            cfg.folds,
+            cases.cases.len()
+        );
+        let mut sub = cases.clone();
+        sub.cases = order[..k].iter().map(|&i| cases.cases[i].clone()).collect();
+        sub.partial.clear();
+        let report = train(&sub, source, skipped, cfg, &|_, _| {})?;
+        let v = &report.surrogate.validation;
+        if !header {
+            let names: Vec<&str> = v.outputs.iter().map(|o| o.name.as_str()).collect();
+            println!(
+                "learning curve ({}, RMSE): cases {}",
+                v.scheme,
+                names.join(" ")
+            );
+            header = true;
+        }
+        let rmse: Vec<String> = v
+            .outputs
+            .iter()
+            .map(|o| format!("{:.4}", o.total.rmse))
+            .collect();
+        println!("learning curve: {k} {}", rmse.join(" "));
+    }
+    Ok(())
 }
 
 pub fn run(a: TrainArgs) -> Result<()> {
@@ -101,6 +144,9 @@ pub fn run(a: TrainArgs) -> Result<()> {
             "{} truncated cases cover at least half of the grid: {how}",
             cases.partial.len()
         );
+    }
+    if !a.learning_curve.is_empty() {
+        learning_curve(&cases, &source, skipped, &cfg, &a.learning_curve)?;
     }
     let bar = if a.quiet {
         ProgressBar::hidden()
