@@ -5,7 +5,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use surrogate::predict::evaluate;
+use surrogate::predict::{evaluate, evaluate_ramp, RampTables};
 use surrogate::rom::data::SnapshotSet;
 use surrogate::rom::export::EmbeddedTables;
 use surrogate::rom::fast::kernel_vector;
@@ -98,6 +98,15 @@ fn bench(c: &mut Criterion) {
         let mut out64 = [0f64; 22];
         c.bench_function(&format!("{name}/embedded_f64/all_outputs"), |b| {
             b.iter(|| evaluate(&e64, black_box(&a), &mut out64).unwrap())
+        });
+        // an exported ramp (`export --ramp`), f32
+        let v32: Vec<f32> = ramp.values().iter().map(|&v| v as f32).collect();
+        let r32 = RampTables {
+            pressures: ramp.pressures(),
+            values: &v32,
+        };
+        c.bench_function(&format!("{name}/embedded_ramp_f32/all_outputs"), |b| {
+            b.iter(|| evaluate_ramp(&r32, black_box(2.1f32), &mut out32).unwrap())
         });
     }
 }

@@ -422,3 +422,76 @@ fn learning_curve_prints_one_row_per_size_and_rejects_bad_sizes() {
         "{err}"
     );
 }
+
+#[test]
+fn export_ramp_writes_one_design_and_needs_it_named() {
+    let rs = dir().join("ramp.rs");
+    let o = bin()
+        .args([
+            "export",
+            "--ramp",
+            "--n",
+            "11",
+            "--t",
+            "2.0",
+            "--material",
+            "ogden_002",
+        ])
+        .arg("--model")
+        .arg(model())
+        .arg("--rust")
+        .arg(&rs)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o).1);
+    let src = std::fs::read_to_string(&rs).unwrap();
+    assert!(
+        src.contains("pub static RAMP: RampTables<'static, f32>")
+            && src.contains("extern \"C\" fn surrogate_ramp_f32(p_bar: f32, out: *mut f32)")
+            && src.contains("N = 11, T = 2 mm"),
+        "{src}"
+    );
+    assert!(std::fs::read_to_string(rs.with_extension("h"))
+        .unwrap()
+        .contains("surrogate_ramp_f32"));
+    // the design must be named, and only with --ramp
+    let o = bin()
+        .args(["export", "--ramp", "--n", "11", "--model"])
+        .arg(model())
+        .arg("--rust")
+        .arg(&rs)
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && text(&o).1.contains("--ramp needs --n, --t and --material"));
+    let o = bin()
+        .args(["export", "--n", "11", "--model"])
+        .arg(model())
+        .arg("--rust")
+        .arg(&rs)
+        .output()
+        .unwrap();
+    assert!(!o.status.success() && text(&o).1.contains("give --ramp too"));
+    // an untrained N is the library's clear error
+    let o = bin()
+        .args([
+            "export",
+            "--ramp",
+            "--n",
+            "10",
+            "--t",
+            "2.0",
+            "--material",
+            "ogden_002",
+        ])
+        .arg("--model")
+        .arg(model())
+        .arg("--rust")
+        .arg(&rs)
+        .output()
+        .unwrap();
+    assert!(
+        !o.status.success() && text(&o).1.contains("n = 10"),
+        "{}",
+        text(&o).1
+    );
+}

@@ -1,6 +1,8 @@
 //! The embedded predictor agrees with the library, and its module compiles with `#![no_std]`.
-use surrogate::predict::{evaluate, EmbeddedError};
-use surrogate::rom::export::{c_header, rust_source, EmbeddedTables, Precision};
+use surrogate::predict::{evaluate, evaluate_ramp, EmbeddedError, RampTables};
+use surrogate::rom::export::{
+    c_header, ramp_c_header, ramp_rust_source, rust_source, EmbeddedTables, Precision,
+};
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::{Query, Surrogate};
 
@@ -107,9 +109,13 @@ fn no_std_module_compiles() {
         rust_source(&m, Precision::F64, &sum).unwrap(),
     )
     .unwrap();
+    let q = Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
+    for (file, p) in [("ramp32.rs", Precision::F32), ("ramp64.rs", Precision::F64)] {
+        std::fs::write(dir.join(file), ramp_rust_source(&m, &q, p, &sum).unwrap()).unwrap();
+    }
     std::fs::write(
         dir.join("lib.rs"),
-        "#![no_std]\n//! no_std check of the embedded predictor\npub mod predict;\npub mod model32;\npub mod model64;\n",
+        "#![no_std]\n//! no_std check of the embedded predictor\npub mod predict;\npub mod model32;\npub mod model64;\npub mod ramp32;\npub mod ramp64;\n",
     )
     .unwrap();
     let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
@@ -136,6 +142,58 @@ fn no_std_module_compiles() {
     );
     let header = c_header(Precision::F32, &sum);
     assert!(header.contains("int32_t surrogate_predict_f32(uint32_t n, float t_mm, float p_bar"));
+    let header = ramp_c_header(Precision::F64, &sum, &q);
+    assert!(header.contains("int32_t surrogate_ramp_f64(double p_bar, double *out);"));
+}
+
+/// An exported ramp (one design and material) gives the library's prepared ramp: bit for bit
+/// in f64, to 1e-5 of each quantity's largest |value| in f32.
+#[test]
+fn exported_ramp_agrees_with_the_library_ramp() {
+    for only in [Some(RegressorKind::Gp), None] {
+        let m = rom_common::small_model(only);
+        for q in held_out(&m).into_iter().step_by(6) {
+            let ramp = m.ramp(&q).unwrap();
+            let t64 = RampTables {
+                pressures: ramp.pressures(),
+                values: ramp.values(),
+            };
+            let v32: Vec<f32> = ramp.values().iter().map(|&v| v as f32).collect();
+            let t32 = RampTables {
+                pressures: ramp.pressures(),
+                values: &v32,
+            };
+            let mut largest = [0.0f64; 22];
+            for (i, v) in ramp.values().iter().enumerate() {
+                largest[i % 22] = largest[i % 22].max(v.abs());
+            }
+            let mut pred = m.new_prediction();
+            let (mut o64, mut o32) = ([0f64; 22], [0f32; 22]);
+            for i in 0..=40 {
+                let p = -0.1 + 0.09 * i as f64;
+                ramp.predict_into(p, &mut pred).unwrap();
+                evaluate_ramp(&t64, p, &mut o64).unwrap();
+                assert_eq!(o64, pred.values, "p = {p}");
+                evaluate_ramp(&t32, p as f32, &mut o32).unwrap();
+                for k in 0..22 {
+                    let gap = (o32[k] as f64 - pred.values[k]).abs() / largest[k].max(1e-12);
+                    assert!(gap <= 1e-5, "quantity {k}, p = {p}: relative gap {gap:e}");
+                }
+            }
+            assert_eq!(
+                evaluate_ramp(&t64, f64::NAN, &mut o64),
+                Err(EmbeddedError::NonFinite(2))
+            );
+            let bad = RampTables {
+                pressures: ramp.pressures(),
+                values: &ramp.values()[1..],
+            };
+            assert_eq!(
+                evaluate_ramp(&bad, 1.0, &mut o64),
+                Err(EmbeddedError::BadModel)
+            );
+        }
+    }
 }
 
 /// The exported `extern "C"` entry point, built as a `#![no_std]` static library and called

@@ -4,7 +4,7 @@
 
 use std::fmt::Write as _;
 
-use super::surrogate::Surrogate;
+use super::surrogate::{Query, Surrogate};
 use super::{RomError, QUANTITY_NAMES};
 use crate::predict::{BlockTables, EmbeddedModel, GpTables, PolyTables, Real, MAX_COEFS};
 
@@ -263,6 +263,70 @@ pub fn c_header(p: Precision, checksum: &str) -> String {
         out,
         " * Returns 0 on success, 1 non-finite input, 2 untrained N, 3 inadmissible material,\n * 4 bad model, 5 null pointer. */\nint32_t {}(uint32_t n, {ty} t_mm, {ty} p_bar, {ty} mu1, {ty} alpha1, {ty} mu2, {ty} alpha2, {ty} *out);\n\n#ifdef __cplusplus\n}}\n#endif\n#endif /* SURROGATE_MODEL_H */\n",
         c_symbol(p)
+    );
+    out
+}
+
+/// Name of the C entry point of an exported ramp ([`ramp_rust_source`]).
+pub fn ramp_c_symbol(p: Precision) -> String {
+    format!("surrogate_ramp_{}", p.ty())
+}
+
+/// Rust source of one design and material exported as its reconstructed pressure ramp
+/// ([`crate::rom::Ramp`]): `static` tables (the grid and 22 × n_p values), `pub static RAMP`
+/// and the C entry point `surrogate_ramp_f32/f64(p_bar, out)`. Like [`rust_source`] it
+/// expects the predictor module at `crate::predict` and compiles under `#![no_std]`.
+///
+/// # Errors
+/// Invalid query ([`Surrogate::check_query`]).
+pub fn ramp_rust_source(
+    s: &Surrogate,
+    q: &Query,
+    p: Precision,
+    checksum: &str,
+) -> Result<String, RomError> {
+    let ramp = s.ramp(q)?;
+    let ty = p.ty();
+    let mut out = format!(
+        "//! Pressure ramp exported by `surrogate export --ramp` (model {checksum}, precision {ty}):\n//! N = {}, T = {} mm, Ogden μ₁ = {} MPa, α₁ = {}, μ₂ = {} MPa, α₂ = {}.\n//! Needs the embedded predictor module at `crate::predict`; `core` only.\n//! Outputs (22): {}.\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse crate::predict::{{evaluate_ramp, RampTables}};\n\n",
+        q.n,
+        q.t_mm,
+        q.mu1,
+        q.alpha1,
+        q.mu2,
+        q.alpha2,
+        QUANTITY_NAMES.join(", ")
+    );
+    array(&mut out, "PRESSURES", "f64", ramp.pressures());
+    match p {
+        Precision::F32 => {
+            let v: Vec<f32> = ramp.values().iter().map(|&x| x as f32).collect();
+            array(&mut out, "VALUES", ty, &v);
+        }
+        Precision::F64 => array(&mut out, "VALUES", ty, ramp.values()),
+    }
+    let _ = write!(
+        out,
+        "\n/// The exported ramp.\npub static RAMP: RampTables<'static, {ty}> = RampTables {{ pressures: &PRESSURES, values: &VALUES }};\n\n/// C entry point: writes the 22 outputs at `p_bar` (clamped to the grid) to `out`; returns 0 on\n/// success, 1 non-finite pressure, 4 bad tables, 5 null pointer.\n///\n/// # Safety\n/// `out` must point to 22 writable `{ty}`.\n#[no_mangle]\npub unsafe extern \"C\" fn {}(p_bar: {ty}, out: *mut {ty}) -> i32 {{\n    if out.is_null() {{\n        return 5;\n    }}\n    let mut values = [0.0 as {ty}; 22];\n    match evaluate_ramp(&RAMP, p_bar, &mut values) {{\n        Ok(()) => {{\n            let mut i = 0;\n            while i < 22 {{\n                *out.add(i) = values[i];\n                i += 1;\n            }}\n            0\n        }}\n        Err(e) => e.code(),\n    }}\n}}\n",
+        ramp_c_symbol(p)
+    );
+    Ok(out)
+}
+
+/// C header declaring the entry point of [`ramp_rust_source`].
+pub fn ramp_c_header(p: Precision, checksum: &str, q: &Query) -> String {
+    let ty = p.c_ty();
+    let mut out = format!(
+        "/* Pressure ramp exported by `surrogate export --ramp` (model {checksum}):\n * N = {}, T = {} mm, Ogden mu1 = {} MPa, alpha1 = {}, mu2 = {} MPa, alpha2 = {}. */\n#ifndef SURROGATE_RAMP_H\n#define SURROGATE_RAMP_H\n#include <stdint.h>\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n#define SURROGATE_N_OUTPUTS 22\n/* Output order:\n",
+        q.n, q.t_mm, q.mu1, q.alpha1, q.mu2, q.alpha2
+    );
+    for (i, name) in QUANTITY_NAMES.iter().enumerate() {
+        let _ = writeln!(out, " *  {i:2}: {name}");
+    }
+    let _ = write!(
+        out,
+        " * Returns 0 on success, 1 non-finite pressure, 4 bad tables, 5 null pointer. */\nint32_t {}({ty} p_bar, {ty} *out);\n\n#ifdef __cplusplus\n}}\n#endif\n#endif /* SURROGATE_RAMP_H */\n",
+        ramp_c_symbol(p)
     );
     out
 }

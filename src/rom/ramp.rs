@@ -72,6 +72,16 @@ impl Surrogate {
 }
 
 impl Ramp {
+    /// The pressure grid, bar.
+    pub fn pressures(&self) -> &[f64] {
+        &self.pressures
+    }
+
+    /// The 22 quantities at each grid node, node-major (`values[j * 22 + q]`).
+    pub fn values(&self) -> &[f64] {
+        &self.values
+    }
+
     /// All 22 quantities at `p_bar` (clamped to the grid, as in
     /// [`Surrogate::predict_into`]); no allocation.
     ///

@@ -152,6 +152,20 @@ pub struct ExportArgs {
     /// Precision of the tables.
     #[arg(long, value_enum, default_value = "f32")]
     pub precision: PrecisionArg,
+    /// Export one design and material as its reconstructed pressure ramp (needs --n, --t and
+    /// --material): a table of 22 × n_p values and `surrogate_ramp_f32/f64(p_bar, out)`, for a
+    /// controller whose actuator and calibrated material are fixed.
+    #[arg(long)]
+    pub ramp: bool,
+    /// Number of bellows of the exported ramp.
+    #[arg(long = "n")]
+    pub n: Option<u32>,
+    /// Wall thickness of the exported ramp, mm.
+    #[arg(long = "t")]
+    pub t: Option<f64>,
+    /// Material of the exported ramp: a name (ogden_002, ogden_005) or `mu1,alpha1,mu2,alpha2`.
+    #[arg(long, allow_hyphen_values = true)]
+    pub material: Option<String>,
 }
 
 /// Measurement mode.
