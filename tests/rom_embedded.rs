@@ -224,14 +224,34 @@ fn c_entry_point_links_and_agrees() {
     )
     .unwrap();
     std::fs::write(dir.join("model.h"), c_header(Precision::F32, &sum)).unwrap();
+    // the same design and material exported as a ramp
+    let q_ramp = Query {
+        n: 11,
+        t_mm: 2.0,
+        p_bar: 0.0,
+        mu1: 1.13f32 as f64,
+        alpha1: 3.11f32 as f64,
+        mu2: -13.17f32 as f64,
+        alpha2: -0.6f32 as f64,
+    };
+    std::fs::write(
+        dir.join("ramp32.rs"),
+        ramp_rust_source(&m, &q_ramp, Precision::F32, &sum).unwrap(),
+    )
+    .unwrap();
+    std::fs::write(
+        dir.join("ramp.h"),
+        ramp_c_header(Precision::F32, &sum, &q_ramp),
+    )
+    .unwrap();
     std::fs::write(
         dir.join("lib.rs"),
-        "#![no_std]\npub mod predict;\npub mod model32;\n#[panic_handler]\nfn panic(_: &core::panic::PanicInfo) -> ! {\n    loop {}\n}\n",
+        "#![no_std]\npub mod predict;\npub mod model32;\npub mod ramp32;\n#[panic_handler]\nfn panic(_: &core::panic::PanicInfo) -> ! {\n    loop {}\n}\n",
     )
     .unwrap();
     std::fs::write(
         dir.join("main.c"),
-        "#include <stdio.h>\n#include \"model.h\"\n/* the precompiled libcore refers to it even with panic=abort; never called */\nvoid rust_eh_personality(void) {}\nint main(void) {\n  float out[SURROGATE_N_OUTPUTS];\n  int rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  int bad = surrogate_predict_f32(12, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out + 0);\n  printf(\"%d %d\", rc, bad);\n  rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", out[i]);\n  printf(\"\\n\");\n  return 0;\n}\n",
+        "#include <stdio.h>\n#include \"model.h\"\n#include \"ramp.h\"\n/* the precompiled libcore refers to it even with panic=abort; never called */\nvoid rust_eh_personality(void) {}\nint main(void) {\n  float out[SURROGATE_N_OUTPUTS];\n  int rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  int bad = surrogate_predict_f32(12, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out + 0);\n  printf(\"%d %d\", rc, bad);\n  rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", out[i]);\n  float ramp[SURROGATE_N_OUTPUTS];\n  printf(\" %d\", surrogate_ramp_f32(1.5f, ramp));\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", ramp[i]);\n  printf(\"\\n\");\n  return 0;\n}\n",
     )
     .unwrap();
     let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
@@ -284,6 +304,21 @@ fn c_entry_point_links_and_agrees() {
             "output {k}: C {} vs library {}",
             v[2 + k],
             lib[k]
+        );
+    }
+    // the ramp entry point: return code 0 and the library ramp's values at 1.5 bar
+    assert_eq!(v[24], 0.0, "ramp return code");
+    let mut pred = m.new_prediction();
+    m.ramp(&q_ramp)
+        .unwrap()
+        .predict_into(1.5, &mut pred)
+        .unwrap();
+    for k in 0..22 {
+        assert!(
+            (v[25 + k] - pred.values[k]).abs() <= 1e-5 * pred.values[k].abs().max(1.0),
+            "ramp output {k}: C {} vs library {}",
+            v[25 + k],
+            pred.values[k]
         );
     }
 }
