@@ -310,6 +310,6 @@ pub struct DemoArgs {
     #[arg(long, default_value = "demo_output")]
     pub out_dir: PathBuf,
     /// Surrogate to compare with the FE model (skipped with a note if it cannot be used).
-    #[arg(long, default_value = "models/actuator_coarse_61.json")]
+    #[arg(long, default_value = "models/actuator_coarse_interim.json")]
     pub model: PathBuf,
 }
