@@ -715,42 +715,15 @@ impl<'m> Solver<'m> {
                     continue;
                 }
                 if consecutive_cuts > self.settings.max_cutbacks {
-                    if let Some(st) = self.stab.take() {
-                        // report the last undamped equilibrium
-                        (state.u_free, state.level) = st.origin;
-                        state.history.clear();
-                    }
-                    self.model
-                        .expand(&state.u_free, &state.level, &mut state.u_full);
-                    return Err(SolverError::NotConverged {
-                        target,
-                        reached: state.level,
-                        cutbacks: report.cutbacks,
-                        residual: out.residual,
-                        completed: 0,
-                        reports: Vec::new(),
-                    });
+                    let origin = self.stab.take().map(|st| st.origin);
+                    return Err(self.give_up(state, target, origin, report.cutbacks, out.residual));
                 }
             }
         }
         let origin = self.stab.as_ref().map(|st| st.origin.clone());
-        if let Some(origin) = origin {
-            if !self.finish_stabilization(state, &target, &mut report)? {
-                // the output level was reached only with the viscous term: report the last
-                // undamped equilibrium
-                (state.u_free, state.level) = origin;
-                state.history.clear();
-                self.model
-                    .expand(&state.u_free, &state.level, &mut state.u_full);
-                return Err(SolverError::NotConverged {
-                    target,
-                    reached: state.level,
-                    cutbacks: report.cutbacks,
-                    residual: report.residual,
-                    completed: 0,
-                    reports: Vec::new(),
-                });
-            }
+        if origin.is_some() && !self.finish_stabilization(state, &target, &mut report)? {
+            // the output level was reached only with the viscous term
+            return Err(self.give_up(state, target, origin, report.cutbacks, report.residual));
         }
         self.model
             .expand(&state.u_free, &state.level, &mut state.u_full);
@@ -759,6 +732,33 @@ impl<'m> Solver<'m> {
         report.assembly_seconds = self.assembly_seconds - a0;
         report.factorizations = self.linear.factorizations - n0;
         Ok(report)
+    }
+
+    /// Ends a step that cannot reach `target`: back to the last undamped equilibrium
+    /// (`origin`, where the stabilised continuation had moved on from it), and the error (its
+    /// `completed` and `reports` are filled in by the caller).
+    fn give_up(
+        &mut self,
+        state: &mut PathState,
+        target: LoadLevel,
+        origin: Option<(Vec<f64>, LoadLevel)>,
+        cutbacks: usize,
+        residual: f64,
+    ) -> SolverError {
+        if let Some(origin) = origin {
+            (state.u_free, state.level) = origin;
+            state.history.clear();
+        }
+        self.model
+            .expand(&state.u_free, &state.level, &mut state.u_full);
+        SolverError::NotConverged {
+            target,
+            reached: state.level,
+            cutbacks,
+            residual,
+            completed: 0,
+            reports: Vec::new(),
+        }
     }
 
     /// Uzawa updates of the contact gap shifts at the converged `level`, each followed by a

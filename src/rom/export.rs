@@ -250,15 +250,20 @@ pub fn rust_source(s: &Surrogate, p: Precision, checksum: &str) -> Result<String
     Ok(out)
 }
 
+/// The output order, one line per quantity, inside a C comment.
+fn c_output_order(out: &mut String) {
+    for (i, q) in QUANTITY_NAMES.iter().enumerate() {
+        let _ = writeln!(out, " *  {i:2}: {q}");
+    }
+}
+
 /// C header declaring the entry point of [`rust_source`].
 pub fn c_header(p: Precision, checksum: &str) -> String {
     let ty = p.c_ty();
     let mut out = format!(
         "/* Surrogate model exported by `surrogate export` (model {checksum}). */\n#ifndef SURROGATE_MODEL_H\n#define SURROGATE_MODEL_H\n#include <stdint.h>\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n#define SURROGATE_N_OUTPUTS 22\n/* Output order:\n"
     );
-    for (i, q) in QUANTITY_NAMES.iter().enumerate() {
-        let _ = writeln!(out, " *  {i:2}: {q}");
-    }
+    c_output_order(&mut out);
     let _ = write!(
         out,
         " * Returns 0 on success, 1 non-finite input, 2 untrained N, 3 inadmissible material,\n * 4 bad model, 5 null pointer. */\nint32_t {}(uint32_t n, {ty} t_mm, {ty} p_bar, {ty} mu1, {ty} alpha1, {ty} mu2, {ty} alpha2, {ty} *out);\n\n#ifdef __cplusplus\n}}\n#endif\n#endif /* SURROGATE_MODEL_H */\n",
@@ -320,9 +325,7 @@ pub fn ramp_c_header(p: Precision, checksum: &str, q: &Query) -> String {
         "/* Pressure ramp exported by `surrogate export --ramp` (model {checksum}):\n * N = {}, T = {} mm, Ogden mu1 = {} MPa, alpha1 = {}, mu2 = {} MPa, alpha2 = {}. */\n#ifndef SURROGATE_RAMP_H\n#define SURROGATE_RAMP_H\n#include <stdint.h>\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n#define SURROGATE_N_OUTPUTS 22\n/* Output order:\n",
         q.n, q.t_mm, q.mu1, q.alpha1, q.mu2, q.alpha2
     );
-    for (i, name) in QUANTITY_NAMES.iter().enumerate() {
-        let _ = writeln!(out, " *  {i:2}: {name}");
-    }
+    c_output_order(&mut out);
     let _ = write!(
         out,
         " * Returns 0 on success, 1 non-finite pressure, 4 bad tables, 5 null pointer. */\nint32_t {}({ty} p_bar, {ty} *out);\n\n#ifdef __cplusplus\n}}\n#endif\n#endif /* SURROGATE_RAMP_H */\n",
