@@ -43,7 +43,7 @@ impl Default for GpParams {
         GpParams {
             n_start: 2,
             seed: 11,
-            max_iter: 40,
+            max_iter: 200,
             theta: None,
             max_points: 400,
         }
