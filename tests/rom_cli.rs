@@ -36,6 +36,10 @@ fn model() -> &'static PathBuf {
                 "--out",
             ])
             .arg(&path)
+            .arg("--held-out")
+            .arg(dir().join("held_out.csv"))
+            .arg("--plot")
+            .arg(dir().join("parity.svg"))
             .output()
             .unwrap();
         let (out, err) = text(&o);
@@ -44,6 +48,17 @@ fn model() -> &'static PathBuf {
             out.contains("validation: 3-fold by case") && out.contains("force_n"),
             "{out}"
         );
+        assert!(out.contains("largest held-out error of tip_uz_mm"), "{out}");
+        let held = std::fs::read_to_string(dir().join("held_out.csv")).unwrap();
+        let mut lines = held.lines();
+        assert_eq!(
+            lines.next(),
+            Some("case_id,n_bellows,fold,pressure_bar,output,fe,predicted,std,error")
+        );
+        // 30 cases × the synthetic grid × 4 scalar outputs
+        assert_eq!(lines.count() % (30 * 4), 0);
+        let svg = std::fs::read_to_string(dir().join("parity.svg")).unwrap();
+        assert!(svg.starts_with("<svg") && svg.contains("held-out RMSE"));
         path
     })
 }

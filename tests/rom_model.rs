@@ -1,5 +1,5 @@
 //! Model files (round trip, version, corruption, checksum), validation, queries and domain.
-use surrogate::rom::{Query, RomError, Surrogate};
+use surrogate::rom::{Query, RomError, Surrogate, TrainConfig};
 
 mod rom_common;
 
@@ -343,4 +343,55 @@ fn calibrated_std_matches_fresh_held_out_errors() {
     let z_rms = (z2 / n as f64).sqrt();
     println!("fresh held-out z_rms {z_rms:.2} over {n} values");
     assert!(n > 50 && z_rms > 0.4 && z_rms < 2.5, "z_rms {z_rms}");
+}
+
+#[test]
+fn held_out_points_reproduce_the_stored_validation() {
+    let cases = rom_common::synthetic_cases(40, 7);
+    let cfg = TrainConfig {
+        folds: 3,
+        ..Default::default()
+    };
+    let report = surrogate::rom::train(&cases, "synthetic", 0, &cfg, &|_, _| {}).unwrap();
+    let v = &report.surrogate.validation;
+    let n_points = cases.cases.len() * cases.pressures.len();
+    assert_eq!(report.held_out.len(), 4 * n_points);
+    for o in &v.outputs[1..] {
+        let pts: Vec<_> = report
+            .held_out
+            .iter()
+            .filter(|h| h.output == o.name)
+            .collect();
+        assert_eq!(pts.len(), n_points, "{}", o.name);
+        let rmse = (pts
+            .iter()
+            .map(|h| (h.predicted - h.truth).powi(2))
+            .sum::<f64>()
+            / pts.len() as f64)
+            .sqrt();
+        let max = pts
+            .iter()
+            .map(|h| (h.predicted - h.truth).abs())
+            .fold(0.0, f64::max);
+        assert!(
+            (rmse - o.total.rmse).abs() <= 1e-9 * o.total.rmse,
+            "{}: {rmse} vs {}",
+            o.name,
+            o.total.rmse
+        );
+        assert!((max - o.total.max_abs).abs() <= 1e-9 * o.total.max_abs);
+        // each case is held out by exactly one fold, and its truth is the FE value
+        for h in &pts {
+            let c = cases.cases.iter().find(|c| c.case_id == h.case_id).unwrap();
+            let p = cases.pressures.iter().position(|&p| p == h.p_bar).unwrap();
+            let q = surrogate::rom::QUANTITY_NAMES
+                .iter()
+                .position(|&n| n == h.output)
+                .unwrap();
+            assert_eq!(h.truth, c.values[p][q]);
+            assert!(h.fold < 3 && h.std.is_finite() && h.std >= 0.0);
+        }
+        // a std where the output varies (it is 0 only where every case has the same value)
+        assert!(pts.iter().filter(|h| h.std > 0.0).count() >= pts.len() / 2);
+    }
 }

@@ -75,6 +75,43 @@ pub struct TrainReport {
     pub dropped: Vec<(String, String)>,
     /// Wall time, seconds.
     pub seconds: f64,
+    /// The held-out predictions of the scalar outputs by their chosen source (one per case,
+    /// grid pressure and scalar, cases in set order), for parity plots and error maps.
+    pub held_out: Vec<HeldOutPoint>,
+}
+
+/// One held-out prediction of a scalar output in the cross-validation: the case was in the
+/// fold left out of the fit that predicted it.
+#[derive(Debug, Clone, PartialEq)]
+pub struct HeldOutPoint {
+    /// Case identifier.
+    pub case_id: String,
+    /// Number of bellows of the case.
+    pub n_bellows: u32,
+    /// Fold that held the case out.
+    pub fold: usize,
+    /// Grid pressure, bar.
+    pub p_bar: f64,
+    /// Output name (`tip_uz_mm`, `tip_uy_mm`, `angle_deg`, `force_n`).
+    pub output: &'static str,
+    /// FE value.
+    pub truth: f64,
+    /// Prediction of the model fitted without the case's fold.
+    pub predicted: f64,
+    /// Predictive standard deviation, calibrated by the output's `std_ratio` (0 if the
+    /// regressor gives none).
+    pub std: f64,
+}
+
+/// A held-out scalar prediction of one candidate, before the choice.
+struct RawHeldOut {
+    cand: usize,
+    case: usize,
+    p_index: usize,
+    scalar: usize,
+    truth: f64,
+    predicted: f64,
+    var: f64,
 }
 
 /// A fitted pipeline (one fold or the final model).
@@ -201,14 +238,15 @@ fn cand_index(output: usize, direct: usize, kind: usize) -> usize {
     (output * 2 + direct) * 2 + kind
 }
 
-fn evaluate_fold(fit: &Fitted, test: &[CaseRamp]) -> Table {
+fn evaluate_fold(fit: &Fitted, test: &[(usize, &CaseRamp)]) -> (Table, Vec<RawHeldOut>) {
     let mut table = vec![CandidateErrors::default(); 5 * 2 * 2];
+    let mut raw = Vec::new();
     let (d, m) = (fit.features.dim(), fit.gp.m);
     let mut x = vec![0.0; d];
     let mut scratch = vec![0.0; fit.gp.scratch_len().max(fit.poly.scratch_len())];
     let mut coef = [vec![0.0; m], vec![0.0; m]];
     let mut var = [vec![0.0; m], vec![0.0; m]];
-    for case in test {
+    for &(case_index, case) in test {
         fit.features.scale_into(&raw_features(&case.inputs), &mut x);
         fit.gp.predict_into(&x, &mut coef[0], &mut scratch);
         fit.poly.predict_into(&x, &mut coef[1], &mut scratch);
@@ -234,7 +272,19 @@ fn evaluate_fold(fit: &Fitted, test: &[CaseRamp]) -> Table {
                     let v: f64 = (0..r)
                         .map(|k| (pod.scale[e] * row[k]).powi(2) * var[kind][off + k])
                         .sum();
-                    let t = &mut table[cand_index(output, usize::from(bi > 0), kind)];
+                    let cand = cand_index(output, usize::from(bi > 0), kind);
+                    if output > 0 {
+                        raw.push(RawHeldOut {
+                            cand,
+                            case: case_index,
+                            p_index: e / nq,
+                            scalar: output - 1,
+                            truth: truth[e],
+                            predicted: y_hat,
+                            var: v,
+                        });
+                    }
+                    let t = &mut table[cand];
                     t.total.add(truth[e], y_hat);
                     t.projection.add(truth[e], y_proj);
                     t.regression.add(y_proj, y_hat);
@@ -246,7 +296,7 @@ fn evaluate_fold(fit: &Fitted, test: &[CaseRamp]) -> Table {
             }
         }
     }
-    table
+    (table, raw)
 }
 
 fn fold_assignment(n: usize, k: usize, seed: u64) -> Vec<usize> {
@@ -435,7 +485,7 @@ fn cross_validate_and_fit(
     k: usize,
     cfg: &TrainConfig,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<(Table, Fitted), RomError> {
+) -> Result<(Table, Fitted, Vec<RawHeldOut>), RomError> {
     let fold = fold_assignment(set.cases.len(), k, cfg.seed);
     let partial: &[PartialRamp] = if cfg.fill_truncated {
         &set.partial
@@ -443,7 +493,7 @@ fn cross_validate_and_fit(
         &[]
     };
     let done = std::sync::atomic::AtomicUsize::new(0);
-    type Task = (Option<Table>, Option<Fitted>);
+    type Task = (Option<(Table, Vec<RawHeldOut>)>, Option<Fitted>);
     let results: Vec<Result<Task, RomError>> = (0..=k)
         .into_par_iter()
         .map(|f| {
@@ -453,7 +503,7 @@ fn cross_validate_and_fit(
                 let (mut tr, mut te) = (Vec::new(), Vec::new());
                 for (i, c) in set.cases.iter().enumerate() {
                     if fold[i] == f {
-                        te.push(c.clone())
+                        te.push((i, c))
                     } else {
                         tr.push(c.clone())
                     }
@@ -470,8 +520,11 @@ fn cross_validate_and_fit(
         .collect();
     let mut table = vec![CandidateErrors::default(); 20];
     let mut final_fit = None;
+    let mut held_out = Vec::new();
     for r in results {
         let (t, fitted) = r?;
+        let (t, raw) = t.unzip();
+        held_out.extend(raw.into_iter().flatten());
         for (acc, part) in table.iter_mut().zip(t.unwrap_or_default()) {
             acc.total.merge(&part.total);
             acc.projection.merge(&part.projection);
@@ -485,7 +538,8 @@ fn cross_validate_and_fit(
         stage: "training".into(),
         message: "final fit missing".into(),
     })?;
-    Ok((table, fitted))
+    held_out.sort_by_key(|h| (h.case, h.scalar, h.p_index, h.cand));
+    Ok((table, fitted, held_out))
 }
 
 fn kind_of(i: usize) -> RegressorKind {
@@ -583,9 +637,30 @@ pub fn train(
         )));
     }
     let k = cfg.folds.clamp(2, n);
-    let (table, fitted) = cross_validate_and_fit(set, k, cfg, progress)?;
+    let (table, fitted, raw) = cross_validate_and_fit(set, k, cfg, progress)?;
     let (field_kind, scalar_choice, mut validation) =
         choose(&table, cfg, format!("{k}-fold by case"), n);
+    let fold = fold_assignment(n, k, cfg.seed);
+    let held_out = raw
+        .into_iter()
+        .filter(|h| {
+            let (direct, kind) = scalar_choice[h.scalar];
+            h.cand == cand_index(h.scalar + 1, direct, kind)
+        })
+        .map(|h| {
+            let case = &set.cases[h.case];
+            HeldOutPoint {
+                case_id: case.case_id.clone(),
+                n_bellows: case.inputs.n_bellows,
+                fold: fold[h.case],
+                p_bar: set.pressures[h.p_index],
+                output: SCALARS[h.scalar].0,
+                truth: h.truth,
+                predicted: h.predicted,
+                std: h.var.max(0.0).sqrt() * validation.outputs[h.scalar + 1].std_ratio,
+            }
+        })
+        .collect();
     validation.pressure_interpolation = interpolation_check(set);
     let training = TrainingInfo {
         source: source.to_string(),
@@ -612,5 +687,6 @@ pub fn train(
         surrogate,
         dropped: set.dropped.clone(),
         seconds: start.elapsed().as_secs_f64(),
+        held_out,
     })
 }

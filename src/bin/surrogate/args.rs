@@ -80,6 +80,14 @@ pub struct TrainArgs {
     /// saved is the one trained on all cases).
     #[arg(long, value_delimiter = ',')]
     pub learning_curve: Vec<usize>,
+    /// Write every held-out prediction of the scalar outputs (case, fold, pressure, output,
+    /// FE value, prediction, std) to this CSV.
+    #[arg(long)]
+    pub held_out: Option<PathBuf>,
+    /// Draw the held-out predictions against the FE values (one panel per scalar output,
+    /// coloured by N) into this SVG.
+    #[arg(long)]
+    pub plot: Option<PathBuf>,
     /// No progress bar.
     #[arg(long)]
     pub quiet: bool,

@@ -5,6 +5,7 @@ use surrogate::rom::data::{CaseSet, SnapshotSet};
 use surrogate::rom::fidelity::{correct, discrepancy, CorrectionInfo};
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
+use surrogate::rom::train::HeldOutPoint;
 use surrogate::rom::{train, TrainConfig};
 
 use crate::args::{OnlyArg, TrainArgs};
@@ -190,5 +191,139 @@ pub fn run(a: TrainArgs) -> Result<()> {
         report.seconds,
         a.out.display()
     );
+    print_worst(&report.held_out);
+    if let Some(path) = &a.held_out {
+        write_held_out(path, &report.held_out)?;
+        println!("held-out predictions -> {}", path.display());
+    }
+    if let Some(path) = &a.plot {
+        plot_held_out(path, &report.held_out, &s.validation.scheme)
+            .with_context(|| format!("plotting {}", path.display()))?;
+        println!("parity plot -> {}", path.display());
+    }
+    Ok(())
+}
+
+/// The case with the largest held-out error of each scalar output.
+fn print_worst(points: &[HeldOutPoint]) {
+    for (name, _) in OUTPUTS {
+        let worst = points.iter().filter(|h| h.output == name).max_by(|a, b| {
+            (a.predicted - a.truth)
+                .abs()
+                .total_cmp(&(b.predicted - b.truth).abs())
+        });
+        if let Some(h) = worst {
+            println!(
+                "largest held-out error of {name}: {:+.4} at {} (N = {}, {:.2} bar; FE {:.4}, predicted {:.4} ± {:.4})",
+                h.predicted - h.truth,
+                h.case_id,
+                h.n_bellows,
+                h.p_bar,
+                h.truth,
+                h.predicted,
+                h.std
+            );
+        }
+    }
+}
+
+const OUTPUTS: [(&str, &str); 4] = [
+    ("tip_uz_mm", "tip Uz (mm)"),
+    ("tip_uy_mm", "tip Uy (mm)"),
+    ("angle_deg", "bending angle (°)"),
+    ("force_n", "blocked force (N)"),
+];
+
+/// The held-out predictions as CSV, written atomically.
+fn write_held_out(path: &std::path::Path, points: &[HeldOutPoint]) -> Result<()> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "case_id",
+        "n_bellows",
+        "fold",
+        "pressure_bar",
+        "output",
+        "fe",
+        "predicted",
+        "std",
+        "error",
+    ])?;
+    for h in points {
+        w.write_record([
+            h.case_id.clone(),
+            h.n_bellows.to_string(),
+            h.fold.to_string(),
+            h.p_bar.to_string(),
+            h.output.to_string(),
+            h.truth.to_string(),
+            h.predicted.to_string(),
+            h.std.to_string(),
+            (h.predicted - h.truth).to_string(),
+        ])?;
+    }
+    let bytes = w.into_inner().context("CSV buffer")?;
+    surrogate::snapshots::store::write_atomic(path, &bytes)?;
+    Ok(())
+}
+
+/// Held-out prediction against the FE value, one panel per scalar output.
+fn plot_held_out(path: &std::path::Path, points: &[HeldOutPoint], scheme: &str) -> Result<()> {
+    use plotters::prelude::*;
+    let root = SVGBackend::new(path, (1000, 900)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let panels = root.split_evenly((2, 2));
+    let mut ns: Vec<u32> = points.iter().map(|h| h.n_bellows).collect();
+    ns.sort_unstable();
+    ns.dedup();
+    for ((name, label), area) in OUTPUTS.iter().zip(panels.iter()) {
+        let pts: Vec<&HeldOutPoint> = points.iter().filter(|h| h.output == *name).collect();
+        let (lo, hi) = pts
+            .iter()
+            .flat_map(|h| [h.truth, h.predicted])
+            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
+                (a.min(v), b.max(v))
+            });
+        if !lo.is_finite() || !hi.is_finite() {
+            continue;
+        }
+        let pad = 0.05 * (hi - lo).max(1e-9);
+        let (lo, hi) = (lo - pad, hi + pad);
+        let rmse = (pts
+            .iter()
+            .map(|h| (h.predicted - h.truth).powi(2))
+            .sum::<f64>()
+            / pts.len().max(1) as f64)
+            .sqrt();
+        let mut c = ChartBuilder::on(area)
+            .caption(
+                format!("{label}: held-out RMSE {rmse:.3}"),
+                ("sans-serif", 17),
+            )
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(50)
+            .build_cartesian_2d(lo..hi, lo..hi)?;
+        c.configure_mesh()
+            .x_desc(format!("FE ({scheme})"))
+            .y_desc("surrogate, held out")
+            .draw()?;
+        c.draw_series(LineSeries::new(vec![(lo, lo), (hi, hi)], BLACK.mix(0.4)))?;
+        for (k, &n) in ns.iter().enumerate() {
+            let col = Palette99::pick(k);
+            c.draw_series(
+                pts.iter()
+                    .filter(|h| h.n_bellows == n)
+                    .map(|h| Circle::new((h.truth, h.predicted), 2, col.filled())),
+            )?
+            .label(format!("N = {n}"))
+            .legend(move |(x, y)| Circle::new((x, y), 4, col.filled()));
+        }
+        c.configure_series_labels()
+            .position(SeriesLabelPosition::UpperLeft)
+            .background_style(WHITE.mix(0.8))
+            .border_style(BLACK.mix(0.3))
+            .draw()?;
+    }
+    root.present()?;
     Ok(())
 }
