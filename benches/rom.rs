@@ -1,11 +1,14 @@
 //! Prediction latency of the surrogate: library path (scalars only, all outputs, with std,
 //! with gradient) and the embedded predictor (f32, f64), for a GP-based and a polynomial model
-//! trained on a synthetic set of 300 cases (the size of the shipped set).
+//! trained on a synthetic set of 300 cases (the size of the shipped set); then the same library
+//! paths of the shipped model trained on FE snapshots (`models/actuator.json`, or the interim
+//! `models/actuator_coarse_interim.json` until it exists) at N = 11, T = 2 mm, Ogden 002.
 use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use surrogate::predict::{evaluate, evaluate_ramp, RampTables};
+use surrogate::rom::batch::material_params;
 use surrogate::rom::data::SnapshotSet;
 use surrogate::rom::export::EmbeddedTables;
 use surrogate::rom::fast::kernel_vector;
@@ -55,6 +58,7 @@ fn bench(c: &mut Criterion) {
     c.bench_function("gp/kernel_vector_300x6", |b| {
         b.iter(|| kernel_vector(black_box(&xs_t), &inv_len, black_box(&x), &mut k))
     });
+    shipped(c);
     for kind in [RegressorKind::Gp, RegressorKind::Poly] {
         let m = model(kind);
         let name = kind.name();
@@ -109,6 +113,41 @@ fn bench(c: &mut Criterion) {
             b.iter(|| evaluate_ramp(&r32, black_box(2.1f32), &mut out32).unwrap())
         });
     }
+}
+
+/// The shipped model (real FE snapshots): what a user's optimisation loop calls.
+fn shipped(c: &mut Criterion) {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+    let path = ["actuator.json", "actuator_coarse_interim.json"]
+        .iter()
+        .map(|f| root.join(f))
+        .find(|p| p.exists())
+        .expect("a shipped model in models/");
+    let m = Surrogate::load(&path).unwrap();
+    let [mu1, alpha1, mu2, alpha2] = material_params("ogden_002").unwrap();
+    let q = Query {
+        n: 11,
+        t_mm: 2.0,
+        p_bar: 2.1,
+        mu1,
+        alpha1,
+        mu2,
+        alpha2,
+    };
+    let mut pred = m.new_prediction();
+    let mut jac = Jacobian::default();
+    c.bench_function("shipped/library/tip_angle_force", |b| {
+        b.iter(|| m.predict_scalars_into(black_box(&q), &mut pred).unwrap())
+    });
+    c.bench_function("shipped/library/all_outputs", |b| {
+        b.iter(|| m.predict_into(black_box(&q), &mut pred).unwrap())
+    });
+    c.bench_function("shipped/library/all_with_std", |b| {
+        b.iter(|| m.predict_with_std_into(black_box(&q), &mut pred).unwrap())
+    });
+    c.bench_function("shipped/library/gradient", |b| {
+        b.iter(|| m.gradient_into(black_box(&q), &mut pred, &mut jac).unwrap())
+    });
 }
 
 criterion_group! {
