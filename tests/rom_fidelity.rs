@@ -5,7 +5,7 @@ mod rom_common;
 
 use rom_common::synthetic_csv;
 use surrogate::rom::data::{SnapshotRow, SnapshotSet};
-use surrogate::rom::fidelity::{correct, discrepancy};
+use surrogate::rom::fidelity::{correct, discrepancy, end_to_end};
 use surrogate::rom::{train, Query, Surrogate, TrainConfig};
 
 /// The "high-fidelity" values of a row: a smooth, input-dependent bias of the synthetic
@@ -103,6 +103,63 @@ fn a_high_fidelity_subset_removes_the_low_fidelity_bias() {
 }
 
 #[test]
+fn end_to_end_check_measures_the_pipeline_on_unseen_high_fidelity_cases() {
+    let low = low_set();
+    let high = high_subset(&low, 4);
+    let cfg = TrainConfig {
+        folds: 3,
+        ..Default::default()
+    };
+    let e = end_to_end(&low, &high, 3, &cfg).unwrap();
+    assert!(
+        e.scheme
+            .starts_with("3-fold over the 23 high-fidelity cases"),
+        "{}",
+        e.scheme
+    );
+    let names: Vec<&str> = e.surrogate.iter().map(|(n, _)| n.as_str()).collect();
+    assert_eq!(
+        names,
+        [
+            "markers_mm",
+            "tip_uz_mm",
+            "tip_uy_mm",
+            "angle_deg",
+            "force_n"
+        ]
+    );
+    for ((name, s), (_, l)) in e.surrogate.iter().zip(&e.low_fidelity) {
+        // every high-fidelity row is held out exactly once
+        let per_row = if name == "markers_mm" { 18 } else { 1 };
+        assert_eq!(s.count, high.rows.len() * per_row, "{name}");
+        assert_eq!(l.count, s.count);
+        // the raw bias is what `high_values` puts in; the corrected pipeline removes most of it
+        assert!(l.rmse > 0.05, "{name}: low-fidelity bias {}", l.rmse);
+        assert!(
+            s.rmse < 0.3 * l.rmse,
+            "{name}: surrogate {} against low-fidelity bias {}",
+            s.rmse,
+            l.rmse
+        );
+    }
+    assert!(e
+        .table()
+        .contains("surrogate against held-out high fidelity"));
+    // one high-fidelity case is not enough to hold any out
+    let one = SnapshotSet {
+        rows: high
+            .rows
+            .iter()
+            .filter(|r| r.case_id == high.rows[0].case_id)
+            .cloned()
+            .collect(),
+        ..high.clone()
+    };
+    let err = end_to_end(&low, &one, 3, &cfg).unwrap_err().to_string();
+    assert!(err.contains("1 high-fidelity cases"), "{err}");
+}
+
+#[test]
 fn mismatched_high_fidelity_cases_are_named() {
     let low = low_set();
     let mut high = high_subset(&low, 10);
@@ -175,6 +232,7 @@ fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
         "--folds",
         "3",
         "--quiet",
+        "--check-high-fidelity",
     ]);
     assert!(
         out.status.success(),
@@ -187,6 +245,12 @@ fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
     let c = m.training.correction.as_ref().unwrap();
     assert_eq!(c.matched_cases, 20);
     assert_eq!(c.replaced_rows, high.rows.len());
+    let e = c.end_to_end.as_ref().unwrap();
+    assert_eq!(e.surrogate[1].1.count, high.rows.len());
+    assert!(
+        stdout.contains("surrogate against held-out high fidelity"),
+        "{stdout}"
+    );
     let out = run(&[
         "predict",
         "--model",
@@ -196,5 +260,9 @@ fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
     assert!(out.status.success());
     let err = String::from_utf8_lossy(&out.stderr);
     assert!(err.contains("20 high-fidelity cases"), "{err}");
+    assert!(
+        err.contains("3-fold over the 20 high-fidelity cases"),
+        "{err}"
+    );
     std::fs::remove_dir_all(dir).unwrap();
 }

@@ -20,8 +20,9 @@ use std::collections::HashMap;
 use serde::{Deserialize, Serialize};
 
 use super::data::{CaseInputs, SnapshotRow, SnapshotSet};
-use super::metrics::Validation;
+use super::metrics::{ErrorAccumulator, ErrorStats, Validation};
 use super::surrogate::{Query, Surrogate};
+use super::train::{train, TrainConfig};
 use super::RomError;
 
 /// How a training set was corrected (stored in the model's training information).
@@ -38,6 +39,126 @@ pub struct CorrectionInfo {
     /// Held-out errors of the discrepancy surrogate (k-fold over the matched cases): the
     /// error the correction adds to the surrogate's.
     pub validation: Validation,
+    /// The whole pipeline against the high fidelity ([`end_to_end`]), when it was run.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub end_to_end: Option<EndToEnd>,
+}
+
+/// Error of the whole multi-fidelity pipeline against high-fidelity cases it never saw:
+/// for each fold of the high-fidelity cases, the discrepancy surrogate is fitted without
+/// them, the low-fidelity set corrected, the surrogate trained on it, and its predictions at
+/// the held-out cases compared with their high-fidelity values. Beside it, the raw
+/// discrepancy `H − L` of the same rows: what training on the low fidelity alone would miss.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct EndToEnd {
+    /// Scheme, e.g. `5-fold over the 30 high-fidelity cases`.
+    pub scheme: String,
+    /// Per output (`markers_mm`, `tip_uz_mm`, `tip_uy_mm`, `angle_deg`, `force_n`): errors of
+    /// the surrogate against the held-out high-fidelity values.
+    pub surrogate: Vec<(String, ErrorStats)>,
+    /// The same rows: low- against high-fidelity values (no surrogate, no correction).
+    pub low_fidelity: Vec<(String, ErrorStats)>,
+}
+
+impl EndToEnd {
+    /// Human-readable table.
+    pub fn table(&self) -> String {
+        let mut s = format!(
+            "surrogate against held-out high fidelity ({}):\n{:<12} {:>9} {:>9} {:>9} {:>9}\n",
+            self.scheme, "output", "rmse", "max", "low rmse", "low max"
+        );
+        for ((name, e), (_, l)) in self.surrogate.iter().zip(&self.low_fidelity) {
+            s.push_str(&format!(
+                "{name:<12} {:>9.4} {:>9.4} {:>9.4} {:>9.4}\n",
+                e.rmse, e.max_abs, l.rmse, l.max_abs
+            ));
+        }
+        s
+    }
+}
+
+/// Output groups of the end-to-end check: the 18 marker components, then each scalar.
+const GROUPS: [(&str, std::ops::Range<usize>); 5] = [
+    ("markers_mm", 0..18),
+    ("tip_uz_mm", 18..19),
+    ("tip_uy_mm", 19..20),
+    ("angle_deg", 20..21),
+    ("force_n", 21..22),
+];
+
+/// Runs the end-to-end check of [`EndToEnd`] with `folds` folds over the high-fidelity cases
+/// (seeded by `cfg.seed`). Each fold trains two surrogates with `cfg` (the discrepancy and
+/// the corrected set), so it costs about `2 × folds` trainings.
+///
+/// # Errors
+/// Fewer than 2 high-fidelity cases, or any error of [`discrepancy`], [`correct`] or training.
+pub fn end_to_end(
+    low: &SnapshotSet,
+    high: &SnapshotSet,
+    folds: usize,
+    cfg: &TrainConfig,
+) -> Result<EndToEnd, RomError> {
+    use rand::seq::SliceRandom;
+    use rand::SeedableRng;
+    let mut ids: Vec<&str> = high.rows.iter().map(|r| r.case_id.as_str()).collect();
+    ids.sort_unstable();
+    ids.dedup();
+    if ids.len() < 2 {
+        return Err(RomError::InsufficientData(format!(
+            "{} high-fidelity cases; the end-to-end check needs at least 2",
+            ids.len()
+        )));
+    }
+    let k = folds.clamp(2, ids.len());
+    ids.shuffle(&mut rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(
+        cfg.seed,
+    ));
+    let fold_of: HashMap<&str, usize> =
+        ids.iter().enumerate().map(|(i, &id)| (id, i % k)).collect();
+    let low_rows: HashMap<(String, u64), &SnapshotRow> =
+        low.rows.iter().map(|r| (key(r), r)).collect();
+    let mut acc = vec![ErrorAccumulator::default(); GROUPS.len()];
+    let mut raw = vec![ErrorAccumulator::default(); GROUPS.len()];
+    for f in 0..k {
+        let (held, kept): (Vec<&SnapshotRow>, Vec<&SnapshotRow>) = high
+            .rows
+            .iter()
+            .partition(|r| fold_of[r.case_id.as_str()] == f);
+        let train_high = SnapshotSet {
+            source: format!("{} without fold {f}", high.source),
+            rows: kept.into_iter().cloned().collect(),
+            skipped_unconverged: 0,
+        };
+        let delta_cases = discrepancy(low, &train_high)?.into_cases()?;
+        let delta = train(&delta_cases, "discrepancy", 0, cfg, &|_, _| {})?.surrogate;
+        let (set, _, _) = correct(low, &train_high, &delta)?;
+        let model = train(&set.into_cases()?, "corrected", 0, cfg, &|_, _| {})?.surrogate;
+        let mut pred = model.new_prediction();
+        for h in held {
+            let Some(l) = low_rows.get(&key(h)) else {
+                continue;
+            };
+            model.predict_into(&Query::from_case(&h.inputs, h.pressure_bar), &mut pred)?;
+            for (g, (_, range)) in GROUPS.iter().enumerate() {
+                for q in range.clone() {
+                    acc[g].add(h.values[q], pred.values[q]);
+                    raw[g].add(h.values[q], l.values[q]);
+                }
+            }
+        }
+    }
+    let stats = |a: &[ErrorAccumulator]| {
+        GROUPS
+            .iter()
+            .zip(a)
+            .map(|((name, _), a)| (name.to_string(), a.finish()))
+            .collect()
+    };
+    Ok(EndToEnd {
+        scheme: format!("{k}-fold over the {} high-fidelity cases", ids.len()),
+        surrogate: stats(&acc),
+        low_fidelity: stats(&raw),
+    })
 }
 
 fn same_inputs(a: &CaseInputs, b: &CaseInputs) -> bool {

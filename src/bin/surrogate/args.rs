@@ -53,6 +53,11 @@ pub struct TrainArgs {
     /// ids): the low-fidelity set is corrected by a surrogate of the discrepancy before training.
     #[arg(long, requires = "data")]
     pub high_fidelity: Option<PathBuf>,
+    /// With --high-fidelity: also measure the whole pipeline against high-fidelity cases it
+    /// never saw (k-fold over the high-fidelity cases: discrepancy, correction and surrogate
+    /// refitted per fold) and store the result in the model; about 2 × folds trainings more.
+    #[arg(long, requires = "high_fidelity")]
+    pub check_high_fidelity: bool,
     /// Output model file.
     #[arg(long, default_value = "models/actuator.json")]
     pub out: PathBuf,

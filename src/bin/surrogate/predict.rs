@@ -20,6 +20,9 @@ pub fn run(a: PredictArgs) -> Result<()> {
                 c.high_source,
                 c.validation.table()
             );
+            if let Some(e) = &c.end_to_end {
+                eprintln!("{}", e.table());
+            }
         }
     }
     if let (Some(csv), Some(out)) = (&a.csv, &a.out) {

@@ -2,7 +2,7 @@
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::rom::data::{CaseSet, SnapshotSet};
-use surrogate::rom::fidelity::{correct, discrepancy, CorrectionInfo};
+use surrogate::rom::fidelity::{correct, discrepancy, end_to_end, CorrectionInfo};
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::train::HeldOutPoint;
@@ -15,6 +15,7 @@ fn correct_set(
     low: &SnapshotSet,
     high: &SnapshotSet,
     cfg: &TrainConfig,
+    check: bool,
 ) -> Result<(SnapshotSet, CorrectionInfo)> {
     let delta = discrepancy(low, high)?;
     let source = delta.source.clone();
@@ -30,12 +31,24 @@ fn correct_set(
     println!("{}", report.surrogate.validation.table());
     let (set, replaced_rows, corrected_rows) = correct(low, high, &report.surrogate)?;
     eprintln!("corrected set: {replaced_rows} rows replaced by high fidelity, {corrected_rows} rows corrected");
+    let end_to_end = if check {
+        eprintln!(
+            "end-to-end check against the high fidelity ({} folds)…",
+            cfg.folds
+        );
+        let e = end_to_end(low, high, cfg.folds, cfg)?;
+        println!("{}", e.table());
+        Some(e)
+    } else {
+        None
+    };
     let info = CorrectionInfo {
         high_source: high.source.clone(),
         matched_cases: cases.cases.len(),
         replaced_rows,
         corrected_rows,
         validation: report.surrogate.validation,
+        end_to_end,
     };
     Ok((set, info))
 }
@@ -117,7 +130,8 @@ pub fn run(a: TrainArgs) -> Result<()> {
     };
     let (set, correction) = match &a.high_fidelity {
         Some(path) => {
-            let (set, info) = correct_set(&set, &SnapshotSet::read(path)?, &cfg)?;
+            let (set, info) =
+                correct_set(&set, &SnapshotSet::read(path)?, &cfg, a.check_high_fidelity)?;
             (set, Some(info))
         }
         None => (set, None),
