@@ -96,6 +96,12 @@ body = (
     + table("bending", ["tip_u_mm", "tip_uz_mm", "tip_uy_mm", "angle_deg"], "Bending, no contact")
     + "\n"
     + table("force", ["force_n"], "Blocked force, contact on")
+    + "\n"
+    + table(
+        "bending_contact",
+        ["tip_u_mm", "tip_uz_mm", "tip_uy_mm", "angle_deg"],
+        "Bending, contact on (as in the snapshots and the baseline)",
+    )
     + """
 ## Reading
 
