@@ -110,7 +110,7 @@ fn end_to_end_check_measures_the_pipeline_on_unseen_high_fidelity_cases() {
         folds: 3,
         ..Default::default()
     };
-    let e = end_to_end(&low, &high, 3, &cfg).unwrap();
+    let e = end_to_end(&low, &high, 3, &cfg, false).unwrap();
     assert!(
         e.scheme
             .starts_with("3-fold over the 23 high-fidelity cases"),
@@ -155,7 +155,9 @@ fn end_to_end_check_measures_the_pipeline_on_unseen_high_fidelity_cases() {
             .collect(),
         ..high.clone()
     };
-    let err = end_to_end(&low, &one, 3, &cfg).unwrap_err().to_string();
+    let err = end_to_end(&low, &one, 3, &cfg, false)
+        .unwrap_err()
+        .to_string();
     assert!(err.contains("1 high-fidelity cases"), "{err}");
 }
 
@@ -265,4 +267,79 @@ fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
         "{err}"
     );
     std::fs::remove_dir_all(dir).unwrap();
+}
+
+/// A high fidelity that is the low one at a lower pressure, `H(x, P) = L(x, P / r(x))`, with a
+/// scale that depends smoothly on the wall thickness (as a coarse mesh's early contact).
+fn warped_subset(low: &SnapshotSet, every: usize) -> SnapshotSet {
+    let mut ids: Vec<&str> = low.rows.iter().map(|r| r.case_id.as_str()).collect();
+    ids.dedup();
+    let keep: Vec<&str> = ids.iter().step_by(every).copied().collect();
+    let rows = low
+        .rows
+        .iter()
+        .filter(|r| keep.contains(&r.case_id.as_str()))
+        .map(|r| {
+            let s = 1.05 + 0.08 * (r.inputs.wall_thickness_mm - 1.2) / 1.6;
+            SnapshotRow {
+                values: surrogate::rom::synthetic::response(&r.inputs, r.pressure_bar / s),
+                ..r.clone()
+            }
+        })
+        .collect();
+    SnapshotSet {
+        source: "high (warped)".into(),
+        rows,
+        skipped_unconverged: 0,
+    }
+}
+
+#[test]
+fn pressure_warp_recovers_the_scale_and_beats_the_additive_correction() {
+    use surrogate::rom::warp::PressureWarp;
+    let low = low_set();
+    let high = warped_subset(&low, 2);
+    let w = PressureWarp::fit(&low, &high).unwrap();
+    assert_eq!(w.info.fitted.len(), 45);
+    for (id, r) in &w.info.fitted {
+        let t = high
+            .rows
+            .iter()
+            .find(|h| &h.case_id == id)
+            .unwrap()
+            .inputs
+            .wall_thickness_mm;
+        let s = 1.05 + 0.08 * (t - 1.2) / 1.6;
+        // the synthetic ramp is on a 0.25-bar grid: the cubic stencil costs a little
+        assert!((r - s).abs() < 0.01, "{id}: fitted {r}, true {s}");
+        let reg = w.scale(&high.rows.iter().find(|h| &h.case_id == id).unwrap().inputs);
+        assert!((reg - s).abs() < 0.01, "{id}: regressed {reg}, true {s}");
+    }
+    assert!(w.info.loo_rmse < 0.01, "{}", w.info.loo_rmse);
+    // the warped low fidelity of a matched case is close to its high fidelity
+    let warped = w.apply(&low);
+    let id = &w.info.fitted[4].0;
+    for (a, h) in warped
+        .rows
+        .iter()
+        .filter(|r| &r.case_id == id)
+        .zip(high.rows.iter().filter(|r| &r.case_id == id))
+    {
+        assert_eq!(a.pressure_bar, h.pressure_bar);
+        let err = (a.values[18] - h.values[18]).abs();
+        assert!(err < 0.02 * (1.0 + h.values[18].abs()), "{err}");
+    }
+    let cfg = TrainConfig {
+        folds: 3,
+        ..Default::default()
+    };
+    let plain = end_to_end(&low, &high, 3, &cfg, false).unwrap();
+    let warp = end_to_end(&low, &high, 3, &cfg, true).unwrap();
+    assert!(warp.scheme.ends_with("pressure warp"));
+    let (p, q) = (plain.surrogate[1].1.rmse, warp.surrogate[1].1.rmse);
+    // measured: 0.0037 against 0.036 mm
+    assert!(
+        q < 0.3 * p,
+        "tip Uz against the high fidelity: warp {q}, additive {p}"
+    );
 }

@@ -39,6 +39,10 @@ pub struct CorrectionInfo {
     /// Held-out errors of the discrepancy surrogate (k-fold over the matched cases): the
     /// error the correction adds to the surrogate's.
     pub validation: Validation,
+    /// The pressure warp applied to the low fidelity before the discrepancy
+    /// ([`super::warp`]), if any.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub pressure_warp: Option<super::warp::WarpInfo>,
     /// The whole pipeline against the high fidelity ([`end_to_end`]), when it was run.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub end_to_end: Option<EndToEnd>,
@@ -88,7 +92,9 @@ const GROUPS: [(&str, std::ops::Range<usize>); 5] = [
 
 /// Runs the end-to-end check of [`EndToEnd`] with `folds` folds over the high-fidelity cases
 /// (seeded by `cfg.seed`). Each fold trains two surrogates with `cfg` (the discrepancy and
-/// the corrected set), so it costs about `2 × folds` trainings.
+/// the corrected set), so it costs about `2 × folds` trainings. With `warp`, each fold also
+/// fits the pressure warp ([`super::warp`]) on its training cases and corrects the warped
+/// low fidelity.
 ///
 /// # Errors
 /// Fewer than 2 high-fidelity cases, or any error of [`discrepancy`], [`correct`] or training.
@@ -97,6 +103,7 @@ pub fn end_to_end(
     high: &SnapshotSet,
     folds: usize,
     cfg: &TrainConfig,
+    warp: bool,
 ) -> Result<EndToEnd, RomError> {
     use rand::seq::SliceRandom;
     use rand::SeedableRng;
@@ -110,9 +117,17 @@ pub fn end_to_end(
         )));
     }
     let k = folds.clamp(2, ids.len());
+    // folds stratified by N (each N dealt round the folds in turn), so that every fold's
+    // training cases cover every N while each N has at least `k` cases
+    let n_of: HashMap<&str, u32> = high
+        .rows
+        .iter()
+        .map(|r| (r.case_id.as_str(), r.inputs.n_bellows))
+        .collect();
     ids.shuffle(&mut rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(
         cfg.seed,
     ));
+    ids.sort_by_key(|id| n_of[id]);
     let fold_of: HashMap<&str, usize> =
         ids.iter().enumerate().map(|(i, &id)| (id, i % k)).collect();
     let low_rows: HashMap<(String, u64), &SnapshotRow> =
@@ -129,9 +144,16 @@ pub fn end_to_end(
             rows: kept.into_iter().cloned().collect(),
             skipped_unconverged: 0,
         };
-        let delta_cases = discrepancy(low, &train_high)?.into_cases()?;
+        let warped;
+        let mapped = if warp {
+            warped = super::warp::PressureWarp::fit(low, &train_high)?.apply(low);
+            &warped
+        } else {
+            low
+        };
+        let delta_cases = discrepancy(mapped, &train_high)?.into_cases()?;
         let delta = train(&delta_cases, "discrepancy", 0, cfg, &|_, _| {})?.surrogate;
-        let (set, _, _) = correct(low, &train_high, &delta)?;
+        let (set, _, _) = correct(mapped, &train_high, &delta)?;
         let model = train(&set.into_cases()?, "corrected", 0, cfg, &|_, _| {})?.surrogate;
         let mut pred = model.new_prediction();
         for h in held {
@@ -155,7 +177,11 @@ pub fn end_to_end(
             .collect()
     };
     Ok(EndToEnd {
-        scheme: format!("{k}-fold over the {} high-fidelity cases", ids.len()),
+        scheme: format!(
+            "{k}-fold over the {} high-fidelity cases{}",
+            ids.len(),
+            if warp { ", pressure warp" } else { "" }
+        ),
         surrogate: stats(&acc),
         low_fidelity: stats(&raw),
     })

@@ -109,6 +109,7 @@ pub mod regression;
 pub mod surrogate;
 pub mod synthetic;
 pub mod train;
+pub mod warp;
 
 pub use data::{CaseInputs, SnapshotSet};
 pub use model::FORMAT_VERSION;

@@ -58,6 +58,11 @@ pub struct TrainArgs {
     /// refitted per fold) and store the result in the model; about 2 × folds trainings more.
     #[arg(long, requires = "high_fidelity")]
     pub check_high_fidelity: bool,
+    /// With --high-fidelity: warp the low-fidelity ramps in pressure (a scale per case,
+    /// regressed on the design and material) before the additive discrepancy, for a low
+    /// fidelity whose contact sets in at another pressure (`src/rom/warp.rs`).
+    #[arg(long, requires = "high_fidelity")]
+    pub pressure_warp: bool,
     /// Output model file.
     #[arg(long, default_value = "models/actuator.json")]
     pub out: PathBuf,

@@ -6,6 +6,7 @@ use surrogate::rom::fidelity::{correct, discrepancy, end_to_end, CorrectionInfo}
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::train::HeldOutPoint;
+use surrogate::rom::warp::PressureWarp;
 use surrogate::rom::{train, TrainConfig};
 
 use crate::args::{OnlyArg, TrainArgs};
@@ -16,8 +17,24 @@ fn correct_set(
     high: &SnapshotSet,
     cfg: &TrainConfig,
     check: bool,
+    warp: bool,
 ) -> Result<(SnapshotSet, CorrectionInfo)> {
-    let delta = discrepancy(low, high)?;
+    let (mapped, pressure_warp) = if warp {
+        let w = PressureWarp::fit(low, high)?;
+        let r: Vec<f64> = w.info.fitted.iter().map(|(_, r)| *r).collect();
+        println!(
+            "pressure warp: scale r of the {} matched cases {:.3} .. {:.3} (mean {:.3}), leave-one-out RMSE of the regressed r {:.4}",
+            r.len(),
+            r.iter().copied().fold(f64::INFINITY, f64::min),
+            r.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            r.iter().sum::<f64>() / r.len() as f64,
+            w.info.loo_rmse
+        );
+        (w.apply(low), Some(w.info))
+    } else {
+        (low.clone(), None)
+    };
+    let delta = discrepancy(&mapped, high)?;
     let source = delta.source.clone();
     let cases = delta.into_cases()?;
     eprintln!(
@@ -29,14 +46,14 @@ fn correct_set(
     let report = train(&cases, &source, 0, cfg, &|_, _| {})?;
     println!("discrepancy surrogate (high − low fidelity), held out:");
     println!("{}", report.surrogate.validation.table());
-    let (set, replaced_rows, corrected_rows) = correct(low, high, &report.surrogate)?;
+    let (set, replaced_rows, corrected_rows) = correct(&mapped, high, &report.surrogate)?;
     eprintln!("corrected set: {replaced_rows} rows replaced by high fidelity, {corrected_rows} rows corrected");
     let end_to_end = if check {
         eprintln!(
             "end-to-end check against the high fidelity ({} folds)…",
             cfg.folds
         );
-        let e = end_to_end(low, high, cfg.folds, cfg)?;
+        let e = end_to_end(low, high, cfg.folds, cfg, warp)?;
         println!("{}", e.table());
         Some(e)
     } else {
@@ -48,6 +65,7 @@ fn correct_set(
         replaced_rows,
         corrected_rows,
         validation: report.surrogate.validation,
+        pressure_warp,
         end_to_end,
     };
     Ok((set, info))
@@ -130,8 +148,13 @@ pub fn run(a: TrainArgs) -> Result<()> {
     };
     let (set, correction) = match &a.high_fidelity {
         Some(path) => {
-            let (set, info) =
-                correct_set(&set, &SnapshotSet::read(path)?, &cfg, a.check_high_fidelity)?;
+            let (set, info) = correct_set(
+                &set,
+                &SnapshotSet::read(path)?,
+                &cfg,
+                a.check_high_fidelity,
+                a.pressure_warp,
+            )?;
             (set, Some(info))
         }
         None => (set, None),
