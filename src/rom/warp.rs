@@ -88,7 +88,8 @@ fn ramps(set: &SnapshotSet) -> Ramps {
     }
 }
 
-/// The ramp `values` (on `grid`) at the pressures `grid / r`.
+/// The ramp `values` (on `grid`) at the pressures `grid / r` (for `r < 1` the pressures past
+/// the end of the grid take its last value: the low fidelity says nothing beyond it).
 pub fn warp_ramp(grid: &[f64], values: &[[f64; 22]], r: f64) -> Vec<[f64; 22]> {
     grid.iter()
         .map(|&p| {
