@@ -11,9 +11,16 @@
 //!             = L + δ̂         elsewhere
 //! ```
 //!
-//! The surrogate is then trained on the corrected set. The mesh error of a coarse level is
-//! mostly a smooth stiffness bias, so a few dozen high-fidelity cases describe it; its held-out
-//! error ([`CorrectionInfo::validation`]) adds to the surrogate's own.
+//! The surrogate is then trained on the corrected set; the discrepancy's held-out error
+//! ([`CorrectionInfo::validation`]) adds to the surrogate's own. Without contact the mesh error
+//! of the coarse level is a smooth stiffness bias; with contact it also shifts the pressure at
+//! which neighbouring bellows touch, which an additive `δ` learns poorly from a few dozen
+//! cases. [`super::warp`] first maps `L` in pressure (`L(x, P / r(x))`), and `δ` is fitted to
+//! what that leaves (`train --pressure-warp`).
+//!
+//! [`end_to_end`] measures the whole pipeline (warp, discrepancy, correction, surrogate)
+//! against high-fidelity cases it never saw: the accuracy that matters to a user of a model
+//! trained on a corrected set (`train --check-high-fidelity`).
 
 use std::collections::HashMap;
 
