@@ -102,6 +102,16 @@ fn plot(path: &Path, rows: &[BaselineRow], material: &str) -> Result<()> {
     let root = SVGBackend::new(path, (1100, 500)).into_drawing_area();
     root.fill(&WHITE)?;
     let (left, right) = root.split_horizontally(600);
+    // axes that hold every measured and simulated tip (a curled actuator's tip comes back
+    // towards the support)
+    let lf = 92.0;
+    let (z_lo, y_lo) = rows
+        .iter()
+        .flat_map(|r| [(r.uz_exp_mm, r.uy_exp_mm), (r.uz_sim_mm, r.uy_sim_mm)])
+        .filter(|(uz, uy)| uz.is_finite() && uy.is_finite())
+        .fold((20.0f64, -90.0f64), |(z, y), (uz, uy)| {
+            (z.min(lf - uz - 5.0), y.min(uy - 5.0))
+        });
     let mut c = ChartBuilder::on(&left)
         .caption(
             format!("Tip position, {material}: measured (o) vs FE (x)"),
@@ -110,12 +120,11 @@ fn plot(path: &Path, rows: &[BaselineRow], material: &str) -> Result<()> {
         .margin(10)
         .x_label_area_size(35)
         .y_label_area_size(45)
-        .build_cartesian_2d(20.0..100.0, -90.0..5.0)?;
+        .build_cartesian_2d(z_lo..100.0, y_lo..5.0)?;
     c.configure_mesh()
         .x_desc("z_tip (mm)")
         .y_desc("y_tip (mm)")
         .draw()?;
-    let lf = 92.0;
     for r in rows {
         let col = Palette99::pick((r.n_bellows * 7 + (r.wall_thickness_mm * 10.0) as usize) % 99);
         let e = (lf - r.uz_exp_mm, r.uy_exp_mm);
