@@ -312,7 +312,9 @@ fn pressure_warp_recovers_the_scale_and_beats_the_additive_correction() {
         let s = 1.05 + 0.08 * (t - 1.2) / 1.6;
         // the synthetic ramp is on a 0.25-bar grid: the cubic stencil costs a little
         assert!((r - s).abs() < 0.01, "{id}: fitted {r}, true {s}");
-        let reg = w.scale(&high.rows.iter().find(|h| &h.case_id == id).unwrap().inputs);
+        let rows: Vec<&SnapshotRow> = low.rows.iter().filter(|r| &r.case_id == id).collect();
+        let ramp: Vec<[f64; 22]> = rows.iter().map(|r| r.values).collect();
+        let reg = w.scale(&rows[0].inputs, &ramp);
         assert!((reg - s).abs() < 0.01, "{id}: regressed {reg}, true {s}");
     }
     assert!(w.info.loo_rmse < 0.01, "{}", w.info.loo_rmse);

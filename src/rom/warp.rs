@@ -12,8 +12,9 @@
 //!
 //! with a scale `r` per case, fitted on the cases run at both fidelities (least squares over
 //! tip Uz, tip Uy and the angle along the whole ramp; `L` between grid pressures by the
-//! surrogate's own cubic Hermite stencil, [`crate::predict::stencil`]) and regressed on the
-//! case features by a Gaussian process on `ln r` ([`PressureWarp::scale`]). The warped
+//! surrogate's own cubic Hermite stencil, [`crate::predict::stencil`]) and regressed by a
+//! Gaussian process on `ln r` ([`PressureWarp::scale`]), on the case's design and material or
+//! on its low-fidelity response ([`WarpInputs`], chosen by leave-one-case-out error). The warped
 //! low-fidelity set ([`PressureWarp::apply`]) replaces `L` in [`super::fidelity::discrepancy`]
 //! and [`super::fidelity::correct`], so that the additive discrepancy only has to learn what
 //! the warp leaves. A case whose ramp does not cover the whole grid is left unwarped (`r = 1`).
@@ -24,7 +25,7 @@ use serde::{Deserialize, Serialize};
 
 use super::data::{CaseInputs, SnapshotSet};
 use super::regression::gp::{Gp, GpParams};
-use super::regression::{raw_features, Data, FeatureScaler, Regressor};
+use super::regression::{raw_features, Data, Regressor};
 use super::{RomError, Q_TIP_UZ};
 use crate::predict::stencil;
 
@@ -39,6 +40,8 @@ const FIT_QUANTITIES: [usize; 3] = [Q_TIP_UZ, Q_TIP_UZ + 1, Q_TIP_UZ + 2];
 pub struct WarpInfo {
     /// The fitted scale `r` of each case run at both fidelities.
     pub fitted: Vec<(String, f64)>,
+    /// Inputs of the regression of `r` (chosen by leave-one-case-out error).
+    pub inputs: WarpInputs,
     /// Leave-one-case-out RMSE of the regressed `r` against the fitted one.
     pub loo_rmse: f64,
     /// Low-fidelity cases left unwarped (incomplete ramps).
@@ -143,33 +146,131 @@ pub fn fit_scale(grid: &[f64], low: &[[f64; 22]], high: &[[f64; 22]]) -> f64 {
     0.5 * (a + b)
 }
 
+/// Inputs of the regression of `ln r`: the design and material features of the surrogate,
+/// or the low-fidelity response itself (wall thickness, tip Uz at mid-ramp and at the end,
+/// angle at the end), or both. The warp is a property of how the low fidelity deforms, so
+/// the response can say more about it than the inputs; [`PressureWarp::fit`] keeps the set
+/// with the smallest leave-one-case-out error.
+#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum WarpInputs {
+    /// `N, T, ln μ0, α1, share, α2` (the surrogate's features).
+    Design,
+    /// `T`, low-fidelity tip Uz at mid-ramp and at the last pressure, angle at the last.
+    Response,
+    /// The design features and the low-fidelity tip Uz at mid-ramp and at the end.
+    Both,
+}
+
+impl WarpInputs {
+    const ALL: [WarpInputs; 3] = [WarpInputs::Design, WarpInputs::Response, WarpInputs::Both];
+
+    fn raw(self, inputs: &CaseInputs, ramp: &[[f64; 22]]) -> Vec<f64> {
+        let n = ramp.len();
+        let response = [
+            inputs.wall_thickness_mm,
+            ramp[n / 2][Q_TIP_UZ],
+            ramp[n - 1][Q_TIP_UZ],
+            ramp[n - 1][Q_TIP_UZ + 2],
+        ];
+        match self {
+            WarpInputs::Design => raw_features(inputs).to_vec(),
+            WarpInputs::Response => response.to_vec(),
+            // the GP takes at most 8 inputs: T is among the features, the end angle follows
+            // the end tip Uz closely
+            WarpInputs::Both => raw_features(inputs)
+                .into_iter()
+                .chain(response[1..3].iter().copied())
+                .collect(),
+        }
+    }
+}
+
+/// Affine scaling of raw regression inputs to [−1, 1] over the low-fidelity cases (inputs
+/// that do not vary are dropped).
+#[derive(Debug, Clone)]
+struct Scaling {
+    index: Vec<usize>,
+    lo: Vec<f64>,
+    width: Vec<f64>,
+}
+
+impl Scaling {
+    fn fit(rows: &[Vec<f64>]) -> Self {
+        let mut s = Scaling {
+            index: Vec::new(),
+            lo: Vec::new(),
+            width: Vec::new(),
+        };
+        for f in 0..rows.first().map_or(0, Vec::len) {
+            let lo = rows.iter().map(|r| r[f]).fold(f64::INFINITY, f64::min);
+            let hi = rows.iter().map(|r| r[f]).fold(f64::NEG_INFINITY, f64::max);
+            if hi - lo > 1e-9 * (1.0 + lo.abs()) {
+                s.index.push(f);
+                s.lo.push(lo);
+                s.width.push(hi - lo);
+            }
+        }
+        s
+    }
+
+    fn apply(&self, raw: &[f64]) -> Vec<f64> {
+        self.index
+            .iter()
+            .enumerate()
+            .map(|(j, &f)| 2.0 * (raw[f] - self.lo[j]) / self.width[j] - 1.0)
+            .collect()
+    }
+}
+
 /// A fitted pressure warp (module docs).
 #[derive(Debug, Clone)]
 pub struct PressureWarp {
-    features: FeatureScaler,
+    inputs: WarpInputs,
+    scaling: Scaling,
     gp: Gp,
     mean_ln_r: f64,
     /// Fit record.
     pub info: WarpInfo,
 }
 
+/// A GP on `ln r − mean` at the rows `rows` of `x` (`d` columns).
+fn fit_gp(x: &[f64], d: usize, y: &[f64], rows: &[usize]) -> Result<(Gp, f64), RomError> {
+    let mean = rows.iter().map(|&i| y[i]).sum::<f64>() / rows.len() as f64;
+    let xs: Vec<f64> = rows
+        .iter()
+        .flat_map(|&i| x[i * d..(i + 1) * d].iter().copied())
+        .collect();
+    let ys: Vec<f64> = rows.iter().map(|&i| y[i] - mean).collect();
+    let data = Data {
+        x: &xs,
+        y: &ys,
+        n: rows.len(),
+        d,
+        m: 1,
+        weights: &[],
+    };
+    Ok((Gp::fit(&data, &GpParams::default())?, mean))
+}
+
 impl PressureWarp {
-    /// Fits the scale of every case run at both fidelities and its regression on the case
-    /// features (scaled over all low-fidelity cases).
+    /// Fits the scale of every case run at both fidelities, then its regression on each set
+    /// of [`WarpInputs`] (scaled over all low-fidelity cases), and keeps the set with the
+    /// smallest leave-one-case-out RMSE of `r`.
     ///
     /// # Errors
-    /// Fewer than 3 cases with complete ramps at both fidelities, or a GP failure.
+    /// Fewer than 3 cases with complete ramps on the same grid at both fidelities, or a GP
+    /// failure.
     pub fn fit(low: &SnapshotSet, high: &SnapshotSet) -> Result<Self, RomError> {
         let (l, h) = (ramps(low), ramps(high));
         let mut fitted = Vec::new();
-        let mut z = Vec::new();
-        for (id, (inputs, hv)) in &h.cases {
-            if h.grid != l.grid {
-                break;
-            }
-            if let Some((_, lv)) = l.cases.get(id) {
-                fitted.push((id.clone(), fit_scale(&l.grid, lv, hv)));
-                z.push(raw_features(inputs));
+        let mut matched = Vec::new();
+        if h.grid == l.grid {
+            for (id, (_, hv)) in &h.cases {
+                if let Some((inputs, lv)) = l.cases.get(id) {
+                    fitted.push((id.clone(), fit_scale(&l.grid, lv, hv)));
+                    matched.push((inputs, lv));
+                }
             }
         }
         if fitted.len() < 3 {
@@ -178,57 +279,60 @@ impl PressureWarp {
                 fitted.len()
             )));
         }
-        let all: Vec<_> = l.cases.values().map(|(c, _)| raw_features(c)).collect();
-        let features = FeatureScaler::fit(&all);
-        let d = features.dim();
-        let mut x = vec![0.0; z.len() * d];
-        for (i, zi) in z.iter().enumerate() {
-            features.scale_into(zi, &mut x[i * d..(i + 1) * d]);
-        }
         let y: Vec<f64> = fitted.iter().map(|(_, r)| r.ln()).collect();
-        let fit_gp = |rows: &[usize]| -> Result<(Gp, f64), RomError> {
-            let mean = rows.iter().map(|&i| y[i]).sum::<f64>() / rows.len() as f64;
-            let xs: Vec<f64> = rows
-                .iter()
-                .flat_map(|&i| x[i * d..(i + 1) * d].iter().copied())
-                .collect();
-            let ys: Vec<f64> = rows.iter().map(|&i| y[i] - mean).collect();
-            let data = Data {
-                x: &xs,
-                y: &ys,
-                n: rows.len(),
-                d,
-                m: 1,
-                weights: &[],
-            };
-            Ok((Gp::fit(&data, &GpParams::default())?, mean))
-        };
         let n = fitted.len();
-        let mut se = 0.0;
-        for i in 0..n {
-            let rows: Vec<usize> = (0..n).filter(|&j| j != i).collect();
-            let (gp, mean) = fit_gp(&rows)?;
-            let r = predict(&gp, mean, &x[i * d..(i + 1) * d]);
-            se += (r - fitted[i].1).powi(2);
+        let mut best: Option<(f64, WarpInputs, Scaling, Vec<f64>, usize)> = None;
+        for set in WarpInputs::ALL {
+            let all: Vec<Vec<f64>> = l.cases.values().map(|(c, v)| set.raw(c, v)).collect();
+            let scaling = Scaling::fit(&all);
+            let d = scaling.index.len();
+            if d == 0 {
+                continue;
+            }
+            let x: Vec<f64> = matched
+                .iter()
+                .flat_map(|(c, v)| scaling.apply(&set.raw(c, v)))
+                .collect();
+            let mut se = 0.0;
+            for i in 0..n {
+                let rows: Vec<usize> = (0..n).filter(|&j| j != i).collect();
+                let (gp, mean) = fit_gp(&x, d, &y, &rows)?;
+                se += (predict(&gp, mean, &x[i * d..(i + 1) * d]) - fitted[i].1).powi(2);
+            }
+            let loo = (se / n as f64).sqrt();
+            if best.as_ref().is_none_or(|b| loo < b.0) {
+                best = Some((loo, set, scaling, x, d));
+            }
         }
-        let (gp, mean_ln_r) = fit_gp(&(0..n).collect::<Vec<_>>())?;
+        let Some((loo_rmse, inputs, scaling, x, d)) = best else {
+            return Err(RomError::InsufficientData(
+                "no regression input of the pressure warp varies over the low-fidelity cases"
+                    .into(),
+            ));
+        };
+        let (gp, mean_ln_r) = fit_gp(&x, d, &y, &(0..n).collect::<Vec<_>>())?;
         Ok(PressureWarp {
-            features,
+            inputs,
+            scaling,
             gp,
             mean_ln_r,
             info: WarpInfo {
                 fitted,
-                loo_rmse: (se / n as f64).sqrt(),
+                inputs,
+                loo_rmse,
                 unwarped_cases: l.incomplete,
             },
         })
     }
 
-    /// The regressed scale `r` of a case, within [`SCALE_BOUNDS`].
-    pub fn scale(&self, inputs: &CaseInputs) -> f64 {
-        let mut x = vec![0.0; self.features.dim()];
-        self.features.scale_into(&raw_features(inputs), &mut x);
-        predict(&self.gp, self.mean_ln_r, &x)
+    /// The regressed scale `r` of a case with the complete low-fidelity ramp `ramp` (on the
+    /// grid of the set the warp was fitted to), within [`SCALE_BOUNDS`].
+    pub fn scale(&self, inputs: &CaseInputs, ramp: &[[f64; 22]]) -> f64 {
+        predict(
+            &self.gp,
+            self.mean_ln_r,
+            &self.scaling.apply(&self.inputs.raw(inputs, ramp)),
+        )
     }
 
     /// The low-fidelity set with every complete ramp warped by its regressed scale (rows in
@@ -244,7 +348,7 @@ impl PressureWarp {
         let warped: HashMap<&str, Vec<[f64; 22]>> = l
             .cases
             .iter()
-            .map(|(id, (inputs, v))| (id.as_str(), warp_ramp(&l.grid, v, self.scale(inputs))))
+            .map(|(id, (inputs, v))| (id.as_str(), warp_ramp(&l.grid, v, self.scale(inputs, v))))
             .collect();
         let mut out = low.clone();
         for r in &mut out.rows {

@@ -51,6 +51,9 @@ impl Default for GpParams {
 }
 
 const LN_LEN_BOUNDS: (f64, f64) = (-3.5, 3.5);
+
+/// Largest number of inputs (the hot paths scale the query in fixed arrays of this size).
+pub const MAX_INPUTS: usize = 8;
 const LN_NUGGET_BOUNDS: (f64, f64) = (-18.4, -2.3);
 
 /// A fitted Gaussian process.
@@ -338,8 +341,8 @@ impl Gp {
         let (kv, rest) = scratch.split_at_mut(n);
         let (gv, rest) = rest.split_at_mut(n);
         let jt = &mut rest[..d * m];
-        let mut xq = [0.0; 8];
-        let mut il2 = [0.0; 8];
+        let mut xq = [0.0; MAX_INPUTS];
+        let mut il2 = [0.0; MAX_INPUTS];
         for j in 0..d {
             xq[j] = x[j] * self.inv_len[j];
             il2[j] = self.inv_len[j] * self.inv_len[j];
@@ -425,7 +428,7 @@ impl Gp {
     #[inline(always)]
     pub fn kernel_vector_into(&self, x: &[f64], k: &mut [f64]) {
         let d = self.d;
-        let mut xq = [0.0; 8];
+        let mut xq = [0.0; MAX_INPUTS];
         for j in 0..d {
             xq[j] = x[j] * self.inv_len[j];
         }
@@ -453,6 +456,13 @@ impl Regressor for Gp {
             return Err(RomError::InsufficientData(format!(
                 "GP needs ≥ 2 points, got {n}"
             )));
+        }
+        if d == 0 || d > MAX_INPUTS {
+            return Err(RomError::invalid(
+                "GP inputs",
+                d,
+                &format!("1 ..= {MAX_INPUTS} (the prediction paths use fixed-size arrays)"),
+            ));
         }
         let theta = match &params.theta {
             Some(t) if t.len() == d + 1 => t.clone(),
