@@ -60,6 +60,11 @@ pub struct CorrectionInfo {
 /// them, the low-fidelity set corrected, the surrogate trained on it, and its predictions at
 /// the held-out cases compared with their high-fidelity values. Beside it, the raw
 /// discrepancy `H − L` of the same rows: what training on the low fidelity alone would miss.
+///
+/// The held-out cases keep their low-fidelity rows (every case of a plan has them), so the
+/// surrogate has seen their corrected low-fidelity ramps: the figure is the correction's
+/// error at a plan case plus the surrogate's fit there. At a design between the plan's cases
+/// the surrogate's own held-out error ([`Validation`] of the model) comes on top.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct EndToEnd {
     /// Scheme, e.g. `5-fold over the 30 high-fidelity cases`.
