@@ -128,15 +128,23 @@ fn end_to_end_check_measures_the_pipeline_on_unseen_high_fidelity_cases() {
             "force_n"
         ]
     );
-    for ((name, s), (_, l)) in e.surrogate.iter().zip(&e.low_fidelity) {
+    for (((name, s), (_, c)), (_, l)) in e.surrogate.iter().zip(&e.corrected).zip(&e.low_fidelity) {
         // every high-fidelity row is held out exactly once
         let per_row = if name == "markers_mm" { 18 } else { 1 };
         assert_eq!(s.count, high.rows.len() * per_row, "{name}");
         assert_eq!(l.count, s.count);
-        // the raw bias is what `high_values` puts in; the corrected pipeline removes most of it
+        assert_eq!(c.count, s.count);
+        // the raw bias is what `high_values` puts in; the correction removes most of it, and
+        // the surrogate at a design it never saw keeps most of that gain
         assert!(l.rmse > 0.05, "{name}: low-fidelity bias {}", l.rmse);
         assert!(
-            s.rmse < 0.3 * l.rmse,
+            c.rmse < 0.3 * l.rmse,
+            "{name}: corrected {} against low-fidelity bias {}",
+            c.rmse,
+            l.rmse
+        );
+        assert!(
+            s.rmse < 0.5 * l.rmse,
             "{name}: surrogate {} against low-fidelity bias {}",
             s.rmse,
             l.rmse
@@ -338,10 +346,12 @@ fn pressure_warp_recovers_the_scale_and_beats_the_additive_correction() {
     let plain = end_to_end(&low, &high, 3, &cfg, false).unwrap();
     let warp = end_to_end(&low, &high, 3, &cfg, true).unwrap();
     assert!(warp.scheme.ends_with("pressure warp"));
-    let (p, q) = (plain.surrogate[1].1.rmse, warp.surrogate[1].1.rmse);
-    // measured: 0.0037 against 0.036 mm
+    let (p, q) = (plain.corrected[1].1.rmse, warp.corrected[1].1.rmse);
+    // measured: corrected 0.0006 against 0.036 mm; surrogate at unseen designs 0.045 against
+    // 0.058 mm (there its own regression error on 60 cases dominates)
     assert!(
         q < 0.3 * p,
-        "tip Uz against the high fidelity: warp {q}, additive {p}"
+        "corrected tip Uz against the high fidelity: warp {q}, additive {p}"
     );
+    assert!(warp.surrogate[1].1.rmse < plain.surrogate[1].1.rmse);
 }
