@@ -19,8 +19,13 @@ fn low_set() -> SnapshotSet {
     SnapshotSet::from_reader(synthetic_csv(90, 3).as_bytes(), "low").unwrap()
 }
 
-/// High-fidelity rows of every `every`-th case of `low`.
-fn high_subset(low: &SnapshotSet, every: usize) -> SnapshotSet {
+/// High-fidelity rows of every `every`-th case of `low`, with values `values(row)`.
+fn subset_with(
+    low: &SnapshotSet,
+    every: usize,
+    source: &str,
+    values: impl Fn(&SnapshotRow) -> [f64; 22],
+) -> SnapshotSet {
     let mut ids: Vec<&str> = low.rows.iter().map(|r| r.case_id.as_str()).collect();
     ids.dedup();
     let keep: Vec<&str> = ids.iter().step_by(every).copied().collect();
@@ -29,15 +34,20 @@ fn high_subset(low: &SnapshotSet, every: usize) -> SnapshotSet {
         .iter()
         .filter(|r| keep.contains(&r.case_id.as_str()))
         .map(|r| SnapshotRow {
-            values: high_values(r),
+            values: values(r),
             ..r.clone()
         })
         .collect();
     SnapshotSet {
-        source: "high".into(),
+        source: source.into(),
         rows,
         skipped_unconverged: 0,
     }
+}
+
+/// High-fidelity rows of every `every`-th case of `low`.
+fn high_subset(low: &SnapshotSet, every: usize) -> SnapshotSet {
+    subset_with(low, every, "high", high_values)
 }
 
 fn fit(set: SnapshotSet) -> Surrogate {
@@ -280,26 +290,10 @@ fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
 /// A high fidelity that is the low one at a lower pressure, `H(x, P) = L(x, P / r(x))`, with a
 /// scale that depends smoothly on the wall thickness (as a coarse mesh's early contact).
 fn warped_subset(low: &SnapshotSet, every: usize) -> SnapshotSet {
-    let mut ids: Vec<&str> = low.rows.iter().map(|r| r.case_id.as_str()).collect();
-    ids.dedup();
-    let keep: Vec<&str> = ids.iter().step_by(every).copied().collect();
-    let rows = low
-        .rows
-        .iter()
-        .filter(|r| keep.contains(&r.case_id.as_str()))
-        .map(|r| {
-            let s = 1.05 + 0.08 * (r.inputs.wall_thickness_mm - 1.2) / 1.6;
-            SnapshotRow {
-                values: surrogate::rom::synthetic::response(&r.inputs, r.pressure_bar / s),
-                ..r.clone()
-            }
-        })
-        .collect();
-    SnapshotSet {
-        source: "high (warped)".into(),
-        rows,
-        skipped_unconverged: 0,
-    }
+    subset_with(low, every, "high (warped)", |r| {
+        let s = 1.05 + 0.08 * (r.inputs.wall_thickness_mm - 1.2) / 1.6;
+        surrogate::rom::synthetic::response(&r.inputs, r.pressure_bar / s)
+    })
 }
 
 #[test]
