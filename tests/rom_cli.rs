@@ -20,6 +20,16 @@ fn text(o: &Output) -> (String, String) {
     )
 }
 
+/// Asserts that the command failed and that its stderr names every one of `needles`.
+fn fails_with(o: &Output, needles: &[&str]) {
+    let err = text(o).1;
+    assert!(
+        !o.status.success() && needles.iter().all(|n| err.contains(n)),
+        "expected a failure naming {needles:?}, got status {:?}: {err}",
+        o.status.code()
+    );
+}
+
 /// Trains once (synthetic, 30 cases, 3 folds) and returns the model path.
 fn model() -> &'static PathBuf {
     static MODEL: OnceLock<PathBuf> = OnceLock::new();
@@ -53,7 +63,7 @@ fn model() -> &'static PathBuf {
         let mut lines = held.lines();
         assert_eq!(
             lines.next(),
-            Some("case_id,n_bellows,fold,pressure_bar,output,fe,predicted,std,error")
+            Some("case_id,n_bellows,repeat,fold,pressure_bar,output,fe,predicted,std,error")
         );
         // 30 cases × the synthetic grid × 4 scalar outputs
         assert_eq!(lines.count() % (30 * 4), 0);
@@ -155,7 +165,7 @@ fn prefer_poly_within_a_large_margin_selects_the_polynomial() {
         .arg(&out)
         .output()
         .unwrap();
-    assert!(!o.status.success() && text(&o).1.contains("--prefer-poly-within"));
+    fails_with(&o, &["--prefer-poly-within"]);
 }
 
 #[test]
@@ -216,7 +226,7 @@ fn out_of_domain_warns_or_fails_with_strict() {
     let mut strict = args.to_vec();
     strict.push("--strict");
     let o = predict(&strict);
-    assert!(!o.status.success() && text(&o).1.contains("--strict"));
+    fails_with(&o, &["--strict"]);
 }
 
 #[test]
@@ -231,11 +241,7 @@ fn unknown_material_and_untrained_n_are_clear_errors() {
         "--material",
         "ogden_999",
     ]);
-    let err = text(&o).1;
-    assert!(
-        !o.status.success() && err.contains("ogden_999") && err.contains("ogden_002"),
-        "{err}"
-    );
+    fails_with(&o, &["ogden_999", "ogden_002"]);
     let o = predict(&[
         "--n",
         "10",
@@ -246,11 +252,7 @@ fn unknown_material_and_untrained_n_are_clear_errors() {
         "--material",
         "ogden_002",
     ]);
-    let err = text(&o).1;
-    assert!(
-        !o.status.success() && err.contains("invalid n = 10") && err.contains("[9, 11, 13]"),
-        "{err}"
-    );
+    fails_with(&o, &["invalid n = 10", "[9, 11, 13]"]);
 }
 
 #[test]
@@ -294,11 +296,7 @@ fn batch_csv_round_trip_and_bad_rows() {
             "--out",
             d.join("x.csv").to_str().unwrap(),
         ]);
-        let err = text(&o).1;
-        assert!(
-            !o.status.success() && err.contains(want),
-            "case {i}: want {want:?}, got {err}"
-        );
+        fails_with(&o, &[want]);
     }
 }
 
@@ -353,11 +351,7 @@ fn corrupt_model_file_is_a_clear_error() {
         .arg(&p)
         .output()
         .unwrap();
-    let err = text(&o).1;
-    assert!(
-        !o.status.success() && err.contains("corrupt or truncated"),
-        "{err}"
-    );
+    fails_with(&o, &["corrupt or truncated"]);
 }
 
 #[test]
@@ -371,14 +365,9 @@ fn speedup_benchmark_rejects_bad_input_before_any_fe_run() {
             .chain([out.to_str().unwrap()])
             .collect::<Vec<_>>(),
     );
-    let err = text(&o).1;
-    assert!(
-        !o.status.success() && err.contains("medium") && err.contains("coarse"),
-        "{err}"
-    );
+    fails_with(&o, &["medium", "coarse"]);
     let o = predict(&[&base[..], &["--bench-fe", "coarse"]].concat());
-    let err = text(&o).1;
-    assert!(!o.status.success() && err.contains("--bench-out"), "{err}");
+    fails_with(&o, &["--bench-out"]);
     let o = predict(&[
         "--n",
         "10",
@@ -391,11 +380,7 @@ fn speedup_benchmark_rejects_bad_input_before_any_fe_run() {
         "--bench-out",
         out.to_str().unwrap(),
     ]);
-    let err = text(&o).1;
-    assert!(
-        !o.status.success() && err.contains("invalid n = 10"),
-        "{err}"
-    );
+    fails_with(&o, &["invalid n = 10"]);
     assert!(!out.exists());
 }
 
@@ -431,11 +416,7 @@ fn learning_curve_prints_one_row_per_size_and_rejects_bad_sizes() {
         .arg(&out)
         .output()
         .unwrap();
-    let err = text(&o).1;
-    assert!(
-        !o.status.success() && err.contains("--learning-curve size 2"),
-        "{err}"
-    );
+    fails_with(&o, &["--learning-curve size 2"]);
 }
 
 #[test]
@@ -477,7 +458,7 @@ fn export_ramp_writes_one_design_and_needs_it_named() {
         .arg(&rs)
         .output()
         .unwrap();
-    assert!(!o.status.success() && text(&o).1.contains("--ramp needs --n, --t and --material"));
+    fails_with(&o, &["--ramp needs --n, --t and --material"]);
     let o = bin()
         .args(["export", "--n", "11", "--model"])
         .arg(model())
@@ -485,7 +466,7 @@ fn export_ramp_writes_one_design_and_needs_it_named() {
         .arg(&rs)
         .output()
         .unwrap();
-    assert!(!o.status.success() && text(&o).1.contains("give --ramp too"));
+    fails_with(&o, &["give --ramp too"]);
     // an untrained N is the library's clear error
     let o = bin()
         .args([
@@ -504,9 +485,5 @@ fn export_ramp_writes_one_design_and_needs_it_named() {
         .arg(&rs)
         .output()
         .unwrap();
-    assert!(
-        !o.status.success() && text(&o).1.contains("n = 10"),
-        "{}",
-        text(&o).1
-    );
+    fails_with(&o, &["n = 10"]);
 }

@@ -395,3 +395,61 @@ fn held_out_points_reproduce_the_stored_validation() {
         assert!(pts.iter().filter(|h| h.std > 0.0).count() >= pts.len() / 2);
     }
 }
+
+/// Repeated k-fold: every repeat holds each case out exactly once, the stored errors pool all
+/// repeats' held-out predictions, and the final fit does not depend on the folds.
+#[test]
+fn repeated_folds_pool_every_assignment() {
+    use std::collections::BTreeMap;
+    let cases = rom_common::synthetic_cases(24, 5);
+    let run = |repeats: usize| {
+        let cfg = surrogate::rom::TrainConfig {
+            folds: 3,
+            repeats,
+            ..Default::default()
+        };
+        surrogate::rom::train(&cases, "s", 0, &cfg, &|_, _| {}).unwrap()
+    };
+    let (one, three) = (run(1), run(3));
+    assert_eq!(three.held_out.len(), 3 * one.held_out.len());
+    assert!(three
+        .surrogate
+        .validation
+        .scheme
+        .contains("3 fold assignments"));
+    assert_eq!(one.surrogate.gp, three.surrogate.gp);
+    assert_eq!(one.surrogate.blocks, three.surrogate.blocks);
+    // each (case, repeat) has one fold; each (case, repeat, output, pressure) appears once
+    let mut fold_of: BTreeMap<(String, usize), usize> = BTreeMap::new();
+    let mut seen = std::collections::BTreeSet::new();
+    for h in &three.held_out {
+        let f = *fold_of
+            .entry((h.case_id.clone(), h.repeat))
+            .or_insert(h.fold);
+        assert_eq!(f, h.fold);
+        assert!(seen.insert((h.case_id.clone(), h.repeat, h.output, h.p_bar.to_bits())));
+    }
+    assert_eq!(fold_of.len(), 3 * cases.cases.len());
+    let moved = cases
+        .cases
+        .iter()
+        .filter(|c| fold_of[&(c.case_id.clone(), 0)] != fold_of[&(c.case_id.clone(), 1)])
+        .count();
+    assert!(moved > 0, "the repeats drew the same folds");
+    // the stored RMSE of each scalar is the RMS over all repeats' held-out predictions
+    for v in &three.surrogate.validation.outputs[1..] {
+        let e: Vec<f64> = three
+            .held_out
+            .iter()
+            .filter(|h| h.output == v.name)
+            .map(|h| h.predicted - h.truth)
+            .collect();
+        let rms = (e.iter().map(|x| x * x).sum::<f64>() / e.len() as f64).sqrt();
+        assert!(
+            (rms - v.total.rmse).abs() <= 1e-12 * (1.0 + rms),
+            "{}: {rms} vs stored {}",
+            v.name,
+            v.total.rmse
+        );
+    }
+}

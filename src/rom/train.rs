@@ -28,6 +28,10 @@ pub struct TrainConfig {
     pub folds: usize,
     /// Seed of the fold assignment.
     pub seed: u64,
+    /// Number of fold assignments (repeated k-fold): the held-out errors pool every
+    /// repeat's folds, which steadies the estimate when a few cases dominate it (costs
+    /// `repeats × folds` fits). Repeat `r` draws its folds with seed `seed + r`.
+    pub repeats: usize,
     /// POD energy tolerance (discarded fraction).
     pub pod_tol: f64,
     /// Largest number of modes of the field block.
@@ -54,6 +58,7 @@ impl Default for TrainConfig {
         TrainConfig {
             folds: 5,
             seed: 2024,
+            repeats: 1,
             pod_tol: 1e-7,
             max_field_modes: 24,
             max_direct_modes: 8,
@@ -88,7 +93,9 @@ pub struct HeldOutPoint {
     pub case_id: String,
     /// Number of bellows of the case.
     pub n_bellows: u32,
-    /// Fold that held the case out.
+    /// Repeat (fold assignment) of this prediction, from 0.
+    pub repeat: usize,
+    /// Fold that held the case out in that repeat.
     pub fold: usize,
     /// Grid pressure, bar.
     pub p_bar: f64,
@@ -107,6 +114,7 @@ pub struct HeldOutPoint {
 struct RawHeldOut {
     cand: usize,
     case: usize,
+    repeat: usize,
     p_index: usize,
     scalar: usize,
     truth: f64,
@@ -238,7 +246,11 @@ fn cand_index(output: usize, direct: usize, kind: usize) -> usize {
     (output * 2 + direct) * 2 + kind
 }
 
-fn evaluate_fold(fit: &Fitted, test: &[(usize, &CaseRamp)]) -> (Table, Vec<RawHeldOut>) {
+fn evaluate_fold(
+    fit: &Fitted,
+    test: &[(usize, &CaseRamp)],
+    repeat: usize,
+) -> (Table, Vec<RawHeldOut>) {
     let mut table = vec![CandidateErrors::default(); 5 * 2 * 2];
     let mut raw = Vec::new();
     let (d, m) = (fit.features.dim(), fit.gp.m);
@@ -277,6 +289,7 @@ fn evaluate_fold(fit: &Fitted, test: &[(usize, &CaseRamp)]) -> (Table, Vec<RawHe
                         raw.push(RawHeldOut {
                             cand,
                             case: case_index,
+                            repeat,
                             p_index: e / nq,
                             scalar: output - 1,
                             truth: truth[e],
@@ -478,15 +491,24 @@ fn input_specs(cases: &[CaseInputs], pressures: &[f64]) -> Vec<InputSpec> {
     v
 }
 
-/// Runs the `k` folds and the final fit on all cases as `k + 1` parallel tasks; returns the
-/// merged held-out errors and the final fit.
+/// Fold of each case in repeat `r` of the cross-validation.
+fn repeat_folds(n: usize, k: usize, cfg: &TrainConfig, r: usize) -> Vec<usize> {
+    fold_assignment(n, k, cfg.seed.wrapping_add(r as u64))
+}
+
+/// Runs the `k` folds of every repeat and the final fit on all cases as
+/// `repeats × k + 1` parallel tasks; returns the merged held-out errors and the final fit.
 fn cross_validate_and_fit(
     set: &CaseSet,
     k: usize,
     cfg: &TrainConfig,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<(Table, Fitted, Vec<RawHeldOut>), RomError> {
-    let fold = fold_assignment(set.cases.len(), k, cfg.seed);
+    let repeats = cfg.repeats.max(1);
+    let folds: Vec<Vec<usize>> = (0..repeats)
+        .map(|r| repeat_folds(set.cases.len(), k, cfg, r))
+        .collect();
+    let tasks = repeats * k;
     let partial: &[PartialRamp] = if cfg.fill_truncated {
         &set.partial
     } else {
@@ -494,26 +516,27 @@ fn cross_validate_and_fit(
     };
     let done = std::sync::atomic::AtomicUsize::new(0);
     type Task = (Option<(Table, Vec<RawHeldOut>)>, Option<Fitted>);
-    let results: Vec<Result<Task, RomError>> = (0..=k)
+    let results: Vec<Result<Task, RomError>> = (0..=tasks)
         .into_par_iter()
-        .map(|f| {
-            let out = if f == k {
+        .map(|t| {
+            let out = if t == tasks {
                 (None, Some(fit_pipeline(&set.cases, partial, cfg)?))
             } else {
+                let (r, f) = (t / k, t % k);
                 let (mut tr, mut te) = (Vec::new(), Vec::new());
                 for (i, c) in set.cases.iter().enumerate() {
-                    if fold[i] == f {
+                    if folds[r][i] == f {
                         te.push((i, c))
                     } else {
                         tr.push(c.clone())
                     }
                 }
                 let fitted = fit_pipeline(&tr, partial, cfg)?;
-                (Some(evaluate_fold(&fitted, &te)), None)
+                (Some(evaluate_fold(&fitted, &te, r)), None)
             };
             progress(
                 done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1,
-                k + 1,
+                tasks + 1,
             );
             Ok(out)
         })
@@ -538,7 +561,7 @@ fn cross_validate_and_fit(
         stage: "training".into(),
         message: "final fit missing".into(),
     })?;
-    held_out.sort_by_key(|h| (h.case, h.scalar, h.p_index, h.cand));
+    held_out.sort_by_key(|h| (h.case, h.repeat, h.scalar, h.p_index, h.cand));
     Ok((table, fitted, held_out))
 }
 
@@ -638,9 +661,14 @@ pub fn train(
     }
     let k = cfg.folds.clamp(2, n);
     let (table, fitted, raw) = cross_validate_and_fit(set, k, cfg, progress)?;
-    let (field_kind, scalar_choice, mut validation) =
-        choose(&table, cfg, format!("{k}-fold by case"), n);
-    let fold = fold_assignment(n, k, cfg.seed);
+    let scheme = match cfg.repeats.max(1) {
+        1 => format!("{k}-fold by case"),
+        r => format!("{k}-fold by case, {r} fold assignments pooled"),
+    };
+    let (field_kind, scalar_choice, mut validation) = choose(&table, cfg, scheme, n);
+    let folds: Vec<Vec<usize>> = (0..cfg.repeats.max(1))
+        .map(|r| repeat_folds(n, k, cfg, r))
+        .collect();
     let held_out = raw
         .into_iter()
         .filter(|h| {
@@ -652,7 +680,8 @@ pub fn train(
             HeldOutPoint {
                 case_id: case.case_id.clone(),
                 n_bellows: case.inputs.n_bellows,
-                fold: fold[h.case],
+                repeat: h.repeat,
+                fold: folds[h.repeat][h.case],
                 p_bar: set.pressures[h.p_index],
                 output: SCALARS[h.scalar].0,
                 truth: h.truth,

@@ -138,7 +138,10 @@ pub fn run(a: TrainArgs) -> Result<()> {
     let cfg = TrainConfig {
         folds: a.folds,
         seed: a.seed,
+        repeats: usize::from(a.repeats),
         pod_tol: a.pod_tol,
+        max_field_modes: usize::from(a.max_field_modes),
+        max_direct_modes: usize::from(a.max_direct_modes),
         only: a.only.map(|o| match o {
             OnlyArg::Gp => RegressorKind::Gp,
             OnlyArg::Poly => RegressorKind::Poly,
@@ -190,7 +193,7 @@ pub fn run(a: TrainArgs) -> Result<()> {
     let bar = if a.quiet {
         ProgressBar::hidden()
     } else {
-        ProgressBar::new(cfg.folds as u64 + 1)
+        ProgressBar::new((cfg.folds * cfg.repeats.max(1)) as u64 + 1)
     };
     bar.set_style(ProgressStyle::with_template(
         "{msg} [{bar:30}] {pos}/{len} fits ({elapsed})",
@@ -278,6 +281,7 @@ fn write_held_out(path: &std::path::Path, points: &[HeldOutPoint]) -> Result<()>
     w.write_record([
         "case_id",
         "n_bellows",
+        "repeat",
         "fold",
         "pressure_bar",
         "output",
@@ -290,6 +294,7 @@ fn write_held_out(path: &std::path::Path, points: &[HeldOutPoint]) -> Result<()>
         w.write_record([
             h.case_id.clone(),
             h.n_bellows.to_string(),
+            h.repeat.to_string(),
             h.fold.to_string(),
             h.p_bar.to_string(),
             h.output.to_string(),
