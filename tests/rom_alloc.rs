@@ -24,7 +24,12 @@ static GLOBAL: Counting = Counting;
 
 #[test]
 fn predict_into_std_and_gradient_do_not_allocate() {
-    let m = rom_common::small_model(None);
+    for m in [rom_common::small_model(None), rom_common::grouped_model()] {
+        predict_paths_do_not_allocate(&m);
+    }
+}
+
+fn predict_paths_do_not_allocate(m: &surrogate::rom::Surrogate) {
     let mut pred = m.new_prediction();
     let mut jac = Jacobian::default();
     let q = Query {

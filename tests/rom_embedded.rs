@@ -60,6 +60,9 @@ fn embedded_f32_agrees_with_library_poly_gp_and_mixed() {
             "{only:?}: embedded f32 differs from the library by {gap:e} (relative)"
         );
     }
+    // one kernel per POD block
+    let gap = max_relative_gap(&rom_common::grouped_model());
+    assert!(gap <= 1e-5, "kernel per block: embedded f32 off by {gap:e}");
 }
 
 #[test]

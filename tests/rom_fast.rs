@@ -58,7 +58,14 @@ fn folded_scalar_path_matches_the_general_path() {
         derived: Default::default(),
         ..mixed
     };
-    for (name, m) in [("gp", &gp), ("poly", &poly), ("mixed", &mixed)] {
+    let grouped = rom_common::grouped_model();
+    assert!(grouped.gp.n_groups() == grouped.blocks.len());
+    for (name, m) in [
+        ("gp", &gp),
+        ("poly", &poly),
+        ("mixed", &mixed),
+        ("grouped", &grouped),
+    ] {
         let gap = max_gap(m);
         println!("{name}: max relative gap {gap:e}");
         assert!(gap < 1e-12, "{name}: fast path off by {gap:e}");
@@ -90,7 +97,7 @@ fn kernel_vector_by_feature_is_bit_identical() {
     for (s, x0) in [-1.0, -0.3, 0.0, 0.45, 1.2].iter().enumerate() {
         let x: Vec<f64> = (0..d).map(|j| x0 + 0.1 * (j + s) as f64).collect();
         let (mut k1, mut k2) = (vec![0.0; n], vec![0.0; n]);
-        m.gp.kernel_vector_into(&x, &mut k1);
+        m.gp.kernel_vector_into(0, &x, &mut k1);
         kernel_vector(&xs_t, &m.gp.inv_len, &x, &mut k2);
         assert_eq!(k1, k2);
     }

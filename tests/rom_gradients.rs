@@ -65,16 +65,30 @@ fn regressor_jacobians_match_finite_differences() {
         weights: &[],
     };
     let gp = Gp::fit(&data, &GpParams::default()).unwrap();
+    // a kernel per output column
+    let grouped = Gp::fit(
+        &data,
+        &GpParams {
+            groups: vec![0, 1, 2],
+            ..Default::default()
+        },
+    )
+    .unwrap();
+    assert_ne!(grouped.group_inv_len(0), grouped.group_inv_len(1));
     let poly = Poly::fit(&data, &PolyParams::default()).unwrap();
     for t in 0..5 {
         let xq: Vec<f64> = (0..d).map(|_| rng.gen_range(-0.9..0.9)).collect();
         check_regressor(&gp, &xq, &format!("gp #{t}"));
+        check_regressor(&grouped, &xq, &format!("grouped gp #{t}"));
         check_regressor(&poly, &xq, &format!("poly #{t}"));
     }
 }
 
 fn check_surrogate(kind: RegressorKind) {
-    let m = rom_common::small_model(Some(kind));
+    check_model(&rom_common::small_model(Some(kind)), &format!("{kind:?}"));
+}
+
+fn check_model(m: &surrogate::rom::Surrogate, kind: &str) {
     let base = Query {
         n: 11,
         t_mm: 1.9,
@@ -122,7 +136,7 @@ fn check_surrogate(kind: RegressorKind) {
             let scale = jac.d[q].iter().fold(1e-3f64, |a, v| a.max(v.abs()));
             assert!(
                 (fd - an).abs() <= 1e-5 * scale,
-                "{kind:?}: d q{q}/d {}: fd {fd} vs {an}",
+                "{kind}: d q{q}/d {}: fd {fd} vs {an}",
                 GRAD_INPUT_NAMES[i]
             );
         }
@@ -132,6 +146,11 @@ fn check_surrogate(kind: RegressorKind) {
 #[test]
 fn surrogate_gradient_matches_finite_differences_gp() {
     check_surrogate(RegressorKind::Gp);
+}
+
+#[test]
+fn surrogate_gradient_matches_finite_differences_kernel_per_block() {
+    check_model(&rom_common::grouped_model(), "kernel per block");
 }
 
 #[test]

@@ -347,9 +347,12 @@ pub fn stencil(grid: &[f64], p: f64) -> Stencil<f64> {
 /// (`|α|` is 10³–10⁵ times the outputs), so `f32` weights would lose 4–5 digits.
 #[derive(Debug, Clone, Copy)]
 pub struct GpTables<'a> {
-    /// Inverse length scales `1/ℓ_d` (scaled features), length `d`.
+    /// Column groups with a kernel each, as boundaries `[0, b₁, …, n_coefs]`; empty: one
+    /// kernel for all columns.
+    pub groups: &'a [u16],
+    /// Inverse length scales `1/ℓ_d` (scaled features), length `d` per group.
     pub inv_len: &'a [f64],
-    /// Training inputs divided by the length scales, row-major `n × d`.
+    /// Training inputs divided by the length scales, row-major `n × d` per group.
     pub xs: &'a [f64],
     /// Weights `α = R⁻¹Y`, row-major `n × n_coefs`.
     pub alpha: &'a [f64],
@@ -504,7 +507,7 @@ pub fn evaluate<F: Real>(
     let m = model.n_coefs;
     if use_gp {
         let mut c64 = [0.0f64; MAX_COEFS];
-        gp_mean(&model.gp, &x64[..d], m, &mut c64[..m]);
+        gp_mean(&model.gp, &x64[..d], m, &mut c64[..m])?;
         for k in 0..m {
             coef_gp[k] = F::from_f64(c64[k]);
         }
@@ -540,26 +543,43 @@ pub fn evaluate<F: Real>(
     Ok(())
 }
 
-fn gp_mean(gp: &GpTables<'_>, x: &[f64], m: usize, out: &mut [f64]) {
+fn gp_mean(gp: &GpTables<'_>, x: &[f64], m: usize, out: &mut [f64]) -> Result<(), EmbeddedError> {
     let d = x.len();
-    let n = gp.xs.len().checked_div(d).unwrap_or(0);
-    let mut xq = [0.0f64; N_FEATURES];
-    for j in 0..d {
-        xq[j] = x[j] * gp.inv_len[j];
+    let n = gp.alpha.len().checked_div(m).unwrap_or(0);
+    let n_groups = gp.groups.len().saturating_sub(1).max(1);
+    if gp.inv_len.len() != n_groups * d || gp.xs.len() != n_groups * n * d {
+        return Err(EmbeddedError::BadModel);
     }
-    for i in 0..n {
-        let xi = &gp.xs[i * d..(i + 1) * d];
-        let mut r2 = 0.0;
+    for g in 0..n_groups {
+        let (lo, hi) = if gp.groups.is_empty() {
+            (0, m)
+        } else {
+            (gp.groups[g] as usize, gp.groups[g + 1] as usize)
+        };
+        if lo >= hi || hi > m {
+            return Err(EmbeddedError::BadModel);
+        }
+        let inv_len = &gp.inv_len[g * d..(g + 1) * d];
+        let xs = &gp.xs[g * n * d..(g + 1) * n * d];
+        let mut xq = [0.0f64; N_FEATURES];
         for j in 0..d {
-            let t = xq[j] - xi[j];
-            r2 += t * t;
+            xq[j] = x[j] * inv_len[j];
         }
-        let (k, _) = matern52(sqrt(r2));
-        let a = &gp.alpha[i * m..(i + 1) * m];
-        for (o, ac) in out[..m].iter_mut().zip(a) {
-            *o += k * ac;
+        for i in 0..n {
+            let xi = &xs[i * d..(i + 1) * d];
+            let mut r2 = 0.0;
+            for j in 0..d {
+                let t = xq[j] - xi[j];
+                r2 += t * t;
+            }
+            let (k, _) = matern52(sqrt(r2));
+            let a = &gp.alpha[i * m + lo..i * m + hi];
+            for (o, ac) in out[lo..hi].iter_mut().zip(a) {
+                *o += k * ac;
+            }
         }
     }
+    Ok(())
 }
 
 fn poly_mean<F: Real>(poly: &PolyTables<'_, F>, x: &[F], m: usize, out: &mut [F]) {

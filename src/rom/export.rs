@@ -29,6 +29,7 @@ pub struct EmbeddedTables<F> {
     feature_inv_half: Vec<F>,
     pressures: Vec<f64>,
     n_coefs: usize,
+    gp_groups: Vec<u16>,
     gp_inv_len: Vec<f64>,
     gp_xs: Vec<f64>,
     gp_alpha: Vec<f64>,
@@ -82,6 +83,11 @@ impl<F: Real> EmbeddedTables<F> {
             feature_inv_half: conv(&s.features.inv_half),
             pressures: s.pressures.clone(),
             n_coefs: s.gp.m,
+            gp_groups: if use_gp {
+                s.gp.groups.iter().map(|&b| b as u16).collect()
+            } else {
+                Vec::new()
+            },
             gp_inv_len: conv(&s.gp.inv_len),
             gp_xs: if use_gp { s.gp.xs.clone() } else { Vec::new() },
             gp_alpha: if use_gp {
@@ -131,6 +137,7 @@ impl<F: Real> EmbeddedTables<F> {
             pressures: &self.pressures,
             n_coefs: self.n_coefs,
             gp: GpTables {
+                groups: &self.gp_groups,
                 inv_len: &self.gp_inv_len,
                 xs: &self.gp_xs,
                 alpha: &self.gp_alpha,
@@ -188,6 +195,7 @@ fn rust_body<F: Real + std::fmt::Debug>(t: &EmbeddedTables<F>, p: Precision, out
     array(out, "FEATURE_CENTER", ty, &t.feature_center);
     array(out, "FEATURE_INV_HALF", ty, &t.feature_inv_half);
     array(out, "PRESSURES", "f64", &t.pressures);
+    array(out, "GP_GROUPS", "u16", &t.gp_groups);
     array(out, "GP_INV_LEN", "f64", &t.gp_inv_len);
     array(out, "GP_XS", "f64", &t.gp_xs);
     array(out, "GP_ALPHA", "f64", &t.gp_alpha);
@@ -215,7 +223,7 @@ fn rust_body<F: Real + std::fmt::Debug>(t: &EmbeddedTables<F>, p: Precision, out
     out.push_str("];\n\n");
     let _ = write!(
         out,
-        "/// The exported model.\npub static MODEL: EmbeddedModel<'static, {ty}> = EmbeddedModel {{\n    n_allowed: &N_ALLOWED,\n    feature_index: &FEATURE_INDEX,\n    feature_center: &FEATURE_CENTER,\n    feature_inv_half: &FEATURE_INV_HALF,\n    pressures: &PRESSURES,\n    n_coefs: {},\n    gp: GpTables {{ inv_len: &GP_INV_LEN, xs: &GP_XS, alpha: &GP_ALPHA }},\n    poly: PolyTables {{ exponents: &POLY_EXPONENTS, coef: &POLY_COEF }},\n    blocks: &BLOCKS,\n    output_block: &OUTPUT_BLOCK,\n    output_slot: &OUTPUT_SLOT,\n}};\n\n",
+        "/// The exported model.\npub static MODEL: EmbeddedModel<'static, {ty}> = EmbeddedModel {{\n    n_allowed: &N_ALLOWED,\n    feature_index: &FEATURE_INDEX,\n    feature_center: &FEATURE_CENTER,\n    feature_inv_half: &FEATURE_INV_HALF,\n    pressures: &PRESSURES,\n    n_coefs: {},\n    gp: GpTables {{ groups: &GP_GROUPS, inv_len: &GP_INV_LEN, xs: &GP_XS, alpha: &GP_ALPHA }},\n    poly: PolyTables {{ exponents: &POLY_EXPONENTS, coef: &POLY_COEF }},\n    blocks: &BLOCKS,\n    output_block: &OUTPUT_BLOCK,\n    output_slot: &OUTPUT_SLOT,\n}};\n\n",
         t.n_coefs
     );
 }

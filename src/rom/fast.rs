@@ -10,6 +10,9 @@
 //! of all the modes of the four scalar blocks (32 columns for the shipped models). Same algebra,
 //! so the same values up to rounding (tested to 1e-12 relative).
 //!
+//! With GP column groups (a kernel per block) each group's sources are folded apart and get
+//! the kernel vector of their group.
+//!
 //! The GP kernel vector is computed from the training inputs stored by feature (`d × n`), so
 //! that the distance loop and the branch-free Matérn both run over contiguous vectors; on
 //! x86-64 with AVX2 and FMA (detected at run time) the same code is compiled for 4-wide lanes.
@@ -60,14 +63,16 @@ struct Part {
     n_basis: usize,
 }
 
-/// Folded tables of the scalar quantities, per regressor kind.
+/// Folded tables of the scalar quantities, per regressor kind (and per GP column group).
 #[derive(Debug, Clone)]
 pub struct ScalarPath {
-    gp: Option<Part>,
+    /// GP parts with their column group.
+    gp: Vec<(usize, Part)>,
     poly: Option<Part>,
-    /// GP training inputs / length scales by feature, `d × n`.
+    /// GP training inputs / length scales by feature, `d × n` per column group.
     gp_xs_t: Vec<f64>,
     gp_n: usize,
+    gp_groups: usize,
 }
 
 /// Where each scalar quantity comes from: its block and slot.
@@ -125,14 +130,29 @@ impl ScalarPath {
             sources.iter().filter(|s| s.regressor == k).collect()
         };
         let (d, n) = (gp.d, gp.n);
-        let mut gp_xs_t = vec![0.0; d * n];
-        for i in 0..n {
-            for j in 0..d {
-                gp_xs_t[j * n + i] = gp.xs[i * d + j];
+        let mut gp_xs_t = vec![0.0; gp.n_groups() * d * n];
+        for g in 0..gp.n_groups() {
+            let xs = gp.group_xs(g);
+            for i in 0..n {
+                for j in 0..d {
+                    gp_xs_t[(g * d + j) * n + i] = xs[i * d + j];
+                }
             }
         }
+        let gp_sources = of(RegressorKind::Gp);
+        let gp_parts = (0..gp.n_groups())
+            .filter_map(|g| {
+                let cols = gp.group_columns(g);
+                let mine: Vec<&Source<'_>> = gp_sources
+                    .iter()
+                    .copied()
+                    .filter(|s| cols.contains(&s.coef_offset))
+                    .collect();
+                fold(&mine, &gp.alpha, gp.m, gp.n, n_p).map(|p| (g, p))
+            })
+            .collect();
         ScalarPath {
-            gp: fold(&of(RegressorKind::Gp), &gp.alpha, gp.m, gp.n, n_p),
+            gp: gp_parts,
             poly: fold(
                 &of(RegressorKind::Poly),
                 &poly.coef,
@@ -142,6 +162,7 @@ impl ScalarPath {
             ),
             gp_xs_t,
             gp_n: n,
+            gp_groups: gp.n_groups(),
         }
     }
 
@@ -158,14 +179,27 @@ impl ScalarPath {
         scratch: &mut [f64],
     ) {
         let k = &mut scratch[..gp.n];
-        kernel_vector(&self.gp_xs_t, &gp.inv_len, x, k);
-        gp.combine_into(k, cols, out);
+        for g in 0..gp.n_groups() {
+            let r = gp.group_columns(g);
+            let (lo, hi) = (cols.start.max(r.start), cols.end.min(r.end));
+            if lo < hi {
+                kernel_vector(self.group_xs_t(g), gp.group_inv_len(g), x, k);
+                gp.combine_into(k, lo..hi, out);
+            }
+        }
+    }
+
+    /// Training inputs of GP column group `g` by feature, `d × n`.
+    fn group_xs_t(&self, g: usize) -> &[f64] {
+        let len = self.gp_xs_t.len() / self.gp_groups.max(1);
+        &self.gp_xs_t[g * len..(g + 1) * len]
     }
 
     /// Length of the scratch buffer [`Self::predict_into`] needs.
     pub fn scratch_len(&self) -> usize {
-        let nb = |p: &Option<Part>| p.as_ref().map_or(0, |p| p.n_basis);
-        nb(&self.gp).max(nb(&self.poly)).max(self.gp_n)
+        let gp = self.gp.iter().map(|(_, p)| p.n_basis).max().unwrap_or(0);
+        gp.max(self.poly.as_ref().map_or(0, |p| p.n_basis))
+            .max(self.gp_n)
     }
 
     /// The scalar quantities at the scaled features `x` and the pressure stencil `st` into
@@ -179,9 +213,9 @@ impl ScalarPath {
         values: &mut [f64],
         scratch: &mut [f64],
     ) {
-        if let Some(part) = &self.gp {
+        for (g, part) in &self.gp {
             let k = &mut scratch[..part.n_basis];
-            kernel_vector(&self.gp_xs_t, &gp.inv_len, x, k);
+            kernel_vector(self.group_xs_t(*g), gp.group_inv_len(*g), x, k);
             part.apply(k, st, values);
         }
         if let Some(part) = &self.poly {

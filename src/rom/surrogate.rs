@@ -629,11 +629,30 @@ impl Surrogate {
                 self.gp.d, self.gp.m, self.poly.d, self.poly.m
             ));
         }
+        let b = &self.gp.groups;
+        if !b.is_empty()
+            && (b.len() < 3
+                || b[0] != 0
+                || b[b.len() - 1] != m
+                || b.windows(2).any(|w| w[0] >= w[1])
+                || self.blocks.iter().any(|blk| {
+                    b.iter()
+                        .any(|&e| e > blk.coef_offset && e < blk.coef_offset + blk.pod.n_modes)
+                }))
+        {
+            return Err(format!(
+                "Gaussian-process column groups {b:?}: expected increasing boundaries from 0 to {m} that do not split a block"
+            ));
+        }
+        let g = self.gp.n_groups();
         if self.gp.x.len() != self.gp.n * d
-            || self.gp.xs.len() != self.gp.n * d
+            || self.gp.xs.len() != g * self.gp.n * d
+            || self.gp.inv_len.len() != g * d
+            || self.gp.theta.len() != g * (d + 1)
             || d > 8
             || self.gp.alpha.len() != self.gp.n * m
-            || self.gp.chol.len() != self.gp.n * (self.gp.n + 1) / 2
+            || self.gp.sigma2.len() != m
+            || self.gp.chol.len() != g * self.gp.n * (self.gp.n + 1) / 2
         {
             return Err("Gaussian-process tables have inconsistent sizes".into());
         }

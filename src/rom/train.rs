@@ -40,6 +40,10 @@ pub struct TrainConfig {
     pub max_direct_modes: usize,
     /// Gaussian-process settings.
     pub gp: GpParams,
+    /// One GP kernel (hyperparameters and correlation matrix) per POD block instead of one
+    /// shared by all: each output gets its own length scales, at the cost of one kernel
+    /// vector per block in a prediction.
+    pub kernel_per_block: bool,
     /// Polynomial settings.
     pub poly: PolyParams,
     /// Restrict the choice to one regressor family (tests, export checks).
@@ -63,6 +67,7 @@ impl Default for TrainConfig {
             max_field_modes: 24,
             max_direct_modes: 8,
             gp: GpParams::default(),
+            kernel_per_block: false,
             poly: PolyParams::default(),
             only: None,
             prefer_poly_within: 0.0,
@@ -205,7 +210,19 @@ pub fn fit_pipeline(
         m,
         weights: &weights,
     };
-    let gp = Gp::fit(&data, &cfg.gp)?;
+    let gp = if cfg.kernel_per_block {
+        let mut groups: Vec<usize> = blocks.iter().map(|(_, _, off)| *off).collect();
+        groups.push(m);
+        Gp::fit(
+            &data,
+            &GpParams {
+                groups,
+                ..cfg.gp.clone()
+            },
+        )?
+    } else {
+        Gp::fit(&data, &cfg.gp)?
+    };
     let poly = Poly::fit(&data, &cfg.poly)?;
     Ok(Fitted {
         features,

@@ -29,10 +29,20 @@ pub fn synthetic_cases(n_cases: usize, seed: u64) -> CaseSet {
 
 /// A small model (40 cases, 3 folds), optionally restricted to one regressor family.
 pub fn small_model(only: Option<RegressorKind>) -> Surrogate {
+    small_model_with(only, false)
+}
+
+/// The small model with one GP kernel per POD block (GP only).
+pub fn grouped_model() -> Surrogate {
+    small_model_with(Some(RegressorKind::Gp), true)
+}
+
+fn small_model_with(only: Option<RegressorKind>, kernel_per_block: bool) -> Surrogate {
     let cases = synthetic_cases(40, 7);
     let cfg = TrainConfig {
         folds: 3,
         only,
+        kernel_per_block,
         ..Default::default()
     };
     train(&cases, "synthetic", 0, &cfg, &|_, _| {})

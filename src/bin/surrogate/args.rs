@@ -87,6 +87,11 @@ pub struct TrainArgs {
     /// above the number of pressure levels keeps the whole ramp (no truncation).
     #[arg(long, default_value_t = 8, value_parser = clap::value_parser!(u16).range(1..))]
     pub max_direct_modes: u16,
+    /// One GP kernel (length scales, nugget) per POD block instead of one shared by all
+    /// blocks: each output gets its own smoothness; a prediction then computes one kernel
+    /// vector per block it needs.
+    #[arg(long)]
+    pub kernel_per_block: bool,
     /// Restrict the regressor to one family.
     #[arg(long, value_enum)]
     pub only: Option<OnlyArg>,

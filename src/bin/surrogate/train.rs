@@ -147,6 +147,7 @@ pub fn run(a: TrainArgs) -> Result<()> {
             OnlyArg::Poly => RegressorKind::Poly,
         }),
         prefer_poly_within: a.prefer_poly_within,
+        kernel_per_block: a.kernel_per_block,
         fill_truncated: a.fill_truncated,
         ..Default::default()
     };

@@ -11,6 +11,12 @@
 //!
 //! Prediction: mean `μ_c(x) = k(x)ᵀα_c`, `α_c = R⁻¹y_c`; variance
 //! `σ_c²(1 − k(x)ᵀR⁻¹k(x))` with `σ_c² = y_cᵀR⁻¹y_c/n` (latent, no nugget).
+//!
+//! Column groups ([`GpParams::groups`]): the output columns may be split into contiguous
+//! groups, each with its own hyperparameters and correlation matrix (a kernel per POD block:
+//! outputs of different smoothness get their own length scales); a prediction computes one
+//! kernel vector per group it needs. Without groups (the default) one kernel serves all
+//! columns, as above.
 
 use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
@@ -36,6 +42,9 @@ pub struct GpParams {
     /// Largest number of points used in the hyperparameter search (a seeded subset above it;
     /// the weights always use every point).
     pub max_points: usize,
+    /// Column groups with a kernel each, as boundaries `[0, b₁, …, m]` (strictly increasing);
+    /// empty: one kernel for all columns.
+    pub groups: Vec<usize>,
 }
 
 impl Default for GpParams {
@@ -46,6 +55,7 @@ impl Default for GpParams {
             max_iter: 200,
             theta: None,
             max_points: 400,
+            groups: Vec::new(),
         }
     }
 }
@@ -67,17 +77,21 @@ pub struct Gp {
     pub m: usize,
     /// Training inputs, `n × d`.
     pub x: Vec<f64>,
-    /// Training inputs divided by the length scales, `n × d` (prediction hot path).
+    /// Column groups with a kernel each, as boundaries `[0, b₁, …, m]`; empty: one group.
+    /// The per-group tables below are stored group after group.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub groups: Vec<usize>,
+    /// Training inputs divided by the length scales, `n × d` per group (prediction hot path).
     pub xs: Vec<f64>,
-    /// Hyperparameters `(ln ℓ, ln η)`.
+    /// Hyperparameters `(ln ℓ, ln η)`, `d + 1` per group.
     pub theta: Vec<f64>,
-    /// Inverse length scales.
+    /// Inverse length scales, `d` per group.
     pub inv_len: Vec<f64>,
-    /// Weights `α = R⁻¹Y`, `n × m`.
+    /// Weights `α = R⁻¹Y`, `n × m` (column `c` with the factor of its group).
     pub alpha: Vec<f64>,
     /// Per-output process variance `σ_c²`.
     pub sigma2: Vec<f64>,
-    /// Lower Cholesky factor of `R`, packed by rows (`n(n+1)/2` values).
+    /// Lower Cholesky factor of each group's `R`, packed by rows (`n(n+1)/2` values per group).
     pub chol: Vec<f64>,
 }
 
@@ -309,8 +323,14 @@ impl Gp {
         scratch: &mut [f64],
     ) {
         let k = &mut scratch[..self.n];
-        self.kernel_vector_into(x, k);
-        self.combine_body(k, cols, out);
+        for g in 0..self.n_groups() {
+            let r = self.group_columns(g);
+            let (lo, hi) = (cols.start.max(r.start), cols.end.min(r.end));
+            if lo < hi {
+                self.kernel_vector_into(g, x, k);
+                self.combine_body(k, lo..hi, out);
+            }
+        }
     }
 
     simd_method! {
@@ -341,39 +361,45 @@ impl Gp {
         let (kv, rest) = scratch.split_at_mut(n);
         let (gv, rest) = rest.split_at_mut(n);
         let jt = &mut rest[..d * m];
-        let mut xq = [0.0; MAX_INPUTS];
-        let mut il2 = [0.0; MAX_INPUTS];
-        for j in 0..d {
-            xq[j] = x[j] * self.inv_len[j];
-            il2[j] = self.inv_len[j] * self.inv_len[j];
-        }
-        for (i, ki) in kv.iter_mut().enumerate() {
-            let xi = &self.xs[i * d..(i + 1) * d];
-            let mut r2 = 0.0;
-            for j in 0..d {
-                let t = xq[j] - xi[j];
-                r2 += t * t;
-            }
-            *ki = r2;
-        }
-        for (ki, gi) in kv.iter_mut().zip(gv.iter_mut()) {
-            let (k, g) = kernel_and_g(ki.sqrt());
-            *ki = k;
-            *gi = g;
-        }
         jt.iter_mut().for_each(|v| *v = 0.0);
         out[..m].iter_mut().for_each(|o| *o = 0.0);
-        for i in 0..n {
-            let xi = &self.x[i * d..(i + 1) * d];
-            let a = &self.alpha[i * m..(i + 1) * m];
-            let k = kv[i];
-            for (o, ac) in out[..m].iter_mut().zip(a) {
-                *o += k * ac;
-            }
+        for g in 0..self.n_groups() {
+            let cols = self.group_columns(g);
+            let inv_len = &self.inv_len[g * d..(g + 1) * d];
+            let xs = &self.xs[g * n * d..(g + 1) * n * d];
+            let mut xq = [0.0; MAX_INPUTS];
+            let mut il2 = [0.0; MAX_INPUTS];
             for j in 0..d {
-                let v = gv[i] * (x[j] - xi[j]) * il2[j];
-                for (r, ac) in jt[j * m..(j + 1) * m].iter_mut().zip(a) {
-                    *r -= v * ac;
+                xq[j] = x[j] * inv_len[j];
+                il2[j] = inv_len[j] * inv_len[j];
+            }
+            for (i, ki) in kv.iter_mut().enumerate() {
+                let xi = &xs[i * d..(i + 1) * d];
+                let mut r2 = 0.0;
+                for j in 0..d {
+                    let t = xq[j] - xi[j];
+                    r2 += t * t;
+                }
+                *ki = r2;
+            }
+            for (ki, gi) in kv.iter_mut().zip(gv.iter_mut()) {
+                let (k, g) = kernel_and_g(ki.sqrt());
+                *ki = k;
+                *gi = g;
+            }
+            for i in 0..n {
+                let xi = &self.x[i * d..(i + 1) * d];
+                let a = &self.alpha[i * m + cols.start..i * m + cols.end];
+                let k = kv[i];
+                for (o, ac) in out[cols.clone()].iter_mut().zip(a) {
+                    *o += k * ac;
+                }
+                for j in 0..d {
+                    let v = gv[i] * (x[j] - xi[j]) * il2[j];
+                    let row = &mut jt[j * m + cols.start..j * m + cols.end];
+                    for (r, ac) in row.iter_mut().zip(a) {
+                        *r -= v * ac;
+                    }
                 }
             }
         }
@@ -391,9 +417,23 @@ impl Gp {
     fn variance_body(&self, x: &[f64], var: &mut [f64], scratch: &mut [f64]) {
         let n = self.n;
         let v = &mut scratch[..n];
-        self.kernel_vector_into(x, v);
+        let packed = n * (n + 1) / 2;
+        for g in 0..self.n_groups() {
+            self.kernel_vector_into(g, x, v);
+            let f = self.explained_complement(&self.chol[g * packed..(g + 1) * packed], v);
+            for c in self.group_columns(g) {
+                var[c] = self.sigma2[c] * f;
+            }
+        }
+    }
+
+    /// `1 − kᵀR⁻¹k` (at least 0) by forward substitution of the kernel vector `v` with the
+    /// packed factor `chol` (overwrites `v`).
+    #[inline(always)]
+    fn explained_complement(&self, chol: &[f64], v: &mut [f64]) -> f64 {
+        let n = self.n;
         for i in 0..n {
-            let row = &self.chol[i * (i + 1) / 2..(i + 1) * (i + 2) / 2];
+            let row = &chol[i * (i + 1) / 2..(i + 1) * (i + 2) / 2];
             let (head, tail) = v.split_at_mut(i);
             let mut acc = [0.0; 16];
             let mut rc = row[..i].chunks_exact(16);
@@ -416,24 +456,47 @@ impl Gp {
         for vi in v.iter() {
             explained += vi * vi;
         }
-        let f = (1.0 - explained).max(0.0);
-        for (c, o) in var[..self.m].iter_mut().enumerate() {
-            *o = self.sigma2[c] * f;
+        (1.0 - explained).max(0.0)
+    }
+
+    /// Number of column groups (kernels).
+    pub fn n_groups(&self) -> usize {
+        self.groups.len().saturating_sub(1).max(1)
+    }
+
+    /// Output columns of group `g`.
+    pub fn group_columns(&self, g: usize) -> Range<usize> {
+        if self.groups.is_empty() {
+            0..self.m
+        } else {
+            self.groups[g]..self.groups[g + 1]
         }
     }
 
-    /// The kernel vector `k_i = k(x, x_i)` at the scaled features `x` into `k` (length `n`):
-    /// squared distances, then the branch-free Matérn over the contiguous vector (this loop
-    /// vectorises).
+    /// Inverse length scales of group `g`.
+    pub fn group_inv_len(&self, g: usize) -> &[f64] {
+        &self.inv_len[g * self.d..(g + 1) * self.d]
+    }
+
+    /// Scaled training inputs of group `g`, `n × d`.
+    pub fn group_xs(&self, g: usize) -> &[f64] {
+        let nd = self.n * self.d;
+        &self.xs[g * nd..(g + 1) * nd]
+    }
+
+    /// The kernel vector of group `g`, `k_i = k(x, x_i)`, at the scaled features `x` into `k`
+    /// (length `n`): squared distances, then the branch-free Matérn over the contiguous vector
+    /// (this loop vectorises).
     #[inline(always)]
-    pub fn kernel_vector_into(&self, x: &[f64], k: &mut [f64]) {
+    pub fn kernel_vector_into(&self, g: usize, x: &[f64], k: &mut [f64]) {
         let d = self.d;
+        let (inv_len, xs) = (self.group_inv_len(g), self.group_xs(g));
         let mut xq = [0.0; MAX_INPUTS];
         for j in 0..d {
-            xq[j] = x[j] * self.inv_len[j];
+            xq[j] = x[j] * inv_len[j];
         }
         for (i, ki) in k.iter_mut().enumerate() {
-            let xi = &self.xs[i * d..(i + 1) * d];
+            let xi = &xs[i * d..(i + 1) * d];
             let mut r2 = 0.0;
             for j in 0..d {
                 let t = xq[j] - xi[j];
@@ -464,47 +527,86 @@ impl Regressor for Gp {
                 &format!("1 ..= {MAX_INPUTS} (the prediction paths use fixed-size arrays)"),
             ));
         }
-        let theta = match &params.theta {
-            Some(t) if t.len() == d + 1 => t.clone(),
-            Some(t) => {
+        let bounds: Vec<usize> = if params.groups.is_empty() {
+            vec![0, m]
+        } else {
+            params.groups.clone()
+        };
+        if bounds.len() < 2
+            || bounds[0] != 0
+            || bounds[bounds.len() - 1] != m
+            || bounds.windows(2).any(|w| w[0] >= w[1])
+        {
+            return Err(RomError::invalid(
+                "GP column groups",
+                format!("{bounds:?}"),
+                &format!("strictly increasing boundaries from 0 to the {m} outputs"),
+            ));
+        }
+        let n_groups = bounds.len() - 1;
+        if let Some(t) = &params.theta {
+            if t.len() != n_groups * (d + 1) {
                 return Err(RomError::invalid(
                     "GP theta length",
                     t.len(),
-                    &format!("{}", d + 1),
-                ))
-            }
-            None => optimise(data, params)?,
-        };
-        let mut l = correlation(data.x, n, d, &theta);
-        cholesky_in_place(&mut l, n).map_err(|i| RomError::Numerical {
-            stage: "GP fit".into(),
-            message: format!("correlation matrix not positive definite (pivot {i})"),
-        })?;
-        let mut alpha = vec![0.0; n * m];
-        let mut sigma2 = vec![0.0; m];
-        let mut col = vec![0.0; n];
-        for c in 0..m {
-            for i in 0..n {
-                col[i] = data.y[i * m + c];
-            }
-            solve_lower(&l, n, &mut col);
-            sigma2[c] = dot(&col, &col) / n as f64;
-            solve_lower_t(&l, n, &mut col);
-            for i in 0..n {
-                alpha[i * m + c] = col[i];
+                    &format!("{} ((inputs + 1) per column group)", n_groups * (d + 1)),
+                ));
             }
         }
-        // packed lower triangle: row i holds L[i][0..=i] at offset i(i+1)/2
-        let chol: Vec<f64> = (0..n)
-            .flat_map(|i| l[i * n..i * n + i + 1].to_vec())
-            .collect();
-        let inv_len: Vec<f64> = theta[..d].iter().map(|t| (-t).exp()).collect();
-        let xs = (0..n * d).map(|e| data.x[e] * inv_len[e % d]).collect();
+        let mut theta = Vec::with_capacity(n_groups * (d + 1));
+        let mut inv_len = Vec::with_capacity(n_groups * d);
+        let mut xs = Vec::with_capacity(n_groups * n * d);
+        let mut chol = Vec::with_capacity(n_groups * n * (n + 1) / 2);
+        let mut alpha = vec![0.0; n * m];
+        let mut sigma2 = vec![0.0; m];
+        for (g, w) in bounds.windows(2).enumerate() {
+            let cols = w[0]..w[1];
+            let mg = cols.len();
+            // the group's columns as a data set of their own
+            let y: Vec<f64> = (0..n)
+                .flat_map(|i| data.y[i * m + cols.start..i * m + cols.end].iter().copied())
+                .collect();
+            let weights = data.weights.get(cols.clone()).unwrap_or(&[]);
+            let sub = Data {
+                y: &y,
+                m: mg,
+                weights,
+                ..*data
+            };
+            let t = match &params.theta {
+                Some(t) => t[g * (d + 1)..(g + 1) * (d + 1)].to_vec(),
+                None => optimise(&sub, params)?,
+            };
+            let mut l = correlation(data.x, n, d, &t);
+            cholesky_in_place(&mut l, n).map_err(|i| RomError::Numerical {
+                stage: "GP fit".into(),
+                message: format!("correlation matrix not positive definite (pivot {i})"),
+            })?;
+            let mut col = vec![0.0; n];
+            for (c, out_c) in cols.clone().enumerate() {
+                for i in 0..n {
+                    col[i] = y[i * mg + c];
+                }
+                solve_lower(&l, n, &mut col);
+                sigma2[out_c] = dot(&col, &col) / n as f64;
+                solve_lower_t(&l, n, &mut col);
+                for i in 0..n {
+                    alpha[i * m + out_c] = col[i];
+                }
+            }
+            // packed lower triangle: row i holds L[i][0..=i] at offset i(i+1)/2
+            chol.extend((0..n).flat_map(|i| l[i * n..i * n + i + 1].to_vec()));
+            let il: Vec<f64> = t[..d].iter().map(|t| (-t).exp()).collect();
+            xs.extend((0..n * d).map(|e| data.x[e] * il[e % d]));
+            inv_len.extend(il);
+            theta.extend(t);
+        }
         Ok(Gp {
             d,
             n,
             m,
             x: data.x.to_vec(),
+            groups: if n_groups > 1 { bounds } else { Vec::new() },
             xs,
             theta,
             inv_len,
@@ -547,7 +649,8 @@ impl Regressor for Gp {
 }
 
 impl Gp {
-    /// Hyperparameters found by maximising the likelihood (for reuse with [`GpParams::theta`]).
+    /// Hyperparameters found by maximising the likelihood, `d + 1` per column group (for
+    /// reuse with [`GpParams::theta`]).
     pub fn hyperparameters(&self) -> &[f64] {
         &self.theta
     }

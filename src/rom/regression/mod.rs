@@ -1,8 +1,9 @@
 //! Regression of POD coefficients on the scaled case features.
 //!
 //! One trait, [`Regressor`], with two implementations: [`gp::Gp`] (Gaussian process, Matérn
-//! 5/2, shared ARD length scales, predictive variance) and [`poly::Poly`] (ridge polynomial of
-//! total degree ≤ 3, degree and ridge chosen by PRESS). Both are multi-output: one fit predicts
+//! 5/2, ARD length scales shared by all outputs or per column group, predictive variance)
+//! and [`poly::Poly`] (ridge polynomial of total degree ≤ 3, degree and ridge chosen by
+//! PRESS). Both are multi-output: one fit predicts
 //! all POD coefficients of all blocks. Inputs are the active features scaled to `[−1, 1]` by
 //! [`FeatureScaler`].
 
