@@ -365,23 +365,12 @@ impl Gp {
         out[..m].iter_mut().for_each(|o| *o = 0.0);
         for g in 0..self.n_groups() {
             let cols = self.group_columns(g);
-            let inv_len = &self.inv_len[g * d..(g + 1) * d];
-            let xs = &self.xs[g * n * d..(g + 1) * n * d];
-            let mut xq = [0.0; MAX_INPUTS];
+            let inv_len = self.group_inv_len(g);
             let mut il2 = [0.0; MAX_INPUTS];
             for j in 0..d {
-                xq[j] = x[j] * inv_len[j];
                 il2[j] = inv_len[j] * inv_len[j];
             }
-            for (i, ki) in kv.iter_mut().enumerate() {
-                let xi = &xs[i * d..(i + 1) * d];
-                let mut r2 = 0.0;
-                for j in 0..d {
-                    let t = xq[j] - xi[j];
-                    r2 += t * t;
-                }
-                *ki = r2;
-            }
+            self.squared_distances_into(g, x, kv);
             for (ki, gi) in kv.iter_mut().zip(gv.iter_mut()) {
                 let (k, g) = kernel_and_g(ki.sqrt());
                 *ki = k;
@@ -489,23 +478,30 @@ impl Gp {
     /// (this loop vectorises).
     #[inline(always)]
     pub fn kernel_vector_into(&self, g: usize, x: &[f64], k: &mut [f64]) {
+        self.squared_distances_into(g, x, k);
+        for ki in k.iter_mut() {
+            *ki = kernel(ki.sqrt());
+        }
+    }
+
+    /// Squared scaled distances `r_i² = Σ_j (x_j/ℓ_j − x_ij/ℓ_j)²` to the training points in
+    /// group `g`'s length scales, into `r2` (length `n`).
+    #[inline(always)]
+    fn squared_distances_into(&self, g: usize, x: &[f64], r2: &mut [f64]) {
         let d = self.d;
         let (inv_len, xs) = (self.group_inv_len(g), self.group_xs(g));
         let mut xq = [0.0; MAX_INPUTS];
         for j in 0..d {
             xq[j] = x[j] * inv_len[j];
         }
-        for (i, ki) in k.iter_mut().enumerate() {
+        for (i, ri) in r2.iter_mut().enumerate() {
             let xi = &xs[i * d..(i + 1) * d];
-            let mut r2 = 0.0;
+            let mut s = 0.0;
             for j in 0..d {
                 let t = xq[j] - xi[j];
-                r2 += t * t;
+                s += t * t;
             }
-            *ki = r2;
-        }
-        for ki in k.iter_mut() {
-            *ki = kernel(ki.sqrt());
+            *ri = s;
         }
     }
 }
