@@ -1,6 +1,7 @@
 //! Prediction latency of the surrogate: library path (scalars only, all outputs, with std,
 //! with gradient) and the embedded predictor (f32, f64), for a GP-based and a polynomial model
-//! trained on a synthetic set of 300 cases (the size of the shipped set); then the same library
+//! trained on a synthetic set of 300 cases (the size of the shipped set), and a GP model with one
+//! kernel per POD block (`gp_per_block`); then the same library
 //! paths of the shipped model trained on FE snapshots (`models/actuator.json`, or the interim
 //! `models/actuator_coarse_interim.json` until it exists) at N = 11, T = 2 mm, Ogden 002.
 use std::hint::black_box;
@@ -16,7 +17,7 @@ use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::{train, Jacobian, Query, Surrogate, TrainConfig};
 
-fn model(only: RegressorKind) -> Surrogate {
+fn model(only: RegressorKind, kernel_per_block: bool) -> Surrogate {
     let cfg = SyntheticConfig {
         n_cases: 300,
         ..Default::default()
@@ -30,6 +31,7 @@ fn model(only: RegressorKind) -> Surrogate {
     let tc = TrainConfig {
         folds: 2,
         only: Some(only),
+        kernel_per_block,
         ..Default::default()
     };
     train(&cases, "bench", 0, &tc, &|_, _| {})
@@ -59,9 +61,18 @@ fn bench(c: &mut Criterion) {
         b.iter(|| kernel_vector(black_box(&xs_t), &inv_len, black_box(&x), &mut k))
     });
     shipped(c);
-    for kind in [RegressorKind::Gp, RegressorKind::Poly] {
-        let m = model(kind);
-        let name = kind.name();
+    // `gp_per_block`: one kernel per POD block (`train --kernel-per-block`)
+    for (kind, per_block) in [
+        (RegressorKind::Gp, false),
+        (RegressorKind::Poly, false),
+        (RegressorKind::Gp, true),
+    ] {
+        let m = model(kind, per_block);
+        let name = if per_block {
+            "gp_per_block"
+        } else {
+            kind.name()
+        };
         let mut pred = m.new_prediction();
         let mut jac = Jacobian::default();
         c.bench_function(&format!("{name}/library/tip_angle_force"), |b| {
