@@ -14,7 +14,7 @@ use super::data::CaseInputs;
 use super::fast::{Derived, ScalarPath, Source, SCALARS};
 use super::metrics::Validation;
 use super::pod::PodBasis;
-use super::regression::gp::Gp;
+use super::regression::gp::{valid_group_bounds, Gp};
 use super::regression::poly::Poly;
 use super::regression::{raw_features, FeatureScaler, Regressor, RegressorKind};
 use super::{RomError, QUANTITY_NAMES};
@@ -632,9 +632,7 @@ impl Surrogate {
         let b = &self.gp.groups;
         if !b.is_empty()
             && (b.len() < 3
-                || b[0] != 0
-                || b[b.len() - 1] != m
-                || b.windows(2).any(|w| w[0] >= w[1])
+                || !valid_group_bounds(b, m)
                 || self.blocks.iter().any(|blk| {
                     b.iter()
                         .any(|&e| e > blk.coef_offset && e < blk.coef_offset + blk.pod.n_modes)

@@ -85,6 +85,12 @@ pub struct TrainReport {
     pub dropped: Vec<(String, String)>,
     /// Wall time, seconds.
     pub seconds: f64,
+    /// Wall time of the final fit alone (POD, hyperparameter search, weights), seconds; it ran
+    /// beside the validation fits, so on a machine with fewer cores than fits it is an upper
+    /// bound of the fit's own time.
+    pub final_fit_seconds: f64,
+    /// Pipeline fits made: one per fold and fold assignment, plus the final fit.
+    pub fits: usize,
     /// The held-out predictions of the scalar outputs by their chosen source (one per case,
     /// grid pressure and scalar, cases in set order), for parity plots and error maps.
     pub held_out: Vec<HeldOutPoint>,
@@ -515,12 +521,15 @@ fn repeat_folds(n: usize, k: usize, cfg: &TrainConfig, r: usize) -> Vec<usize> {
 
 /// Runs the `k` folds of every repeat and the final fit on all cases as
 /// `repeats × k + 1` parallel tasks; returns the merged held-out errors and the final fit.
+/// A fitted pipeline and its wall time in seconds.
+type TimedFit = (Fitted, f64);
+
 fn cross_validate_and_fit(
     set: &CaseSet,
     k: usize,
     cfg: &TrainConfig,
     progress: &(dyn Fn(usize, usize) + Sync),
-) -> Result<(Table, Fitted, Vec<RawHeldOut>), RomError> {
+) -> Result<(Table, TimedFit, Vec<RawHeldOut>), RomError> {
     let repeats = cfg.repeats.max(1);
     let folds: Vec<Vec<usize>> = (0..repeats)
         .map(|r| repeat_folds(set.cases.len(), k, cfg, r))
@@ -532,12 +541,14 @@ fn cross_validate_and_fit(
         &[]
     };
     let done = std::sync::atomic::AtomicUsize::new(0);
-    type Task = (Option<(Table, Vec<RawHeldOut>)>, Option<Fitted>);
+    type Task = (Option<(Table, Vec<RawHeldOut>)>, Option<TimedFit>);
     let results: Vec<Result<Task, RomError>> = (0..=tasks)
         .into_par_iter()
         .map(|t| {
             let out = if t == tasks {
-                (None, Some(fit_pipeline(&set.cases, partial, cfg)?))
+                let start = std::time::Instant::now();
+                let fitted = fit_pipeline(&set.cases, partial, cfg)?;
+                (None, Some((fitted, start.elapsed().as_secs_f64())))
             } else {
                 let (r, f) = (t / k, t % k);
                 let (mut tr, mut te) = (Vec::new(), Vec::new());
@@ -677,7 +688,7 @@ pub fn train(
         )));
     }
     let k = cfg.folds.clamp(2, n);
-    let (table, fitted, raw) = cross_validate_and_fit(set, k, cfg, progress)?;
+    let (table, (fitted, final_fit_seconds), raw) = cross_validate_and_fit(set, k, cfg, progress)?;
     let scheme = match cfg.repeats.max(1) {
         1 => format!("{k}-fold by case"),
         r => format!("{k}-fold by case, {r} fold assignments pooled"),
@@ -733,6 +744,8 @@ pub fn train(
         surrogate,
         dropped: set.dropped.clone(),
         seconds: start.elapsed().as_secs_f64(),
+        final_fit_seconds,
+        fits: k * cfg.repeats.max(1) + 1,
         held_out,
     })
 }

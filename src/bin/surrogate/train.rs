@@ -153,6 +153,7 @@ pub fn run(a: TrainArgs) -> Result<()> {
     };
     let (set, correction) = match &a.high_fidelity {
         Some(path) => {
+            let start = std::time::Instant::now();
             let (set, info) = correct_set(
                 &set,
                 &SnapshotSet::read(path)?,
@@ -160,6 +161,15 @@ pub fn run(a: TrainArgs) -> Result<()> {
                 a.check_high_fidelity,
                 a.pressure_warp,
             )?;
+            println!(
+                "multi-fidelity correction{} in {:.1} s",
+                if a.check_high_fidelity {
+                    " and its end-to-end check"
+                } else {
+                    ""
+                },
+                start.elapsed().as_secs_f64()
+            );
             (set, Some(info))
         }
         None => (set, None),
@@ -228,9 +238,12 @@ pub fn run(a: TrainArgs) -> Result<()> {
         .collect();
     println!("POD: {}", modes.join(", "));
     println!(
-        "trained on {} cases in {:.1} s -> {}",
+        "trained on {} cases in {:.1} s ({} fits on {} threads; the final fit alone {:.1} s) -> {}",
         s.training.n_cases,
         report.seconds,
+        report.fits,
+        rayon::current_num_threads(),
+        report.final_fit_seconds,
         a.out.display()
     );
     print_worst(&report.held_out);

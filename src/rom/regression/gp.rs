@@ -528,11 +528,7 @@ impl Regressor for Gp {
         } else {
             params.groups.clone()
         };
-        if bounds.len() < 2
-            || bounds[0] != 0
-            || bounds[bounds.len() - 1] != m
-            || bounds.windows(2).any(|w| w[0] >= w[1])
-        {
+        if !valid_group_bounds(&bounds, m) {
             return Err(RomError::invalid(
                 "GP column groups",
                 format!("{bounds:?}"),
@@ -652,9 +648,29 @@ impl Gp {
     }
 }
 
+/// Whether `bounds` are valid column-group boundaries for `m` outputs: at least two values,
+/// strictly increasing from 0 to `m` (one group per consecutive pair).
+pub fn valid_group_bounds(bounds: &[usize], m: usize) -> bool {
+    bounds.len() >= 2
+        && bounds[0] == 0
+        && bounds[bounds.len() - 1] == m
+        && bounds.windows(2).all(|w| w[0] < w[1])
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn group_bounds_must_cover_all_columns_in_order() {
+        assert!(valid_group_bounds(&[0, 5], 5));
+        assert!(valid_group_bounds(&[0, 2, 5], 5));
+        assert!(!valid_group_bounds(&[0], 5));
+        assert!(!valid_group_bounds(&[1, 5], 5));
+        assert!(!valid_group_bounds(&[0, 4], 5));
+        assert!(!valid_group_bounds(&[0, 3, 3, 5], 5));
+        assert!(!valid_group_bounds(&[0, 4, 2, 5], 5));
+    }
 
     #[test]
     fn likelihood_gradient_matches_finite_differences() {
