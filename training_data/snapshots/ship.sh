@@ -1,7 +1,9 @@
 #!/usr/bin/env bash
-# Builds the shipped snapshot sets and the shipped model from the case files in this folder.
+# Builds the shipped snapshot sets and the shipped models from the case files in this folder.
 #
 #   bash training_data/snapshots/ship.sh            # both sets complete (the shipped model)
+#   bash training_data/snapshots/ship.sh --coarse   # the coarse set complete: the coarse-value
+#        model models/actuator_coarse.json (the `demo` default) and training_data/snapshots_coarse.csv
 #   bash training_data/snapshots/ship.sh --partial  # an interim model from the finished cases
 #        (training_data/snapshots_interim_*.csv, models/actuator_interim*: not the shipped names)
 #
@@ -21,14 +23,17 @@ set -euo pipefail
 cd "$(dirname "$0")/../.."
 
 partial=()
+coarse_only=0
 model=models/actuator
 sets=training_data/snapshots
 if [[ "${1:-}" == "--partial" ]]; then
     partial=(--partial)
     model=models/actuator_interim
     sets=training_data/snapshots_interim
+elif [[ "${1:-}" == "--coarse" ]]; then
+    coarse_only=1
 elif [[ -n "${1:-}" ]]; then
-    echo "usage: $0 [--partial]" >&2
+    echo "usage: $0 [--partial | --coarse]" >&2
     exit 2
 fi
 if [[ -n "${SURROGATE:-}" ]]; then
@@ -40,6 +45,13 @@ fi
 
 run snapshots merge --from training_data/snapshots/coarse \
     --out "${sets}_coarse.csv" "${partial[@]}"
+if [[ $coarse_only == 1 ]]; then
+    time run train --data "${sets}_coarse.csv" \
+        --folds 5 --repeats 3 \
+        --held-out models/actuator_coarse_held_out.csv --plot models/actuator_coarse_parity.svg \
+        --out models/actuator_coarse.json
+    exit 0
+fi
 run snapshots merge --from training_data/snapshots/standard \
     --out "${sets}_standard.csv" "${partial[@]}"
 time run train --data "${sets}_coarse.csv" \
