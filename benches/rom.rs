@@ -2,8 +2,9 @@
 //! with gradient) and the embedded predictor (f32, f64), for a GP-based and a polynomial model
 //! trained on a synthetic set of 300 cases (the size of the shipped set), and a GP model with one
 //! kernel per POD block (`gp_per_block`); then the same library
-//! paths of the shipped model trained on FE snapshots (`models/actuator.json`, or the interim
-//! `models/actuator_coarse_interim.json` until it exists) at N = 11, T = 2 mm, Ogden 002.
+//! paths of the shipped model trained on FE snapshots (`models/actuator.json`, or, until it
+//! exists, `models/actuator_coarse.json`, trained on the complete coarse set) at N = 11,
+//! T = 2 mm, Ogden 002.
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -129,7 +130,7 @@ fn bench(c: &mut Criterion) {
 /// The shipped model (real FE snapshots): what a user's optimisation loop calls.
 fn shipped(c: &mut Criterion) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
-    let path = ["actuator.json", "actuator_coarse_interim.json"]
+    let path = ["actuator.json", "actuator_coarse.json"]
         .iter()
         .map(|f| root.join(f))
         .find(|p| p.exists())

@@ -49,7 +49,7 @@ fn model() -> &'static PathBuf {
             .arg("--held-out")
             .arg(dir().join("held_out.csv"))
             .arg("--plot")
-            .arg(dir().join("parity.svg"))
+            .arg(dir().join("held_out.svg"))
             .output()
             .unwrap();
         let (out, err) = text(&o);
@@ -67,7 +67,7 @@ fn model() -> &'static PathBuf {
         );
         // 30 cases × the synthetic grid × 4 scalar outputs
         assert_eq!(lines.count() % (30 * 4), 0);
-        let svg = std::fs::read_to_string(dir().join("parity.svg")).unwrap();
+        let svg = std::fs::read_to_string(dir().join("held_out.svg")).unwrap();
         assert!(svg.starts_with("<svg") && svg.contains("held-out RMSE"));
         path
     })

@@ -15,8 +15,8 @@
 #    src/rom/warp.rs); the stored validation is 5-fold by case with 3 fold assignments pooled;
 #    the whole pipeline is also checked against standard-mesh cases it never saw
 #    (--check-high-fidelity, stored in the model);
-# 3. writes every held-out prediction (models/actuator_held_out.csv) and the parity plot
-#    (models/actuator_parity.svg).
+# 3. writes every held-out prediction (models/actuator_held_out.csv) and the plot of
+#    the held-out errors (models/actuator_held_out.svg).
 #
 # SURROGATE=path/to/surrogate overrides the binary (default: cargo run --release).
 set -euo pipefail
@@ -48,7 +48,7 @@ run snapshots merge --from training_data/snapshots/coarse \
 if [[ $coarse_only == 1 ]]; then
     time run train --data "${sets}_coarse.csv" \
         --folds 5 --repeats 3 \
-        --held-out models/actuator_coarse_held_out.csv --plot models/actuator_coarse_parity.svg \
+        --held-out models/actuator_coarse_held_out.csv --plot models/actuator_coarse_held_out.svg \
         --out models/actuator_coarse.json
     exit 0
 fi
@@ -58,5 +58,5 @@ time run train --data "${sets}_coarse.csv" \
     --high-fidelity "${sets}_standard.csv" \
     --pressure-warp --check-high-fidelity \
     --folds 5 --repeats 3 \
-    --held-out "${model}_held_out.csv" --plot "${model}_parity.svg" \
+    --held-out "${model}_held_out.csv" --plot "${model}_held_out.svg" \
     --out "${model}.json"

@@ -111,8 +111,8 @@ pub struct TrainArgs {
     /// FE value, prediction, std) to this CSV.
     #[arg(long)]
     pub held_out: Option<PathBuf>,
-    /// Draw the held-out predictions against the FE values (one panel per scalar output,
-    /// coloured by N) into this SVG.
+    /// Draw the held-out errors (surrogate − FE) against the FE values into this SVG (one
+    /// panel per scalar output, coloured by N, pooled RMSE in the title).
     #[arg(long)]
     pub plot: Option<PathBuf>,
     /// No progress bar.
@@ -345,6 +345,6 @@ pub struct DemoArgs {
     #[arg(long, default_value = "demo_output")]
     pub out_dir: PathBuf,
     /// Surrogate to compare with the FE model (skipped with a note if it cannot be used).
-    #[arg(long, default_value = "models/actuator_coarse_interim.json")]
+    #[arg(long, default_value = "models/actuator_coarse.json")]
     pub model: PathBuf,
 }

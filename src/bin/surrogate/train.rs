@@ -254,7 +254,7 @@ pub fn run(a: TrainArgs) -> Result<()> {
     if let Some(path) = &a.plot {
         plot_held_out(path, &report.held_out, &s.validation.scheme)
             .with_context(|| format!("plotting {}", path.display()))?;
-        println!("parity plot -> {}", path.display());
+        println!("held-out error plot -> {}", path.display());
     }
     Ok(())
 }
@@ -323,7 +323,9 @@ fn write_held_out(path: &std::path::Path, points: &[HeldOutPoint]) -> Result<()>
     Ok(())
 }
 
-/// Held-out prediction against the FE value, one panel per scalar output.
+/// Held-out error (surrogate − FE) against the FE value, one panel per scalar output, coloured
+/// by N; the title gives the pooled RMSE. With several fold assignments only the first one's
+/// points are drawn (each case once per pressure; the RMSE pools all of them).
 fn plot_held_out(path: &std::path::Path, points: &[HeldOutPoint], scheme: &str) -> Result<()> {
     use plotters::prelude::*;
     let root = SVGBackend::new(path, (1000, 900)).into_drawing_area();
@@ -332,19 +334,29 @@ fn plot_held_out(path: &std::path::Path, points: &[HeldOutPoint], scheme: &str) 
     let mut ns: Vec<u32> = points.iter().map(|h| h.n_bellows).collect();
     ns.sort_unstable();
     ns.dedup();
+    let repeats = points.iter().map(|h| h.repeat + 1).max().unwrap_or(1);
+    let shown = if repeats > 1 {
+        format!("; points: fold assignment 1 of {repeats}")
+    } else {
+        String::new()
+    };
     for ((name, label), area) in OUTPUTS.iter().zip(panels.iter()) {
         let pts: Vec<&HeldOutPoint> = points.iter().filter(|h| h.output == *name).collect();
-        let (lo, hi) = pts
+        let (x_lo, x_hi) = pts
             .iter()
-            .flat_map(|h| [h.truth, h.predicted])
+            .map(|h| h.truth)
             .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
                 (a.min(v), b.max(v))
             });
-        if !lo.is_finite() || !hi.is_finite() {
+        let e_max = pts
+            .iter()
+            .map(|h| (h.predicted - h.truth).abs())
+            .fold(0.0f64, f64::max);
+        if !x_lo.is_finite() || !x_hi.is_finite() || !e_max.is_finite() {
             continue;
         }
-        let pad = 0.05 * (hi - lo).max(1e-9);
-        let (lo, hi) = (lo - pad, hi + pad);
+        let pad = 0.05 * (x_hi - x_lo).max(1e-9);
+        let e_max = 1.1 * e_max.max(1e-9);
         let rmse = (pts
             .iter()
             .map(|h| (h.predicted - h.truth).powi(2))
@@ -358,19 +370,22 @@ fn plot_held_out(path: &std::path::Path, points: &[HeldOutPoint], scheme: &str) 
             )
             .margin(10)
             .x_label_area_size(35)
-            .y_label_area_size(50)
-            .build_cartesian_2d(lo..hi, lo..hi)?;
+            .y_label_area_size(55)
+            .build_cartesian_2d(x_lo - pad..x_hi + pad, -e_max..e_max)?;
         c.configure_mesh()
-            .x_desc(format!("FE ({scheme})"))
-            .y_desc("surrogate, held out")
+            .x_desc(format!("FE ({scheme}{shown})"))
+            .y_desc("surrogate − FE, held out")
             .draw()?;
-        c.draw_series(LineSeries::new(vec![(lo, lo), (hi, hi)], BLACK.mix(0.4)))?;
+        c.draw_series(LineSeries::new(
+            vec![(x_lo - pad, 0.0), (x_hi + pad, 0.0)],
+            BLACK.mix(0.4),
+        ))?;
         for (k, &n) in ns.iter().enumerate() {
             let col = Palette99::pick(k);
             c.draw_series(
                 pts.iter()
-                    .filter(|h| h.n_bellows == n)
-                    .map(|h| Circle::new((h.truth, h.predicted), 2, col.filled())),
+                    .filter(|h| h.n_bellows == n && h.repeat == 0)
+                    .map(|h| Circle::new((h.truth, h.predicted - h.truth), 2, col.filled())),
             )?
             .label(format!("N = {n}"))
             .legend(move |(x, y)| Circle::new((x, y), 4, col.filled()));
