@@ -162,6 +162,16 @@ pub enum WarpInputs {
     Both,
 }
 
+impl std::fmt::Display for WarpInputs {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        f.write_str(match self {
+            WarpInputs::Design => "design and material",
+            WarpInputs::Response => "low-fidelity response",
+            WarpInputs::Both => "design, material and low-fidelity response",
+        })
+    }
+}
+
 impl WarpInputs {
     const ALL: [WarpInputs; 3] = [WarpInputs::Design, WarpInputs::Response, WarpInputs::Both];
 

@@ -23,7 +23,7 @@ fn correct_set(
         let w = PressureWarp::fit(low, high)?;
         let r: Vec<f64> = w.info.fitted.iter().map(|(_, r)| *r).collect();
         println!(
-            "pressure warp: scale r of the {} matched cases {:.3} .. {:.3} (mean {:.3}); r regressed on the {:?} inputs, leave-one-out RMSE {:.4}",
+            "pressure warp: scale r of the {} matched cases {:.3} .. {:.3} (mean {:.3}); r regressed on the {}, leave-one-out RMSE {:.4}",
             r.len(),
             r.iter().copied().fold(f64::INFINITY, f64::min),
             r.iter().copied().fold(f64::NEG_INFINITY, f64::max),
