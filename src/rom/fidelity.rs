@@ -170,16 +170,7 @@ pub fn end_to_end(
             rows: kept.into_iter().cloned().collect(),
             skipped_unconverged: 0,
         };
-        let warped;
-        let mapped = if warp {
-            warped = super::warp::PressureWarp::fit(low, &train_high)?.apply(low);
-            &warped
-        } else {
-            low
-        };
-        let delta_cases = discrepancy(mapped, &train_high)?.into_cases()?;
-        let delta = train(&delta_cases, "discrepancy", 0, cfg, &|_, _| {})?.surrogate;
-        let (mut set, _, _) = correct(mapped, &train_high, &delta)?;
+        let (mut set, _) = correct_low_fidelity(low, &train_high, cfg, warp, false, &|_| {})?;
         let held_out_case = |id: &str| fold_of.get(id).is_some_and(|&g| g == f);
         let corrected_rows: HashMap<(String, u64), [f64; 22]> = set
             .rows
@@ -224,6 +215,73 @@ pub fn end_to_end(
         corrected: stats(&cor),
         low_fidelity: stats(&raw),
     })
+}
+
+/// The multi-fidelity pipeline of `surrogate train --high-fidelity`: the low-fidelity set,
+/// warped in pressure first if `warp` ([`super::warp`]), corrected by a surrogate of the
+/// discrepancy `H − L` trained with `cfg` on the cases of both sets ([`discrepancy`],
+/// [`correct`]); with `check`, also the [`end_to_end`] error against high-fidelity cases it
+/// never saw. `log` receives a line (or a table) at each stage. Returns the corrected set and
+/// the record stored in the model.
+///
+/// # Errors
+/// Those of [`super::warp::PressureWarp::fit`], [`discrepancy`], [`train`], [`correct`] and
+/// [`end_to_end`].
+pub fn correct_low_fidelity(
+    low: &SnapshotSet,
+    high: &SnapshotSet,
+    cfg: &TrainConfig,
+    warp: bool,
+    check: bool,
+    log: &dyn Fn(&str),
+) -> Result<(SnapshotSet, CorrectionInfo), RomError> {
+    let (warped, pressure_warp) = if warp {
+        let w = super::warp::PressureWarp::fit(low, high)?;
+        log(&w.info.summary());
+        (Some(w.apply(low)), Some(w.info))
+    } else {
+        (None, None)
+    };
+    let mapped = warped.as_ref().unwrap_or(low);
+    let delta = discrepancy(mapped, high)?;
+    let source = delta.source.clone();
+    let cases = delta.into_cases()?;
+    log(&format!(
+        "discrepancy {source}: {} cases on a {}-pressure grid ({} dropped)",
+        cases.cases.len(),
+        cases.pressures.len(),
+        cases.dropped.len()
+    ));
+    let report = train(&cases, &source, 0, cfg, &|_, _| {})?;
+    log(&format!(
+        "discrepancy surrogate (high − low fidelity), held out:\n{}",
+        report.surrogate.validation.table()
+    ));
+    let (set, replaced_rows, corrected_rows) = correct(mapped, high, &report.surrogate)?;
+    log(&format!(
+        "corrected set: {replaced_rows} rows replaced by high fidelity, {corrected_rows} rows corrected"
+    ));
+    let end_to_end = if check {
+        log(&format!(
+            "end-to-end check against the high fidelity ({} folds)…",
+            cfg.folds
+        ));
+        let e = end_to_end(low, high, cfg.folds, cfg, warp)?;
+        log(&e.table());
+        Some(e)
+    } else {
+        None
+    };
+    let info = CorrectionInfo {
+        high_source: high.source.clone(),
+        matched_cases: cases.cases.len(),
+        replaced_rows,
+        corrected_rows,
+        validation: report.surrogate.validation,
+        pressure_warp,
+        end_to_end,
+    };
+    Ok((set, info))
 }
 
 fn same_inputs(a: &CaseInputs, b: &CaseInputs) -> bool {

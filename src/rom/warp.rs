@@ -48,6 +48,22 @@ pub struct WarpInfo {
     pub unwarped_cases: usize,
 }
 
+impl WarpInfo {
+    /// One line: the fitted scales, the regression's inputs and its leave-one-out error.
+    pub fn summary(&self) -> String {
+        let r: Vec<f64> = self.fitted.iter().map(|(_, r)| *r).collect();
+        format!(
+            "pressure warp: scale r of the {} matched cases {:.3} .. {:.3} (mean {:.3}); r regressed on the {}, leave-one-out RMSE {:.4}",
+            r.len(),
+            r.iter().copied().fold(f64::INFINITY, f64::min),
+            r.iter().copied().fold(f64::NEG_INFINITY, f64::max),
+            r.iter().sum::<f64>() / r.len().max(1) as f64,
+            self.inputs,
+            self.loo_rmse
+        )
+    }
+}
+
 /// Complete ramps of a set on its pressure grid.
 struct Ramps {
     grid: Vec<f64>,

@@ -2,75 +2,13 @@
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::rom::data::{CaseSet, SnapshotSet};
-use surrogate::rom::fidelity::{correct, discrepancy, end_to_end, CorrectionInfo};
+use surrogate::rom::fidelity::correct_low_fidelity;
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::train::HeldOutPoint;
-use surrogate::rom::warp::PressureWarp;
 use surrogate::rom::{train, TrainConfig};
 
 use crate::args::{OnlyArg, TrainArgs};
-
-/// The low-fidelity set corrected by a discrepancy surrogate fitted on the high-fidelity one.
-fn correct_set(
-    low: &SnapshotSet,
-    high: &SnapshotSet,
-    cfg: &TrainConfig,
-    check: bool,
-    warp: bool,
-) -> Result<(SnapshotSet, CorrectionInfo)> {
-    let (mapped, pressure_warp) = if warp {
-        let w = PressureWarp::fit(low, high)?;
-        let r: Vec<f64> = w.info.fitted.iter().map(|(_, r)| *r).collect();
-        println!(
-            "pressure warp: scale r of the {} matched cases {:.3} .. {:.3} (mean {:.3}); r regressed on the {}, leave-one-out RMSE {:.4}",
-            r.len(),
-            r.iter().copied().fold(f64::INFINITY, f64::min),
-            r.iter().copied().fold(f64::NEG_INFINITY, f64::max),
-            r.iter().sum::<f64>() / r.len() as f64,
-            w.info.inputs,
-            w.info.loo_rmse
-        );
-        (w.apply(low), Some(w.info))
-    } else {
-        (low.clone(), None)
-    };
-    let delta = discrepancy(&mapped, high)?;
-    let source = delta.source.clone();
-    let cases = delta.into_cases()?;
-    eprintln!(
-        "discrepancy {source}: {} cases on a {}-pressure grid ({} dropped)",
-        cases.cases.len(),
-        cases.pressures.len(),
-        cases.dropped.len()
-    );
-    let report = train(&cases, &source, 0, cfg, &|_, _| {})?;
-    println!("discrepancy surrogate (high − low fidelity), held out:");
-    println!("{}", report.surrogate.validation.table());
-    let (set, replaced_rows, corrected_rows) = correct(&mapped, high, &report.surrogate)?;
-    eprintln!("corrected set: {replaced_rows} rows replaced by high fidelity, {corrected_rows} rows corrected");
-    let end_to_end = if check {
-        eprintln!(
-            "end-to-end check against the high fidelity ({} folds)…",
-            cfg.folds
-        );
-        let e = end_to_end(low, high, cfg.folds, cfg, warp)?;
-        println!("{}", e.table());
-        Some(e)
-    } else {
-        None
-    };
-    let info = CorrectionInfo {
-        high_source: high.source.clone(),
-        matched_cases: cases.cases.len(),
-        replaced_rows,
-        corrected_rows,
-        validation: report.surrogate.validation,
-        pressure_warp,
-        end_to_end,
-    };
-    Ok((set, info))
-}
 
 /// Trains on the first `k` cases (by case id) for each `k` and prints the held-out RMSE of
 /// every output: how accuracy grows with the size of the set.
@@ -154,12 +92,13 @@ pub fn run(a: TrainArgs) -> Result<()> {
     let (set, correction) = match &a.high_fidelity {
         Some(path) => {
             let start = std::time::Instant::now();
-            let (set, info) = correct_set(
+            let (set, info) = correct_low_fidelity(
                 &set,
                 &SnapshotSet::read(path)?,
                 &cfg,
-                a.check_high_fidelity,
                 a.pressure_warp,
+                a.check_high_fidelity,
+                &|line| println!("{line}"),
             )?;
             println!(
                 "multi-fidelity correction{} in {:.1} s",
