@@ -1,38 +1,57 @@
-//! The shipped coarse snapshot set and the model trained on it (`models/actuator_coarse.json`):
-//! the set is the merge of the committed case files, the model is what the shipped command
-//! (`bash training_data/snapshots/ship.sh --coarse`) makes of the set, and its stored held-out
-//! errors meet the surrogate's accuracy targets.
+//! The shipped snapshot sets and the models trained on them: each set is the merge of the
+//! committed case files, each model is what the shipped command makes of its set
+//! (`bash training_data/snapshots/ship.sh --coarse` for `models/actuator_coarse.json`,
+//! `bash training_data/snapshots/ship.sh` for the multi-fidelity `models/actuator.json`), and
+//! their stored held-out errors meet the surrogate's accuracy targets.
 use std::path::{Path, PathBuf};
 
+use surrogate::rom::data::CaseSet;
+use surrogate::rom::fidelity::correct_low_fidelity;
 use surrogate::rom::{train, Query, SnapshotSet, Surrogate, TrainConfig};
 use surrogate::snapshots::merge;
 
 const SET: &str = "training_data/snapshots_coarse.csv";
 const MODEL: &str = "models/actuator_coarse.json";
+const STANDARD_SET: &str = "training_data/snapshots_standard.csv";
+const MF_MODEL: &str = "models/actuator.json";
 
 fn root(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
 }
 
-#[test]
-fn shipped_coarse_set_is_the_merge_of_the_committed_case_files() {
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("shipped_coarse_merge.csv");
-    let summary = merge(&[root("training_data/snapshots/coarse")], &out)
-        .expect("the committed coarse case files merge without --partial (the set is complete)");
-    assert_eq!(summary.failed_cases, 0, "failed cases in the shipped set");
+fn assert_merge_is_shipped(dir: &str, set: &str, how: &str) {
+    let name = Path::new(set).file_name().unwrap().to_string_lossy();
+    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("merged_{name}"));
+    let summary = merge(&[root(dir)], &out).unwrap_or_else(|e| {
+        panic!(
+            "the committed case files of {dir} merge without --partial (the set is complete): {e}"
+        )
+    });
+    assert_eq!(
+        summary.failed_cases, 0,
+        "failed cases in the shipped set {set}"
+    );
     let merged = std::fs::read(&out).unwrap();
-    let shipped = std::fs::read(root(SET)).unwrap();
+    let shipped = std::fs::read(root(set)).unwrap();
     assert!(
         merged == shipped,
-        "{SET} differs from the merge of training_data/snapshots/coarse: re-run ship.sh --coarse"
+        "{set} differs from the merge of {dir}: re-run {how}"
     );
+}
+
+#[test]
+fn shipped_coarse_set_is_the_merge_of_the_committed_case_files() {
+    assert_merge_is_shipped("training_data/snapshots/coarse", SET, "ship.sh --coarse");
+}
+
+#[test]
+fn shipped_standard_subset_is_the_merge_of_the_committed_case_files() {
+    assert_merge_is_shipped("training_data/snapshots/standard", STANDARD_SET, "ship.sh");
 }
 
 /// Every output's pooled held-out RMSE against the targets: tip ≤ 0.3 mm, markers
 /// ≤ 0.5 mm, blocked force ≤ 2 % of its range, angle ≤ 0.3°.
-#[test]
-fn shipped_coarse_model_meets_the_accuracy_targets() {
-    let m = Surrogate::load(&root(MODEL)).unwrap();
+fn assert_meets_targets(m: &Surrogate) {
     let v = &m.validation;
     assert!(
         v.scheme.contains("3 fold assignments pooled"),
@@ -54,22 +73,51 @@ fn shipped_coarse_model_meets_the_accuracy_targets() {
     assert!(f.rmse <= 0.02 * f.range, "{f:?}");
 }
 
-/// Retraining on the shipped set with the shipped settings gives the shipped model: the same
-/// stored validation and the same predictions (to round-off: the SIMD paths of another CPU may
-/// change the last bits of the hyperparameter search).
 #[test]
-fn shipped_coarse_model_is_reproduced_from_the_shipped_set() {
-    let shipped = Surrogate::load(&root(MODEL)).unwrap();
-    let set = SnapshotSet::read(&root(SET)).unwrap();
-    let skipped = set.skipped_unconverged;
-    let cases = set.into_cases().unwrap();
-    let cfg = TrainConfig {
-        folds: 5,
-        repeats: 3,
-        ..Default::default()
-    };
-    let report = train(&cases, SET, skipped, &cfg, &|_, _| {}).unwrap();
-    let again = report.surrogate;
+fn shipped_coarse_model_meets_the_accuracy_targets() {
+    assert_meets_targets(&Surrogate::load(&root(MODEL)).unwrap());
+}
+
+/// The multi-fidelity model meets the targets on its (corrected) set, was corrected with the
+/// whole standard-mesh subset, and against standard-mesh cases it never saw it is closer to
+/// the standard mesh than the coarse values are, on every output.
+#[test]
+fn shipped_multi_fidelity_model_meets_the_targets_and_beats_the_coarse_values() {
+    let m = Surrogate::load(&root(MF_MODEL)).unwrap();
+    assert_meets_targets(&m);
+    let c = m
+        .training
+        .correction
+        .as_ref()
+        .expect("actuator.json carries its multi-fidelity correction");
+    let high = SnapshotSet::read(&root(STANDARD_SET)).unwrap();
+    let mut ids: Vec<&str> = high.rows.iter().map(|r| r.case_id.as_str()).collect();
+    ids.sort_unstable();
+    ids.dedup();
+    assert_eq!(c.matched_cases, ids.len(), "every standard case is used");
+    assert!(
+        c.pressure_warp.is_some(),
+        "the shipped model warps in pressure"
+    );
+    let e = c
+        .end_to_end
+        .as_ref()
+        .expect("the end-to-end check is stored");
+    for ((name, s), (name_low, low)) in e.surrogate.iter().zip(&e.low_fidelity) {
+        assert_eq!(name, name_low);
+        assert!(
+            s.rmse < low.rmse,
+            "{name}: surrogate {} mm against coarse {}",
+            s.rmse,
+            low.rmse
+        );
+    }
+}
+
+/// Retraining gives the shipped model: the same stored validation and the same predictions
+/// (to round-off: the SIMD paths of another CPU may change the last bits of the
+/// hyperparameter search).
+fn assert_reproduced(shipped: &Surrogate, again: &Surrogate, cases: &CaseSet) {
     let close = |a: f64, b: f64, scale: f64| (a - b).abs() <= 1e-6 * scale.max(1e-12);
     for (a, b) in shipped
         .validation
@@ -103,4 +151,60 @@ fn shipped_coarse_model_is_reproduced_from_the_shipped_set() {
             }
         }
     }
+}
+
+fn shipped_config() -> TrainConfig {
+    TrainConfig {
+        folds: 5,
+        repeats: 3,
+        ..Default::default()
+    }
+}
+
+#[test]
+fn shipped_coarse_model_is_reproduced_from_the_shipped_set() {
+    let shipped = Surrogate::load(&root(MODEL)).unwrap();
+    let set = SnapshotSet::read(&root(SET)).unwrap();
+    let skipped = set.skipped_unconverged;
+    let cases = set.into_cases().unwrap();
+    let again = train(&cases, SET, skipped, &shipped_config(), &|_, _| {})
+        .unwrap()
+        .surrogate;
+    assert_reproduced(&shipped, &again, &cases);
+}
+
+/// The multi-fidelity model from its two sets: the pressure warp, the discrepancy surrogate
+/// and the surrogate of the corrected set (the stored end-to-end check is not repeated).
+#[test]
+fn shipped_multi_fidelity_model_is_reproduced_from_the_shipped_sets() {
+    let shipped = Surrogate::load(&root(MF_MODEL)).unwrap();
+    let low = SnapshotSet::read(&root(SET)).unwrap();
+    let high = SnapshotSet::read(&root(STANDARD_SET)).unwrap();
+    let cfg = shipped_config();
+    let (set, info) = correct_low_fidelity(&low, &high, &cfg, true, false, &|_| {}).unwrap();
+    let stored = shipped.training.correction.as_ref().unwrap();
+    assert_eq!(
+        info.pressure_warp.as_ref().map(|w| w.inputs),
+        stored.pressure_warp.as_ref().map(|w| w.inputs)
+    );
+    for (a, b) in stored
+        .validation
+        .outputs
+        .iter()
+        .zip(&info.validation.outputs)
+    {
+        assert!(
+            (a.total.rmse - b.total.rmse).abs() <= 1e-6 * a.total.rmse.max(1e-12),
+            "discrepancy {}: stored {} retrained {}",
+            a.name,
+            a.total.rmse,
+            b.total.rmse
+        );
+    }
+    let (source, skipped) = (set.source.clone(), set.skipped_unconverged);
+    let cases = set.into_cases().unwrap();
+    let again = train(&cases, &source, skipped, &cfg, &|_, _| {})
+        .unwrap()
+        .surrogate;
+    assert_reproduced(&shipped, &again, &cases);
 }
