@@ -7,6 +7,7 @@ use std::path::{Path, PathBuf};
 
 use surrogate::rom::data::CaseSet;
 use surrogate::rom::fidelity::correct_low_fidelity;
+use surrogate::rom::metrics::Validation;
 use surrogate::rom::{train, Query, SnapshotSet, Surrogate, TrainConfig};
 use surrogate::snapshots::merge;
 
@@ -114,27 +115,32 @@ fn shipped_multi_fidelity_model_meets_the_targets_and_beats_the_coarse_values() 
     }
 }
 
-/// Retraining gives the shipped model: the same stored validation and the same predictions
-/// (to round-off: the SIMD paths of another CPU may change the last bits of the
-/// hyperparameter search).
-fn assert_reproduced(shipped: &Surrogate, again: &Surrogate, cases: &CaseSet) {
-    let close = |a: f64, b: f64, scale: f64| (a - b).abs() <= 1e-6 * scale.max(1e-12);
-    for (a, b) in shipped
-        .validation
-        .outputs
-        .iter()
-        .zip(&again.validation.outputs)
-    {
-        assert_eq!(a.name, b.name);
-        assert_eq!(a.source, b.source, "{}", a.name);
+/// Equal to round-off, relative to `scale`.
+fn close(a: f64, b: f64, scale: f64) -> bool {
+    (a - b).abs() <= 1e-6 * scale.max(1e-12)
+}
+
+/// The same chosen predictor and held-out RMSE (to round-off) for every output.
+fn assert_same_validation(stored: &Validation, again: &Validation, what: &str) {
+    assert_eq!(stored.outputs.len(), again.outputs.len(), "{what}");
+    for (a, b) in stored.outputs.iter().zip(&again.outputs) {
+        assert_eq!(a.name, b.name, "{what}");
+        assert_eq!(a.source, b.source, "{what} {}", a.name);
         assert!(
             close(a.total.rmse, b.total.rmse, a.total.rmse),
-            "{}: stored RMSE {} retrained {}",
+            "{what} {}: stored RMSE {} retrained {}",
             a.name,
             a.total.rmse,
             b.total.rmse
         );
     }
+}
+
+/// Retraining gives the shipped model: the same stored validation and the same predictions
+/// (to round-off: the SIMD paths of another CPU may change the last bits of the
+/// hyperparameter search).
+fn assert_reproduced(shipped: &Surrogate, again: &Surrogate, cases: &CaseSet) {
+    assert_same_validation(&shipped.validation, &again.validation, "surrogate");
     let scale = |q: &[f64]| q.iter().fold(0.0f64, |s, x| s.max(x.abs()));
     for (i, case) in cases.cases.iter().enumerate().step_by(7) {
         let c = &case.inputs;
@@ -187,20 +193,7 @@ fn shipped_multi_fidelity_model_is_reproduced_from_the_shipped_sets() {
         info.pressure_warp.as_ref().map(|w| w.inputs),
         stored.pressure_warp.as_ref().map(|w| w.inputs)
     );
-    for (a, b) in stored
-        .validation
-        .outputs
-        .iter()
-        .zip(&info.validation.outputs)
-    {
-        assert!(
-            (a.total.rmse - b.total.rmse).abs() <= 1e-6 * a.total.rmse.max(1e-12),
-            "discrepancy {}: stored {} retrained {}",
-            a.name,
-            a.total.rmse,
-            b.total.rmse
-        );
-    }
+    assert_same_validation(&stored.validation, &info.validation, "discrepancy");
     let (source, skipped) = (set.source.clone(), set.skipped_unconverged);
     let cases = set.into_cases().unwrap();
     let again = train(&cases, &source, skipped, &cfg, &|_, _| {})
