@@ -11,6 +11,9 @@ pub enum Error {
     /// Reduced-order model: snapshot data, training, model files, queries.
     #[error(transparent)]
     Rom(#[from] crate::rom::RomError),
+    /// Calibration of the material to recordings.
+    #[error(transparent)]
+    Calibrate(#[from] crate::calibrate::CalibrateError),
     /// Sampling plans, snapshot directories and merges.
     #[error(transparent)]
     Snapshots(#[from] crate::snapshots::SnapshotError),

@@ -25,7 +25,7 @@ use crate::fe::simulate::{
 use crate::fe::solver::SolverSettings;
 
 /// One row of the baseline table.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BaselineRow {
     /// Number of bellows.
     pub n_bellows: usize,
@@ -58,7 +58,7 @@ pub struct BaselineRow {
 }
 
 /// Summary of a baseline table.
-#[derive(Clone, Debug, Serialize)]
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct BaselineSummary {
     /// Configurations.
     pub configurations: usize,

@@ -547,11 +547,34 @@ impl Surrogate {
         pred: &mut Prediction,
         jac: &mut Jacobian,
     ) -> Result<(), RomError> {
+        self.gradient_range_into(q, 0..22, pred, jac)
+    }
+
+    /// [`Self::gradient_into`] for the quantities `range` only (their values and Jacobian
+    /// rows; the others are left as they were): a fit to tip, angle and force needs only
+    /// `Q_TIP_UZ..=Q_FORCE`, and skips the coefficients of blocks it does not read.
+    ///
+    /// # Errors
+    /// Invalid query, or a range outside `0..22`.
+    pub fn gradient_range_into(
+        &self,
+        q: &Query,
+        range: std::ops::Range<usize>,
+        pred: &mut Prediction,
+        jac: &mut Jacobian,
+    ) -> Result<(), RomError> {
+        if range.end > 22 || range.start >= range.end {
+            return Err(RomError::invalid(
+                "quantity range",
+                format!("{range:?}"),
+                "a non-empty range inside 0..22",
+            ));
+        }
         self.check_query(q)?;
         self.ensure_workspace(&mut pred.work);
         let w = &mut pred.work;
         self.features_into(q, w);
-        let [gp_cols, poly_cols] = self.needed_cols(0..22);
+        let [gp_cols, poly_cols] = self.needed_cols(range.clone());
         if gp_cols.start < gp_cols.end {
             self.gp
                 .jacobian_into(&w.x, &mut w.coef[0], &mut w.jac[0], &mut w.scratch);
@@ -581,7 +604,7 @@ impl Surrogate {
         dz[5][5] = 1.0;
         let d = self.features.dim();
         let st = stencil(&self.pressures, q.p_bar);
-        for qi in 0..22 {
+        for qi in range {
             let b = &self.blocks[self.output_block[qi]];
             let ki = kind_index(b.regressor);
             let off = b.coef_offset;

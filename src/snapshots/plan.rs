@@ -457,7 +457,7 @@ impl PlannedCase {
 }
 
 /// `K` points of a maximin Latin hypercube in `[0, 1]^dims`.
-fn unit_lhs(k: usize, dims: usize, seed: u64) -> Array2<f64> {
+pub(crate) fn unit_lhs(k: usize, dims: usize, seed: u64) -> Array2<f64> {
     let limits = Array2::from_shape_fn((dims, 2), |(_, j)| j as f64);
     let kind = if k < 3 {
         LhsKind::Classic

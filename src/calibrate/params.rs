@@ -1,0 +1,445 @@
+//! The fitted quantities: Ogden parameter sets, the coordinates the fit moves in, and the
+//! bounded boxes it moves inside.
+//!
+//! ## Coordinates
+//!
+//! A second-order Ogden set `(μ₁, α₁, μ₂, α₂)` (ANSYS convention) is admissible when
+//! `μ₁α₁ > 0` and `μ₂α₂ > 0`. The snapshot plans sample, and the surrogate regresses on,
+//!
+//! ```text
+//!   μ0 = ½ (μ₁α₁ + μ₂α₂)      initial shear modulus (MPa)
+//!   s  = μ₁α₁ / (2 μ0)         share of term 1 in μ0, in (0, 1)
+//!   α₁ > 0,  α₂ < 0
+//!   ⇒ μ₁ = 2 s μ0 / α₁,  μ₂ = 2 (1 − s) μ0 / α₂
+//! ```
+//!
+//! so every point of a box in `(ln μ0, s, α₁, α₂)` with `0 < s < 1`, `α₁ > 0 > α₂` is
+//! admissible by construction: the calibrator moves in such a box ([`ParamSpace::Training`],
+//! the surrogate's training domain) and never outside it. The study's procedure moves in a
+//! ±10 % box around a literature set in the raw parameters ([`ParamSpace::Raw`]), checked to
+//! be admissible and inside the training domain at every corner.
+//!
+//! Both spaces map the unit box `u ∈ [0, 1]⁴` linearly onto their box; [`ParamSpace::ogden`]
+//! and [`ParamSpace::ogden_jacobian`] give the set and `∂(μ₁, α₁, μ₂, α₂)/∂u`.
+
+use serde::{Deserialize, Serialize};
+
+use super::CalibrateError;
+use crate::rom::Surrogate;
+
+/// A second-order Ogden parameter set (ANSYS convention), admissible (`μᵢαᵢ > 0`).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct OgdenSet {
+    /// `μ₁` (MPa).
+    pub mu1_mpa: f64,
+    /// `α₁`.
+    pub alpha1: f64,
+    /// `μ₂` (MPa).
+    pub mu2_mpa: f64,
+    /// `α₂`.
+    pub alpha2: f64,
+}
+
+impl OgdenSet {
+    /// A validated set.
+    ///
+    /// # Errors
+    /// [`CalibrateError::Input`] for a non-finite value or `μᵢαᵢ ≤ 0`.
+    pub fn new(
+        mu1_mpa: f64,
+        alpha1: f64,
+        mu2_mpa: f64,
+        alpha2: f64,
+    ) -> Result<Self, CalibrateError> {
+        let p = OgdenSet {
+            mu1_mpa,
+            alpha1,
+            mu2_mpa,
+            alpha2,
+        };
+        for (name, v) in NAMES.iter().zip(p.as_array()) {
+            if !v.is_finite() {
+                return Err(CalibrateError::input(name, v, "a finite number"));
+            }
+        }
+        if mu1_mpa * alpha1 <= 0.0 {
+            return Err(CalibrateError::input(
+                "mu1*alpha1",
+                mu1_mpa * alpha1,
+                "> 0 (admissible Ogden term)",
+            ));
+        }
+        if mu2_mpa * alpha2 <= 0.0 {
+            return Err(CalibrateError::input(
+                "mu2*alpha2",
+                mu2_mpa * alpha2,
+                "> 0 (admissible Ogden term)",
+            ));
+        }
+        Ok(p)
+    }
+
+    /// A literature set by name (`ogden_002`, `ogden_005`).
+    ///
+    /// # Errors
+    /// An unknown name or a set that is not a two-term Ogden material.
+    pub fn literature(name: &str) -> Result<Self, CalibrateError> {
+        let m = crate::fe::material::Material::from_spec(name, 1000.0)
+            .map_err(|e| CalibrateError::input("material", name, &e.to_string()))?;
+        let [a, b, c, d] = m
+            .ogden_params()
+            .ok_or_else(|| CalibrateError::input("material", name, "a two-term Ogden set"))?;
+        Self::new(a, b, c, d)
+    }
+
+    /// From the sampling coordinates `(μ0, s, α₁, α₂)`.
+    ///
+    /// # Errors
+    /// `μ0 ≤ 0`, `s ∉ (0, 1)`, `α₁ ≤ 0` or `α₂ ≥ 0`.
+    pub fn from_coords(c: MaterialCoords) -> Result<Self, CalibrateError> {
+        if !(c.mu0_mpa > 0.0 && c.share > 0.0 && c.share < 1.0 && c.alpha1 > 0.0 && c.alpha2 < 0.0)
+        {
+            return Err(CalibrateError::input(
+                "material coordinates",
+                format!("{c:?}"),
+                "mu0 > 0, 0 < share < 1, alpha1 > 0 > alpha2",
+            ));
+        }
+        Self::new(
+            2.0 * c.share * c.mu0_mpa / c.alpha1,
+            c.alpha1,
+            2.0 * (1.0 - c.share) * c.mu0_mpa / c.alpha2,
+            c.alpha2,
+        )
+    }
+
+    /// `[μ₁, α₁, μ₂, α₂]`.
+    pub fn as_array(&self) -> [f64; 4] {
+        [self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2]
+    }
+
+    /// Initial shear modulus `μ0 = ½ Σ μᵢαᵢ` (MPa).
+    pub fn mu0_mpa(&self) -> f64 {
+        0.5 * (self.mu1_mpa * self.alpha1 + self.mu2_mpa * self.alpha2)
+    }
+
+    /// The sampling coordinates `(μ0, s, α₁, α₂)`.
+    pub fn coords(&self) -> MaterialCoords {
+        let (k1, k2) = (self.mu1_mpa * self.alpha1, self.mu2_mpa * self.alpha2);
+        MaterialCoords {
+            mu0_mpa: 0.5 * (k1 + k2),
+            share: k1 / (k1 + k2),
+            alpha1: self.alpha1,
+            alpha2: self.alpha2,
+        }
+    }
+
+    /// The material spec the FE model and the CLI accept: `mu1,alpha1,mu2,alpha2`.
+    pub fn spec(&self) -> String {
+        format!(
+            "{},{},{},{}",
+            self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2
+        )
+    }
+}
+
+/// Names of the Ogden parameters, in [`OgdenSet::as_array`] order.
+pub const NAMES: [&str; 4] = ["mu1_mpa", "alpha1", "mu2_mpa", "alpha2"];
+
+/// Names of the sampling coordinates, in [`MaterialCoords::as_array`] order.
+pub const COORD_NAMES: [&str; 4] = ["mu0_mpa", "term1_share", "alpha1", "alpha2"];
+
+/// The sampling coordinates of an Ogden set (see the [module docs](self)).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MaterialCoords {
+    /// Initial shear modulus `μ0` (MPa).
+    pub mu0_mpa: f64,
+    /// Share `s` of term 1 in `μ0`.
+    pub share: f64,
+    /// `α₁`.
+    pub alpha1: f64,
+    /// `α₂`.
+    pub alpha2: f64,
+}
+
+impl MaterialCoords {
+    /// `[μ0, s, α₁, α₂]`.
+    pub fn as_array(&self) -> [f64; 4] {
+        [self.mu0_mpa, self.share, self.alpha1, self.alpha2]
+    }
+}
+
+/// The box the fit moves in; `u ∈ [0, 1]⁴` maps linearly onto `[lo, hi]`.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(tag = "space", rename_all = "snake_case")]
+pub enum ParamSpace {
+    /// A box in `(ln μ0, s, α₁, α₂)`: the surrogate's training domain (or a part of it).
+    Training {
+        /// Lower corner.
+        lo: [f64; 4],
+        /// Upper corner.
+        hi: [f64; 4],
+    },
+    /// A box in `(μ₁, α₁, μ₂, α₂)` (the study's ±10 % box).
+    Raw {
+        /// Lower corner.
+        lo: [f64; 4],
+        /// Upper corner.
+        hi: [f64; 4],
+    },
+}
+
+impl ParamSpace {
+    /// The surrogate's training domain in `(ln μ0, s, α₁, α₂)` (from its feature scaling: the
+    /// box the snapshot plan sampled).
+    ///
+    /// # Errors
+    /// A model whose feature scaling lacks a material feature, or whose box is not admissible.
+    pub fn training_domain(model: &Surrogate) -> Result<Self, CalibrateError> {
+        // raw feature order: (N, T, ln μ0, α1, s, α2); our order: (ln μ0, s, α1, α2)
+        let mut lo = [f64::NAN; 4];
+        let mut hi = [f64::NAN; 4];
+        let f = &model.features;
+        for (j, &feat) in f.index.iter().enumerate() {
+            let slot = match feat {
+                2 => 0,
+                4 => 1,
+                3 => 2,
+                5 => 3,
+                _ => continue,
+            };
+            let half = 1.0 / f.inv_half[j];
+            lo[slot] = f.center[j] - half;
+            hi[slot] = f.center[j] + half;
+        }
+        let ok = lo.iter().chain(&hi).all(|v| v.is_finite())
+            && lo[1] > 0.0
+            && hi[1] < 1.0
+            && lo[2] > 0.0
+            && hi[3] < 0.0;
+        if !ok {
+            return Err(CalibrateError::input(
+                "model feature scaling",
+                format!("{lo:?} .. {hi:?}"),
+                "a material box with 0 < s < 1, alpha1 > 0 > alpha2",
+            ));
+        }
+        Ok(ParamSpace::Training { lo, hi })
+    }
+
+    /// The box `center · (1 ± fraction)` in the raw parameters (the study's ±10 % box for
+    /// `fraction = 0.1`), checked against `domain` at every corner.
+    ///
+    /// # Errors
+    /// A fraction outside (0, 0.5], or a corner that is outside `domain`.
+    pub fn raw_box(
+        center: &OgdenSet,
+        fraction: f64,
+        domain: &ParamSpace,
+    ) -> Result<Self, CalibrateError> {
+        if !(fraction > 0.0 && fraction <= 0.5) {
+            return Err(CalibrateError::input(
+                "box fraction",
+                fraction,
+                "in (0, 0.5]",
+            ));
+        }
+        let c = center.as_array();
+        let mut lo = [0.0; 4];
+        let mut hi = [0.0; 4];
+        for i in 0..4 {
+            let (a, b) = (c[i] * (1.0 - fraction), c[i] * (1.0 + fraction));
+            lo[i] = a.min(b);
+            hi[i] = a.max(b);
+        }
+        let space = ParamSpace::Raw { lo, hi };
+        for corner in 0..16u32 {
+            let u: [f64; 4] = std::array::from_fn(|i| f64::from((corner >> i) & 1));
+            let p = space.ogden(&u)?;
+            if !domain.contains(&p) {
+                return Err(CalibrateError::input(
+                    "box",
+                    format!("corner {:?}", p.as_array()),
+                    "inside the surrogate's training domain",
+                ));
+            }
+        }
+        Ok(space)
+    }
+
+    /// The unit-box coordinates' names.
+    pub fn names(&self) -> [&'static str; 4] {
+        match self {
+            ParamSpace::Training { .. } => COORD_NAMES,
+            ParamSpace::Raw { .. } => NAMES,
+        }
+    }
+
+    fn corners(&self) -> (&[f64; 4], &[f64; 4]) {
+        match self {
+            ParamSpace::Training { lo, hi } | ParamSpace::Raw { lo, hi } => (lo, hi),
+        }
+    }
+
+    /// The box coordinates `x = lo + u (hi − lo)` of a unit-box point.
+    pub fn x(&self, u: &[f64; 4]) -> [f64; 4] {
+        let (lo, hi) = self.corners();
+        std::array::from_fn(|i| lo[i] + u[i] * (hi[i] - lo[i]))
+    }
+
+    /// The coordinates of a set in this space's unit box (may lie outside `[0, 1]`).
+    pub fn unit(&self, p: &OgdenSet) -> [f64; 4] {
+        let (lo, hi) = self.corners();
+        let x = match self {
+            ParamSpace::Training { .. } => {
+                let c = p.coords();
+                [c.mu0_mpa.ln(), c.share, c.alpha1, c.alpha2]
+            }
+            ParamSpace::Raw { .. } => p.as_array(),
+        };
+        std::array::from_fn(|i| (x[i] - lo[i]) / (hi[i] - lo[i]))
+    }
+
+    /// Whether a set lies in the box (with a relative tolerance of 1e-9 of the box size).
+    pub fn contains(&self, p: &OgdenSet) -> bool {
+        self.unit(p)
+            .iter()
+            .all(|&v| (-1e-9..=1.0 + 1e-9).contains(&v))
+    }
+
+    /// The Ogden set of a unit-box point.
+    ///
+    /// # Errors
+    /// A point that is not admissible (only possible for a raw box that crosses a sign).
+    pub fn ogden(&self, u: &[f64; 4]) -> Result<OgdenSet, CalibrateError> {
+        let x = self.x(u);
+        match self {
+            ParamSpace::Training { .. } => OgdenSet::from_coords(MaterialCoords {
+                mu0_mpa: x[0].exp(),
+                share: x[1],
+                alpha1: x[2],
+                alpha2: x[3],
+            }),
+            ParamSpace::Raw { .. } => OgdenSet::new(x[0], x[1], x[2], x[3]),
+        }
+    }
+
+    /// `∂(μ₁, α₁, μ₂, α₂)/∂u` at a unit-box point (row per Ogden parameter).
+    pub fn ogden_jacobian(&self, u: &[f64; 4]) -> [[f64; 4]; 4] {
+        let (lo, hi) = self.corners();
+        let w: [f64; 4] = std::array::from_fn(|i| hi[i] - lo[i]);
+        let x = self.x(u);
+        let mut d = [[0.0; 4]; 4];
+        match self {
+            ParamSpace::Training { .. } => {
+                let (mu0, s, a1, a2) = (x[0].exp(), x[1], x[2], x[3]);
+                let mu1 = 2.0 * s * mu0 / a1;
+                let mu2 = 2.0 * (1.0 - s) * mu0 / a2;
+                // μ1 = 2 s μ0 / α1
+                d[0] = [mu1, 2.0 * mu0 / a1, -mu1 / a1, 0.0];
+                d[1] = [0.0, 0.0, 1.0, 0.0];
+                // μ2 = 2 (1 − s) μ0 / α2
+                d[2] = [mu2, -2.0 * mu0 / a2, 0.0, -mu2 / a2];
+                d[3] = [0.0, 0.0, 0.0, 1.0];
+            }
+            ParamSpace::Raw { .. } => {
+                for (i, row) in d.iter_mut().enumerate() {
+                    row[i] = 1.0;
+                }
+            }
+        }
+        for row in &mut d {
+            for (j, v) in row.iter_mut().enumerate() {
+                *v *= w[j];
+            }
+        }
+        d
+    }
+
+    /// The physical value of box coordinate `i` at unit value `u_i` (`μ0` in MPa, not its
+    /// logarithm).
+    pub fn physical(&self, i: usize, u_i: f64) -> f64 {
+        let (lo, hi) = self.corners();
+        let x = lo[i] + u_i * (hi[i] - lo[i]);
+        match self {
+            ParamSpace::Training { .. } if i == 0 => x.exp(),
+            _ => x,
+        }
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn domain() -> ParamSpace {
+        ParamSpace::Training {
+            lo: [3f64.ln(), 0.02, 1.5, -2.0],
+            hi: [9f64.ln(), 0.95, 6.0, -0.004],
+        }
+    }
+
+    #[test]
+    fn coordinates_round_trip() {
+        let p = OgdenSet::literature("ogden_002").unwrap();
+        let q = OgdenSet::from_coords(p.coords()).unwrap();
+        for (a, b) in p.as_array().iter().zip(q.as_array()) {
+            assert!((a - b).abs() < 1e-12 * a.abs());
+        }
+        let d = domain();
+        assert!(d.contains(&p));
+        let u = d.unit(&p);
+        let r = d.ogden(&u).unwrap();
+        for (a, b) in p.as_array().iter().zip(r.as_array()) {
+            assert!((a - b).abs() < 1e-12 * a.abs());
+        }
+    }
+
+    #[test]
+    fn jacobian_matches_finite_differences() {
+        let d = domain();
+        let u = [0.3, 0.6, 0.4, 0.7];
+        let j = d.ogden_jacobian(&u);
+        let h = 1e-6;
+        for k in 0..4 {
+            let mut up = u;
+            let mut um = u;
+            up[k] += h;
+            um[k] -= h;
+            let (a, b) = (
+                d.ogden(&up).unwrap().as_array(),
+                d.ogden(&um).unwrap().as_array(),
+            );
+            for i in 0..4 {
+                let fd = (a[i] - b[i]) / (2.0 * h);
+                assert!(
+                    (fd - j[i][k]).abs() < 1e-6 * (1.0 + fd.abs()),
+                    "d{}/du{k}: {fd} vs {}",
+                    NAMES[i],
+                    j[i][k]
+                );
+            }
+        }
+    }
+
+    #[test]
+    fn inadmissible_sets_and_boxes_are_rejected() {
+        assert!(OgdenSet::new(1.0, -2.0, -1.0, -1.0)
+            .unwrap_err()
+            .to_string()
+            .contains("mu1*alpha1"));
+        assert!(OgdenSet::new(f64::NAN, 2.0, -1.0, -1.0).is_err());
+        let p = OgdenSet::literature("ogden_002").unwrap();
+        assert!(ParamSpace::raw_box(&p, 0.1, &domain()).is_ok());
+        // a ±50 % box around a set at the edge of the domain leaves it
+        let edge = OgdenSet::from_coords(MaterialCoords {
+            mu0_mpa: 8.9,
+            share: 0.5,
+            alpha1: 3.0,
+            alpha2: -1.0,
+        })
+        .unwrap();
+        assert!(ParamSpace::raw_box(&edge, 0.5, &domain()).is_err());
+        assert!(ParamSpace::raw_box(&p, 0.0, &domain()).is_err());
+    }
+}
