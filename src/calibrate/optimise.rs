@@ -120,6 +120,7 @@ fn chi2(r: &[f64]) -> f64 {
 
 /// Solves the `free` part of `a δ = b` (4 × 4, symmetric positive definite on the free set);
 /// fixed coordinates get `δ = 0`. `None` when not positive definite.
+#[allow(clippy::needless_range_loop)] // the Cholesky loops mirror the formulas
 fn solve_free(a: &[[f64; 4]; 4], b: &[f64; 4], free: &[bool; 4]) -> Option<[f64; 4]> {
     let idx: Vec<usize> = (0..4).filter(|&i| free[i]).collect();
     let n = idx.len();
@@ -167,7 +168,8 @@ const ON_BOUND: f64 = 1e-12;
 
 fn free_set(u: &[f64; 4], g: &[f64; 4], fixed: &[bool; 4]) -> [bool; 4] {
     std::array::from_fn(|i| {
-        !fixed[i] && !((u[i] <= ON_BOUND && g[i] > 0.0) || (u[i] >= 1.0 - ON_BOUND && g[i] < 0.0))
+        let pushed_out = (u[i] <= ON_BOUND && g[i] > 0.0) || (u[i] >= 1.0 - ON_BOUND && g[i] < 0.0);
+        !(fixed[i] || pushed_out)
     })
 }
 

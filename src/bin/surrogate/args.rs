@@ -27,6 +27,8 @@ pub enum Command {
     Export(ExportArgs),
     /// The literature baseline: FE with contact vs every experimental configuration.
     Validate(ValidateArgs),
+    /// Fit one Ogden set to the recordings through the surrogate; identifiability, FE verification.
+    Calibrate(Box<crate::calibrate::CalibrateArgs>),
     /// Snapshots: sampling plans, shard runs (resumable), merges.
     Snapshots(Box<crate::snapshots::SnapshotsArgs>),
 }

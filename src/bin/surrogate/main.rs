@@ -1,6 +1,8 @@
 //! The `surrogate` command-line tool: parse → validated configuration → one library call per
 //! subcommand.
 mod args;
+mod calibrate;
+mod calibrate_plots;
 mod demo;
 mod export;
 mod predict;
@@ -23,6 +25,7 @@ fn main() -> ExitCode {
         args::Command::Predict(a) => predict::run(a),
         args::Command::Export(a) => export::run(a),
         args::Command::Validate(a) => validate::run(a),
+        args::Command::Calibrate(a) => calibrate::run(*a),
         args::Command::Snapshots(a) => snapshots::run(*a),
     };
     match result {

@@ -1,0 +1,520 @@
+//! `surrogate calibrate`: one Ogden set for the recordings, through the surrogate; its
+//! identifiability, the study's per-configuration procedure, and the FE verification.
+use std::path::{Path, PathBuf};
+
+use anyhow::{Context, Result};
+use clap::Args;
+use indicatif::{ProgressBar, ProgressStyle};
+use surrogate::calibrate::experiments::{read_bending, read_force, read_markers};
+use surrogate::calibrate::fit::describe_exclusions;
+use surrogate::calibrate::identify::IdentifySettings;
+use surrogate::calibrate::objective::Exclusion;
+use surrogate::calibrate::optimise::MultistartSettings;
+use surrogate::calibrate::verify::{verify_fe, FeVerification};
+use surrogate::calibrate::{
+    calibrate, Calibration, CalibrationSettings, OgdenSet, Recordings, Selection, Weights,
+};
+use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::rom::Surrogate;
+
+use crate::calibrate_plots::write_plots;
+
+/// `surrogate calibrate`.
+#[derive(Debug, Args)]
+pub struct CalibrateArgs {
+    /// Surrogate model file.
+    #[arg(long, default_value = "models/actuator.json")]
+    pub model: PathBuf,
+    /// Bending recordings (columns of training_data/bending_experiments.csv).
+    #[arg(long, default_value = "training_data/bending_experiments.csv")]
+    pub bending: PathBuf,
+    /// Blocked-force recordings (columns of training_data/blocked_force_experiments.csv).
+    #[arg(long, default_value = "training_data/blocked_force_experiments.csv")]
+    pub force: PathBuf,
+    /// Marker recordings (n_bellows, wall_thickness_mm, pressure_bar, marker, uz_mm, uy_mm, std_mm).
+    #[arg(long)]
+    pub markers: Option<PathBuf>,
+    /// Objective: tip, angle, force, markers, all, or weights such as tip=1,force=0.5.
+    #[arg(long, default_value = "tip")]
+    pub objective: String,
+    /// Leave out a configuration: N,T,P (both recordings), bending:N,T,P or force:N,T,P
+    /// (repeatable; listed in the report).
+    #[arg(long, allow_hyphen_values = true)]
+    pub exclude: Vec<String>,
+    /// Also leave out every row the data checks flag (listed in the report with the reason).
+    #[arg(long)]
+    pub exclude_flagged: bool,
+    /// Latin-hypercube starts of the multistart fit (the literature set is one more).
+    #[arg(long, default_value_t = 24)]
+    pub starts: usize,
+    /// Seed of the starts.
+    #[arg(long, default_value_t = 2024)]
+    pub seed: u64,
+    /// Profile-likelihood grid points per parameter.
+    #[arg(long, default_value_t = 24)]
+    pub profile_points: usize,
+    /// Literature set compared against (and used as a start).
+    #[arg(long, default_value = "ogden_002")]
+    pub literature: String,
+    /// Also run the study's procedure: a fit per configuration inside ±`box` of the literature set.
+    #[arg(long)]
+    pub per_configuration: bool,
+    /// Relative half-width of the per-configuration box.
+    #[arg(long = "box", default_value_t = 0.1)]
+    pub box_fraction: f64,
+    /// Verify the optimum with the full FE model on this mesh (coarse, standard, fine; `none` to skip).
+    #[arg(long, default_value = "none")]
+    pub verify_fe: String,
+    /// Cache of the FE ramps (default: `<out>/fe_<mesh>_ramps`); a rerun resumes from it.
+    #[arg(long)]
+    pub fe_cache: Option<PathBuf>,
+    /// Output directory (report.json, configurations.csv, summary.md, SVG plots).
+    #[arg(long, default_value = "calibration")]
+    pub out: PathBuf,
+}
+
+/// Reads the recordings named on the command line.
+fn recordings(a: &CalibrateArgs) -> Result<Recordings> {
+    let mut rec = Recordings {
+        bending: read_bending(&a.bending)?,
+        force: Vec::new(),
+        markers: Vec::new(),
+        bending_source: a.bending.display().to_string(),
+        force_source: a.force.display().to_string(),
+        markers_source: String::new(),
+    };
+    if a.force.exists() {
+        rec.force = read_force(&a.force)?;
+    } else {
+        eprintln!(
+            "no blocked-force recordings at {}: the force is not compared",
+            a.force.display()
+        );
+    }
+    if let Some(m) = &a.markers {
+        rec.markers = read_markers(m)?;
+        rec.markers_source = m.display().to_string();
+    }
+    Ok(rec)
+}
+
+/// The validated settings of the run.
+pub fn settings(a: &CalibrateArgs) -> Result<CalibrationSettings> {
+    let exclude = a
+        .exclude
+        .iter()
+        .map(|e| Exclusion::parse(e))
+        .collect::<Result<Vec<_>, _>>()?;
+    Ok(CalibrationSettings {
+        weights: Weights::parse(&a.objective)?,
+        selection: Selection {
+            exclude,
+            ..Selection::default()
+        },
+        exclude_flagged: a.exclude_flagged,
+        multistart: MultistartSettings {
+            starts: a.starts,
+            seed: a.seed,
+            ..MultistartSettings::default()
+        },
+        identify: IdentifySettings {
+            profile_points: a.profile_points,
+            ..IdentifySettings::default()
+        },
+        literature: OgdenSet::literature(&a.literature)?,
+        per_configuration: a.per_configuration.then_some(a.box_fraction),
+    })
+}
+
+/// Runs the subcommand.
+pub fn run(a: CalibrateArgs) -> Result<()> {
+    let model = Surrogate::load(&a.model)
+        .with_context(|| format!("loading the surrogate {}", a.model.display()))?;
+    let rec = recordings(&a)?;
+    let s = settings(&a)?;
+    let mesh = match a.verify_fe.as_str() {
+        "none" => None,
+        m => Some(m.parse::<MeshLevel>().map_err(anyhow::Error::msg)?),
+    };
+    let cal = calibrate(&model, &rec, &s, &|stage| eprintln!("{stage}"))?;
+    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    let fe = match mesh {
+        Some(level) => {
+            let cache = a
+                .fe_cache
+                .clone()
+                .unwrap_or_else(|| a.out.join(format!("fe_{}_ramps", level.name())));
+            Some(run_fe(&model, &rec, &cal.best, level, &cache)?)
+        }
+        None => None,
+    };
+    let written = write_outputs(&a.out, &cal, fe.as_ref())?;
+    print!("{}", summary_text(&cal, fe.as_ref()));
+    for p in written {
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+fn run_fe(
+    model: &Surrogate,
+    rec: &Recordings,
+    best: &OgdenSet,
+    level: MeshLevel,
+    cache: &Path,
+) -> Result<FeVerification> {
+    eprintln!(
+        "FE verification on the {} mesh (ramps cached in {}; a rerun resumes)",
+        level.name(),
+        cache.display()
+    );
+    let bar = ProgressBar::new(0);
+    bar.set_style(ProgressStyle::with_template(
+        "{spinner} FE ramps [{bar:30}] {pos}/{len}, {elapsed_precise}, eta {eta}",
+    )?);
+    let v = verify_fe(
+        model,
+        rec,
+        best,
+        MeshOptions::level(level),
+        cache,
+        |k, n| {
+            bar.set_length(n as u64);
+            bar.set_position(k as u64);
+        },
+    )?;
+    bar.finish_and_clear();
+    Ok(v)
+}
+
+/// Writes report.json, configurations.csv, summary.md and the plots (each atomically).
+pub fn write_outputs(
+    dir: &Path,
+    cal: &Calibration,
+    fe: Option<&FeVerification>,
+) -> Result<Vec<PathBuf>> {
+    let mut written = Vec::new();
+    let report = serde_json::json!({ "calibration": cal, "fe_verification": fe });
+    let p = dir.join("report.json");
+    write_atomic(&p, serde_json::to_string_pretty(&report)?.as_bytes())?;
+    written.push(p);
+    let p = dir.join("configurations.csv");
+    write_atomic(&p, &configurations_csv(cal, fe)?)?;
+    written.push(p);
+    let p = dir.join("summary.md");
+    write_atomic(&p, summary_text(cal, fe).as_bytes())?;
+    written.push(p);
+    written.extend(write_plots(cal, fe, dir)?);
+    Ok(written)
+}
+
+fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
+    surrogate::snapshots::store::write_atomic(path, bytes)
+        .with_context(|| format!("writing {}", path.display()))
+}
+
+/// Per configuration: measured, literature and calibrated (surrogate), FE at the optimum.
+fn configurations_csv(cal: &Calibration, fe: Option<&FeVerification>) -> Result<Vec<u8>> {
+    let mut w = csv::Writer::from_writer(Vec::new());
+    w.write_record([
+        "n_bellows",
+        "wall_thickness_mm",
+        "pressure_bar",
+        "fitted",
+        "uz_exp_mm",
+        "uy_exp_mm",
+        "angle_exp_deg",
+        "force_exp_n",
+        "uz_lit_sur_mm",
+        "uy_lit_sur_mm",
+        "angle_lit_sur_deg",
+        "force_lit_sur_n",
+        "be_lit_sur_mm",
+        "uz_cal_sur_mm",
+        "uy_cal_sur_mm",
+        "angle_cal_sur_deg",
+        "force_cal_sur_n",
+        "be_cal_sur_mm",
+        "uz_cal_fe_mm",
+        "uy_cal_fe_mm",
+        "angle_cal_fe_deg",
+        "force_cal_fe_n",
+        "be_cal_fe_mm",
+    ])?;
+    for r in &cal.configurations {
+        let f = fe.and_then(|v| {
+            v.rows.iter().find(|x| {
+                x.config.n_bellows == r.n_bellows
+                    && x.config.wall_thickness_mm == r.wall_thickness_mm
+                    && x.config.pressure_bar == r.pressure_bar
+            })
+        });
+        let nan = f64::NAN;
+        let fev = f.map_or([nan; 5], |x| {
+            [
+                x.fe.uz_sim_mm,
+                x.fe.uy_sim_mm,
+                x.fe.angle_sim_deg,
+                x.fe.force_sim_n,
+                x.fe.be_mm,
+            ]
+        });
+        let mut rec: Vec<String> = vec![
+            r.n_bellows.to_string(),
+            r.wall_thickness_mm.to_string(),
+            r.pressure_bar.to_string(),
+            r.fitted.to_string(),
+        ];
+        for v in [
+            r.uz_exp_mm,
+            r.uy_exp_mm,
+            r.angle_exp_deg,
+            r.force_exp_n,
+            r.uz_lit_mm,
+            r.uy_lit_mm,
+            r.angle_lit_deg,
+            r.force_lit_n,
+            r.be_lit_mm,
+            r.uz_cal_mm,
+            r.uy_cal_mm,
+            r.angle_cal_deg,
+            r.force_cal_n,
+            r.be_cal_mm,
+        ]
+        .into_iter()
+        .chain(fev)
+        {
+            rec.push(if v.is_finite() {
+                format!("{v:.4}")
+            } else {
+                String::new()
+            });
+        }
+        w.write_record(&rec)?;
+    }
+    Ok(w.into_inner()?)
+}
+
+/// The report a person reads first (Markdown).
+pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
+    use std::fmt::Write;
+    let mut s = String::new();
+    let b = &cal.best;
+    let l = &cal.literature;
+    let _ = writeln!(s, "# Calibration\n");
+    let _ = writeln!(
+        s,
+        "Objective `{}`: {} observations at {} configurations, model {}.\n",
+        cal.objective, cal.n_observations, cal.n_configurations, cal.model
+    );
+    let _ = writeln!(s, "| set | μ1 (MPa) | α1 | μ2 (MPa) | α2 | μ0 (MPa) | χ² |");
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+    for (name, p, c) in [
+        ("literature", l, cal.chi2_literature),
+        ("calibrated", b, cal.chi2),
+    ] {
+        let _ = writeln!(
+            s,
+            "| {name} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.1} |",
+            p.mu1_mpa,
+            p.alpha1,
+            p.mu2_mpa,
+            p.alpha2,
+            p.mu0_mpa(),
+            c
+        );
+    }
+    let _ = writeln!(s);
+    let ls = &cal.literature_summary;
+    let cs = &cal.calibrated;
+    let _ = writeln!(
+        s,
+        "| through the surrogate | mean BE (mm) | median BE (mm) | L9 mean BE (mm) | mean F error (N) | mean |F error| (N) |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|");
+    for (name, x) in [("literature", ls), ("calibrated", cs)] {
+        let _ = writeln!(
+            s,
+            "| {name} | {:.2} | {:.2} | {:.2} | {:+.3} | {:.3} |",
+            x.mean_be_mm,
+            x.median_be_mm,
+            x.l9_mean_be_mm,
+            x.mean_force_error_n,
+            x.mean_abs_force_error_n
+        );
+    }
+    if let Some(v) = fe {
+        let x = &v.summary;
+        let _ = writeln!(
+            s,
+            "| calibrated, FE ({} mesh) | {:.2} | {:.2} | {:.2} | {:+.3} | {:.3} |",
+            v.mesh,
+            x.mean_be_mm,
+            x.median_be_mm,
+            x.l9_mean_be_mm,
+            x.mean_force_error_n,
+            x.mean_abs_force_error_n
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nThe reference study (Ansys, 9 configurations): mean BE 2.51 mm with Ogden 002, 1.58 mm with a set per configuration.\n"
+    );
+    let _ = writeln!(
+        s,
+        "{} starts reached {} distinct minima (every end point is in report.json).",
+        cal.starts.len(),
+        cal.minima
+    );
+    if cal.active_bounds.is_empty() {
+        let _ = writeln!(
+            s,
+            "No bound of the training domain is active at the optimum."
+        );
+    } else {
+        let _ = writeln!(
+            s,
+            "Active bounds of the training domain (the optimum would lie outside it): {}.",
+            cal.active_bounds.join("; ")
+        );
+    }
+    let id = &cal.identifiability;
+    let _ = writeln!(
+        s,
+        "\n## What the data determine\n\nχ²/dof = {:.2} ({} observations − 4 parameters); covariance scaled by ŝ² = {:.2}.\n",
+        cal.chi2 / id.dof as f64,
+        cal.n_observations,
+        id.variance_scale
+    );
+    let _ = writeln!(
+        s,
+        "| parameter | estimate | std error | 95 % profile interval | |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|");
+    for (k, p) in id.profiles.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "| {} | {:.4} | {:.3} | [{:.4}, {:.4}] | {} |",
+            p.name,
+            p.optimum,
+            id.std_errors[k],
+            p.interval[0],
+            p.interval[1],
+            p.determinacy.describe()
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nEigen-directions of the information (unit box; std as a fraction of the box):\n"
+    );
+    for d in &id.directions {
+        let v: Vec<String> = d
+            .vector
+            .iter()
+            .filter(|(_, c)| c.abs() > 0.1)
+            .map(|(n, c)| format!("{c:+.2} {n}"))
+            .collect();
+        let _ = writeln!(s, "- {} : std {:.3}", v.join(" "), d.std_fraction);
+    }
+    if let Some(m) = id.extra_measurements.first() {
+        let _ = writeln!(
+            s,
+            "\nThe extra measurement that would sharpen the least determined parameter most: {} (standard errors × {}).",
+            m.measurement,
+            m.ratio
+                .iter()
+                .map(|r| format!("{r:.2}"))
+                .collect::<Vec<_>>()
+                .join(" / ")
+        );
+    }
+    if !cal.flags.is_empty() {
+        let _ = writeln!(s, "\n## Data checks\n");
+        for f in &cal.flags {
+            let _ = writeln!(s, "- {} ({}): {}", f.config.label(), f.source, f.message);
+        }
+    }
+    if !cal.excluded.is_empty() {
+        let _ = writeln!(s, "\n## Excluded\n");
+        for e in describe_exclusions(&cal.excluded) {
+            let _ = writeln!(s, "- {e}");
+        }
+    }
+    if let Some(st) = &cal.per_configuration {
+        let _ = writeln!(
+            s,
+            "\n## The study's procedure: one set per configuration (±{:.0} % of the literature set)\n",
+            100.0 * st.fraction
+        );
+        let _ = writeln!(
+            s,
+            "| | literature | per configuration | one set, same box |"
+        );
+        let _ = writeln!(s, "|---|---|---|---|");
+        for (name, v) in [("all, mean BE (mm)", &st.all), ("L9, mean BE (mm)", &st.l9)] {
+            let _ = writeln!(
+                s,
+                "| {name} | {:.2} | {:.2} | {:.2} |",
+                v[0].mean_mm, v[1].mean_mm, v[2].mean_mm
+            );
+        }
+        for (name, v) in [
+            ("all, median BE (mm)", &st.all),
+            ("L9, median BE (mm)", &st.l9),
+        ] {
+            let _ = writeln!(
+                s,
+                "| {name} | {:.2} | {:.2} | {:.2} |",
+                v[0].median_mm, v[1].median_mm, v[2].median_mm
+            );
+        }
+        let _ = writeln!(s, "\nSpread of the per-configuration sets:\n");
+        let _ = writeln!(
+            s,
+            "| parameter | mean | std | CV | min | max | on the box |"
+        );
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+        for p in &st.spread {
+            let _ = writeln!(
+                s,
+                "| {} | {:.4} | {:.4} | {:.1} % | {:.4} | {:.4} | {} of {} |",
+                p.name,
+                p.mean,
+                p.std,
+                100.0 * p.cv,
+                p.min,
+                p.max,
+                p.on_box,
+                st.fits.len()
+            );
+        }
+    }
+    if let Some(v) = fe {
+        let _ = writeln!(
+            s,
+            "\n## FE verification ({} mesh)\n\nSurrogate vs FE at the optimum: mean |Δ| tip Uz {:.2} mm, tip Uy {:.2} mm, force {:.3} N (max {:.2} / {:.2} / {:.3}); {} configurations outside the surrogate's 2σ band.",
+            v.mesh,
+            v.mean_abs_sur_fe[0],
+            v.mean_abs_sur_fe[1],
+            v.mean_abs_sur_fe[2],
+            v.max_abs_sur_fe[0],
+            v.max_abs_sur_fe[1],
+            v.max_abs_sur_fe[2],
+            v.disagreements
+        );
+        if !v.designs_to_refine.is_empty() {
+            let d: Vec<String> = v
+                .designs_to_refine
+                .iter()
+                .map(|(n, t)| format!("N={n} T={t}"))
+                .collect();
+            let _ = writeln!(
+                s,
+                "Designs to add as high-fidelity cases before refitting: {}.",
+                d.join(", ")
+            );
+        }
+    }
+    let _ = writeln!(s, "\nCalibration time: {:.2} s.", cal.wall_time_s);
+    s
+}
