@@ -38,6 +38,7 @@ pub mod objective;
 pub mod optimise;
 pub mod params;
 pub mod study;
+pub mod synthetic;
 pub mod verify;
 
 pub use fit::{calibrate, Calibration, CalibrationSettings};

@@ -113,6 +113,26 @@ impl OgdenSet {
         )
     }
 
+    /// Each parameter rounded to `digits` significant digits (the set as reported; the FE
+    /// verification runs this set, so that its cached ramps survive changes in the last
+    /// digits of the optimiser).
+    pub fn rounded(&self, digits: i32) -> Self {
+        let r = |v: f64| {
+            if v == 0.0 {
+                return 0.0;
+            }
+            let e = digits - 1 - v.abs().log10().floor() as i32;
+            let f = 10f64.powi(e);
+            (v * f).round() / f
+        };
+        OgdenSet {
+            mu1_mpa: r(self.mu1_mpa),
+            alpha1: r(self.alpha1),
+            mu2_mpa: r(self.mu2_mpa),
+            alpha2: r(self.alpha2),
+        }
+    }
+
     /// `[μ₁, α₁, μ₂, α₂]`.
     pub fn as_array(&self) -> [f64; 4] {
         [self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2]
@@ -393,6 +413,13 @@ mod tests {
         for (a, b) in p.as_array().iter().zip(r.as_array()) {
             assert!((a - b).abs() < 1e-12 * a.abs());
         }
+    }
+
+    #[test]
+    fn rounding_keeps_significant_digits() {
+        let p = OgdenSet::new(0.038_249, 5.996_127, -5.194_93, -1.996_45).unwrap();
+        let r = p.rounded(4);
+        assert_eq!(r.as_array(), [0.03825, 5.996, -5.195, -1.996]);
     }
 
     #[test]

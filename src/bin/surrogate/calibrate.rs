@@ -144,7 +144,8 @@ pub fn run(a: CalibrateArgs) -> Result<()> {
                 .fe_cache
                 .clone()
                 .unwrap_or_else(|| a.out.join(format!("fe_{}_ramps", level.name())));
-            Some(run_fe(&model, &rec, &cal.best, level, &cache)?)
+            // the set as reported (4 significant digits)
+            Some(run_fe(&model, &rec, &cal.best.rounded(4), level, &cache)?)
         }
         None => None,
     };

@@ -1,0 +1,153 @@
+//! Synthetic recordings: model outputs at known parameters plus noise at the experiments'
+//! standard deviations, in the experiments' own format. They test the calibrator (does it
+//! recover what it was given, within the intervals it reports?) and, later, the diagnoser.
+//!
+//! The noise of each configuration is the recorded scatter of the matching experimental row
+//! (same `N, T, P`): the angle gets `N(0, σ_α)`, tip Uz and Uy each `N(0, r σ_α)` (the tip
+//! noise model of [`super::objective`]), the force `N(0, σ_F)`; the standard-deviation columns
+//! of the written records are the experiments' ones. Normal deviates come from a seeded
+//! xoshiro256+ stream (Box–Muller), in record order: the same seed gives the same recordings.
+
+use rand::{RngCore, SeedableRng};
+use rand_xoshiro::Xoshiro256Plus;
+use serde::{Deserialize, Serialize};
+
+use super::experiments::{BendingRecord, ForceRecord};
+use super::objective::{Recordings, FREE_LENGTH_MM};
+use super::CalibrateError;
+
+/// Noise-free outputs of one configuration.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrueOutputs {
+    /// Number of bellows.
+    pub n_bellows: usize,
+    /// Wall thickness (mm).
+    pub wall_thickness_mm: f64,
+    /// Pressure (bar).
+    pub pressure_bar: f64,
+    /// Tip Uz (mm).
+    pub tip_uz_mm: f64,
+    /// Tip Uy (mm).
+    pub tip_uy_mm: f64,
+    /// Angle (deg).
+    pub angle_deg: f64,
+    /// Blocked force (N); NaN when not simulated.
+    pub force_n: f64,
+}
+
+fn normal(rng: &mut Xoshiro256Plus) -> f64 {
+    // Box–Muller on two uniforms in (0, 1]
+    let u = |r: &mut Xoshiro256Plus| ((r.next_u64() >> 11) as f64 + 1.0) / (1u64 << 53) as f64;
+    let (a, b) = (u(rng), u(rng));
+    (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
+}
+
+/// Recordings of `truth` with noise at the scatter of the matching rows of `noise_from`.
+///
+/// # Errors
+/// A configuration of `truth` without a matching row in `noise_from` (naming it).
+pub fn noisy_recordings(
+    truth: &[TrueOutputs],
+    noise_from: &Recordings,
+    seed: u64,
+    source: &str,
+) -> Result<Recordings, CalibrateError> {
+    let mut rng = Xoshiro256Plus::seed_from_u64(seed);
+    let mut bending = Vec::new();
+    let mut force = Vec::new();
+    let same = |n: usize, t: f64, p: f64, t0: &TrueOutputs| {
+        n == t0.n_bellows
+            && (t - t0.wall_thickness_mm).abs() < 1e-9
+            && (p - t0.pressure_bar).abs() < 1e-9
+    };
+    for t in truth {
+        let b = noise_from
+            .bending
+            .iter()
+            .find(|r| same(r.n_bellows, r.wall_thickness_mm, r.pressure_bar, t))
+            .ok_or_else(|| {
+                CalibrateError::input(
+                    "synthetic configuration",
+                    format!(
+                        "N={} T={} P={}",
+                        t.n_bellows, t.wall_thickness_mm, t.pressure_bar
+                    ),
+                    "a configuration of the noise source's bending recordings",
+                )
+            })?;
+        let sa = b.angle_std_deg;
+        let st = (FREE_LENGTH_MM - t.tip_uz_mm).hypot(t.tip_uy_mm) * sa.to_radians();
+        bending.push(BendingRecord {
+            n_bellows: t.n_bellows,
+            wall_thickness_mm: t.wall_thickness_mm,
+            pressure_bar: t.pressure_bar,
+            tip_uz_mm: t.tip_uz_mm + st * normal(&mut rng),
+            tip_uy_mm: t.tip_uy_mm + st * normal(&mut rng),
+            angle_deg: t.angle_deg + sa * normal(&mut rng),
+            angle_std_deg: sa,
+        });
+        if t.force_n.is_finite() {
+            if let Some(f) = noise_from
+                .force
+                .iter()
+                .find(|r| same(r.n_bellows, r.wall_thickness_mm, r.pressure_bar, t))
+            {
+                force.push(ForceRecord {
+                    n_bellows: t.n_bellows,
+                    wall_thickness_mm: t.wall_thickness_mm,
+                    pressure_bar: t.pressure_bar,
+                    force_n: t.force_n + f.force_std_n * normal(&mut rng),
+                    force_std_n: f.force_std_n,
+                });
+            }
+        }
+    }
+    Ok(Recordings {
+        bending,
+        force,
+        markers: Vec::new(),
+        bending_source: format!("{source} (bending)"),
+        force_source: format!("{source} (force)"),
+        markers_source: String::new(),
+    })
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn noise_has_the_stated_scale_and_is_reproducible() {
+        let mut rng = Xoshiro256Plus::seed_from_u64(7);
+        let v: Vec<f64> = (0..20_000).map(|_| normal(&mut rng)).collect();
+        let mean = v.iter().sum::<f64>() / v.len() as f64;
+        let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64;
+        assert!(
+            mean.abs() < 0.03 && (var - 1.0).abs() < 0.05,
+            "{mean} {var}"
+        );
+        let rec = Recordings::shipped().unwrap();
+        let truth: Vec<TrueOutputs> = rec
+            .bending
+            .iter()
+            .map(|r| TrueOutputs {
+                n_bellows: r.n_bellows,
+                wall_thickness_mm: r.wall_thickness_mm,
+                pressure_bar: r.pressure_bar,
+                tip_uz_mm: r.tip_uz_mm,
+                tip_uy_mm: r.tip_uy_mm,
+                angle_deg: r.angle_deg,
+                force_n: 1.0,
+            })
+            .collect();
+        let a = noisy_recordings(&truth, &rec, 3, "t").unwrap();
+        let b = noisy_recordings(&truth, &rec, 3, "t").unwrap();
+        assert_eq!(a.bending, b.bending);
+        assert_eq!(a.force.len(), 27);
+        let c = noisy_recordings(&truth, &rec, 4, "t").unwrap();
+        assert_ne!(a.bending, c.bending);
+        let mut bad = truth[0].clone();
+        bad.pressure_bar = 2.5;
+        assert!(noisy_recordings(&[bad], &rec, 3, "t").is_err());
+    }
+}
