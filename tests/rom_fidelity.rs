@@ -243,6 +243,7 @@ fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
     };
     let out = run(&[
         "train",
+        "--force",
         "--data",
         dir.join("low.csv").to_str().unwrap(),
         "--high-fidelity",
