@@ -1,7 +1,8 @@
 //! # surrogate
 //!
 //! Finite-element model, snapshot generator and reduced-order surrogate of 3D-printed soft
-//! pneumatic bellow actuators (see `SPEC.md` of the project for the physical contract).
+//! pneumatic bellow actuators (the physical model, its parameters, loads, outputs, sign
+//! conventions and units: `docs/MODEL.md` in the repository).
 //!
 //! ```text
 //!   Design (N, T, dims) ─► fe::mesh ─► fe::assembly + fe::solver ─► Response (markers, tip, angle, force)

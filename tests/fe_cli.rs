@@ -26,6 +26,10 @@ fn bad_input_is_a_named_error_with_nonzero_exit() {
         (&["--t", "3.5"], "wall_thickness = 3.5"),
         (&["--n", "15", "--t", "2.8"], "no usable cavity"),
         (&["--pressures", "0,-1,2"], "-1"),
+        (&["--pressures", "-1"], "pressure -1 bar at position 1 of the list is invalid: expected a gauge pressure ≥ 0 bar (a negative pressure"),
+        (&["--pressures", "0,1,-2"], "position 3 of the list"),
+        (&["--pressures", "0,1,x"], "entry 3 'x' is not a number"),
+        (&["--pressures", "3:0"], "expected max ≥ 0 and step > 0"),
         (&["--pressures", "0,abc"], "'abc' is not a number"),
         (&["--pressures", "2,1"], "increasing"),
         (&["--mesh", "medium"], "unknown mesh level 'medium'"),
@@ -59,7 +63,7 @@ fn small_run_writes_json_and_vtk() {
         "--t",
         "2.4",
         "--pressures",
-        "0,0.1",
+        "0.1:0.1",
         "--mesh",
         "coarse",
         "--no-gravity",
@@ -69,10 +73,21 @@ fn small_run_writes_json_and_vtk() {
         vtk.to_str().unwrap(),
     ]);
     assert!(ok, "{err}");
+    // progress per step where no bar is drawn, and a final line naming the file
+    assert!(err.contains("step 2/2: 0.1 bar"), "{err}");
+    assert!(
+        err.contains("wrote 2 steps") && err.contains(json.to_str().unwrap()),
+        "{err}"
+    );
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let steps = v["steps"].as_array().unwrap();
     assert_eq!(steps.len(), 2);
+    // the pressure as requested (not 0.1 recomputed through MPa), markers as `predict` writes
+    assert_eq!(steps[1]["pressure_bar"].as_f64(), Some(0.1));
+    let m = &steps[1]["markers"][8];
+    assert!(m["uz_mm"].is_f64() && m["uy_mm"].is_f64(), "{m}");
+    assert_eq!(m["uy_mm"], steps[1]["tip_uy_mm"]);
     for key in [
         "pressure_bar",
         "tip_uz_mm",

@@ -38,6 +38,7 @@ fn model() -> &'static PathBuf {
         let o = bin()
             .args([
                 "train",
+                "--force",
                 "--synthetic",
                 "30",
                 "--folds",
@@ -95,7 +96,7 @@ fn train_from_csv_file_reports_skipped_rows() {
     let out = dir().join("from_csv.json");
     let o = bin()
         .args([
-            "train", "--folds", "2", "--quiet", "--only", "poly", "--data",
+            "train", "--force", "--folds", "2", "--quiet", "--only", "poly", "--data",
         ])
         .arg(&csv)
         .arg("--out")
@@ -112,6 +113,7 @@ fn train_from_csv_file_reports_skipped_rows() {
     let o = bin()
         .args([
             "train",
+            "--force",
             "--folds",
             "2",
             "--quiet",
@@ -141,7 +143,15 @@ fn train_from_csv_file_reports_skipped_rows() {
 fn prefer_poly_within_a_large_margin_selects_the_polynomial() {
     let out = dir().join("fast.json");
     let o = bin()
-        .args(["train", "--synthetic", "20", "--folds", "2", "--quiet"])
+        .args([
+            "train",
+            "--force",
+            "--synthetic",
+            "20",
+            "--folds",
+            "2",
+            "--quiet",
+        ])
         .args(["--prefer-poly-within", "1000", "--out"])
         .arg(&out)
         .output()
@@ -157,6 +167,7 @@ fn prefer_poly_within_a_large_margin_selects_the_polynomial() {
     let o = bin()
         .args([
             "train",
+            "--force",
             "--synthetic",
             "20",
             "--prefer-poly-within=-1",
@@ -204,29 +215,151 @@ fn predict_single_query_prints_json_with_markers_and_std() {
     assert_eq!(text(&o2).0, out);
 }
 
+/// Outside the training domain is an error by default; `--allow-extrapolation` predicts and
+/// the JSON says which inputs were outside and whether they were clamped.
 #[test]
-fn out_of_domain_warns_or_fails_with_strict() {
+fn extrapolation_is_refused_by_default_and_flagged_when_allowed() {
+    let q = |p: &str, t: &str| {
+        vec![
+            "--n".to_string(),
+            "11".into(),
+            "--t".into(),
+            t.into(),
+            "--pressure".into(),
+            p.into(),
+            "--material".into(),
+            "ogden_002".into(),
+        ]
+    };
+    let run = |args: Vec<String>| {
+        let a: Vec<&str> = args.iter().map(String::as_str).collect();
+        predict(&a)
+    };
+    for (p, t, name) in [
+        ("5", "2.0", "pressure_bar = 5 outside"),
+        ("-1", "2.0", "pressure_bar = -1 outside"),
+        ("1", "5", "wall_thickness_mm = 5 outside"),
+    ] {
+        let o = run(q(p, t));
+        fails_with(&o, &[name, "--allow-extrapolation"]);
+        let mut strict = q(p, t);
+        strict.push("--strict".into());
+        fails_with(&run(strict), &[name]);
+    }
+    let end = run(q("3.5", "2.0"));
+    let end: serde_json::Value = serde_json::from_str(&text(&end).0).unwrap();
+    assert_eq!(end["in_domain"], true);
+    let mut allowed = q("5", "2.0");
+    allowed.push("--allow-extrapolation".into());
+    let o = run(allowed);
+    let (out, err) = text(&o);
+    assert!(o.status.success() && err.contains("clamped"), "{err}");
+    let v: serde_json::Value = serde_json::from_str(&out).unwrap();
+    // the pressure as given, the values of the grid's end, and the flags
+    assert_eq!(v["pressure_bar"], 5.0);
+    assert_eq!(v["in_domain"], false);
+    assert_eq!(v["outside_domain"][0]["input"], "pressure_bar");
+    assert_eq!(v["outside_domain"][0]["clamped"], true);
+    assert_eq!(v["outside_domain"][0]["used"], 3.5);
+    assert_eq!(v["tip_uz_mm"], end["tip_uz_mm"]);
+    let mut allowed = q("1", "5");
+    allowed.push("--allow-extrapolation".into());
+    let v: serde_json::Value = serde_json::from_str(&text(&run(allowed)).0).unwrap();
+    assert_eq!(v["outside_domain"][0]["input"], "wall_thickness_mm");
+    assert_eq!(v["outside_domain"][0]["clamped"], false);
+}
+
+/// A batch outside the domain: one message with the count and the first rows (not one line
+/// per row), and with `--allow-extrapolation` an `outside_domain` column.
+#[test]
+fn batch_outside_the_domain_is_one_message_and_a_column() {
+    let d = dir();
+    let input = d.join("far.csv");
+    let mut csv = String::from("n_bellows,wall_thickness_mm,pressure_bar,material\n");
+    csv.push_str("11,2.0,1.0,ogden_002\n");
+    for i in 0..2000 {
+        let p = if i % 2 == 0 { "5" } else { "-1" };
+        csv.push_str(&format!("11,2.0,{p},ogden_002\n"));
+    }
+    std::fs::write(&input, csv).unwrap();
+    let out = d.join("far_out.csv");
     let args = [
-        "--n",
-        "11",
-        "--t",
-        "2.0",
-        "--pressure",
-        "3.9",
-        "--material",
-        "ogden_002",
+        "--csv",
+        input.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
     ];
     let o = predict(&args);
-    let (out, err) = text(&o);
-    assert!(
-        o.status.success() && err.contains("warning") && err.contains("pressure_bar = 3.9"),
-        "{err}"
+    fails_with(
+        &o,
+        &[
+            "2000 of 2001 rows outside the training domain (first 5): line 3: pressure_bar = 5",
+            "line 4: pressure_bar = -1",
+            "--allow-extrapolation",
+        ],
     );
-    assert!(out.contains("\"in_domain\": false"));
-    let mut strict = args.to_vec();
-    strict.push("--strict");
-    let o = predict(&strict);
-    fails_with(&o, &["--strict"]);
+    assert!(text(&o).1.lines().count() <= 2, "{}", text(&o).1);
+    let mut allowed = args.to_vec();
+    allowed.push("--allow-extrapolation");
+    let o = predict(&allowed);
+    let err = text(&o).1;
+    assert!(o.status.success() && err.lines().count() <= 3, "{err}");
+    let mut r = csv::Reader::from_path(&out).unwrap();
+    let h = r.headers().unwrap().clone();
+    let col = |name: &str| h.iter().position(|c| c == name).unwrap();
+    let rows: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), 2001);
+    assert_eq!(&rows[0][col("in_domain")], "true");
+    assert_eq!(&rows[0][col("outside_domain")], "");
+    assert_eq!(&rows[1][col("in_domain")], "false");
+    assert_eq!(
+        &rows[1][col("outside_domain")],
+        "pressure_bar=5 (clamped to 3.5)"
+    );
+    assert_eq!(&rows[2][col("pressure_bar")], "-1");
+}
+
+/// `export --ramp` of a design outside the domain is refused; allowed, the header says so.
+#[test]
+fn export_ramp_outside_the_domain_is_refused_or_flagged() {
+    let rs = dir().join("far_ramp.rs");
+    let _ = std::fs::remove_file(&rs);
+    let export = |extra: &[&str]| {
+        bin()
+            .args([
+                "export",
+                "--ramp",
+                "--n",
+                "11",
+                "--t",
+                "5",
+                "--material",
+                "ogden_002",
+            ])
+            .args(extra)
+            .arg("--model")
+            .arg(model())
+            .arg("--rust")
+            .arg(&rs)
+            .output()
+            .unwrap()
+    };
+    fails_with(
+        &export(&[]),
+        &["wall_thickness_mm = 5 outside", "--allow-extrapolation"],
+    );
+    assert!(!rs.exists());
+    let o = export(&["--allow-extrapolation"]);
+    assert!(o.status.success(), "{}", text(&o).1);
+    let h = std::fs::read_to_string(rs.with_extension("h")).unwrap();
+    assert!(
+        h.contains("#define SURROGATE_RAMP_IN_DOMAIN 0")
+            && h.contains("OUTSIDE THE TRAINING DOMAIN")
+            && h.contains("wall_thickness_mm = 5"),
+        "{h}"
+    );
+    let src = std::fs::read_to_string(&rs).unwrap();
+    assert!(src.contains("pub const IN_DOMAIN: bool = false;"));
 }
 
 #[test]
@@ -273,14 +406,18 @@ fn batch_csv_round_trip_and_bad_rows() {
     let lines: Vec<&str> = res.lines().collect();
     assert_eq!(lines.len(), 3);
     assert!(
-        lines[0].starts_with("n_bellows,")
+        lines[0].starts_with("material,n_bellows,")
             && lines[0].contains("force_n_std")
-            && lines[0].ends_with("in_domain")
+            && lines[0].ends_with("in_domain,outside_domain")
     );
-    assert_eq!(lines[1].split(',').count(), 7 + 22 + 22 + 1);
+    let mut r = csv::Reader::from_reader(res.as_bytes());
+    let rec: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
+    assert_eq!(rec[1].len(), 1 + 7 + 22 + 22 + 2);
+    assert_eq!(&rec[1][0], "1.0,3.0,-12,-0.5");
     let cases = [
         ("n_bellows,wall_thickness_mm,pressure_bar\n11,2,1\n", "missing column `mu1_mpa`: expected n_bellows, wall_thickness_mm, pressure_bar, mu1_mpa, alpha1, mu2_mpa, alpha2 (or a `material` column"),
-        ("n_bellows,wall_thickness_mm,pressure_bar,material,colour\n11,2,1,ogden_002,red\n", "unknown column `colour`"),
+        ("n_bellows,wall_thickness_mm,pressure_bar,material,tip_uz_mm\n11,2,1,ogden_002,3\n", "column `tip_uz_mm` would be overwritten"),
+        ("n_bellows,wall_thickness_mm,pressure_bar,material\n9.5,2,1,ogden_002\n", "line 2, column `n_bellows`"),
         ("n_bellows,wall_thickness_mm,pressure_bar,material\n11,2,1,ogden_002\n11,NaN,1,ogden_002\n", "line 3, column `wall_thickness_mm`"),
         ("n_bellows,wall_thickness_mm,pressure_bar,material\n11,2,1,unobtainium\n", "line 2, column `material`"),
         ("n_bellows,wall_thickness_mm,pressure_bar,material\n8,2,1,ogden_002\n", "line 2, column `n_bellows`"),
@@ -303,7 +440,7 @@ fn batch_csv_round_trip_and_bad_rows() {
 #[test]
 fn predict_prints_stored_validation() {
     let o = predict(&["--validation"]);
-    let err = text(&o).1;
+    let err = text(&o).0;
     assert!(
         o.status.success()
             && err.contains("validation: 3-fold by case")
@@ -388,7 +525,15 @@ fn speedup_benchmark_rejects_bad_input_before_any_fe_run() {
 fn learning_curve_prints_one_row_per_size_and_rejects_bad_sizes() {
     let out = dir().join("curve.json");
     let o = bin()
-        .args(["train", "--synthetic", "24", "--folds", "3", "--quiet"])
+        .args([
+            "train",
+            "--force",
+            "--synthetic",
+            "24",
+            "--folds",
+            "3",
+            "--quiet",
+        ])
         .args(["--learning-curve", "6,12,24", "--out"])
         .arg(&out)
         .output()
@@ -411,7 +556,15 @@ fn learning_curve_prints_one_row_per_size_and_rejects_bad_sizes() {
     // the last size is the whole set: the same errors as the model saved
     assert!(stdout.contains("validation:"));
     let o = bin()
-        .args(["train", "--synthetic", "24", "--folds", "3", "--quiet"])
+        .args([
+            "train",
+            "--force",
+            "--synthetic",
+            "24",
+            "--folds",
+            "3",
+            "--quiet",
+        ])
         .args(["--learning-curve", "2", "--out"])
         .arg(&out)
         .output()
@@ -486,4 +639,130 @@ fn export_ramp_writes_one_design_and_needs_it_named() {
         .output()
         .unwrap();
     fails_with(&o, &["n = 10"]);
+}
+
+/// What pandas writes: `9.0` in an integer column, an ID and other columns beside the inputs,
+/// which come back in the output; `--out -` writes to stdout.
+#[test]
+fn batch_accepts_9_0_and_passes_extra_columns_through() {
+    let d = dir();
+    let input = d.join("pandas.csv");
+    std::fs::write(
+        &input,
+        "id,n_bellows,wall_thickness_mm,pressure_bar,note,mu1_mpa,alpha1,mu2_mpa,alpha2\n\
+         a-1,11.0,2.0,1.0,\"first, with a comma\",1.13,3.11,-13.17,-0.6\n\
+         a-2,9,2.0,2.0,,1.13,3.11,-13.17,-0.6\n",
+    )
+    .unwrap();
+    let o = predict(&["--csv", input.to_str().unwrap(), "--out", "-"]);
+    let (out, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    let mut r = csv::Reader::from_reader(out.as_bytes());
+    let h = r.headers().unwrap().clone();
+    assert_eq!(&h[0], "id");
+    assert_eq!(&h[1], "note");
+    assert_eq!(&h[2], "n_bellows");
+    let rows: Vec<csv::StringRecord> = r.records().map(Result::unwrap).collect();
+    assert_eq!(rows.len(), 2);
+    assert_eq!(
+        (&rows[0][0], &rows[0][1], &rows[0][2]),
+        ("a-1", "first, with a comma", "11")
+    );
+    assert_eq!((&rows[1][0], &rows[1][1], &rows[1][2]), ("a-2", "", "9"));
+    // the same query by flags gives the same tip
+    let single = predict(&[
+        "--n",
+        "11",
+        "--t",
+        "2.0",
+        "--pressure",
+        "1.0",
+        "--material",
+        "1.13,3.11,-13.17,-0.6",
+    ]);
+    let v: serde_json::Value = serde_json::from_str(&text(&single).0).unwrap();
+    let tip = h.iter().position(|c| c == "tip_uz_mm").unwrap();
+    assert_eq!(
+        rows[0][tip].parse::<f64>().unwrap(),
+        v["tip_uz_mm"].as_f64().unwrap()
+    );
+}
+
+/// `train` never overwrites a model by accident: `--out` is required, an existing file is an
+/// error (before any training) unless `--force`, and the write is atomic.
+#[test]
+fn train_refuses_to_overwrite_without_force() {
+    let o = bin()
+        .args(["train", "--synthetic", "12", "--folds", "2", "--quiet"])
+        .output()
+        .unwrap();
+    fails_with(&o, &["--out"]);
+    let path = dir().join("existing.json");
+    std::fs::write(&path, "precious").unwrap();
+    let train = |extra: &[&str]| {
+        bin()
+            .args([
+                "train",
+                "--synthetic",
+                "12",
+                "--folds",
+                "2",
+                "--quiet",
+                "--only",
+                "poly",
+                "--out",
+            ])
+            .arg(&path)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let start = std::time::Instant::now();
+    fails_with(&train(&[]), &["exists: refusing to overwrite", "--force"]);
+    assert!(start.elapsed().as_secs_f64() < 5.0);
+    assert_eq!(std::fs::read_to_string(&path).unwrap(), "precious");
+    let o = train(&["--force"]);
+    assert!(o.status.success(), "{}", text(&o).1);
+    surrogate::rom::Surrogate::load(&path).unwrap();
+    // no temporary file is left beside it
+    let left: Vec<_> = std::fs::read_dir(dir())
+        .unwrap()
+        .filter_map(|e| e.ok())
+        .filter(|e| e.file_name().to_string_lossy().ends_with(".tmp"))
+        .collect();
+    assert!(left.is_empty(), "{left:?}");
+}
+
+/// A missing default model says where it was looked for, once (no repeated cause).
+#[test]
+fn missing_default_model_says_where_it_was_looked_for() {
+    let cwd = dir().join("empty_cwd");
+    std::fs::create_dir_all(&cwd).unwrap();
+    let o = bin()
+        .current_dir(&cwd)
+        .args([
+            "predict",
+            "--n",
+            "11",
+            "--t",
+            "2",
+            "--pressure",
+            "1",
+            "--material",
+            "ogden_002",
+        ])
+        .output()
+        .unwrap();
+    let looked = cwd.join("models/actuator.json");
+    fails_with(
+        &o,
+        &[
+            "models/actuator.json: not found",
+            &format!("looked for {}", looked.display()),
+            "--model",
+        ],
+    );
+    let err = text(&o).1;
+    assert_eq!(err.matches("not found").count(), 1, "{err}");
+    assert_eq!(err.lines().count(), 1, "{err}");
 }

@@ -145,7 +145,7 @@ fn no_std_module_compiles() {
     );
     let header = c_header(Precision::F32, &sum);
     assert!(header.contains("int32_t surrogate_predict_f32(uint32_t n, float t_mm, float p_bar"));
-    let header = ramp_c_header(Precision::F64, &sum, &q);
+    let header = ramp_c_header(&m, Precision::F64, &sum, &q);
     assert!(header.contains("int32_t surrogate_ramp_f64(double p_bar, double *out);"));
 }
 
@@ -244,7 +244,7 @@ fn c_entry_point_links_and_agrees() {
     .unwrap();
     std::fs::write(
         dir.join("ramp.h"),
-        ramp_c_header(Precision::F32, &sum, &q_ramp),
+        ramp_c_header(&m, Precision::F32, &sum, &q_ramp),
     )
     .unwrap();
     std::fs::write(

@@ -243,6 +243,7 @@ fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
     };
     let out = run(&[
         "train",
+        "--force",
         "--data",
         dir.join("low.csv").to_str().unwrap(),
         "--high-fidelity",
@@ -278,7 +279,8 @@ fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
         "--validation",
     ]);
     assert!(out.status.success());
-    let err = String::from_utf8_lossy(&out.stderr);
+    // the validation tables go to stdout
+    let err = String::from_utf8_lossy(&out.stdout);
     assert!(err.contains("20 high-fidelity cases"), "{err}");
     assert!(
         err.contains("3-fold over the 20 high-fidelity cases"),

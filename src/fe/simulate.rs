@@ -121,14 +121,22 @@ pub enum SimulateError {
     #[error(transparent)]
     Contact(#[from] ContactError),
     /// Invalid pressure list.
-    #[error("pressure {value} bar at position {index} is invalid: expected {expected}")]
+    #[error("pressure {value} bar at position {} of the list is invalid: expected {expected}", .index + 1)]
     Pressure {
-        /// Position in the list.
+        /// Position in the list, from 0 (messages count from 1).
         index: usize,
         /// The value.
         value: f64,
         /// What was expected.
         expected: String,
+    },
+    /// A pressure list entry that is not a number, or a malformed `max:step`.
+    #[error("pressure list {list:?}: {what}")]
+    PressureText {
+        /// The list as given.
+        list: String,
+        /// What is wrong, with the position counted from 1.
+        what: String,
     },
 }
 
@@ -153,6 +161,62 @@ pub struct Case {
     pub contact: ContactSettings,
 }
 
+/// A marker's displacement in the tables' convention, as every JSON output writes it:
+/// `Uz = −Δz` (positive towards the support), `Uy = Δy` (negative downwards), mm.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Marker {
+    /// `Uz = −Δz`, mm.
+    pub uz_mm: f64,
+    /// `Uy = Δy`, mm.
+    pub uy_mm: f64,
+}
+
+impl From<[f64; 2]> for Marker {
+    fn from(m: [f64; 2]) -> Self {
+        Marker {
+            uz_mm: m[0],
+            uy_mm: m[1],
+        }
+    }
+}
+
+/// Serde form of a marker list: written as [`Marker`] objects, read from objects or pairs.
+pub mod marker_list {
+    use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+    use super::Marker;
+
+    #[derive(Deserialize)]
+    #[serde(untagged)]
+    enum Either {
+        Object(Marker),
+        Pair([f64; 2]),
+    }
+
+    /// Writes `[{"uz_mm", "uy_mm"}, …]`.
+    ///
+    /// # Errors
+    /// The serializer's.
+    pub fn serialize<S: Serializer>(m: &[[f64; 2]], s: S) -> Result<S::Ok, S::Error> {
+        let v: Vec<Marker> = m.iter().map(|&p| Marker::from(p)).collect();
+        v.serialize(s)
+    }
+
+    /// Reads objects `{"uz_mm", "uy_mm"}` or pairs `[Uz, Uy]`.
+    ///
+    /// # Errors
+    /// Neither form.
+    pub fn deserialize<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<[f64; 2]>, D::Error> {
+        let v: Vec<Either> = Vec::deserialize(d)?;
+        Ok(v.into_iter()
+            .map(|e| match e {
+                Either::Object(m) => [m.uz_mm, m.uy_mm],
+                Either::Pair(p) => p,
+            })
+            .collect())
+    }
+}
+
 /// Results of one pressure step.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct StepResult {
@@ -164,7 +228,9 @@ pub struct StepResult {
     pub tip_uy_mm: f64,
     /// Bending angle (deg).
     pub angle_deg: f64,
-    /// Markers 1..9: [Uz, Uy] (mm).
+    /// Markers 1..9: `[Uz, Uy]` (mm); written as `[{"uz_mm": …, "uy_mm": …}, …]`
+    /// ([`Marker`], the form `predict` writes too); the older `[[Uz, Uy], …]` is still read.
+    #[serde(with = "marker_list")]
     pub markers: Vec<[f64; 2]>,
     /// Newton iterations to reach this step.
     pub newton_iterations: usize,
@@ -481,6 +547,16 @@ pub fn validate_pressures(p: &[f64]) -> Result<(), SimulateError> {
         });
     }
     for (i, &v) in p.iter().enumerate() {
+        if v < 0.0 {
+            return Err(SimulateError::Pressure {
+                index: i,
+                value: v,
+                expected: format!(
+                    "a gauge pressure ≥ 0 bar (a negative pressure, below atmospheric, is not \
+                     modelled; the range is [0, {MAX_PRESSURE_BAR}] bar)"
+                ),
+            });
+        }
         if !v.is_finite() || !(0.0..=MAX_PRESSURE_BAR).contains(&v) {
             return Err(SimulateError::Pressure {
                 index: i,
@@ -497,6 +573,50 @@ pub fn validate_pressures(p: &[f64]) -> Result<(), SimulateError> {
         }
     }
     Ok(())
+}
+
+/// Parses a pressure list in bar: comma-separated values (`0,1,2,3`) or `max:step` (`3.5:0.25`:
+/// 0, 0.25, …, 3.5; each level rounded to 1e-9 bar so that `3:0.1` gives `0.3`, not
+/// `0.30000000000000004`). Positions in messages count from 1. The values are not range
+/// checked here ([`validate_pressures`] does).
+///
+/// # Errors
+/// [`SimulateError::PressureText`] naming the entry that is not a number or the malformed
+/// `max:step`.
+pub fn parse_pressures(s: &str) -> Result<Vec<f64>, SimulateError> {
+    let text = |what: String| SimulateError::PressureText {
+        list: s.to_string(),
+        what,
+    };
+    if let Some((max, step)) = s.split_once(':') {
+        let num = |t: &str| t.trim().parse::<f64>().ok().filter(|v| v.is_finite());
+        let (Some(max), Some(step)) = (num(max), num(step)) else {
+            return Err(text(
+                "expected max:step, two numbers (e.g. 3.5:0.25)".into(),
+            ));
+        };
+        if !(step > 0.0 && max >= 0.0 && max / step < 1e4) {
+            return Err(text(format!(
+                "max:step = {max}:{step}: expected max ≥ 0 and step > 0 (at most 10000 levels)"
+            )));
+        }
+        let n = (max / step + 1e-9).floor() as usize;
+        return Ok((0..=n)
+            .map(|i| (i as f64 * step * 1e9).round() / 1e9)
+            .collect());
+    }
+    s.split(',')
+        .enumerate()
+        .map(|(i, v)| {
+            v.trim().parse::<f64>().map_err(|_| {
+                text(format!(
+                    "entry {} '{}' is not a number (expected bar values such as 0,1,2,3 or max:step such as 3.5:0.25)",
+                    i + 1,
+                    v.trim()
+                ))
+            })
+        })
+        .collect()
 }
 
 /// Runs one case, calling `progress(step, total)` after each converged output step.
@@ -556,7 +676,7 @@ pub fn simulate_with(
         |_, state, rep| {
             progress(1, total);
             if first_is_zero {
-                let result = measure(&model, state, rep, lf);
+                let result = measure(&model, state, rep, lf, 0.0);
                 on_result(&model, &result, &state.u_full);
                 steps.push(result);
             }
@@ -575,7 +695,7 @@ pub fn simulate_with(
         &levels[1..],
         |i, state, rep| {
             progress(i + 2, total);
-            let result = measure(&model, state, rep, lf);
+            let result = measure(&model, state, rep, lf, case.pressures_bar[skip + i]);
             on_result(&model, &result, &state.u_full);
             steps.push(result);
         },
@@ -624,7 +744,15 @@ pub fn simulate(case: &Case) -> Result<Response, SimulateError> {
     simulate_with_progress(case, |_, _| {})
 }
 
-fn measure(model: &ActuatorModel, state: &PathState, rep: &StepReport, lf: f64) -> StepResult {
+/// The measured outputs of a converged state; `pressure_bar` is the requested level, reported
+/// as given (not recomputed from the load in MPa, which would print `3.0000000000000004`).
+fn measure(
+    model: &ActuatorModel,
+    state: &PathState,
+    rep: &StepReport,
+    lf: f64,
+    pressure_bar: f64,
+) -> StepResult {
     let u = &state.u_full;
     let markers: Vec<[f64; 2]> = (0..9)
         .map(|k| {
@@ -649,7 +777,7 @@ fn measure(model: &ActuatorModel, state: &PathState, rep: &StepReport, lf: f64) 
         (2.0 * i.pair_force, i.pair_min_gap)
     });
     StepResult {
-        pressure_bar: state.level.pressure / BAR,
+        pressure_bar,
         tip_uz_mm: tip[0],
         tip_uy_mm: tip[1],
         angle_deg: (-y_tip).atan2(z_tip).to_degrees(),

@@ -1,16 +1,30 @@
-//! Batch queries: material specs and query CSV files for `surrogate predict --csv`.
+//! Batch queries and the prediction output schema, for `surrogate predict` and for programs.
 //!
 //! A query CSV has the columns `n_bellows, wall_thickness_mm, pressure_bar` and either
 //! `material` (a name or `mu1,alpha1,mu2,alpha2` in quotes) or the four
-//! `mu1_mpa, alpha1, mu2_mpa, alpha2`, in any order. A missing or unknown column, an empty or
-//! non-finite cell, an unknown material or an `N` the model was not trained on is an error
-//! naming the line and the column.
+//! `mu1_mpa, alpha1, mu2_mpa, alpha2`, in any order. Any other column (an ID, a note) is
+//! passed through to the output unchanged. `n_bellows` accepts `9` and `9.0`. A missing
+//! column, an empty or non-finite cell, an unknown material or an `N` the model was not trained
+//! on is an error naming the line and the column.
+//!
+//! Every row is checked against the training domain ([`Surrogate::domain_violations`]): by
+//! default a batch with rows outside is refused with one message (how many rows, the first
+//! few); allowed, each output row says which inputs were outside and whether they were
+//! clamped (`in_domain`, `outside_domain`).
+//!
+//! A prediction is written in the same form as a step of `surrogate simulate`
+//! ([`PredictionRecord`]): `pressure_bar, tip_uz_mm, tip_uy_mm, angle_deg, force_n` and
+//! `markers` as `[{"uz_mm", "uy_mm"}, …]` ([`Marker`]).
 
 use std::io::{Read, Write};
 
-use super::surrogate::{Prediction, Query, Surrogate};
+use serde::Serialize;
+
+use super::domain::{BatchDomainReport, DomainViolation};
+use super::surrogate::{Query, Surrogate};
 use super::{RomError, QUANTITY_NAMES};
 use crate::fe::material::Material;
+use crate::fe::simulate::Marker;
 
 /// Ogden parameters `[μ₁, α₁, μ₂, α₂]` of a material spec (a literature name or four numbers
 /// `mu1,alpha1,mu2,alpha2`), parsed and checked by [`Material::from_spec`].
@@ -30,27 +44,58 @@ pub fn material_params(spec: &str) -> Result<[f64; 4], RomError> {
     })
 }
 
-/// One validated query row with its line number.
+/// One validated query row with its line number and its passed-through cells.
 #[derive(Debug, Clone)]
 pub struct QueryRow {
     /// 1-based line in the file.
     pub line: usize,
     /// The query.
     pub query: Query,
+    /// The cells of [`QueryTable::extra_columns`], as given.
+    pub extra: Vec<String>,
+}
+
+/// A validated query CSV.
+#[derive(Debug, Clone, Default)]
+pub struct QueryTable {
+    /// Columns that are not inputs (IDs, notes, the `material` spec), passed through.
+    pub extra_columns: Vec<String>,
+    /// The rows.
+    pub rows: Vec<QueryRow>,
 }
 
 const BASE: [&str; 3] = ["n_bellows", "wall_thickness_mm", "pressure_bar"];
 const OGDEN: [&str; 4] = ["mu1_mpa", "alpha1", "mu2_mpa", "alpha2"];
+/// The input columns of the output CSV.
+const INPUT_COLUMNS: [&str; 7] = [
+    "n_bellows",
+    "wall_thickness_mm",
+    "pressure_bar",
+    "mu1_mpa",
+    "alpha1",
+    "mu2_mpa",
+    "alpha2",
+];
+
+/// Whether a column name is one the output CSV writes itself (so it cannot be passed through).
+fn is_output_column(name: &str) -> bool {
+    INPUT_COLUMNS.contains(&name)
+        || QUANTITY_NAMES.contains(&name)
+        || QUANTITY_NAMES.iter().any(|q| name == format!("{q}_std"))
+        || name == "in_domain"
+        || name == "outside_domain"
+}
 
 /// Reads and validates a query CSV against a model.
 ///
 /// # Errors
-/// Missing/unknown columns, bad cells, unknown materials, untrained `N`, each naming line and column.
+/// Missing columns, a passed-through column that the output would overwrite, bad cells,
+/// unknown materials, untrained `N`, each naming line and column.
 pub fn read_queries<R: Read>(
     reader: R,
     source: &str,
     model: &Surrogate,
-) -> Result<Vec<QueryRow>, RomError> {
+) -> Result<QueryTable, RomError> {
     let mut rdr = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .flexible(true)
@@ -76,20 +121,12 @@ pub fn read_queries<R: Read>(
     } else {
         wanted.extend(OGDEN);
     }
-    for h in &header {
-        if !wanted.contains(&h.as_str()) {
-            return Err(header_err(format!(
-                "unknown column `{h}`: expected exactly {}",
-                wanted.join(", ")
-            )));
-        }
-    }
-    let mut col = Vec::new();
     let hint = if has_material {
         ""
     } else {
         " (or a `material` column instead of the four Ogden columns)"
     };
+    let mut col = Vec::new();
     for w in &wanted {
         col.push(header.iter().position(|h| h == w).ok_or_else(|| {
             header_err(format!(
@@ -98,18 +135,25 @@ pub fn read_queries<R: Read>(
             ))
         })?);
     }
+    // every other column is passed through; `material` is kept as well (the spec as given)
+    let mut extra_idx = Vec::new();
+    for (i, h) in header.iter().enumerate() {
+        if h == "material" || !wanted.contains(&h.as_str()) {
+            if h != "material" && is_output_column(h) {
+                return Err(header_err(format!(
+                    "column `{h}` would be overwritten by the prediction: rename it to pass it through"
+                )));
+            }
+            if header[..i].contains(h) {
+                return Err(header_err(format!("column `{h}` appears twice")));
+            }
+            extra_idx.push(i);
+        }
+    }
     let mut rows = Vec::new();
     for (i, rec) in rdr.records().enumerate() {
         let rec = rec.map_err(csv_err)?;
         let line = rec.position().map(|p| p.line() as usize).unwrap_or(i + 2);
-        let cell_err = |c: usize, value: &str, expected: &str| RomError::Cell {
-            source_name: source.into(),
-            line,
-            column: wanted[c].to_string(),
-            value: value.to_string(),
-            expected: expected.to_string(),
-        };
-        let text = |c: usize| rec.get(col[c]).unwrap_or("");
         if rec.len() > header.len() {
             return Err(RomError::Cell {
                 source_name: source.into(),
@@ -119,92 +163,283 @@ pub fn read_queries<R: Read>(
                 expected: format!("no cell beyond the {} header columns", header.len()),
             });
         }
-        let num = |c: usize| -> Result<f64, RomError> {
-            match text(c).parse::<f64>() {
-                Ok(v) if v.is_finite() => Ok(v),
-                _ => Err(cell_err(c, text(c), "a finite number")),
-            }
-        };
-        let n = match text(0).parse::<u32>() {
-            Ok(n) if model.n_allowed.contains(&n) => n,
-            Ok(_) => {
-                return Err(cell_err(
-                    0,
-                    text(0),
-                    &format!("a trained number of bellows {:?}", model.n_allowed),
-                ))
-            }
-            Err(_) => return Err(cell_err(0, text(0), "a positive integer")),
-        };
-        let m = if has_material {
-            material_params(text(3)).map_err(|e| cell_err(3, text(3), &e.to_string()))?
-        } else {
-            [num(3)?, num(4)?, num(5)?, num(6)?]
-        };
-        let query = Query {
-            n,
-            t_mm: num(1)?,
-            p_bar: num(2)?,
-            mu1: m[0],
-            alpha1: m[1],
-            mu2: m[2],
-            alpha2: m[3],
-        };
-        model
-            .check_query(&query)
-            .map_err(|e| cell_err(3, text(3), &e.to_string()))?;
-        rows.push(QueryRow { line, query });
+        let query = parse_query(&rec, &col, &wanted, has_material, source, line, model)?;
+        let extra = extra_idx
+            .iter()
+            .map(|&c| rec.get(c).unwrap_or("").to_string())
+            .collect();
+        rows.push(QueryRow { line, query, extra });
     }
-    Ok(rows)
+    Ok(QueryTable {
+        extra_columns: extra_idx.iter().map(|&c| header[c].clone()).collect(),
+        rows,
+    })
 }
 
-/// Writes predictions as CSV: inputs, the 22 outputs, their standard deviations when
-/// available, and `in_domain`.
+fn parse_query(
+    rec: &csv::StringRecord,
+    col: &[usize],
+    wanted: &[&str],
+    has_material: bool,
+    source: &str,
+    line: usize,
+    model: &Surrogate,
+) -> Result<Query, RomError> {
+    let text = |c: usize| rec.get(col[c]).unwrap_or("");
+    let cell_err = |c: usize, expected: &str| RomError::Cell {
+        source_name: source.into(),
+        line,
+        column: wanted[c].to_string(),
+        value: text(c).to_string(),
+        expected: expected.to_string(),
+    };
+    let num = |c: usize| -> Result<f64, RomError> {
+        match text(c).parse::<f64>() {
+            Ok(v) if v.is_finite() => Ok(v),
+            _ => Err(cell_err(c, "a finite number")),
+        }
+    };
+    let n = match super::data::parse_count(text(0)) {
+        Some(n) if model.n_allowed.contains(&n) => n,
+        Some(_) => {
+            return Err(cell_err(
+                0,
+                &format!("a trained number of bellows {:?}", model.n_allowed),
+            ))
+        }
+        None => return Err(cell_err(0, "a positive integer (9 or 9.0)")),
+    };
+    let m = if has_material {
+        material_params(text(3)).map_err(|e| cell_err(3, &e.to_string()))?
+    } else {
+        [num(3)?, num(4)?, num(5)?, num(6)?]
+    };
+    let query = Query {
+        n,
+        t_mm: num(1)?,
+        p_bar: num(2)?,
+        mu1: m[0],
+        alpha1: m[1],
+        mu2: m[2],
+        alpha2: m[3],
+    };
+    model
+        .check_query(&query)
+        .map_err(|e| cell_err(3, &e.to_string()))?;
+    Ok(query)
+}
+
+/// The 22 outputs in the JSON schema shared with `surrogate simulate`.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OutputRecord {
+    /// Tip `Uz = −Δz`, mm.
+    pub tip_uz_mm: f64,
+    /// Tip `Uy = Δy`, mm.
+    pub tip_uy_mm: f64,
+    /// Bending angle, degrees.
+    pub angle_deg: f64,
+    /// Blocked force, N.
+    pub force_n: f64,
+    /// Markers 1..9.
+    pub markers: Vec<Marker>,
+}
+
+impl OutputRecord {
+    /// From the 22 values in [`QUANTITY_NAMES`] order.
+    pub fn from_values(v: &[f64; 22]) -> Self {
+        OutputRecord {
+            tip_uz_mm: v[super::Q_TIP_UZ],
+            tip_uy_mm: v[super::Q_TIP_UY],
+            angle_deg: v[super::Q_ANGLE],
+            force_n: v[super::Q_FORCE],
+            markers: (0..9)
+                .map(|k| Marker::from([v[2 * k], v[2 * k + 1]]))
+                .collect(),
+        }
+    }
+}
+
+/// An input outside the training domain, as written in a prediction record.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct OutsideInput {
+    /// Input name.
+    pub input: String,
+    /// Value given.
+    pub value: f64,
+    /// Training range.
+    pub min: f64,
+    /// Training range.
+    pub max: f64,
+    /// Whether the prediction holds the value at the nearer end instead of extrapolating.
+    pub clamped: bool,
+    /// The value the prediction is evaluated at.
+    pub used: f64,
+}
+
+impl From<&DomainViolation> for OutsideInput {
+    fn from(v: &DomainViolation) -> Self {
+        OutsideInput {
+            input: v.name.clone(),
+            value: v.value,
+            min: v.min,
+            max: v.max,
+            clamped: v.clamped,
+            used: v.used(),
+        }
+    }
+}
+
+/// One prediction as JSON: the pressure as given, the outputs (the form of a `simulate` step),
+/// their standard deviations if asked for, and the domain flags.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct PredictionRecord {
+    /// Pressure as given, bar.
+    pub pressure_bar: f64,
+    /// The outputs.
+    #[serde(flatten)]
+    pub outputs: OutputRecord,
+    /// Standard deviations of the outputs.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub std: Option<OutputRecord>,
+    /// Whether every input lies in the training domain.
+    pub in_domain: bool,
+    /// The inputs outside it (empty when in the domain).
+    #[serde(skip_serializing_if = "Vec::is_empty")]
+    pub outside_domain: Vec<OutsideInput>,
+}
+
+impl PredictionRecord {
+    /// The record of a prediction of `q` (`std` when computed) with its domain violations.
+    pub fn new(
+        q: &Query,
+        values: &[f64; 22],
+        std: Option<&[f64; 22]>,
+        outside: &[DomainViolation],
+    ) -> Self {
+        PredictionRecord {
+            pressure_bar: q.p_bar,
+            outputs: OutputRecord::from_values(values),
+            std: std.map(OutputRecord::from_values),
+            in_domain: outside.is_empty(),
+            outside_domain: outside.iter().map(OutsideInput::from).collect(),
+        }
+    }
+}
+
+/// One predicted row of a batch.
+#[derive(Debug, Clone)]
+pub struct PredictedRow {
+    /// The query row.
+    pub row: QueryRow,
+    /// The 22 outputs.
+    pub values: [f64; 22],
+    /// Their standard deviations, when asked for.
+    pub std: Option<[f64; 22]>,
+    /// The inputs outside the training domain.
+    pub outside: Vec<DomainViolation>,
+}
+
+/// A predicted batch.
+#[derive(Debug, Clone, Default)]
+pub struct PredictedTable {
+    /// Passed-through columns.
+    pub extra_columns: Vec<String>,
+    /// The rows.
+    pub rows: Vec<PredictedRow>,
+    /// The domain summary of the batch.
+    pub domain: BatchDomainReport,
+}
+
+/// Predicts every row of a query table. The domain is checked for every row first: with rows
+/// outside and `allow_extrapolation` false, nothing is predicted and the error carries one
+/// summary of the batch (count and the first rows).
+///
+/// # Errors
+/// [`RomError::OutsideDomain`]; an invalid query.
+pub fn predict_table(
+    model: &Surrogate,
+    table: QueryTable,
+    with_std: bool,
+    allow_extrapolation: bool,
+) -> Result<PredictedTable, RomError> {
+    let domain = model.domain();
+    let mut report = BatchDomainReport::default();
+    let outside: Vec<Vec<DomainViolation>> = table
+        .rows
+        .iter()
+        .map(|r| {
+            let v = domain.violations(&r.query);
+            report.record(|| format!("line {}", r.line), &v);
+            v
+        })
+        .collect();
+    if report.outside > 0 && !allow_extrapolation {
+        return Err(RomError::OutsideDomain(report.to_string()));
+    }
+    let mut pred = model.new_prediction();
+    let mut rows = Vec::with_capacity(table.rows.len());
+    for (row, outside) in table.rows.into_iter().zip(outside) {
+        if with_std {
+            model.predict_with_std_into(&row.query, &mut pred)?;
+        } else {
+            model.predict_into(&row.query, &mut pred)?;
+        }
+        rows.push(PredictedRow {
+            row,
+            values: pred.values,
+            std: with_std.then_some(pred.std),
+            outside,
+        });
+    }
+    Ok(PredictedTable {
+        extra_columns: table.extra_columns,
+        rows,
+        domain: report,
+    })
+}
+
+/// Writes a predicted batch as CSV: the passed-through columns, the inputs, the 22 outputs,
+/// their standard deviations when computed, `in_domain` and `outside_domain` (the inputs
+/// outside, `;`-separated, each `name=value (clamped to x)` or `name=value (extrapolated)`).
 ///
 /// # Errors
 /// Write failures.
-pub fn write_predictions<W: Write>(
-    out: W,
-    rows: &[(QueryRow, Prediction, bool)],
-    with_std: bool,
-) -> Result<(), RomError> {
-    let io = |source| RomError::Io {
-        path: "<output>".into(),
-        source,
+pub fn write_predictions<W: Write>(out: W, table: &PredictedTable) -> Result<(), RomError> {
+    let err = |e: csv::Error| RomError::Csv {
+        source_name: "<output>".into(),
+        message: e.to_string(),
     };
-    let mut w = std::io::BufWriter::new(out);
-    let mut header: Vec<String> = [
-        "n_bellows",
-        "wall_thickness_mm",
-        "pressure_bar",
-        "mu1_mpa",
-        "alpha1",
-        "mu2_mpa",
-        "alpha2",
-    ]
-    .iter()
-    .map(|s| s.to_string())
-    .collect();
+    let with_std = table.rows.first().is_some_and(|r| r.std.is_some());
+    let mut w = csv::Writer::from_writer(out);
+    let mut header: Vec<String> = table.extra_columns.clone();
+    header.extend(INPUT_COLUMNS.iter().map(|s| s.to_string()));
     header.extend(QUANTITY_NAMES.iter().map(|s| s.to_string()));
     if with_std {
         header.extend(QUANTITY_NAMES.iter().map(|s| format!("{s}_std")));
     }
     header.push("in_domain".into());
-    writeln!(w, "{}", header.join(",")).map_err(io)?;
-    for (row, pred, in_domain) in rows {
-        let q = &row.query;
-        let mut cells: Vec<String> = vec![q.n.to_string()];
+    header.push("outside_domain".into());
+    w.write_record(&header).map_err(err)?;
+    for r in &table.rows {
+        let q = &r.row.query;
+        let mut cells: Vec<String> = r.row.extra.clone();
+        cells.push(q.n.to_string());
         cells.extend(
             [q.t_mm, q.p_bar, q.mu1, q.alpha1, q.mu2, q.alpha2]
                 .iter()
                 .map(|v| v.to_string()),
         );
-        cells.extend(pred.values.iter().map(|v| v.to_string()));
-        if with_std {
-            cells.extend(pred.std.iter().map(|v| v.to_string()));
+        cells.extend(r.values.iter().map(|v| v.to_string()));
+        if let Some(std) = &r.std {
+            cells.extend(std.iter().map(|v| v.to_string()));
         }
-        cells.push(in_domain.to_string());
-        writeln!(w, "{}", cells.join(",")).map_err(io)?;
+        cells.push(r.outside.is_empty().to_string());
+        let outside: Vec<String> = r.outside.iter().map(DomainViolation::short).collect();
+        cells.push(outside.join("; "));
+        w.write_record(&cells).map_err(err)?;
     }
-    w.flush().map_err(io)
+    w.flush().map_err(|source| RomError::Io {
+        path: "<output>".into(),
+        source,
+    })
 }

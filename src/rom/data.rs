@@ -316,6 +316,22 @@ fn check_header(header: &csv::StringRecord, source_name: &str) -> Result<(), Rom
     Ok(())
 }
 
+/// An integer cell: `9`, or a number with no fractional part such as `9.0` or `9e0` (what
+/// pandas and spreadsheets write for an integer column with a missing value elsewhere).
+/// `None` for anything else (`9.5`, `-1`, text).
+pub fn parse_count(text: &str) -> Option<u32> {
+    let t = text.trim();
+    if let Ok(n) = t.parse::<u32>() {
+        return Some(n);
+    }
+    match t.parse::<f64>() {
+        Ok(v) if v.is_finite() && v >= 0.0 && v.fract() == 0.0 && v <= f64::from(u32::MAX) => {
+            Some(v as u32)
+        }
+        _ => None,
+    }
+}
+
 fn parse_row(c: &RowCells<'_>) -> Result<Option<SnapshotRow>, RomError> {
     let case_id = c.text(0)?;
     if case_id.is_empty() {
@@ -330,9 +346,9 @@ fn parse_row(c: &RowCells<'_>) -> Result<Option<SnapshotRow>, RomError> {
         return Ok(None);
     }
     let n_text = c.text(1)?;
-    let n_bellows = match n_text.parse::<u32>() {
-        Ok(n) if n >= 1 => n,
-        _ => return Err(c.err(1, n_text, "a positive integer")),
+    let n_bellows = match parse_count(n_text) {
+        Some(n) if n >= 1 => n,
+        _ => return Err(c.err(1, n_text, "a positive integer (9 or 9.0)")),
     };
     let inputs = CaseInputs {
         n_bellows,

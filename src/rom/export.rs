@@ -300,15 +300,25 @@ pub fn ramp_rust_source(
 ) -> Result<String, RomError> {
     let ramp = s.ramp(q)?;
     let ty = p.ty();
+    let domain = ramp_domain_lines(s, q);
     let mut out = format!(
-        "//! Pressure ramp exported by `surrogate export --ramp` (model {checksum}, precision {ty}):\n//! N = {}, T = {} mm, Ogden μ₁ = {} MPa, α₁ = {}, μ₂ = {} MPa, α₂ = {}.\n//! Needs the embedded predictor module at `crate::predict`; `core` only.\n//! Outputs (22): {}.\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse crate::predict::{{evaluate_ramp, RampTables}};\n\n",
+        "//! Pressure ramp exported by `surrogate export --ramp` (model {checksum}, precision {ty}):\n//! N = {}, T = {} mm, Ogden μ₁ = {} MPa, α₁ = {}, μ₂ = {} MPa, α₂ = {}.\n{}//! Needs the embedded predictor module at `crate::predict`; `core` only.\n//! Outputs (22): {}.\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse crate::predict::{{evaluate_ramp, RampTables}};\n\n",
         q.n,
         q.t_mm,
         q.mu1,
         q.alpha1,
         q.mu2,
         q.alpha2,
+        domain.iter().map(|l| format!("//! {l}\n")).collect::<String>(),
         QUANTITY_NAMES.join(", ")
+    );
+    let outside = s.domain_violations(q);
+    let listed: Vec<String> = outside.iter().map(|v| v.short()).collect();
+    let _ = write!(
+        out,
+        "/// Whether the design and material lie in the model's training domain.\npub const IN_DOMAIN: bool = {};\n/// The inputs outside it (`name=value (extrapolated)`), empty when inside.\npub const OUTSIDE_DOMAIN: &str = {:?};\n\n",
+        outside.is_empty(),
+        listed.join("; ")
     );
     array(&mut out, "PRESSURES", "f64", ramp.pressures());
     match p {
@@ -326,12 +336,48 @@ pub fn ramp_rust_source(
     Ok(out)
 }
 
-/// C header declaring the entry point of [`ramp_rust_source`].
-pub fn ramp_c_header(p: Precision, checksum: &str, q: &Query) -> String {
+/// The domain lines of an exported ramp's header: the pressure grid (queries outside it are
+/// clamped to its ends) and, for a design or material outside the training domain, which
+/// inputs and that the whole ramp is extrapolated.
+pub fn ramp_domain_lines(s: &Surrogate, q: &Query) -> Vec<String> {
+    let (p0, p1) = (s.pressures[0], s.pressures[s.pressures.len() - 1]);
+    let mut lines = vec![format!(
+        "Pressure grid {p0} .. {p1} bar: a pressure outside it is clamped to the nearer end (the values there are returned)."
+    )];
+    let outside = s.domain_violations(q);
+    if outside.is_empty() {
+        lines.push("Design and material inside the training domain.".into());
+    } else {
+        let listed: Vec<String> = outside.iter().map(|v| v.to_string()).collect();
+        lines.push(format!(
+            "OUTSIDE THE TRAINING DOMAIN, every value of this ramp is extrapolated: {}.",
+            listed.join("; ")
+        ));
+    }
+    lines
+}
+
+/// C header declaring the entry point of [`ramp_rust_source`], with the ramp's domain:
+/// `SURROGATE_RAMP_IN_DOMAIN` (1 or 0), the pressure grid's ends
+/// (`SURROGATE_RAMP_P_MIN_BAR`, `SURROGATE_RAMP_P_MAX_BAR`) and the lines of
+/// [`ramp_domain_lines`].
+pub fn ramp_c_header(s: &Surrogate, p: Precision, checksum: &str, q: &Query) -> String {
     let ty = p.c_ty();
+    let domain: String = ramp_domain_lines(s, q)
+        .iter()
+        .map(|l| format!(" * {l}\n"))
+        .collect();
     let mut out = format!(
-        "/* Pressure ramp exported by `surrogate export --ramp` (model {checksum}):\n * N = {}, T = {} mm, Ogden mu1 = {} MPa, alpha1 = {}, mu2 = {} MPa, alpha2 = {}. */\n#ifndef SURROGATE_RAMP_H\n#define SURROGATE_RAMP_H\n#include <stdint.h>\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n#define SURROGATE_N_OUTPUTS 22\n/* Output order:\n",
-        q.n, q.t_mm, q.mu1, q.alpha1, q.mu2, q.alpha2
+        "/* Pressure ramp exported by `surrogate export --ramp` (model {checksum}):\n * N = {}, T = {} mm, Ogden mu1 = {} MPa, alpha1 = {}, mu2 = {} MPa, alpha2 = {}.\n{domain} */\n#ifndef SURROGATE_RAMP_H\n#define SURROGATE_RAMP_H\n#include <stdint.h>\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n#define SURROGATE_N_OUTPUTS 22\n#define SURROGATE_RAMP_IN_DOMAIN {}\n#define SURROGATE_RAMP_P_MIN_BAR {:?}\n#define SURROGATE_RAMP_P_MAX_BAR {:?}\n/* Output order:\n",
+        q.n,
+        q.t_mm,
+        q.mu1,
+        q.alpha1,
+        q.mu2,
+        q.alpha2,
+        i32::from(s.domain_violations(q).is_empty()),
+        s.pressures[0],
+        s.pressures[s.pressures.len() - 1]
     );
     c_output_order(&mut out);
     let _ = write!(

@@ -98,6 +98,7 @@ macro_rules! simd_method {
 
 pub mod batch;
 pub mod data;
+pub mod domain;
 pub mod export;
 pub mod fast;
 pub mod fidelity;
@@ -112,6 +113,7 @@ pub mod train;
 pub mod warp;
 
 pub use data::{CaseInputs, SnapshotSet};
+pub use domain::{Domain, DomainViolation};
 pub use model::FORMAT_VERSION;
 pub use ramp::Ramp;
 pub use surrogate::{Jacobian, Prediction, Query, Surrogate};
@@ -217,6 +219,11 @@ pub enum RomError {
         /// What is wrong.
         message: String,
     },
+    /// Inputs outside the training domain where extrapolation was not allowed (the message
+    /// names the inputs, their values and the training ranges; a batch: how many rows, the
+    /// first few).
+    #[error("{0}")]
+    OutsideDomain(String),
     /// Input/output failure.
     #[error("{path}: {source}")]
     Io {

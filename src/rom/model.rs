@@ -115,7 +115,9 @@ impl Surrogate {
         Ok(model)
     }
 
-    /// Writes the model file (creating parent directories).
+    /// Writes the model file atomically (a temporary file beside it, then a rename: a reader
+    /// never sees a half-written model), creating parent directories. An existing file is
+    /// replaced; [`Self::save_new`] refuses to.
     ///
     /// # Errors
     /// I/O or serialisation failure.
@@ -124,10 +126,32 @@ impl Surrogate {
             path: path.display().to_string(),
             source,
         };
-        if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        let dir = path.parent().filter(|d| !d.as_os_str().is_empty());
+        if let Some(dir) = dir {
             std::fs::create_dir_all(dir).map_err(io)?;
         }
-        std::fs::write(path, self.to_json()?).map_err(io)
+        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("model");
+        let tmp = dir
+            .unwrap_or(Path::new("."))
+            .join(format!(".{name}.{}.tmp", std::process::id()));
+        let written = std::fs::write(&tmp, self.to_json()?).and_then(|()| {
+            std::fs::File::open(&tmp)?.sync_all()?;
+            std::fs::rename(&tmp, path)
+        });
+        if let Err(e) = written {
+            let _ = std::fs::remove_file(&tmp);
+            return Err(io(e));
+        }
+        Ok(())
+    }
+
+    /// [`Self::save`], refusing to replace an existing file unless `overwrite`.
+    ///
+    /// # Errors
+    /// [`RomError::ModelFile`] if `path` exists and `overwrite` is false; as [`Self::save`].
+    pub fn save_new(&self, path: &Path, overwrite: bool) -> Result<(), RomError> {
+        refuse_existing(path, overwrite)?;
+        self.save(path)
     }
 
     /// Loads and verifies a model file.
@@ -135,10 +159,40 @@ impl Surrogate {
     /// # Errors
     /// I/O, corrupt file, wrong format or version, checksum mismatch, inconsistent model.
     pub fn load(path: &Path) -> Result<Self, RomError> {
-        let text = std::fs::read_to_string(path).map_err(|source| RomError::Io {
-            path: path.display().to_string(),
-            source,
+        let text = std::fs::read_to_string(path).map_err(|source| {
+            if source.kind() == std::io::ErrorKind::NotFound {
+                let abs = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
+                RomError::ModelFile {
+                    path: path.display().to_string(),
+                    message: format!(
+                        "not found (looked for {}; a relative path starts from the current directory)",
+                        abs.display()
+                    ),
+                }
+            } else {
+                RomError::Io {
+                    path: path.display().to_string(),
+                    source,
+                }
+            }
         })?;
         Self::from_json(&text, &path.display().to_string())
     }
+}
+
+/// An error if `path` exists and may not be replaced: checked before a long computation whose
+/// result would go there.
+///
+/// # Errors
+/// [`RomError::ModelFile`] naming the file.
+pub fn refuse_existing(path: &Path, overwrite: bool) -> Result<(), RomError> {
+    if !overwrite && path.exists() {
+        return Err(RomError::ModelFile {
+            path: path.display().to_string(),
+            message: "exists: refusing to overwrite it (choose another path, or allow the \
+                      overwrite explicitly)"
+                .into(),
+        });
+    }
+    Ok(())
 }

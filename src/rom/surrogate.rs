@@ -11,6 +11,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::data::CaseInputs;
+use super::domain::{Domain, DomainViolation};
 use super::fast::{Derived, ScalarPath, Source, SCALARS};
 use super::metrics::Validation;
 use super::pod::PodBasis;
@@ -189,29 +190,6 @@ pub struct Block {
     pub regressor: RegressorKind,
 }
 
-/// An input outside the training domain.
-#[derive(Debug, Clone, PartialEq)]
-pub struct DomainViolation {
-    /// Input or feature name.
-    pub name: String,
-    /// Value given.
-    pub value: f64,
-    /// Training range.
-    pub min: f64,
-    /// Training range.
-    pub max: f64,
-}
-
-impl std::fmt::Display for DomainViolation {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        write!(
-            f,
-            "{} = {} outside the training domain [{}, {}]",
-            self.name, self.value, self.min, self.max
-        )
-    }
-}
-
 /// Provenance of a trained model.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct TrainingInfo {
@@ -355,38 +333,58 @@ impl Surrogate {
         Ok(())
     }
 
-    /// Inputs (and derived material features) outside the training domain.
+    /// The training domain: the box of the training cases in the regression's coordinates
+    /// (`T, μ0, s, α₁, α₂`), the trained numbers of bellows and the pressure grid
+    /// ([`super::domain`]).
+    pub fn domain(&self) -> Domain {
+        // a feature constant over the training cases is not in the scaler: its value follows
+        // from the inputs' (equal) bounds, when the inputs it depends on are all constant
+        let fixed = |i: usize| {
+            let s = &self.inputs[i];
+            (s.min == s.max).then_some(s.min)
+        };
+        let constant = |f: usize| -> Option<f64> {
+            match f {
+                1 => fixed(1),
+                3 => fixed(4),
+                5 => fixed(6),
+                _ => Some(
+                    raw_features(&CaseInputs {
+                        n_bellows: 0,
+                        wall_thickness_mm: 0.0,
+                        mu1_mpa: fixed(3)?,
+                        alpha1: fixed(4)?,
+                        mu2_mpa: fixed(5)?,
+                        alpha2: fixed(6)?,
+                    })[f],
+                ),
+            }
+        };
+        Domain::from_features(&self.n_allowed, &self.pressures, &self.features, constant)
+    }
+
+    /// The inputs of `q` outside the training domain ([`Domain::violations`]): an empty list
+    /// means the prediction interpolates. Outside the pressure grid the prediction is clamped
+    /// to the grid's nearer end; outside the feature box it extrapolates.
     pub fn domain_violations(&self, q: &Query) -> Vec<DomainViolation> {
-        let mut out = Vec::new();
-        for (spec, v) in self.inputs.iter().zip(q.as_array()) {
-            if v < spec.min - 1e-9 * spec.min.abs() || v > spec.max + 1e-9 * spec.max.abs() {
-                out.push(DomainViolation {
-                    name: spec.name.clone(),
-                    value: v,
-                    min: spec.min,
-                    max: spec.max,
-                });
-            }
+        self.domain().violations(q)
+    }
+
+    /// The domain violations of `q`, refused unless `allow_extrapolation`.
+    ///
+    /// # Errors
+    /// [`RomError::OutsideDomain`] naming every input outside, with its value and range.
+    pub fn check_domain(
+        &self,
+        q: &Query,
+        allow_extrapolation: bool,
+    ) -> Result<Vec<DomainViolation>, RomError> {
+        let v = self.domain_violations(q);
+        if !v.is_empty() && !allow_extrapolation {
+            let text: Vec<String> = v.iter().map(DomainViolation::to_string).collect();
+            return Err(RomError::OutsideDomain(text.join("; ")));
         }
-        if q.mu1 * q.alpha1 > 0.0 && q.mu2 * q.alpha2 > 0.0 {
-            let z = raw_features(&q.case());
-            for (j, &f) in self.features.index.iter().enumerate() {
-                let half = 1.0 / self.features.inv_half[j];
-                let (lo, hi) = (
-                    self.features.center[j] - half,
-                    self.features.center[j] + half,
-                );
-                if (f == 2 || f == 4) && (z[f] < lo - 1e-9 || z[f] > hi + 1e-9) {
-                    out.push(DomainViolation {
-                        name: super::regression::FEATURE_NAMES[f].to_string(),
-                        value: z[f],
-                        min: lo,
-                        max: hi,
-                    });
-                }
-            }
-        }
-        out
+        Ok(v)
     }
 
     fn features_into(&self, q: &Query, w: &mut Workspace) -> [f64; N_FEATURES] {
@@ -409,6 +407,10 @@ impl Surrogate {
     }
 
     /// Predicts all 22 quantities into `pred` (no allocation once `pred` is sized).
+    ///
+    /// The query is not checked against the training domain (a controller's hot path):
+    /// outside the pressure grid the values at its nearer end are returned, outside the
+    /// feature box the regression extrapolates. [`Self::domain_violations`] says which.
     ///
     /// # Errors
     /// Invalid query (see [`Self::check_query`]).
@@ -538,6 +540,11 @@ impl Surrogate {
     }
 
     /// Predicts all quantities and their derivatives with respect to `T, P, μ₁, α₁, μ₂, α₂`.
+    ///
+    /// Outside the pressure grid the prediction is clamped to the grid's nearer end, so the
+    /// derivative with respect to `P` is **zero** there (not the slope at the end); outside the
+    /// feature box the derivatives are those of the extrapolating regression. Check
+    /// [`Self::domain_violations`] before trusting either.
     ///
     /// # Errors
     /// Invalid query.

@@ -67,6 +67,8 @@ use crate::fe::mesh::{MeshLevel, MeshOptions};
 use crate::fe::simulate::ContactSettings;
 use crate::fe::simulate::{validate_pressures, SimulateError};
 use crate::fe::solver::SolverSettings;
+use crate::rom::data::CaseInputs;
+use crate::rom::domain::{Domain, DomainViolation};
 
 /// Version of the plan format written and accepted.
 pub const FORMAT_VERSION: u32 = 1;
@@ -304,24 +306,36 @@ impl Ranges {
         ]
     }
 
+    /// The sampling box as a [`Domain`] (every `N` of the plan, the whole `T` range, the
+    /// pressures `pressures`): what the plan aims to cover. The box its cases actually span,
+    /// what a surrogate trained on them accepts, is [`Plan::sampled_domain`].
+    pub fn domain(&self, pressures: &[f64]) -> Domain {
+        let n: Vec<u32> = self.n_bellows.iter().map(|&n| n as u32).collect();
+        let lo = pressures.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = pressures.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        Domain {
+            n_bellows: n,
+            ranges: [
+                None,
+                Some(self.wall_thickness_mm),
+                Some([lo, hi]),
+                Some(self.mu0_mpa),
+                Some(self.term1_share),
+                Some(self.alpha1),
+                Some(self.alpha2),
+            ],
+        }
+    }
+
     /// Whether the Ogden set `[μ₁, α₁, μ₂, α₂]` lies inside the material ranges (terms taken
-    /// in either order).
+    /// in either order), by the same test as a surrogate's domain ([`Domain::violations`]).
     pub fn contains_ogden(&self, p: [f64; 4]) -> bool {
-        let [mu1, a1, mu2, a2] = if p[1] > 0.0 {
+        let set = if p[1] > 0.0 {
             p
         } else {
             [p[2], p[3], p[0], p[1]]
         };
-        let inside = |r: [f64; 2], v: f64| v >= r[0] && v <= r[1];
-        let mu0 = 0.5 * (mu1 * a1 + mu2 * a2);
-        a1 > 0.0
-            && a2 < 0.0
-            && mu1 * a1 > 0.0
-            && mu2 * a2 > 0.0
-            && inside(self.mu0_mpa, mu0)
-            && inside(self.term1_share, mu1 * a1 / (2.0 * mu0))
-            && inside(self.alpha1, a1)
-            && inside(self.alpha2, a2)
+        set[1] > 0.0 && set[3] < 0.0 && self.domain(&[0.0]).contains_material(set)
     }
 
     /// The literature Ogden sets and whether each lies inside the ranges.
@@ -470,6 +484,53 @@ pub(crate) fn unit_lhs(k: usize, dims: usize, seed: u64) -> Array2<f64> {
 }
 
 impl Plan {
+    /// The domain a surrogate trained on all cases of this plan accepts: the box its cases
+    /// span in the regression's coordinates, built exactly as the surrogate builds its own
+    /// ([`Domain::of_cases`]), so the two agree on every query.
+    pub fn sampled_domain(&self) -> Domain {
+        let cases: Vec<CaseInputs> = self
+            .cases
+            .iter()
+            .map(|c| CaseInputs {
+                n_bellows: c.n_bellows as u32,
+                wall_thickness_mm: c.wall_thickness_mm,
+                mu1_mpa: c.mu1_mpa,
+                alpha1: c.alpha1,
+                mu2_mpa: c.mu2_mpa,
+                alpha2: c.alpha2,
+            })
+            .collect();
+        Domain::of_cases(&cases, &self.settings.pressures_bar)
+    }
+
+    /// The literature Ogden sets and the material inputs of each outside
+    /// [`Self::sampled_domain`] (an empty list: inside).
+    ///
+    /// # Errors
+    /// If the shipped literature file cannot be read.
+    pub fn literature_in_sampled_domain(
+        &self,
+    ) -> Result<Vec<(String, Vec<DomainViolation>)>, MaterialError> {
+        let domain = self.sampled_domain();
+        let (n, t, p) = (
+            domain.n_bellows.first().copied().unwrap_or(0),
+            domain.ranges[1].map_or(0.0, |r| r[0]),
+            domain.ranges[2].map_or(0.0, |r| r[0]),
+        );
+        Ok(literature_sets()?
+            .into_iter()
+            .filter_map(|(name, law)| match law {
+                MaterialLaw::Ogden(o) => {
+                    let q = o.params();
+                    let set = [q.mu[0], q.alpha[0], q.mu[1], q.alpha[1]];
+                    let v = domain.violations(&crate::rom::Query::new(n, t, p, set));
+                    Some((name, v))
+                }
+                _ => None,
+            })
+            .collect())
+    }
+
     /// Samples a plan of `n_cases` cases (see the [module docs](self)).
     ///
     /// # Errors

@@ -49,7 +49,7 @@ if [[ $coarse_only == 1 ]]; then
     time run train --data "${sets}_coarse.csv" \
         --folds 5 --repeats 3 \
         --held-out models/actuator_coarse_held_out.csv --plot models/actuator_coarse_held_out.svg \
-        --out models/actuator_coarse.json
+        --out models/actuator_coarse.json --force
     exit 0
 fi
 run snapshots merge --from training_data/snapshots/standard \
@@ -59,4 +59,4 @@ time run train --data "${sets}_coarse.csv" \
     --pressure-warp --check-high-fidelity \
     --folds 5 --repeats 3 \
     --held-out "${model}_held_out.csv" --plot "${model}_held_out.svg" \
-    --out "${model}.json"
+    --out "${model}.json" --force

@@ -65,9 +65,14 @@ pub struct TrainArgs {
     /// fidelity whose contact sets in at another pressure (`src/rom/warp.rs`).
     #[arg(long, requires = "high_fidelity")]
     pub pressure_warp: bool,
-    /// Output model file.
-    #[arg(long, default_value = "models/actuator.json")]
+    /// Output model file (required: the shipped `models/actuator.json` is what every other
+    /// command reads by default). Written atomically; an existing file is an error without
+    /// --force.
+    #[arg(long)]
     pub out: PathBuf,
+    /// Replace an existing --out file.
+    #[arg(long)]
+    pub force: bool,
     /// Cross-validation folds (by case).
     #[arg(long, default_value_t = 5)]
     pub folds: usize,
@@ -132,10 +137,10 @@ pub struct PredictArgs {
     #[arg(long, required_unless_present_any = ["csv", "validation"])]
     pub n: Option<u32>,
     /// Wall thickness, mm.
-    #[arg(long, required_unless_present_any = ["csv", "validation"])]
+    #[arg(long, required_unless_present_any = ["csv", "validation"], allow_negative_numbers = true)]
     pub t: Option<f64>,
     /// Gauge pressure, bar.
-    #[arg(long, required_unless_present_any = ["csv", "validation", "bench_fe"])]
+    #[arg(long, required_unless_present_any = ["csv", "validation", "bench_fe"], allow_negative_numbers = true)]
     pub pressure: Option<f64>,
     /// Material: a name (ogden_002, ogden_005) or `mu1,alpha1,mu2,alpha2`.
     #[arg(long, required_unless_present_any = ["csv", "validation"], allow_hyphen_values = true)]
@@ -146,13 +151,19 @@ pub struct PredictArgs {
     /// Batch mode: query CSV.
     #[arg(long, conflicts_with_all = ["n", "t", "pressure", "material"], requires = "out")]
     pub csv: Option<PathBuf>,
-    /// Batch mode: output CSV.
+    /// Batch mode: output CSV (`-`: stdout), written atomically.
     #[arg(long, requires = "csv")]
     pub out: Option<PathBuf>,
-    /// Inputs outside the training domain are an error instead of a warning.
+    /// Predict inputs outside the training domain too (an error by default): the pressure is
+    /// then clamped to the grid's ends, the other inputs extrapolated, and the JSON
+    /// (`in_domain`, `outside_domain`) or the CSV (`in_domain`, `outside_domain` columns) says
+    /// which inputs were outside and whether they were clamped.
     #[arg(long)]
+    pub allow_extrapolation: bool,
+    /// Inputs outside the training domain are an error (the default; kept for scripts).
+    #[arg(long, hide = true, conflicts_with = "allow_extrapolation")]
     pub strict: bool,
-    /// Print the model's stored validation table (and nothing else without a query).
+    /// Print the model's stored validation table to stdout (and nothing else without a query).
     #[arg(long)]
     pub validation: bool,
     /// Speed-up benchmark on this mesh level (coarse, standard, fine): one full FE ramp of the
@@ -198,11 +209,15 @@ pub struct ExportArgs {
     #[arg(long = "n")]
     pub n: Option<u32>,
     /// Wall thickness of the exported ramp, mm.
-    #[arg(long = "t")]
+    #[arg(long = "t", allow_negative_numbers = true)]
     pub t: Option<f64>,
     /// Material of the exported ramp: a name (ogden_002, ogden_005) or `mu1,alpha1,mu2,alpha2`.
     #[arg(long, allow_hyphen_values = true)]
     pub material: Option<String>,
+    /// Export a ramp whose design or material lies outside the training domain (an error by
+    /// default); the header then says which inputs are outside (`SURROGATE_RAMP_IN_DOMAIN 0`).
+    #[arg(long, requires = "ramp")]
+    pub allow_extrapolation: bool,
 }
 
 /// Measurement mode.
@@ -223,8 +238,9 @@ pub struct SimulateArgs {
     /// Wall thickness T in mm (1.2..=2.8).
     #[arg(long = "t", default_value_t = 2.0)]
     pub t: f64,
-    /// Comma-separated gauge pressures in bar, increasing (e.g. 0,1,2,3).
-    #[arg(long, default_value = "0,1,2,3")]
+    /// Gauge pressures in bar, increasing: a comma list (0,1,2,3) or max:step (3:0.5 = 0, 0.5,
+    /// …, 3).
+    #[arg(long, default_value = "0,1,2,3", allow_hyphen_values = true)]
     pub pressures: String,
     /// Material: ogden_002 | ogden_005 | mooney_rivlin_5 | mu1,alpha1,mu2,alpha2 | neo_hookean:MU.
     #[arg(long, default_value = "ogden_002")]
@@ -244,7 +260,7 @@ pub struct SimulateArgs {
     /// Minimum number of elements through a wall (overrides the level's).
     #[arg(long)]
     pub wall_elements: Option<usize>,
-    /// Write the result as JSON here (stdout if absent).
+    /// Write the result as JSON here (stdout if absent or `-`), atomically.
     #[arg(long)]
     pub out: Option<PathBuf>,
     /// Write the deformed mesh of every step as .vtu files into this directory.
@@ -326,6 +342,9 @@ pub struct ValidateArgs {
     /// a later run with the same settings resumes from it.
     #[arg(long)]
     pub cache: Option<PathBuf>,
+    /// Only redraw the SVG from the existing --out CSV (no FE run).
+    #[arg(long)]
+    pub plot_only: bool,
 }
 
 /// `surrogate demo`.

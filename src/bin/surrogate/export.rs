@@ -2,12 +2,12 @@
 use anyhow::{Context, Result};
 use surrogate::rom::batch::material_params;
 use surrogate::rom::export::{c_header, ramp_c_header, ramp_rust_source, rust_source, Precision};
-use surrogate::rom::{Query, Surrogate};
+use surrogate::rom::Query;
 
 use crate::args::{ExportArgs, PrecisionArg};
 
 pub fn run(a: ExportArgs) -> Result<()> {
-    let model = Surrogate::load(&a.model)?;
+    let model = crate::load_model(&a.model)?;
     let precision = match a.precision {
         PrecisionArg::F32 => Precision::F32,
         PrecisionArg::F64 => Precision::F64,
@@ -19,13 +19,20 @@ pub fn run(a: ExportArgs) -> Result<()> {
                 "--ramp needs --n, --t and --material (the design and material to export)"
             );
         };
-        let q = Query::new(n, t, 0.0, material_params(material)?);
-        for v in model.domain_violations(&q) {
-            eprintln!("warning: {v}");
+        let q = Query::new(n, t, model.pressures[0], material_params(material)?);
+        model.check_query(&q)?;
+        let outside = model.check_domain(&q, a.allow_extrapolation).map_err(|e| {
+            anyhow::anyhow!(
+                "{e}; give --allow-extrapolation to export it anyway (the header then says which \
+                 inputs are outside: SURROGATE_RAMP_IN_DOMAIN 0)"
+            )
+        })?;
+        for v in &outside {
+            eprintln!("warning: {v}; the exported ramp says so in its header");
         }
         (
             ramp_rust_source(&model, &q, precision, &sum)?,
-            ramp_c_header(precision, &sum, &q),
+            ramp_c_header(&model, precision, &sum, &q),
         )
     } else {
         anyhow::ensure!(
@@ -37,14 +44,16 @@ pub fn run(a: ExportArgs) -> Result<()> {
             c_header(precision, &sum),
         )
     };
-    std::fs::write(&a.rust, src).with_context(|| format!("writing {}", a.rust.display()))?;
+    crate::write_file(&a.rust, src.as_bytes())
+        .with_context(|| format!("writing {}", a.rust.display()))?;
     let header = a
         .header
         .clone()
         .unwrap_or_else(|| a.rust.with_extension("h"));
-    std::fs::write(&header, c).with_context(|| format!("writing {}", header.display()))?;
-    println!(
-        "exported {} -> {} + {}",
+    crate::write_file(&header, c.as_bytes())
+        .with_context(|| format!("writing {}", header.display()))?;
+    eprintln!(
+        "wrote {} -> {} + {}",
         a.model.display(),
         a.rust.display(),
         header.display()

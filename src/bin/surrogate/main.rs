@@ -5,6 +5,7 @@ mod calibrate;
 mod calibrate_plots;
 mod demo;
 mod export;
+mod figure;
 mod predict;
 mod simulate;
 mod snapshots;
@@ -12,9 +13,11 @@ mod speedup;
 mod train;
 mod validate;
 
+use std::path::Path;
 use std::process::ExitCode;
 
 use clap::Parser;
+use surrogate::rom::Surrogate;
 
 fn main() -> ExitCode {
     let cli = args::Cli::parse();
@@ -31,8 +34,76 @@ fn main() -> ExitCode {
     match result {
         Ok(()) => ExitCode::SUCCESS,
         Err(e) => {
-            eprintln!("error: {e:#}");
+            eprintln!("error: {}", flatten(&e));
             ExitCode::FAILURE
         }
+    }
+}
+
+/// An error and its causes as one line, `outer: inner: …`, each message once: a cause whose
+/// text its parent already shows (a library error that prints its source) is not repeated.
+pub fn flatten(e: &anyhow::Error) -> String {
+    let mut out = String::new();
+    for cause in e.chain() {
+        let text = cause.to_string();
+        if text.is_empty() || out.contains(&text) {
+            continue;
+        }
+        if !out.is_empty() {
+            out.push_str(": ");
+        }
+        out.push_str(&text);
+    }
+    out
+}
+
+/// Loads a model file; a missing one says where it was looked for and what to give instead.
+pub fn load_model(path: &Path) -> anyhow::Result<Surrogate> {
+    Surrogate::load(path).map_err(|e| {
+        if path.exists() {
+            anyhow::Error::from(e)
+        } else {
+            anyhow::anyhow!(
+                "{e}; give --model PATH (the shipped models are models/actuator.json and \
+                 models/actuator_coarse.json in the repository: run from its root, or give \
+                 the full path)"
+            )
+        }
+    })
+}
+
+/// Writes a file atomically (temporary file beside it, then a rename) from a writer closure.
+pub fn write_atomic(
+    path: &Path,
+    fill: impl FnOnce(&mut Vec<u8>) -> anyhow::Result<()>,
+) -> anyhow::Result<()> {
+    let mut buf = Vec::new();
+    fill(&mut buf)?;
+    write_file(path, &buf)
+}
+
+/// Writes `bytes` to a file atomically, creating its directory.
+pub fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
+    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
+        std::fs::create_dir_all(dir)
+            .map_err(|e| anyhow::anyhow!("creating {}: {e}", dir.display()))?;
+    }
+    surrogate::snapshots::store::write_atomic(path, bytes)?;
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::flatten;
+
+    #[test]
+    fn flatten_drops_causes_already_shown() {
+        let io = std::io::Error::new(std::io::ErrorKind::NotFound, "no such file");
+        let lib = surrogate::rom::RomError::Io {
+            path: "m.json".into(),
+            source: io,
+        };
+        let e = anyhow::Error::from(lib).context("loading the model");
+        assert_eq!(flatten(&e), "loading the model: m.json: no such file");
     }
 }

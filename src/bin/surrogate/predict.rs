@@ -1,29 +1,35 @@
-//! `surrogate predict`: one query → JSON on stdout, or a CSV batch → CSV.
+//! `surrogate predict`: one query → JSON on stdout, or a CSV batch → CSV (`--out -`: stdout).
 use std::fs::File;
 use std::io::Write as _;
 
 use anyhow::{bail, Context, Result};
-use serde_json::{json, Value};
-use surrogate::rom::batch::{material_params, read_queries, write_predictions};
-use surrogate::rom::{Prediction, Query, Surrogate};
+use surrogate::rom::batch::{
+    material_params, predict_table, read_queries, write_predictions, PredictionRecord,
+};
+use surrogate::rom::{Query, RomError, Surrogate};
 
 use crate::args::PredictArgs;
 
+/// The hint added to a refused extrapolation.
+const ALLOW_HINT: &str = "give --allow-extrapolation to predict anyway (the output then says \
+                          which inputs were outside and whether they were clamped)";
+
 pub fn run(a: PredictArgs) -> Result<()> {
-    let model = Surrogate::load(&a.model)?;
+    let model = crate::load_model(&a.model)?;
     if a.validation {
-        eprintln!("{}", model.validation.table());
+        let mut text = model.validation.table();
         if let Some(c) = &model.training.correction {
-            eprintln!(
-                "trained on a corrected set: {} high-fidelity cases ({}); discrepancy surrogate, held out (adds to the errors above):\n{}",
+            text.push_str(&format!(
+                "\ntrained on a corrected set: {} high-fidelity cases ({}); discrepancy surrogate, held out (adds to the errors above):\n{}",
                 c.matched_cases,
                 c.high_source,
                 c.validation.table()
-            );
+            ));
             if let Some(e) = &c.end_to_end {
-                eprintln!("{}", e.table());
+                text.push_str(&format!("\n{}", e.table()));
             }
         }
+        writeln!(std::io::stdout(), "{text}")?;
     }
     if let (Some(csv), Some(out)) = (&a.csv, &a.out) {
         return batch(&model, &a, csv, out);
@@ -40,48 +46,34 @@ pub fn run(a: PredictArgs) -> Result<()> {
     };
     let m = material_params(mat)?;
     let q = Query::new(n, t, p, m);
-    let warnings = domain_check(&model, &q, a.strict, "query")?;
+    model.check_query(&q)?;
+    let outside = model
+        .check_domain(&q, a.allow_extrapolation)
+        .map_err(refused)?;
+    for v in &outside {
+        eprintln!("warning: {v}");
+    }
     let mut pred = model.new_prediction();
     if a.std {
         model.predict_with_std_into(&q, &mut pred)?;
     } else {
         model.predict_into(&q, &mut pred)?;
     }
-    let mut out = outputs_json(&pred.values);
-    if a.std {
-        out["std"] = outputs_json(&pred.std);
-    }
-    out["in_domain"] = json!(warnings.is_empty());
-    if !warnings.is_empty() {
-        out["warnings"] = json!(warnings);
-    }
-    writeln!(std::io::stdout(), "{}", serde_json::to_string_pretty(&out)?)?;
+    let record = PredictionRecord::new(&q, &pred.values, a.std.then_some(&pred.std), &outside);
+    writeln!(
+        std::io::stdout(),
+        "{}",
+        serde_json::to_string_pretty(&record)?
+    )?;
     Ok(())
 }
 
-fn outputs_json(v: &[f64; 22]) -> Value {
-    let markers: Vec<Value> = (0..9)
-        .map(|k| json!({"uz_mm": v[2 * k], "uy_mm": v[2 * k + 1]}))
-        .collect();
-    json!({"tip_uz_mm": v[18], "tip_uy_mm": v[19], "angle_deg": v[20], "force_n": v[21], "markers": markers})
-}
-
-/// Warnings for inputs outside the training domain (an error with `--strict`).
-fn domain_check(model: &Surrogate, q: &Query, strict: bool, what: &str) -> Result<Vec<String>> {
-    let v: Vec<String> = model
-        .domain_violations(q)
-        .iter()
-        .map(|d| d.to_string())
-        .collect();
-    if !v.is_empty() {
-        if strict {
-            bail!("{what}: {} (--strict)", v.join("; "));
-        }
-        for w in &v {
-            eprintln!("warning: {what}: {w}");
-        }
+/// A refused extrapolation gets the flag that allows it.
+fn refused(e: RomError) -> anyhow::Error {
+    match e {
+        RomError::OutsideDomain(m) => anyhow::anyhow!("{m}; {ALLOW_HINT}"),
+        e => e.into(),
     }
-    Ok(v)
 }
 
 fn batch(
@@ -91,25 +83,21 @@ fn batch(
     out: &std::path::Path,
 ) -> Result<()> {
     let file = File::open(csv).with_context(|| format!("opening {}", csv.display()))?;
-    let rows = read_queries(file, &csv.display().to_string(), model)?;
-    let mut results: Vec<(_, Prediction, bool)> = Vec::with_capacity(rows.len());
-    let mut pred = model.new_prediction();
-    for row in rows {
-        let warnings = domain_check(
-            model,
-            &row.query,
-            a.strict,
-            &format!("{} line {}", csv.display(), row.line),
-        )?;
-        if a.std {
-            model.predict_with_std_into(&row.query, &mut pred)?;
-        } else {
-            model.predict_into(&row.query, &mut pred)?;
-        }
-        results.push((row, pred.clone(), warnings.is_empty()));
+    let table = read_queries(file, &csv.display().to_string(), model)?;
+    let predicted = predict_table(model, table, a.std, a.allow_extrapolation)
+        .map_err(|e| refused(e).context(csv.display().to_string()))?;
+    if predicted.domain.outside > 0 {
+        eprintln!("warning: {}: {}", csv.display(), predicted.domain);
     }
-    let file = File::create(out).with_context(|| format!("creating {}", out.display()))?;
-    write_predictions(file, &results, a.std)?;
-    eprintln!("{} predictions -> {}", results.len(), out.display());
+    if out.as_os_str() == "-" {
+        write_predictions(std::io::stdout().lock(), &predicted)?;
+        return Ok(());
+    }
+    crate::write_atomic(out, |w| Ok(write_predictions(w, &predicted)?))?;
+    eprintln!(
+        "wrote {} predictions to {}",
+        predicted.rows.len(),
+        out.display()
+    );
     Ok(())
 }

@@ -14,22 +14,6 @@ use surrogate::fe::vtk;
 
 use crate::args::{ModeArg, SimulateArgs};
 
-/// Parses a comma-separated pressure list.
-pub fn parse_pressures(s: &str) -> Result<Vec<f64>> {
-    s.split(',')
-        .enumerate()
-        .map(|(i, v)| {
-            v.trim().parse::<f64>().with_context(|| {
-                format!(
-                    "--pressures: entry {} '{}' is not a number (expected bar values such as 0,1,2,3)",
-                    i + 1,
-                    v.trim()
-                )
-            })
-        })
-        .collect()
-}
-
 fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result<Case> {
     let design = DesignParams::new(a.n, a.t).validate()?;
     let material = Material::from_spec(&a.material, a.bulk_ratio)?;
@@ -98,10 +82,20 @@ fn run_case(case: &Case, vtk_dir: Option<&PathBuf>, label: &str) -> Result<Respo
     bar.set_message(label.to_string());
     let mut written = Vec::new();
     let mut vtk_error = None;
+    let total = case.pressures_bar.len();
+    let mut done = 0usize;
     let response = simulate_with(
         case,
         |i, _| bar.set_position(i as u64),
         |model, result, u| {
+            done += 1;
+            // a line per converged step where the bar is not drawn (a log file, a pipe)
+            if bar.is_hidden() {
+                eprintln!(
+                    "{label}: step {done}/{total}: {} bar, tip Uz {:.3} mm, Uy {:.3} mm, {} Newton iterations",
+                    result.pressure_bar, result.tip_uz_mm, result.tip_uy_mm, result.newton_iterations
+                );
+            }
             if let Some(dir) = vtk_dir {
                 match vtk::write_step(dir, written.len(), model, u) {
                     Ok(p) => written.push((result.pressure_bar, p)),
@@ -143,12 +137,12 @@ struct BenchRow {
     tip_uy_mm_3bar: f64,
 }
 
-fn write_output(out: Option<&PathBuf>, json: &str) -> Result<()> {
-    match out {
+fn write_output(out: Option<&PathBuf>, json: &str, what: &str) -> Result<()> {
+    match out.filter(|p| p.as_os_str() != "-") {
         Some(p) => {
-            let tmp = p.with_extension("json.tmp");
-            std::fs::write(&tmp, json).with_context(|| format!("writing {}", tmp.display()))?;
-            std::fs::rename(&tmp, p).with_context(|| format!("writing {}", p.display()))?;
+            crate::write_file(p, json.as_bytes())
+                .with_context(|| format!("writing {}", p.display()))?;
+            eprintln!("wrote {what} to {}", p.display());
         }
         None => writeln!(std::io::stdout(), "{json}")?,
     }
@@ -161,10 +155,20 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         return bench(&a);
     }
     let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
-    let pressures = parse_pressures(&a.pressures)?;
+    let pressures = surrogate::fe::simulate::parse_pressures(&a.pressures)?;
     let case = build_case(&a, level, pressures)?;
     let response = run_case(&case, a.vtk.as_ref(), "simulate")?;
-    write_output(a.out.as_ref(), &serde_json::to_string_pretty(&response)?)
+    let what = format!(
+        "{} steps ({:.1} s, {} dofs)",
+        response.steps.len(),
+        response.wall_time_s,
+        response.dofs
+    );
+    write_output(
+        a.out.as_ref(),
+        &serde_json::to_string_pretty(&response)?,
+        &what,
+    )
 }
 
 /// `--bench`: the full ramp 0 → 3 bar on each mesh level (or the one given with --mesh if it
@@ -211,5 +215,9 @@ fn bench(a: &SimulateArgs) -> Result<()> {
         );
         rows.push(row);
     }
-    write_output(a.out.as_ref(), &serde_json::to_string_pretty(&rows)?)
+    write_output(
+        a.out.as_ref(),
+        &serde_json::to_string_pretty(&rows)?,
+        "the benchmark",
+    )
 }

@@ -140,7 +140,7 @@ pub struct PlanArgs {
     #[arg(long, default_value = "-3,-0.004", allow_hyphen_values = true)]
     pub alpha2_range: String,
     /// Pressure ramp in bar: a comma list, or max:step (e.g. 3.5:0.25 = 0, 0.25, …, 3.5).
-    #[arg(long, default_value = "3.5:0.25")]
+    #[arg(long, default_value = "3.5:0.25", allow_hyphen_values = true)]
     pub pressures: String,
     /// Mesh level: coarse | standard | fine.
     #[arg(long, default_value = "standard")]
@@ -241,19 +241,6 @@ fn n_values(s: &str) -> Result<Vec<usize>> {
 }
 
 /// A comma list, or `max:step` from 0.
-fn pressures(s: &str) -> Result<Vec<f64>> {
-    if let Some((max, step)) = s.split_once(':') {
-        let [max, step] = pair("pressures", &format!("{max},{step}"))?;
-        anyhow::ensure!(
-            step > 0.0 && max >= 0.0 && (max / step) < 1e4,
-            "--pressures {s:?}: expected max:step with max ≥ 0, step > 0"
-        );
-        let n = (max / step + 1e-9).floor() as usize;
-        return Ok((0..=n).map(|i| i as f64 * step).collect());
-    }
-    crate::simulate::parse_pressures(s)
-}
-
 fn plan(a: PlanArgs) -> Result<()> {
     let ranges = Ranges {
         n_bellows: n_values(&a.n_values)?,
@@ -265,7 +252,7 @@ fn plan(a: PlanArgs) -> Result<()> {
     };
     let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
     let settings = PlanSettings {
-        pressures_bar: pressures(&a.pressures)?,
+        pressures_bar: surrogate::fe::simulate::parse_pressures(&a.pressures)?,
         gravity: !a.no_gravity,
         mesh: MeshOptions {
             level,
@@ -278,13 +265,20 @@ fn plan(a: PlanArgs) -> Result<()> {
     let plan = Plan::generate(a.cases, a.seed, ranges, settings)?;
     surrogate::snapshots::store::write_atomic(&a.out, plan.pretty_json().as_bytes())?;
     let inside: Vec<String> = plan
-        .ranges
-        .literature_inside()?
+        .literature_in_sampled_domain()?
         .into_iter()
-        .map(|(name, inside)| format!("{name} {}", if inside { "inside" } else { "OUTSIDE" }))
+        .map(|(name, outside)| {
+            if outside.is_empty() {
+                format!("{name} inside")
+            } else {
+                let v: Vec<String> = outside.iter().map(|v| v.to_string()).collect();
+                format!("{name} OUTSIDE ({})", v.join("; "))
+            }
+        })
         .collect();
     eprintln!(
-        "wrote {}: {} cases, {} pressures, plan hash {}; literature Ogden sets: {}",
+        "wrote {}: {} cases, {} pressures, plan hash {}; literature Ogden sets in the sampled domain \
+         (what a surrogate trained on this plan accepts): {}",
         a.out.display(),
         plan.cases.len(),
         plan.settings.pressures_bar.len(),

@@ -54,6 +54,9 @@ fn learning_curve(
 }
 
 pub fn run(a: TrainArgs) -> Result<()> {
+    // before minutes of training, not after
+    surrogate::rom::model::refuse_existing(&a.out, a.force)
+        .map_err(|e| anyhow::anyhow!("{e}; give --force to replace it, or another --out"))?;
     anyhow::ensure!(
         a.prefer_poly_within >= 0.0 && a.prefer_poly_within.is_finite(),
         "invalid --prefer-poly-within {}: expected a finite number ≥ 0",
@@ -159,7 +162,7 @@ pub fn run(a: TrainArgs) -> Result<()> {
     let s = &report.surrogate;
     report
         .surrogate
-        .save(&a.out)
+        .save_new(&a.out, a.force)
         .with_context(|| format!("saving {}", a.out.display()))?;
     println!("{}", s.validation.candidates_table());
     println!("{}", s.validation.table());
@@ -281,60 +284,88 @@ fn plot_held_out(path: &std::path::Path, points: &[HeldOutPoint], scheme: &str) 
     };
     for ((name, label), area) in OUTPUTS.iter().zip(panels.iter()) {
         let pts: Vec<&HeldOutPoint> = points.iter().filter(|h| h.output == *name).collect();
-        let (x_lo, x_hi) = pts
-            .iter()
-            .map(|h| h.truth)
-            .fold((f64::INFINITY, f64::NEG_INFINITY), |(a, b), v| {
-                (a.min(v), b.max(v))
-            });
-        let e_max = pts
-            .iter()
-            .map(|h| (h.predicted - h.truth).abs())
-            .fold(0.0f64, f64::max);
-        if !x_lo.is_finite() || !x_hi.is_finite() || !e_max.is_finite() {
+        if pts.is_empty() {
             continue;
         }
-        let pad = 0.05 * (x_hi - x_lo).max(1e-9);
-        let e_max = 1.1 * e_max.max(1e-9);
+        let ((x_lo, x_hi), (e_lo, e_hi)) = held_out_axes(&pts);
         let rmse = (pts
             .iter()
             .map(|h| (h.predicted - h.truth).powi(2))
             .sum::<f64>()
-            / pts.len().max(1) as f64)
+            / pts.len() as f64)
             .sqrt();
+        let unit = label
+            .rsplit_once('(')
+            .map_or("", |(_, u)| u.trim_end_matches(')'));
         let mut c = ChartBuilder::on(area)
             .caption(
-                format!("{label}: held-out RMSE {rmse:.3}"),
+                format!("{label}: held-out RMSE {rmse:.3} {unit}"),
                 ("sans-serif", 17),
             )
             .margin(10)
-            .x_label_area_size(35)
-            .y_label_area_size(55)
-            .build_cartesian_2d(x_lo - pad..x_hi + pad, -e_max..e_max)?;
+            .x_label_area_size(40)
+            .y_label_area_size(60)
+            .build_cartesian_2d(x_lo..x_hi, e_lo..e_hi)?;
         c.configure_mesh()
-            .x_desc(format!("FE ({scheme}{shown})"))
-            .y_desc("surrogate − FE, held out")
+            .x_desc(format!("FE {label} ({scheme}{shown})"))
+            .y_desc(format!("surrogate − FE, held out ({unit})"))
             .draw()?;
         c.draw_series(LineSeries::new(
-            vec![(x_lo - pad, 0.0), (x_hi + pad, 0.0)],
-            BLACK.mix(0.4),
+            vec![(x_lo, 0.0), (x_hi, 0.0)],
+            BLACK.mix(0.5),
         ))?;
         for (k, &n) in ns.iter().enumerate() {
-            let col = Palette99::pick(k);
+            let col = crate::figure::colour(k);
             c.draw_series(
                 pts.iter()
                     .filter(|h| h.n_bellows == n && h.repeat == 0)
-                    .map(|h| Circle::new((h.truth, h.predicted - h.truth), 2, col.filled())),
+                    .map(|h| Circle::new((h.truth, h.predicted - h.truth), 3, col.filled())),
             )?
             .label(format!("N = {n}"))
-            .legend(move |(x, y)| Circle::new((x, y), 4, col.filled()));
+            .legend(move |(x, y)| Circle::new((x, y), 5, col.filled()));
         }
         c.configure_series_labels()
             .position(SeriesLabelPosition::UpperLeft)
-            .background_style(WHITE.mix(0.8))
-            .border_style(BLACK.mix(0.3))
+            .background_style(WHITE.mix(0.85))
+            .border_style(BLACK.mix(0.4))
+            .label_font(("sans-serif", 13))
             .draw()?;
     }
     root.present()?;
     Ok(())
+}
+
+/// Axis ranges of one held-out panel: the FE values (x) and the errors, symmetric about 0 (y).
+fn held_out_axes(pts: &[&HeldOutPoint]) -> ((f64, f64), (f64, f64)) {
+    (
+        crate::figure::axis_range(pts.iter().map(|h| h.truth)),
+        crate::figure::symmetric_range(pts.iter().map(|h| h.predicted - h.truth)),
+    )
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figure::holds;
+
+    #[test]
+    fn held_out_axes_hold_every_point() {
+        let p = |truth: f64, predicted: f64| HeldOutPoint {
+            case_id: "c".into(),
+            n_bellows: 11,
+            repeat: 0,
+            fold: 0,
+            p_bar: 1.0,
+            output: "tip_uz_mm",
+            truth,
+            predicted,
+            std: 0.1,
+        };
+        let pts = [p(-3.0, -2.0), p(95.0, 97.5), p(40.0, 39.0)];
+        let refs: Vec<&HeldOutPoint> = pts.iter().collect();
+        let (x, e) = held_out_axes(&refs);
+        assert!(holds(x, pts.iter().map(|h| h.truth)));
+        assert!(holds(e, pts.iter().map(|h| h.predicted - h.truth)));
+        assert!(x.0 < -3.0 && x.1 > 95.0 && e.1 > 2.5);
+    }
 }

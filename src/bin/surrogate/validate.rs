@@ -12,9 +12,13 @@ use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::simulate::ContactSettings;
 
 use crate::args::ValidateArgs;
+use crate::figure::{axis_range_with, colour};
 
 /// Runs the subcommand.
 pub fn run(a: ValidateArgs) -> Result<()> {
+    if a.plot_only {
+        return plot_only(&a);
+    }
     let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
     let material = Material::from_spec(&a.material, 1000.0)?;
     let contact = ContactSettings {
@@ -72,7 +76,8 @@ pub fn run(a: ValidateArgs) -> Result<()> {
     }
     std::fs::rename(&tmp, &a.out)?;
     let svg = a.out.with_extension("svg");
-    plot(&svg, &rows, &a.material)?;
+    let plot_rows: Vec<PlotRow> = rows.iter().map(PlotRow::from).collect();
+    plot(&svg, &plot_rows, &a.material)?;
     let s = summarize(&rows);
     println!(
         "{}: {} configurations ({} not reached), mean BE {:.2} mm, median BE {:.2} mm, mean |F error| {:.3} N, \
@@ -97,66 +102,227 @@ pub fn run(a: ValidateArgs) -> Result<()> {
     Ok(())
 }
 
-/// Measured vs simulated tip positions (left) and blocked forces (right).
-fn plot(path: &Path, rows: &[BaselineRow], material: &str) -> Result<()> {
-    let root = SVGBackend::new(path, (1100, 500)).into_drawing_area();
+/// The values of one configuration that the figure draws (a row of the baseline CSV).
+#[derive(Debug, Clone, serde::Deserialize)]
+pub struct PlotRow {
+    /// Number of bellows.
+    pub n_bellows: usize,
+    /// Wall thickness (mm).
+    pub wall_thickness_mm: f64,
+    /// Pressure (bar).
+    pub pressure_bar: f64,
+    /// Measured tip Uz (mm).
+    pub uz_exp_mm: f64,
+    /// Simulated tip Uz (mm).
+    pub uz_sim_mm: f64,
+    /// Measured tip Uy (mm).
+    pub uy_exp_mm: f64,
+    /// Simulated tip Uy (mm).
+    pub uy_sim_mm: f64,
+    /// Measured blocked force (N).
+    pub force_exp_n: f64,
+    /// Simulated blocked force (N).
+    pub force_sim_n: f64,
+}
+
+impl From<&BaselineRow> for PlotRow {
+    fn from(r: &BaselineRow) -> Self {
+        PlotRow {
+            n_bellows: r.n_bellows,
+            wall_thickness_mm: r.wall_thickness_mm,
+            pressure_bar: r.pressure_bar,
+            uz_exp_mm: r.uz_exp_mm,
+            uz_sim_mm: r.uz_sim_mm,
+            uy_exp_mm: r.uy_exp_mm,
+            uy_sim_mm: r.uy_sim_mm,
+            force_exp_n: r.force_exp_n,
+            force_sim_n: r.force_sim_n,
+        }
+    }
+}
+
+/// Free length of the experimental actuators (mm): tip position `z = Lf − Uz`.
+const LF: f64 = 92.0;
+
+/// Tip positions `(z, y)` in mm, measured and simulated, of every row.
+fn tips(rows: &[PlotRow]) -> Vec<(f64, f64)> {
+    rows.iter()
+        .flat_map(|r| {
+            [
+                (LF - r.uz_exp_mm, r.uy_exp_mm),
+                (LF - r.uz_sim_mm, r.uy_sim_mm),
+            ]
+        })
+        .collect()
+}
+
+/// Axis ranges `(z, y)` of the tip panel: every tip, the support (0, 0) and the unloaded
+/// tip (Lf, 0).
+pub fn tip_axes(rows: &[PlotRow]) -> ((f64, f64), (f64, f64)) {
+    let t = tips(rows);
+    (
+        axis_range_with(t.iter().map(|p| p.0), &[0.0, LF]),
+        axis_range_with(t.iter().map(|p| p.1), &[0.0]),
+    )
+}
+
+/// Axis range of the force panel (both axes, with zero): every measured and simulated force.
+pub fn force_axes(rows: &[PlotRow]) -> (f64, f64) {
+    axis_range_with(
+        rows.iter().flat_map(|r| [r.force_exp_n, r.force_sim_n]),
+        &[0.0],
+    )
+}
+
+/// Measured vs simulated tip positions (left, coloured by design) and blocked forces (right,
+/// coloured by pressure), with legends and units.
+fn plot(path: &Path, rows: &[PlotRow], material: &str) -> Result<()> {
+    let root = SVGBackend::new(path, (1200, 560)).into_drawing_area();
     root.fill(&WHITE)?;
-    let (left, right) = root.split_horizontally(600);
-    // axes that hold every measured and simulated tip (a curled actuator's tip comes back
-    // towards the support)
-    let lf = 92.0;
-    let (z_lo, y_lo) = rows
-        .iter()
-        .flat_map(|r| [(r.uz_exp_mm, r.uy_exp_mm), (r.uz_sim_mm, r.uy_sim_mm)])
-        .filter(|(uz, uy)| uz.is_finite() && uy.is_finite())
-        .fold((20.0f64, -90.0f64), |(z, y), (uz, uy)| {
-            (z.min(lf - uz - 5.0), y.min(uy - 5.0))
-        });
+    let (left, right) = root.split_horizontally(680);
+    let ((z_lo, z_hi), (y_lo, y_hi)) = tip_axes(rows);
     let mut c = ChartBuilder::on(&left)
         .caption(
-            format!("Tip position, {material}: measured (o) vs FE (x)"),
+            format!("Tip position, {material}: measured (circles) vs FE (crosses)"),
             ("sans-serif", 18),
         )
         .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(45)
-        .build_cartesian_2d(z_lo..100.0, y_lo..5.0)?;
+        .x_label_area_size(40)
+        .y_label_area_size(50)
+        .build_cartesian_2d(z_lo..z_hi, y_lo..y_hi)?;
     c.configure_mesh()
-        .x_desc("z_tip (mm)")
-        .y_desc("y_tip (mm)")
+        .x_desc("tip z, from the support (mm)")
+        .y_desc("tip y (mm)")
         .draw()?;
-    for r in rows {
-        let col = Palette99::pick((r.n_bellows * 7 + (r.wall_thickness_mm * 10.0) as usize) % 99);
-        let e = (lf - r.uz_exp_mm, r.uy_exp_mm);
-        let s = (lf - r.uz_sim_mm, r.uy_sim_mm);
-        c.draw_series(std::iter::once(Circle::new(e, 4, col.stroke_width(2))))?;
-        c.draw_series(std::iter::once(Cross::new(s, 5, col.stroke_width(2))))?;
-        c.draw_series(LineSeries::new(vec![e, s], col.mix(0.5)))?;
-    }
-    let fmax = rows
+    let mut designs: Vec<(usize, f64)> = rows
         .iter()
-        .flat_map(|r| [r.force_exp_n, r.force_sim_n])
-        .filter(|v| v.is_finite())
-        .fold(1.0f64, f64::max)
-        * 1.1;
+        .map(|r| (r.n_bellows, r.wall_thickness_mm))
+        .collect();
+    designs.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    designs.dedup();
+    for (k, &(n, t)) in designs.iter().enumerate() {
+        let col = colour(k);
+        let mine: Vec<&PlotRow> = rows
+            .iter()
+            .filter(|r| r.n_bellows == n && r.wall_thickness_mm == t)
+            .collect();
+        for r in &mine {
+            let e = (LF - r.uz_exp_mm, r.uy_exp_mm);
+            let s = (LF - r.uz_sim_mm, r.uy_sim_mm);
+            if s.0.is_finite() && s.1.is_finite() {
+                c.draw_series(std::iter::once(Cross::new(s, 6, col.stroke_width(2))))?;
+                c.draw_series(LineSeries::new(vec![e, s], col.stroke_width(1)))?;
+            }
+        }
+        c.draw_series(
+            mine.iter()
+                .map(|r| Circle::new((LF - r.uz_exp_mm, r.uy_exp_mm), 5, col.stroke_width(2))),
+        )?
+        .label(format!("N = {n}, T = {t} mm"))
+        .legend(move |(x, y)| Circle::new((x, y), 5, col.filled()));
+    }
+    c.configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.4))
+        .label_font(("sans-serif", 13))
+        .draw()?;
+    let (f_lo, f_hi) = force_axes(rows);
     let mut f = ChartBuilder::on(&right)
-        .caption("Blocked force (N)", ("sans-serif", 18))
+        .caption("Blocked force: FE vs measured", ("sans-serif", 18))
         .margin(10)
-        .x_label_area_size(35)
-        .y_label_area_size(45)
-        .build_cartesian_2d(0.0..fmax, 0.0..fmax)?;
-    f.configure_mesh().x_desc("measured").y_desc("FE").draw()?;
+        .x_label_area_size(40)
+        .y_label_area_size(50)
+        .build_cartesian_2d(f_lo..f_hi, f_lo..f_hi)?;
+    f.configure_mesh()
+        .x_desc("measured blocked force (N)")
+        .y_desc("FE blocked force (N)")
+        .draw()?;
     f.draw_series(LineSeries::new(
-        vec![(0.0, 0.0), (fmax, fmax)],
-        BLACK.mix(0.4),
-    ))?;
-    f.draw_series(rows.iter().filter(|r| r.force_sim_n.is_finite()).map(|r| {
-        Circle::new(
-            (r.force_exp_n, r.force_sim_n),
-            4,
-            Palette99::pick((r.pressure_bar as usize) * 20).filled(),
-        )
-    }))?;
+        vec![(f_lo, f_lo), (f_hi, f_hi)],
+        BLACK.mix(0.5),
+    ))?
+    .label("FE = measured")
+    .legend(|(x, y)| PathElement::new(vec![(x - 8, y), (x + 8, y)], BLACK.mix(0.5)));
+    let mut levels: Vec<f64> = rows.iter().map(|r| r.pressure_bar).collect();
+    levels.sort_by(f64::total_cmp);
+    levels.dedup();
+    for (k, &p) in levels.iter().enumerate() {
+        let col = colour(k);
+        f.draw_series(
+            rows.iter()
+                .filter(|r| r.pressure_bar == p && r.force_sim_n.is_finite())
+                .map(|r| Circle::new((r.force_exp_n, r.force_sim_n), 5, col.filled())),
+        )?
+        .label(format!("{p} bar"))
+        .legend(move |(x, y)| Circle::new((x, y), 5, col.filled()));
+    }
+    f.configure_series_labels()
+        .position(SeriesLabelPosition::UpperLeft)
+        .background_style(WHITE.mix(0.85))
+        .border_style(BLACK.mix(0.4))
+        .label_font(("sans-serif", 13))
+        .draw()?;
     root.present()?;
     Ok(())
+}
+
+/// `--plot-only`: the figure of an existing baseline CSV, no FE run.
+fn plot_only(a: &ValidateArgs) -> Result<()> {
+    let mut r = csv::Reader::from_path(&a.out)
+        .with_context(|| format!("reading {} (--plot-only)", a.out.display()))?;
+    let rows: Vec<PlotRow> = r
+        .deserialize()
+        .collect::<Result<_, _>>()
+        .with_context(|| format!("reading {}", a.out.display()))?;
+    anyhow::ensure!(!rows.is_empty(), "{}: no rows to plot", a.out.display());
+    let svg = a.out.with_extension("svg");
+    plot(&svg, &rows, &a.material)?;
+    eprintln!(
+        "wrote {} ({} configurations of {})",
+        svg.display(),
+        rows.len(),
+        a.out.display()
+    );
+    Ok(())
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::figure::holds;
+
+    fn row(n: usize, uz: f64, uy: f64, f_exp: f64, f_sim: f64) -> PlotRow {
+        PlotRow {
+            n_bellows: n,
+            wall_thickness_mm: 1.6,
+            pressure_bar: 3.0,
+            uz_exp_mm: uz,
+            uz_sim_mm: uz + 5.0,
+            uy_exp_mm: uy,
+            uy_sim_mm: uy - 3.0,
+            force_exp_n: f_exp,
+            force_sim_n: f_sim,
+        }
+    }
+
+    /// A tip curled back past the support (z < 0) and one barely bent: both inside the panel,
+    /// not on its border; the forces too, with NaN (a ramp not reached) ignored.
+    #[test]
+    fn baseline_axes_hold_every_point() {
+        let rows = vec![
+            row(9, 110.0, -60.0, 4.4, 4.0),
+            row(11, 1.0, -8.0, 0.2, f64::NAN),
+            row(13, 40.0, -95.0, 2.9, 2.2),
+        ];
+        let (zr, yr) = tip_axes(&rows);
+        let t = tips(&rows);
+        assert!(holds(zr, t.iter().map(|p| p.0)) && holds(yr, t.iter().map(|p| p.1)));
+        assert!(zr.0 < LF - 115.0 && yr.0 < -98.0, "{zr:?} {yr:?}");
+        let fr = force_axes(&rows);
+        assert!(holds(
+            fr,
+            rows.iter().flat_map(|r| [r.force_exp_n, r.force_sim_n])
+        ));
+    }
 }

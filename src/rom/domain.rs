@@ -1,0 +1,269 @@
+//! The input domain of a surrogate, and the one check of a query against it.
+//!
+//! A snapshot plan samples the material in `(μ0, s, α₁, α₂)`,
+//!
+//! ```text
+//!   μ0 = ½ (μ₁α₁ + μ₂α₂)     initial shear modulus (log-uniform)
+//!   s  = μ₁α₁ / (2 μ0)        share of term 1
+//! ```
+//!
+//! and the surrogate regresses on exactly these features (`ln μ0`, `s`, `α₁`, `α₂`, with `N`
+//! and `T`; [`super::regression::raw_features`]). The domain is therefore a box in those
+//! coordinates, not in the raw `μ₁, μ₂`: the marginal ranges of `μ₁` and `μ₂` over the
+//! training cases are not a region the regression saw (`μ₂ = −1214 MPa` with `α₂ = −0.0054`
+//! is an ordinary `μ₂α₂`). A [`Domain`] holds that box, the trained numbers of bellows and the
+//! pressure grid's ends; [`Domain::violations`] is the single test of a query, used by
+//! [`Surrogate::domain_violations`](super::Surrogate::domain_violations) (the box of the
+//! training cases, stored in the model's [`FeatureScaler`]) and by the snapshot plan's report
+//! [`Plan::sampled_domain`](crate::snapshots::plan::Plan::sampled_domain) (the box of the
+//! plan's cases, built the same way), so a plan and a model trained on all its cases say the
+//! same of every query.
+//!
+//! Outside the box the regression **extrapolates**; outside the pressure grid the prediction is
+//! **clamped**: it holds the value at the nearer end of the grid (and its derivative with respect
+//! to the pressure is zero there). Both are reported in [`DomainViolation::clamped`].
+
+use super::data::CaseInputs;
+use super::regression::{raw_features, FeatureScaler};
+use super::surrogate::Query;
+use crate::predict::N_FEATURES;
+
+/// The checked inputs, in the order violations are reported: `(name, unit)`.
+pub const DOMAIN_INPUTS: [(&str, &str); 7] = [
+    ("n_bellows", "1"),
+    ("wall_thickness_mm", "mm"),
+    ("pressure_bar", "bar"),
+    ("mu0_mpa", "MPa"),
+    ("term1_share", "1"),
+    ("alpha1", "1"),
+    ("alpha2", "1"),
+];
+
+/// Index of each regression feature `(N, T, ln μ0, α₁, s, α₂)` among [`DOMAIN_INPUTS`].
+const FEATURE_INPUT: [usize; N_FEATURES] = [0, 1, 3, 5, 4, 6];
+
+/// An input outside the domain.
+#[derive(Debug, Clone, PartialEq)]
+pub struct DomainViolation {
+    /// Input name ([`DOMAIN_INPUTS`]).
+    pub name: String,
+    /// Value given.
+    pub value: f64,
+    /// Smallest value of the domain.
+    pub min: f64,
+    /// Largest value of the domain.
+    pub max: f64,
+    /// `true`: the prediction holds the value at the nearer end (`min` or `max`) instead of
+    /// extrapolating (the pressure); `false`: the regression extrapolates.
+    pub clamped: bool,
+}
+
+impl DomainViolation {
+    /// The value the prediction is evaluated at: the nearer end when clamped, else the value.
+    pub fn used(&self) -> f64 {
+        if self.clamped {
+            self.value.clamp(self.min, self.max)
+        } else {
+            self.value
+        }
+    }
+
+    /// A short form for tables: `pressure_bar=5 (clamped to 3.5)` or
+    /// `alpha2=-0.0054 (extrapolated)`.
+    pub fn short(&self) -> String {
+        if self.clamped {
+            format!("{}={} (clamped to {})", self.name, self.value, self.used())
+        } else {
+            format!("{}={} (extrapolated)", self.name, self.value)
+        }
+    }
+}
+
+impl std::fmt::Display for DomainViolation {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        if self.name == "n_bellows" {
+            return write!(f, "n_bellows = {} was not trained", self.value);
+        }
+        write!(
+            f,
+            "{} = {} outside the training domain [{}, {}]",
+            self.name, self.value, self.min, self.max
+        )?;
+        if self.clamped {
+            write!(f, " (clamped: the values at {} are returned)", self.used())
+        } else {
+            write!(f, " (extrapolated)")
+        }
+    }
+}
+
+/// The domain of a surrogate or of a plan (see the [module docs](self)).
+#[derive(Debug, Clone, PartialEq)]
+pub struct Domain {
+    /// The numbers of bellows, increasing.
+    pub n_bellows: Vec<u32>,
+    /// Range of each of [`DOMAIN_INPUTS`] except `n_bellows` (index 0, unused); `None`: not
+    /// constrained (a feature constant over the cases, which the regression does not use).
+    pub ranges: [Option<[f64; 2]>; 7],
+}
+
+impl Domain {
+    /// The domain of a fitted feature box: `scaler` holds the range of each feature that
+    /// varies over the cases ([`FeatureScaler::fit`]); `constant(f)` gives the value of a
+    /// feature `f` that does not vary (the domain is then that single value; `None`: not
+    /// constrained); `pressures` is the grid.
+    pub fn from_features(
+        n_bellows: &[u32],
+        pressures: &[f64],
+        scaler: &FeatureScaler,
+        constant: impl Fn(usize) -> Option<f64>,
+    ) -> Self {
+        let mut n: Vec<u32> = n_bellows.to_vec();
+        n.sort_unstable();
+        n.dedup();
+        let mut ranges = [None; 7];
+        let lo = pressures.iter().copied().fold(f64::INFINITY, f64::min);
+        let hi = pressures.iter().copied().fold(f64::NEG_INFINITY, f64::max);
+        ranges[2] = Some([lo, hi]);
+        for f in 1..N_FEATURES {
+            if !scaler.index.contains(&f) {
+                ranges[FEATURE_INPUT[f]] =
+                    constant(f).map(|v| if f == 2 { [v.exp(); 2] } else { [v; 2] });
+            }
+        }
+        for (j, &f) in scaler.index.iter().enumerate() {
+            if f == 0 {
+                continue;
+            }
+            let half = 1.0 / scaler.inv_half[j];
+            let (a, b) = (scaler.center[j] - half, scaler.center[j] + half);
+            ranges[FEATURE_INPUT[f]] = Some(if f == 2 { [a.exp(), b.exp()] } else { [a, b] });
+        }
+        Domain {
+            n_bellows: n,
+            ranges,
+        }
+    }
+
+    /// The domain of a set of cases: their feature box ([`FeatureScaler::fit`]) and `N`s.
+    pub fn of_cases(cases: &[CaseInputs], pressures: &[f64]) -> Self {
+        let z: Vec<[f64; N_FEATURES]> = cases.iter().map(raw_features).collect();
+        let n: Vec<u32> = cases.iter().map(|c| c.n_bellows).collect();
+        Self::from_features(&n, pressures, &FeatureScaler::fit(&z), |f| {
+            z.first().map(|z| z[f])
+        })
+    }
+
+    /// The inputs of `q` outside the domain, in [`DOMAIN_INPUTS`] order. An inadmissible
+    /// material (`μᵢαᵢ ≤ 0`, rejected by [`Surrogate::check_query`](super::Surrogate::check_query))
+    /// has no `μ0` or `s`: only its exponents are checked.
+    pub fn violations(&self, q: &Query) -> Vec<DomainViolation> {
+        let (k1, k2) = (q.mu1 * q.alpha1, q.mu2 * q.alpha2);
+        let admissible = k1 > 0.0 && k2 > 0.0;
+        let mu0 = 0.5 * (k1 + k2);
+        let values = [
+            f64::from(q.n),
+            q.t_mm,
+            q.p_bar,
+            mu0,
+            k1 / (k1 + k2),
+            q.alpha1,
+            q.alpha2,
+        ];
+        let mut out = Vec::new();
+        if !self.n_bellows.contains(&q.n) {
+            out.push(DomainViolation {
+                name: DOMAIN_INPUTS[0].0.into(),
+                value: values[0],
+                min: self.n_bellows.first().map_or(f64::NAN, |&n| f64::from(n)),
+                max: self.n_bellows.last().map_or(f64::NAN, |&n| f64::from(n)),
+                clamped: false,
+            });
+        }
+        for i in 1..7 {
+            let Some([lo, hi]) = self.ranges[i] else {
+                continue;
+            };
+            if (i == 3 || i == 4) && !admissible {
+                continue;
+            }
+            let v = values[i];
+            let tol = 1e-9 * (1.0 + lo.abs().max(hi.abs()));
+            if !(v >= lo - tol && v <= hi + tol) {
+                out.push(DomainViolation {
+                    name: DOMAIN_INPUTS[i].0.into(),
+                    value: v,
+                    min: lo,
+                    max: hi,
+                    clamped: i == 2,
+                });
+            }
+        }
+        out
+    }
+
+    /// Whether the Ogden set `[μ₁, α₁, μ₂, α₂]` lies inside the material part of the domain.
+    pub fn contains_material(&self, m: [f64; 4]) -> bool {
+        let n = self.n_bellows.first().copied().unwrap_or(0);
+        let t = self.ranges[1].map_or(0.0, |r| r[0]);
+        let p = self.ranges[2].map_or(0.0, |r| r[0]);
+        let q = Query::new(n, t, p, m);
+        (q.mu1 * q.alpha1 > 0.0 && q.mu2 * q.alpha2 > 0.0) && self.violations(&q).is_empty()
+    }
+}
+
+/// The domain violations of a batch of queries, summarised: how many rows, and the first few
+/// with their violations (for one message per batch instead of one per row).
+#[derive(Debug, Clone, Default, PartialEq)]
+pub struct BatchDomainReport {
+    /// Rows checked.
+    pub rows: usize,
+    /// Rows with at least one input outside the domain.
+    pub outside: usize,
+    /// The first rows outside: a label (line number) and the violations.
+    pub first: Vec<(String, Vec<DomainViolation>)>,
+}
+
+impl BatchDomainReport {
+    /// How many offending rows are listed in full.
+    pub const LISTED: usize = 5;
+
+    /// Records one row's violations.
+    pub fn record(&mut self, label: impl FnOnce() -> String, v: &[DomainViolation]) {
+        self.rows += 1;
+        if v.is_empty() {
+            return;
+        }
+        self.outside += 1;
+        if self.first.len() < Self::LISTED {
+            self.first.push((label(), v.to_vec()));
+        }
+    }
+}
+
+impl std::fmt::Display for BatchDomainReport {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} of {} rows outside the training domain",
+            self.outside, self.rows
+        )?;
+        let listed: Vec<String> = self
+            .first
+            .iter()
+            .map(|(label, v)| {
+                let v: Vec<String> = v.iter().map(DomainViolation::to_string).collect();
+                format!("{label}: {}", v.join("; "))
+            })
+            .collect();
+        if !listed.is_empty() {
+            let more = if self.outside > self.first.len() {
+                format!(" (first {})", self.first.len())
+            } else {
+                String::new()
+            };
+            write!(f, "{more}: {}", listed.join(" | "))?;
+        }
+        Ok(())
+    }
+}
