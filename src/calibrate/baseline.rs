@@ -240,7 +240,49 @@ pub fn run_baseline(
     cache: Option<&Path>,
     progress: impl Fn(usize, usize) + Sync,
 ) -> Result<Vec<BaselineRow>, BaselineError> {
-    if let Some(dir) = cache {
+    sweep(
+        material, mesh, contact, bending, force, cache, true, progress,
+    )
+}
+
+/// The rows of the ramps already in `cache`, without running any FE: a ramp that is not
+/// cached gives `NaN` values and `not in the cache` in [`BaselineRow::error`] (a quick look
+/// at a sweep that is still running, or at a committed one).
+///
+/// # Errors
+/// An invalid experimental design.
+pub fn cached_baseline(
+    material: &Material,
+    mesh: MeshOptions,
+    contact: ContactSettings,
+    bending: &[BendingRecord],
+    force: &[ForceRecord],
+    cache: &Path,
+) -> Result<Vec<BaselineRow>, BaselineError> {
+    sweep(
+        material,
+        mesh,
+        contact,
+        bending,
+        force,
+        Some(cache),
+        false,
+        |_, _| {},
+    )
+}
+
+#[allow(clippy::too_many_arguments)] // the two public entry points above name them
+fn sweep(
+    material: &Material,
+    mesh: MeshOptions,
+    contact: ContactSettings,
+    bending: &[BendingRecord],
+    force: &[ForceRecord],
+    cache: Option<&Path>,
+    compute: bool,
+    progress: impl Fn(usize, usize) + Sync,
+) -> Result<Vec<BaselineRow>, BaselineError> {
+    if let (Some(dir), true) = (cache, compute) {
         std::fs::create_dir_all(dir).map_err(|e| BaselineError::cache(dir, e))?;
     }
     let mut designs: Vec<(usize, f64)> = bending
@@ -280,6 +322,7 @@ pub fn run_baseline(
             let cached = cache.map(|dir| RampCache::at(dir, &case));
             let r = match cached.as_ref().and_then(RampCache::load) {
                 Some(r) => r,
+                None if !compute => (Vec::new(), "not in the cache".to_string()),
                 None => {
                     let mut steps = Vec::new();
                     let outcome = simulate_with(&case, |_, _| {}, |_, r, _| steps.push(r.clone()));

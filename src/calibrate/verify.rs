@@ -13,7 +13,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::baseline::{run_baseline, summarize, BaselineRow, BaselineSummary};
+use super::baseline::{cached_baseline, run_baseline, summarize, BaselineRow, BaselineSummary};
 use super::objective::{Config, Recordings};
 use super::params::OgdenSet;
 use super::CalibrateError;
@@ -60,6 +60,8 @@ pub struct FeVerification {
     pub max_abs_sur_fe: [f64; 3],
     /// Configurations with a disagreement.
     pub disagreements: usize,
+    /// Configurations without FE values (a ramp not run or not converged to them).
+    pub incomplete: usize,
     /// Designs `(N, T)` to add as high-fidelity cases.
     pub designs_to_refine: Vec<(u32, f64)>,
 }
@@ -98,6 +100,30 @@ pub fn verify_fe(
         &rec.force,
         Some(cache),
         progress,
+    )?;
+    compare_fe(model, params, mesh, rows)
+}
+
+/// [`verify_fe`] from the ramps already in `cache` only (no FE run): the configurations whose
+/// ramps are missing count as [`FeVerification::incomplete`].
+///
+/// # Errors
+/// A design outside the FE model's range, or a surrogate error.
+pub fn cached_verification(
+    model: &Surrogate,
+    rec: &Recordings,
+    params: &OgdenSet,
+    mesh: MeshOptions,
+    cache: &Path,
+) -> Result<FeVerification, CalibrateError> {
+    let material = fe_material(params)?;
+    let rows = cached_baseline(
+        &material,
+        mesh,
+        ContactSettings::default(),
+        &rec.bending,
+        &rec.force,
+        cache,
     )?;
     compare_fe(model, params, mesh, rows)
 }
@@ -176,6 +202,7 @@ pub fn compare_fe(
         params: *params,
         summary: summarize(&rows),
         disagreements: out.iter().filter(|r| !r.disagree.is_empty()).count(),
+        incomplete: rows.iter().filter(|r| !r.error.is_empty()).count(),
         rows: out,
         mean_abs_sur_fe,
         max_abs_sur_fe,

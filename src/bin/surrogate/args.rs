@@ -350,22 +350,33 @@ pub struct ValidateArgs {
 /// `surrogate demo`.
 #[derive(Debug, Args)]
 pub struct DemoArgs {
-    /// Number of bellows of the experimental design.
+    /// Number of bellows of the design re-verified live by the FE model.
     #[arg(long = "n", default_value_t = 11)]
     pub n: usize,
-    /// Wall thickness (mm) of the experimental design.
+    /// Wall thickness (mm) of the design re-verified live.
     #[arg(long = "t", default_value_t = 2.0)]
     pub t: f64,
-    /// Material (see `simulate --help`).
-    #[arg(long, default_value = "ogden_002")]
+    /// Material of the live FE run: `calibrated` (the set the calibration finds) or a material
+    /// spec (see `simulate --help`).
+    #[arg(long, default_value = "calibrated")]
     pub material: String,
-    /// Mesh level.
+    /// Mesh level of the live FE run.
     #[arg(long, default_value = "coarse")]
     pub mesh: String,
-    /// Where the plot and the JSON go.
+    /// Where the plots, the calibration report and the JSON go.
     #[arg(long, default_value = "demo_output")]
     pub out_dir: PathBuf,
-    /// Surrogate to compare with the FE model (skipped with a note if it cannot be used).
-    #[arg(long, default_value = "models/actuator_coarse.json")]
+    /// Surrogate the calibration runs through (standard-mesh values).
+    #[arg(long, default_value = "models/actuator.json")]
     pub model: PathBuf,
+    /// Surrogate compared with the live FE run (its mesh's values; skipped with a note if it
+    /// cannot be used).
+    #[arg(long, default_value = "models/actuator_coarse.json")]
+    pub live_model: PathBuf,
+    /// Committed FE ramps of the calibrated set on the standard mesh.
+    #[arg(
+        long,
+        default_value = "fe_reference/calibration/standard/fe_standard_ramps"
+    )]
+    pub fe_cache: PathBuf,
 }

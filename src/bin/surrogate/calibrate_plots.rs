@@ -8,32 +8,7 @@ use surrogate::calibrate::objective::Output;
 use surrogate::calibrate::verify::FeVerification;
 use surrogate::calibrate::Calibration;
 
-/// Colours of the three wall thicknesses / pressures (dark enough on white).
-const PALETTE: [RGBColor; 6] = [
-    RGBColor(0, 90, 181),
-    RGBColor(220, 50, 32),
-    RGBColor(0, 140, 70),
-    RGBColor(150, 60, 160),
-    RGBColor(230, 140, 0),
-    RGBColor(60, 60, 60),
-];
-
-/// `[lo, hi]` of the finite values, padded by 5 % (1 if empty or flat).
-pub fn axis_range(values: impl IntoIterator<Item = f64>) -> (f64, f64) {
-    let (mut lo, mut hi) = (f64::INFINITY, f64::NEG_INFINITY);
-    for v in values.into_iter().filter(|v| v.is_finite()) {
-        lo = lo.min(v);
-        hi = hi.max(v);
-    }
-    if !lo.is_finite() {
-        return (0.0, 1.0);
-    }
-    let pad = ((hi - lo) * 0.05).max(1e-9);
-    if hi - lo < 1e-12 {
-        return (lo - 1.0, hi + 1.0);
-    }
-    (lo - pad, hi + pad)
-}
+use crate::figure::{axis_range, colour};
 
 fn levels(v: impl Iterator<Item = f64>) -> Vec<f64> {
     let mut l: Vec<f64> = v.collect();
@@ -47,7 +22,7 @@ fn color_of(levels: &[f64], v: f64) -> RGBColor {
         .iter()
         .position(|l| (l - v).abs() < 1e-9)
         .unwrap_or(0);
-    PALETTE[i % PALETTE.len()]
+    colour(i)
 }
 
 /// Writes every figure into `dir`; returns the paths.
@@ -396,16 +371,16 @@ fn profiles(cal: &Calibration, path: &Path) -> Result<()> {
                 .iter()
                 .zip(&p.delta_chi2)
                 .map(|(&x, &y)| (x, y.max(0.0))),
-            PALETTE[0].stroke_width(2),
+            colour(0).stroke_width(2),
         ))?
         .label("profile Δχ²")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], PALETTE[0]));
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour(0)));
         ch.draw_series(LineSeries::new(
             [(x0, p.threshold), (x1, p.threshold)],
-            PALETTE[1].stroke_width(1),
+            colour(1).stroke_width(1),
         ))?
         .label("95 % threshold")
-        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], PALETTE[1]));
+        .legend(|(x, y)| PathElement::new(vec![(x, y), (x + 20, y)], colour(1)));
         ch.draw_series(std::iter::once(Circle::new(
             (p.optimum, 0.0),
             5,
@@ -419,19 +394,4 @@ fn profiles(cal: &Calibration, path: &Path) -> Result<()> {
     }
     root.present()?;
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use super::axis_range;
-
-    #[test]
-    fn axis_range_contains_the_data() {
-        let v = [3.0, -7.5, 120.0, f64::NAN];
-        let (lo, hi) = axis_range(v);
-        assert!(lo < -7.5 && hi > 120.0);
-        assert_eq!(axis_range([f64::NAN]), (0.0, 1.0));
-        let (lo, hi) = axis_range([2.0, 2.0]);
-        assert!(lo < 2.0 && hi > 2.0);
-    }
 }
