@@ -67,4 +67,48 @@ fn committed_figures_have_legends_and_units() {
     let models = std::fs::read_to_string(root.join("models/README.md")).unwrap();
     assert!(models.contains("--plot models/actuator_held_out.svg"));
     assert!(models.contains("--plot models/actuator_coarse_held_out.svg"));
+    // the calibration's figures
+    for (name, wants) in [
+        (
+            "tips",
+            &[
+                "deformed tip z (mm)",
+                "deformed tip y = Uy (mm)",
+                "T = 1.6 mm",
+                "T = 2.4 mm",
+            ][..],
+        ),
+        (
+            "forces",
+            &[
+                "measured blocked force (N)",
+                "predicted blocked force (N)",
+                "T = 2 mm",
+            ][..],
+        ),
+        (
+            "residuals",
+            &[
+                "wall thickness T (mm)",
+                "standardised residual (1)",
+                "P = 3 bar",
+            ][..],
+        ),
+        (
+            "profiles",
+            &["Δχ² (profile)", "95 % threshold", "mu0_mpa"][..],
+        ),
+        ("correlation", &["alpha2", "+1.00"][..]),
+    ] {
+        let svg = std::fs::read_to_string(
+            root.join(format!("fe_reference/calibration/surrogate/{name}.svg")),
+        )
+        .unwrap();
+        let t = texts(&svg);
+        for want in wants {
+            assert!(t.iter().any(|s| s == want), "{name}: no {want:?} in {t:?}");
+        }
+    }
+    let cal = std::fs::read_to_string(root.join("fe_reference/calibration/README.md")).unwrap();
+    assert!(cal.contains("calibrate --per-configuration --out fe_reference/calibration/surrogate"));
 }
