@@ -13,7 +13,7 @@
 use std::path::Path;
 
 use surrogate::calibrate::{calibrate, CalibrationSettings, Recordings};
-use surrogate::rom::{Jacobian, Query, Surrogate, Q_ANGLE, Q_FORCE};
+use surrogate::rom::{Jacobian, Query, Surrogate};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<f64> = std::env::args()
@@ -54,8 +54,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
                     (pred.angle_deg() - target_angle) / s_angle,
                     (pred.force_n() - target_force) / s_force,
                 ];
-                // column 0 of the Jacobian: d/dT
-                let j = [jac.d[Q_ANGLE][0] / s_angle, jac.d[Q_FORCE][0] / s_force];
+                let j = [
+                    jac.angle().wall_thickness / s_angle,
+                    jac.force().wall_thickness / s_force,
+                ];
                 let jtj = j[0] * j[0] + j[1] * j[1];
                 if jtj <= 0.0 {
                     break;

@@ -242,3 +242,48 @@ fn objectives_parse_and_reject_bad_terms() {
     assert!(Exclusion::parse("plate:11,1.6,1").is_err());
     assert!(Exclusion::parse("11.5,1.6,1").is_err());
 }
+
+#[test]
+fn residual_jacobian_matches_finite_differences() {
+    use surrogate::calibrate::objective::{Evaluator, ObservationSet};
+    use surrogate::calibrate::ParamSpace;
+    let model = model();
+    let rec = Recordings::shipped().unwrap();
+    let set = ObservationSet::build(
+        &model,
+        &rec,
+        &Weights::parse("tip,angle,force").unwrap(),
+        &Selection::default(),
+    )
+    .unwrap();
+    let domain = ParamSpace::training_domain(&model).unwrap();
+    let lit = OgdenSet::literature("ogden_002").unwrap();
+    let raw = ParamSpace::raw_box(&lit, 0.1, &domain).unwrap();
+    for space in [domain, raw] {
+        let mut ev = Evaluator::new(&model, &set, space);
+        let u = [0.37, 0.55, 0.62, 0.41];
+        let m = set.len();
+        let mut r = vec![0.0; m];
+        let mut j = vec![[0.0; 4]; m];
+        ev.residuals(&u, &mut r, Some(&mut j)).unwrap();
+        let h = 1e-6;
+        let (mut rp, mut rm) = (vec![0.0; m], vec![0.0; m]);
+        for k in 0..4 {
+            let (mut up, mut um) = (u, u);
+            up[k] += h;
+            um[k] -= h;
+            ev.residuals(&up, &mut rp, None).unwrap();
+            ev.residuals(&um, &mut rm, None).unwrap();
+            for i in 0..m {
+                let fd = (rp[i] - rm[i]) / (2.0 * h);
+                assert!(
+                    (fd - j[i][k]).abs() < 1e-5 * (1.0 + fd.abs()),
+                    "{:?} obs {i} ({:?}) du{k}: analytic {} vs FD {fd}",
+                    ev.space().names(),
+                    set.obs[i].output,
+                    j[i][k]
+                );
+            }
+        }
+    }
+}

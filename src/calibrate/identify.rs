@@ -21,7 +21,7 @@
 //! ## Profiles
 //!
 //! For each coordinate `i`, `χ²_p(v) = min over the others of χ²(θ | θᵢ = v)` on a grid across
-//! the box (each point from four starts: the previous point, the optimum, two spread points).
+//! the box (each point from two starts: the previous point and the optimum).
 //! The 95 % interval is where `χ²_p(v) − χ²_min ≤ χ²₄(0.95) ŝ² = 9.49 ŝ²`: the projection of the
 //! joint confidence region of the four parameters (statrs quantile). The pointwise threshold
 //! `χ²₁(0.95) = 3.84` assumes the other parameters are well determined and interior; with
@@ -367,10 +367,10 @@ fn profile(
         };
         for v in vals {
             // the other coordinates are often weakly determined with several local minima:
-            // warm start from the previous grid point, the optimum's values, and two spread
-            // points; the lowest end point is the profile's value
+            // warm start from the previous grid point and from the optimum's values; the
+            // lower end point is the profile's value
             let mut best: Option<super::optimise::LocalFit> = None;
-            for base in [prev, *u, [0.25; 4], [0.75; 4]] {
+            for base in [prev, *u] {
                 let mut start = base;
                 start[i] = v;
                 let fit = local_fit(&mut e, start, fixed, &local)?;
@@ -382,7 +382,7 @@ fn profile(
             // a value below the global minimum means a better minimum elsewhere, kept as found
             out.push((v, fit.chi2 - chi2_min));
             prev = fit.u;
-            if fit.chi2 - chi2_min > 4.0 * threshold {
+            if fit.chi2 - chi2_min > 2.0 * threshold {
                 break;
             }
         }

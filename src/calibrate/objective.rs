@@ -786,12 +786,11 @@ impl<'a> Evaluator<'a> {
             let dm = self.space.ogden_jacobian(u);
             for (i, o) in self.set.obs.iter().enumerate() {
                 let qi = o.output.quantity();
-                // surrogate columns: (T, P, μ1, α1, μ2, α2)
-                let d = &self.jac[self.set.config_of[i]].d[qi];
+                let d = self.jac[self.set.config_of[i]].of(qi).material();
                 for (j, out) in jac[i].iter_mut().enumerate() {
                     let mut v = 0.0;
                     for a in 0..4 {
-                        v += d[2 + a] * dm[a][j];
+                        v += d[a] * dm[a][j];
                     }
                     *out = self.scale[i] * v;
                 }

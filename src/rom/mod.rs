@@ -116,7 +116,7 @@ pub use data::{CaseInputs, SnapshotSet};
 pub use domain::{Domain, DomainViolation};
 pub use model::FORMAT_VERSION;
 pub use ramp::Ramp;
-pub use surrogate::{Jacobian, Prediction, Query, Surrogate};
+pub use surrogate::{Gradient, Jacobian, Prediction, Query, Surrogate};
 pub use train::{train, TrainConfig, TrainReport};
 
 use thiserror::Error;

@@ -156,6 +156,71 @@ pub struct Jacobian {
     pub d: [[f64; N_GRAD_INPUTS]; 22],
 }
 
+/// The derivatives of one output with respect to each differentiable input, by name.
+#[derive(Debug, Clone, Copy, PartialEq, Default)]
+pub struct Gradient {
+    /// ∂/∂T (per mm).
+    pub wall_thickness: f64,
+    /// ∂/∂P (per bar; 0 outside the pressure grid, where the prediction is clamped).
+    pub pressure: f64,
+    /// ∂/∂μ₁ (per MPa).
+    pub mu1: f64,
+    /// ∂/∂α₁.
+    pub alpha1: f64,
+    /// ∂/∂μ₂ (per MPa).
+    pub mu2: f64,
+    /// ∂/∂α₂.
+    pub alpha2: f64,
+}
+
+impl Gradient {
+    /// The material part `[∂/∂μ₁, ∂/∂α₁, ∂/∂μ₂, ∂/∂α₂]`.
+    pub fn material(&self) -> [f64; 4] {
+        [self.mu1, self.alpha1, self.mu2, self.alpha2]
+    }
+}
+
+impl Jacobian {
+    /// The gradient of quantity `q` (index in [`QUANTITY_NAMES`]).
+    ///
+    /// # Panics
+    /// `q ≥ 22`.
+    pub fn of(&self, q: usize) -> Gradient {
+        let d = &self.d[q];
+        Gradient {
+            wall_thickness: d[0],
+            pressure: d[1],
+            mu1: d[2],
+            alpha1: d[3],
+            mu2: d[4],
+            alpha2: d[5],
+        }
+    }
+    /// Gradient of tip Uz.
+    pub fn tip_uz(&self) -> Gradient {
+        self.of(super::Q_TIP_UZ)
+    }
+    /// Gradient of tip Uy.
+    pub fn tip_uy(&self) -> Gradient {
+        self.of(super::Q_TIP_UY)
+    }
+    /// Gradient of the bending angle.
+    pub fn angle(&self) -> Gradient {
+        self.of(super::Q_ANGLE)
+    }
+    /// Gradient of the blocked force.
+    pub fn force(&self) -> Gradient {
+        self.of(super::Q_FORCE)
+    }
+    /// Gradients of marker `k` (0-based) as `(Uz, Uy)`.
+    ///
+    /// # Panics
+    /// `k ≥ 9`.
+    pub fn marker(&self, k: usize) -> (Gradient, Gradient) {
+        (self.of(2 * k), self.of(2 * k + 1))
+    }
+}
+
 impl Default for Jacobian {
     fn default() -> Self {
         Jacobian {
