@@ -1,0 +1,170 @@
+//! `surrogate calibrate` from the command line: outputs, markers, bad input.
+use std::path::PathBuf;
+use std::process::Command;
+
+fn run(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("surrogate_cal_{}_{name}", std::process::id()));
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+#[test]
+fn writes_the_report_and_the_plots() {
+    let dir = tmp("out");
+    let out = dir.to_str().unwrap();
+    let (ok, stdout, stderr) = run(&[
+        "calibrate",
+        "--objective",
+        "tip=1,force=0.5",
+        "--starts",
+        "3",
+        "--profile-points",
+        "6",
+        "--exclude-flagged",
+        "--out",
+        out,
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(stdout.contains("Objective `tip=1,force=0.5`"), "{stdout}");
+    assert!(
+        stdout.contains("## Excluded") && stdout.contains("N=11 T=1.6 P=1"),
+        "{stdout}"
+    );
+    for f in [
+        "report.json",
+        "summary.md",
+        "configurations.csv",
+        "tips.svg",
+        "forces.svg",
+        "residuals.svg",
+        "correlation.svg",
+        "profiles.svg",
+    ] {
+        assert!(dir.join(f).exists(), "{f}");
+    }
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
+    assert_eq!(report["calibration"]["starts"].as_array().unwrap().len(), 4);
+    assert_eq!(
+        report["calibration"]["excluded"].as_array().unwrap().len(),
+        1
+    );
+    let csv = std::fs::read_to_string(dir.join("configurations.csv")).unwrap();
+    assert_eq!(csv.lines().count(), 28);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn marker_recordings_enter_the_objective() {
+    let dir = tmp("markers");
+    // markers 9 = the tip of the shipped bending rows, std 2 mm
+    let bending = std::fs::read_to_string(
+        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("training_data/bending_experiments.csv"),
+    )
+    .unwrap();
+    let mut m =
+        String::from("n_bellows,wall_thickness_mm,pressure_bar,marker,uz_mm,uy_mm,std_mm\n");
+    for line in bending.lines().skip(1) {
+        let v: Vec<&str> = line.split(',').collect();
+        m.push_str(&format!(
+            "{},{},{},9,{},{},2\n",
+            v[0], v[1], v[2], v[3], v[4]
+        ));
+    }
+    let mf = dir.join("markers.csv");
+    std::fs::write(&mf, m).unwrap();
+    let (ok, stdout, stderr) = run(&[
+        "calibrate",
+        "--objective",
+        "markers",
+        "--markers",
+        mf.to_str().unwrap(),
+        "--starts",
+        "2",
+        "--profile-points",
+        "4",
+        "--out",
+        dir.join("out").to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("54 observations at 27 configurations"),
+        "{stdout}"
+    );
+    let (ok, _, stderr) = run(&[
+        "calibrate",
+        "--objective",
+        "markers",
+        "--out",
+        dir.join("o2").to_str().unwrap(),
+    ]);
+    assert!(
+        !ok && stderr.contains("marker recordings (none were given)"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn bad_recordings_name_file_line_and_column() {
+    let dir = tmp("bad");
+    let f = dir.join("bending.csv");
+    std::fs::write(
+        &f,
+        "n_bellows,wall_thickness_mm,pressure_bar,tip_uz_mm,tip_uy_mm,angle_deg,angle_std_deg,tip_uz_in\n9,1.6,1,9.4,-35.9,23.57,1.95,0.37\n",
+    )
+    .unwrap();
+    let (ok, _, stderr) = run(&[
+        "calibrate",
+        "--bending",
+        f.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("bending.csv, line 1, column tip_uz_in: unexpected column"),
+        "{stderr}"
+    );
+    std::fs::write(
+        &f,
+        "n_bellows,wall_thickness_mm,pressure_bar,tip_uz_mm,tip_uy_mm,angle_deg,angle_std_deg\n9,1.6,1,9.4,-35.9,23.57,1.95\n9,1.6,1,9.5,-35.9,23.57,1.95\n",
+    )
+    .unwrap();
+    let (ok, _, stderr) = run(&[
+        "calibrate",
+        "--bending",
+        f.to_str().unwrap(),
+        "--out",
+        dir.to_str().unwrap(),
+    ]);
+    assert!(
+        !ok && stderr.contains("line 3, column row: duplicate of line 2"),
+        "{stderr}"
+    );
+    for (args, want) in [
+        (vec!["--objective", "speed"], "objective = speed"),
+        (vec!["--exclude", "11,1.6"], "--exclude = 11,1.6"),
+        (vec!["--literature", "rubber"], "material = rubber"),
+        (vec!["--verify-fe", "medium"], "medium"),
+    ] {
+        let mut a = vec!["calibrate", "--out", dir.to_str().unwrap()];
+        a.extend(args);
+        let (ok, _, stderr) = run(&a);
+        assert!(!ok && stderr.contains(want), "{a:?}: {stderr}");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
