@@ -65,11 +65,7 @@ pub fn implied_length(uz_mm: f64, uy_mm: f64, angle_deg: f64) -> f64 {
 /// Runs every check.
 pub fn check(rec: &Recordings) -> Vec<DataFlag> {
     let mut flags = Vec::new();
-    let config = |n: usize, t: f64, p: f64| Config {
-        n_bellows: n as u32,
-        wall_thickness_mm: t,
-        pressure_bar: p,
-    };
+    let config = Config::of;
     // support-to-tip distance per N
     let mut ns: Vec<usize> = rec.bending.iter().map(|r| r.n_bellows).collect();
     ns.sort_unstable();

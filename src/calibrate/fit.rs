@@ -379,11 +379,7 @@ fn compare(
     let mut pc = model.new_prediction();
     let mut rows = Vec::new();
     for r in &rec.bending {
-        let c = Config {
-            n_bellows: r.n_bellows as u32,
-            wall_thickness_mm: r.wall_thickness_mm,
-            pressure_bar: r.pressure_bar,
-        };
+        let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
         if model
             .check_query(&Query::new(
                 c.n_bellows,

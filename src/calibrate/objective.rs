@@ -271,6 +271,15 @@ pub struct Config {
 }
 
 impl Config {
+    /// The configuration of a recorded row.
+    pub fn of(n_bellows: usize, wall_thickness_mm: f64, pressure_bar: f64) -> Self {
+        Config {
+            n_bellows: n_bellows as u32,
+            wall_thickness_mm,
+            pressure_bar,
+        }
+    }
+
     /// Same configuration (to 1e-9).
     pub fn same(&self, o: &Config) -> bool {
         self.n_bellows == o.n_bellows
@@ -492,11 +501,7 @@ impl ObservationSet {
         };
         if weights.tip > 0.0 || weights.angle > 0.0 {
             for (i, r) in rec.bending.iter().enumerate() {
-                let c = Config {
-                    n_bellows: r.n_bellows as u32,
-                    wall_thickness_mm: r.wall_thickness_mm,
-                    pressure_bar: r.pressure_bar,
-                };
+                let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
                 if !sel.keeps(&c) || excluded_here(&c, Recording::Bending) {
                     continue;
                 }
@@ -540,11 +545,7 @@ impl ObservationSet {
                 ));
             }
             for (i, r) in rec.force.iter().enumerate() {
-                let c = Config {
-                    n_bellows: r.n_bellows as u32,
-                    wall_thickness_mm: r.wall_thickness_mm,
-                    pressure_bar: r.pressure_bar,
-                };
+                let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
                 if !sel.keeps(&c) || excluded_here(&c, Recording::Force) {
                     continue;
                 }
@@ -569,11 +570,7 @@ impl ObservationSet {
                 ));
             }
             for (i, r) in rec.markers.iter().enumerate() {
-                let c = Config {
-                    n_bellows: r.n_bellows as u32,
-                    wall_thickness_mm: r.wall_thickness_mm,
-                    pressure_bar: r.pressure_bar,
-                };
+                let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
                 if !sel.keeps(&c) || excluded_here(&c, Recording::Bending) {
                     continue;
                 }

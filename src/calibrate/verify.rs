@@ -142,11 +142,7 @@ pub fn compare_fe(
     let mut out = Vec::new();
     let mut designs = Vec::new();
     for r in &rows {
-        let c = Config {
-            n_bellows: r.n_bellows as u32,
-            wall_thickness_mm: r.wall_thickness_mm,
-            pressure_bar: r.pressure_bar,
-        };
+        let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
         let q = Query::new(
             c.n_bellows,
             c.wall_thickness_mm,
