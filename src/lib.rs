@@ -13,7 +13,7 @@
 //!   rom: POD of marker fields + regression ─► Surrogate (library, CLI, embedded predictor)
 //!                         │
 //!                         ▼
-//!   calibrate (fit material to experiments, verify with FE) ─► diagnose (missing physics)
+//!   calibrate (fit the material to recordings, identifiability, FE verification)
 //! ```
 #![warn(missing_docs)]
 

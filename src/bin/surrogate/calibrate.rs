@@ -367,6 +367,30 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
         cal.starts.len(),
         cal.minima
     );
+    let _ = writeln!(
+        s,
+        "\n| minimum | starts | χ² | μ1 (MPa) | α1 | μ2 (MPa) | α2 | on a bound |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|");
+    for k in 0..cal.minima {
+        let starts: Vec<_> = cal.starts.iter().filter(|st| st.minimum == k).collect();
+        if let Some(f) = starts.first() {
+            let e = &f.end;
+            let _ = writeln!(
+                s,
+                "| {} | {} | {:.1} | {:.4} | {:.4} | {:.4} | {:.4} | {} |",
+                k + 1,
+                starts.len(),
+                f.chi2,
+                e.mu1_mpa,
+                e.alpha1,
+                e.mu2_mpa,
+                e.alpha2,
+                f.active_bounds.len()
+            );
+        }
+    }
+    let _ = writeln!(s);
     if cal.active_bounds.is_empty() {
         let _ = writeln!(
             s,
