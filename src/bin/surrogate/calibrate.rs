@@ -441,17 +441,43 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
             .collect();
         let _ = writeln!(s, "- {} : std {:.3}", v.join(" "), d.std_fraction);
     }
-    if let Some(m) = id.extra_measurements.first() {
+    if !id.extra_measurements.is_empty() {
         let _ = writeln!(
             s,
-            "\nThe extra measurement that would sharpen the least determined parameter most: {} (standard errors × {}).",
-            m.measurement,
-            m.ratio
-                .iter()
-                .map(|r| format!("{r:.2}"))
-                .collect::<Vec<_>>()
-                .join(" / ")
+            "\nExtra measurements (linearised; each row: the standard errors of {} with it added, as a fraction of today's):\n",
+            id.names.join(" / ")
         );
+        for m in &id.extra_measurements {
+            let _ = writeln!(
+                s,
+                "- {}: × {}",
+                m.measurement,
+                m.ratio
+                    .iter()
+                    .map(|r| format!("{r:.2}"))
+                    .collect::<Vec<_>>()
+                    .join(" / ")
+            );
+        }
+        for (k, p) in id.profiles.iter().enumerate() {
+            if p.determinacy == surrogate::calibrate::identify::Determinacy::Determined {
+                continue;
+            }
+            if let Some(m) = id
+                .extra_measurements
+                .iter()
+                .min_by(|a, b| a.ratio[k].total_cmp(&b.ratio[k]))
+            {
+                let _ = writeln!(
+                    s,
+                    "\n{} is {}; the measurement that sharpens it most: {} (its standard error × {:.2}).",
+                    p.name,
+                    p.determinacy.describe(),
+                    m.measurement,
+                    m.ratio[k]
+                );
+            }
+        }
     }
     if !cal.flags.is_empty() {
         let _ = writeln!(s, "\n## Data checks\n");
