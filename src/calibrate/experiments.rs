@@ -245,24 +245,35 @@ fn key(n: usize, t: f64, p: f64) -> (usize, u64, u64) {
     (n, t.to_bits(), p.to_bits())
 }
 
-fn bending_from(name: &str, text: &str) -> Result<Vec<BendingRecord>, ExperimentError> {
-    let rows: Vec<BendingRecord> = parse(name, text, &BENDING_COLUMNS)?;
+/// Parses `text` and rejects two records of the same configuration `(N, T, P)`.
+fn parse_unique<T: for<'de> Deserialize<'de>>(
+    name: &str,
+    text: &str,
+    columns: &[&str],
+    config: impl Fn(&T) -> (usize, f64, f64),
+) -> Result<Vec<T>, ExperimentError> {
+    let rows: Vec<T> = parse(name, text, columns)?;
     let keys: Vec<_> = rows
         .iter()
-        .map(|r| key(r.n_bellows, r.wall_thickness_mm, r.pressure_bar))
+        .map(|r| {
+            let (n, t, p) = config(r);
+            key(n, t, p)
+        })
         .collect();
     check_duplicates(name, &keys)?;
     Ok(rows)
 }
 
+fn bending_from(name: &str, text: &str) -> Result<Vec<BendingRecord>, ExperimentError> {
+    parse_unique(name, text, &BENDING_COLUMNS, |r: &BendingRecord| {
+        (r.n_bellows, r.wall_thickness_mm, r.pressure_bar)
+    })
+}
+
 fn force_from(name: &str, text: &str) -> Result<Vec<ForceRecord>, ExperimentError> {
-    let rows: Vec<ForceRecord> = parse(name, text, &FORCE_COLUMNS)?;
-    let keys: Vec<_> = rows
-        .iter()
-        .map(|r| key(r.n_bellows, r.wall_thickness_mm, r.pressure_bar))
-        .collect();
-    check_duplicates(name, &keys)?;
-    Ok(rows)
+    parse_unique(name, text, &FORCE_COLUMNS, |r: &ForceRecord| {
+        (r.n_bellows, r.wall_thickness_mm, r.pressure_bar)
+    })
 }
 
 fn markers_from(name: &str, text: &str) -> Result<Vec<MarkerRecord>, ExperimentError> {
