@@ -462,12 +462,13 @@ pub fn summarize(rows: &[BaselineRow]) -> BaselineSummary {
 #[cfg(test)]
 mod tests {
     use super::*;
+    use crate::fe::material::DEFAULT_BULK_RATIO;
     use crate::fe::mesh::MeshLevel;
 
     fn case(stiffness: f64) -> Case {
         Case {
             design: DesignParams::new(11, 2.0).validate().unwrap(),
-            material: Material::from_spec("ogden_002", 1000.0).unwrap(),
+            material: Material::from_spec("ogden_002", DEFAULT_BULK_RATIO).unwrap(),
             pressures_bar: vec![0.0, 1.0, 2.0],
             gravity: true,
             mesh: MeshOptions::level(MeshLevel::Standard),

@@ -17,7 +17,7 @@ use super::baseline::{cached_baseline, run_baseline, summarize, BaselineRow, Bas
 use super::objective::{Config, Recordings};
 use super::params::OgdenSet;
 use super::CalibrateError;
-use crate::fe::material::{Material, MaterialLaw, Ogden2};
+use crate::fe::material::{Material, MaterialLaw, Ogden2, DEFAULT_BULK_RATIO};
 use crate::fe::mesh::MeshOptions;
 use crate::fe::simulate::ContactSettings;
 use crate::rom::{Query, Surrogate, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
@@ -73,7 +73,7 @@ pub struct FeVerification {
 pub fn fe_material(p: &OgdenSet) -> Result<Material, CalibrateError> {
     let law = Ogden2::new(p.mu1_mpa, p.alpha1, p.mu2_mpa, p.alpha2)
         .map_err(|e| CalibrateError::input("material", p.spec(), &e.to_string()))?;
-    Material::new(MaterialLaw::Ogden(law), 1000.0)
+    Material::new(MaterialLaw::Ogden(law), DEFAULT_BULK_RATIO)
         .map_err(|e| CalibrateError::input("material", p.spec(), &e.to_string()))
 }
 

@@ -378,6 +378,32 @@ pub struct MeshOptions {
 }
 
 impl MeshOptions {
+    /// Checks the overrides: an element size in (0.2, 50] mm, 1 to 8 elements through a wall.
+    ///
+    /// # Errors
+    /// [`crate::fe::InvalidSetting`] naming `element_size` or `wall_elements`.
+    pub fn validate(&self) -> Result<(), crate::fe::InvalidSetting> {
+        if let Some(h) = self.element_size {
+            if !(h.is_finite() && h > 0.2 && h <= 50.0) {
+                return Err(crate::fe::InvalidSetting::new(
+                    "element_size",
+                    h,
+                    "an element size in (0.2, 50] mm",
+                ));
+            }
+        }
+        if let Some(k) = self.wall_elements {
+            if !(1..=8).contains(&k) {
+                return Err(crate::fe::InvalidSetting::new(
+                    "wall_elements",
+                    k as f64,
+                    "1 to 8 elements through a wall",
+                ));
+            }
+        }
+        Ok(())
+    }
+
     /// Options of a level without override.
     pub fn level(level: MeshLevel) -> Self {
         Self {
@@ -544,6 +570,19 @@ impl ActuatorMesh {
 mod tests {
     use super::*;
     use crate::fe::geometry::DesignParams;
+
+    #[test]
+    fn mesh_options_name_the_bad_override() {
+        let mut o = MeshOptions::level(MeshLevel::Coarse);
+        o.validate().expect("a level without override");
+        o.element_size = Some(0.1);
+        assert_eq!(o.validate().unwrap_err().field, "element_size");
+        o.element_size = Some(2.0);
+        o.wall_elements = Some(0);
+        assert_eq!(o.validate().unwrap_err().field, "wall_elements");
+        o.wall_elements = Some(3);
+        o.validate().expect("valid overrides");
+    }
 
     #[test]
     fn face_nodes_are_outward() {

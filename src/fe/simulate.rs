@@ -120,6 +120,9 @@ pub enum SimulateError {
     /// Invalid contact settings.
     #[error(transparent)]
     Contact(#[from] ContactError),
+    /// A setting out of range (solver, mesh).
+    #[error(transparent)]
+    Setting(#[from] crate::fe::InvalidSetting),
     /// Invalid pressure list.
     #[error("pressure {value} bar at position {} of the list is invalid: expected {expected}", .index + 1)]
     Pressure {
@@ -159,6 +162,24 @@ pub struct Case {
     pub mode: Mode,
     /// Contact settings.
     pub contact: ContactSettings,
+}
+
+impl Case {
+    /// Checks the case before any FE work: pressures ([`validate_pressures`]), mesh options,
+    /// solver settings and contact settings. The design and the material validate themselves
+    /// when they are built ([`DesignParams::validate`](super::geometry::DesignParams::validate),
+    /// [`Material::new`]).
+    ///
+    /// # Errors
+    /// [`SimulateError::Pressure`], [`SimulateError::Setting`] (field `mesh.…` or
+    /// `solver.…`) or [`SimulateError::Contact`] for the first invalid entry.
+    pub fn validate(&self) -> Result<(), SimulateError> {
+        validate_pressures(&self.pressures_bar)?;
+        self.mesh.validate().map_err(|e| e.within("mesh."))?;
+        self.solver.validate().map_err(|e| e.within("solver."))?;
+        self.contact.validate()?;
+        Ok(())
+    }
 }
 
 /// A marker's displacement in the tables' convention, as every JSON output writes it:
@@ -643,7 +664,7 @@ pub fn simulate_with(
     mut on_result: impl FnMut(&ActuatorModel, &StepResult, &[f64]),
 ) -> Result<Response, SimulateError> {
     let start = Instant::now();
-    validate_pressures(&case.pressures_bar)?;
+    case.validate()?;
     let mut model = ActuatorModel::new(
         &case.design,
         &case.material,

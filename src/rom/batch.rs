@@ -23,7 +23,7 @@ use serde::Serialize;
 use super::domain::{BatchDomainReport, DomainViolation};
 use super::surrogate::{Query, Surrogate};
 use super::{RomError, QUANTITY_NAMES};
-use crate::fe::material::Material;
+use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::simulate::Marker;
 
 /// Ogden parameters `[μ₁, α₁, μ₂, α₂]` of a material spec (a literature name or four numbers
@@ -33,7 +33,7 @@ use crate::fe::simulate::Marker;
 /// Unknown name, malformed numbers, an inadmissible set, or a non-Ogden law (the surrogate is
 /// parametrised by the Ogden constants).
 pub fn material_params(spec: &str) -> Result<[f64; 4], RomError> {
-    let material = Material::from_spec(spec.trim(), 1000.0)
+    let material = Material::from_spec(spec.trim(), DEFAULT_BULK_RATIO)
         .map_err(|e| RomError::invalid("material", spec, &e.to_string()))?;
     material.ogden_params().ok_or_else(|| {
         RomError::invalid(

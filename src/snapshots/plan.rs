@@ -136,7 +136,7 @@ impl Default for PlanSettings {
             pressures_bar: (0..=14).map(|i| f64::from(i) * 0.25).collect(),
             gravity: true,
             mesh: MeshOptions::level(MeshLevel::Standard),
-            bulk_ratio: 1000.0,
+            bulk_ratio: crate::fe::material::DEFAULT_BULK_RATIO,
             solver: SolverSettings::default(),
             contact: ContactSettings::default(),
         }
@@ -382,28 +382,26 @@ impl PlanSettings {
                 "a finite number > 0 (κ/μ0)",
             ));
         }
-        if let Some(h) = self.mesh.element_size {
-            if !(h.is_finite() && h > 0.2 && h <= 50.0) {
-                return Err(SnapshotError::field(
-                    "settings.mesh.element_size",
-                    h,
-                    "null or an element size in (0.2, 50] mm",
-                ));
-            }
-        }
-        let s = &self.solver;
-        if !(s.rtol.is_finite() && s.rtol > 0.0 && s.rtol < 1.0) {
+        let named = |e: crate::fe::InvalidSetting, prefix: &str| {
+            SnapshotError::field(format!("{prefix}{}", e.field), e.value, &e.expected)
+        };
+        self.mesh
+            .validate()
+            .map_err(|e| named(e, "settings.mesh."))?;
+        self.solver
+            .validate()
+            .map_err(|e| named(e, "settings.solver."))?;
+        if let Err(crate::fe::contact::ContactError::OutOfRange {
+            field,
+            value,
+            expected,
+        }) = self.contact.validate()
+        {
+            let field = field.trim_start_matches("contact ");
             return Err(SnapshotError::field(
-                "settings.solver.rtol",
-                s.rtol,
-                "a tolerance in (0, 1)",
-            ));
-        }
-        if s.max_iterations == 0 {
-            return Err(SnapshotError::field(
-                "settings.solver.max_iterations",
-                0,
-                "at least 1",
+                format!("settings.contact.{field}"),
+                value,
+                &expected,
             ));
         }
         Ok(())

@@ -246,7 +246,7 @@ pub struct SimulateArgs {
     #[arg(long, default_value = "ogden_002")]
     pub material: String,
     /// Bulk modulus as a multiple of the initial shear modulus.
-    #[arg(long, default_value_t = 1000.0)]
+    #[arg(long, default_value_t = surrogate::fe::material::DEFAULT_BULK_RATIO)]
     pub bulk_ratio: f64,
     /// Switch self-weight off.
     #[arg(long)]

@@ -17,7 +17,7 @@ use surrogate::calibrate::experiments::{bending_error, shipped_bending, BendingR
 use surrogate::calibrate::verify::{cached_verification, fe_material, FeVerification};
 use surrogate::calibrate::{calibrate, Calibration, CalibrationSettings, Recordings};
 use surrogate::fe::geometry::DesignParams;
-use surrogate::fe::material::Material;
+use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::simulate::{simulate_with_progress, Case, ContactSettings, Mode, StepResult};
 use surrogate::fe::solver::SolverSettings;
@@ -70,7 +70,7 @@ pub fn run(a: DemoArgs) -> Result<()> {
     let material = if a.material == "calibrated" {
         fe_material(&verified)?
     } else {
-        Material::from_spec(&a.material, 1000.0)?
+        Material::from_spec(&a.material, DEFAULT_BULK_RATIO)?
     };
     live(&a, level, material, &cal)?;
     for p in written {

@@ -17,30 +17,12 @@ use crate::args::{ModeArg, SimulateArgs};
 fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result<Case> {
     let design = DesignParams::new(a.n, a.t).validate()?;
     let material = Material::from_spec(&a.material, a.bulk_ratio)?;
-    if let Some(h) = a.element_size {
-        anyhow::ensure!(
-            h.is_finite() && h > 0.2 && h <= 50.0,
-            "--element-size {h}: expected an element size in (0.2, 50] mm"
-        );
-    }
-    if let Some(k) = a.wall_elements {
-        anyhow::ensure!(
-            (1..=8).contains(&k),
-            "--wall-elements {k}: expected 1 to 8 elements through a wall"
-        );
-    }
-    anyhow::ensure!(
-        a.rtol.is_finite() && a.rtol > 0.0 && a.rtol < 1e-2,
-        "--rtol {}: expected a residual tolerance in (0, 1e-2)",
-        a.rtol
-    );
-    surrogate::fe::simulate::validate_pressures(&pressures)?;
     anyhow::ensure!(
         a.max_increment.is_finite() && a.max_increment > 0.0 && a.max_increment <= 5.0,
         "--max-increment {}: expected a pressure increment in (0, 5] bar",
         a.max_increment
     );
-    Ok(Case {
+    let case = Case {
         design,
         material,
         pressures_bar: pressures,
@@ -71,7 +53,22 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
             smoothing: a.contact_smoothing,
             closest_point: a.closest_point_contact,
         },
-    })
+    };
+    case.validate().map_err(|e| match e {
+        // name the command-line flag
+        surrogate::fe::simulate::SimulateError::Setting(s) => {
+            let flag = match s.field.as_str() {
+                "mesh.element_size" => "--element-size",
+                "mesh.wall_elements" => "--wall-elements",
+                "solver.rtol" => "--rtol",
+                "solver.augmented_updates" => "--augmented",
+                other => other,
+            };
+            anyhow::anyhow!("{flag} {}: expected {}", s.value, s.expected)
+        }
+        other => other.into(),
+    })?;
+    Ok(case)
 }
 
 fn run_case(case: &Case, vtk_dir: Option<&PathBuf>, label: &str) -> Result<Response> {

@@ -149,7 +149,7 @@ pub struct PlanArgs {
     #[arg(long)]
     pub element_size: Option<f64>,
     /// Bulk modulus as a multiple of μ0.
-    #[arg(long, default_value_t = 1000.0)]
+    #[arg(long, default_value_t = surrogate::fe::material::DEFAULT_BULK_RATIO)]
     pub bulk_ratio: f64,
     /// Switch self-weight off.
     #[arg(long)]

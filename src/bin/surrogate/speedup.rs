@@ -14,7 +14,7 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use surrogate::fe::geometry::DesignParams;
-use surrogate::fe::material::Material;
+use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::simulate::{simulate_with_progress, Case, ContactSettings, Mode};
 use surrogate::fe::solver::SolverSettings;
@@ -62,7 +62,7 @@ pub fn run(model: &Surrogate, a: &PredictArgs, mesh: &str, out: &Path) -> Result
     }
     let case = Case {
         design: DesignParams::new(n as usize, t).validate()?,
-        material: Material::from_spec(&spec, 1000.0)?,
+        material: Material::from_spec(&spec, DEFAULT_BULK_RATIO)?,
         pressures_bar: fe_pressures,
         gravity: true,
         mesh: MeshOptions::level(level),

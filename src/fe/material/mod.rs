@@ -43,6 +43,10 @@ use nalgebra::{Matrix3, SMatrix};
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+/// The bulk modulus of every shipped result as a multiple of the initial shear modulus,
+/// `κ = 1000 μ0`: nearly incompressible, as the printed elastomer (`docs/MODEL.md`).
+pub const DEFAULT_BULK_RATIO: f64 = 1000.0;
+
 /// Fourth-order tangent as a 9×9 matrix: `A[(3*i + J, 3*k + L)] = ∂P_iJ / ∂F_kL`.
 pub type Tangent9 = SMatrix<f64, 9, 9>;
 

@@ -1,176 +1,33 @@
-//! Global assembly: degrees of freedom, the sparse pattern (lower triangle, CSC) and the
-//! parallel, thread-count-independent assembly of residual and tangent.
+//! The discretised model ([`FeModel`]) and its global assembly of residual and tangent.
 //!
 //! The residual is `r(u) = f_int(u) + f_pressure(u) − λ_g f_gravity − λ_t f_traction`
-//! (pressure enters `r` with its follower sign, see [`super::loads`]). Elements are assembled
-//! colour by colour: two elements of one colour share no node, so their writes never collide
-//! and every matrix entry receives its contributions in the same order whatever the number of
-//! threads.
+//! (pressure enters `r` with its follower sign, see [`super::loads`]), plus contact. It is
+//! the sum of physical terms, one file each under [`terms`]; [`scatter`] adds their local
+//! systems into the global arrays, colour by colour, so that results do not depend on the
+//! number of threads; [`dofs`] numbers the unknowns and lays out the sparse pattern.
 
-// Index loops mirror the tensor index notation of the equations above (a, b: nodes;
+// Index loops mirror the tensor index notation of the equations (a, b: nodes;
 // i, j, k, l: components); iterator chains would hide it.
 #![allow(clippy::needless_range_loop)]
+
+pub mod dofs;
+pub mod scatter;
+pub mod terms;
 
 use std::sync::atomic::{AtomicU64, Ordering};
 
 use rayon::prelude::*;
-use serde::{Deserialize, Serialize};
+
+pub use dofs::{pair_couplings, Constraint, DofMap, Pattern};
+pub use terms::{ElementContext, ElementTerm, LocalSystem, ELEMENT_TERMS};
 
 use super::contact::{self, ContactError, FacePair, PairSettings, RigidPlane, PAIR_DOFS};
-use super::element::{self, ElementError, ElementGeometry, ElementWork, DOFS};
-use super::loads;
+use super::element::{self, ElementError, ElementGeometry, DOFS};
 use super::material::Material;
 use super::mesh::{face_local_nodes, Face, Mesh};
-
-/// A prescribed displacement component: `u[node][comp] = λ_u · value`.
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct Constraint {
-    /// Node id.
-    pub node: usize,
-    /// Component 0..3.
-    pub comp: usize,
-    /// Prescribed value at full load.
-    pub value: f64,
-}
-
-/// Map from global dofs (3·node + comp) to free equation numbers.
-#[derive(Clone, Debug)]
-pub struct DofMap {
-    /// Free equation number of each dof (`u32::MAX` if constrained).
-    pub free: Vec<u32>,
-    /// Number of free equations.
-    pub n_free: usize,
-    /// Constrained dofs with their full-load values.
-    pub constrained: Vec<(usize, f64)>,
-}
-
-impl DofMap {
-    /// Numbers the free dofs node by node.
-    pub fn new(n_nodes: usize, constraints: &[Constraint]) -> Self {
-        let mut value = vec![None; 3 * n_nodes];
-        for c in constraints {
-            value[3 * c.node + c.comp] = Some(c.value);
-        }
-        let mut free = vec![u32::MAX; 3 * n_nodes];
-        let mut n_free = 0;
-        let mut constrained = Vec::new();
-        for (d, v) in value.iter().enumerate() {
-            match v {
-                None => {
-                    free[d] = n_free as u32;
-                    n_free += 1;
-                }
-                Some(v) => constrained.push((d, *v)),
-            }
-        }
-        Self {
-            free,
-            n_free,
-            constrained,
-        }
-    }
-    /// Free equation of dof `d`, if free.
-    #[inline]
-    pub fn eq(&self, d: usize) -> Option<usize> {
-        let f = self.free[d];
-        (f != u32::MAX).then_some(f as usize)
-    }
-}
-
-/// Lower-triangular CSC pattern of the free equations with per-element scatter maps.
-#[derive(Clone, Debug)]
-pub struct Pattern {
-    /// Column pointers.
-    pub col_ptr: Vec<usize>,
-    /// Row indices (sorted within each column, rows ≥ column).
-    pub row_idx: Vec<usize>,
-    /// For each element, position in the value array of local entry (r, c) (row-major 81×81),
-    /// `u32::MAX` if not stored (constrained, or above the diagonal).
-    pub element_map: Vec<Vec<u32>>,
-}
-
-impl Pattern {
-    /// Builds the pattern of a mesh plus extra node couplings (e.g. contact pairs).
-    pub fn new(mesh: &Mesh, dofs: &DofMap, extra: &[(usize, usize)]) -> Self {
-        let n_nodes = mesh.n_nodes();
-        let mut adj: Vec<Vec<usize>> = vec![Vec::new(); n_nodes];
-        for conn in &mesh.elements {
-            for &a in conn {
-                adj[a].extend_from_slice(conn);
-            }
-        }
-        for &(a, b) in extra {
-            adj[a].push(b);
-            adj[b].push(a);
-        }
-        for l in adj.iter_mut() {
-            l.sort_unstable();
-            l.dedup();
-        }
-        let mut col_ptr = vec![0usize; dofs.n_free + 1];
-        let mut row_idx = Vec::new();
-        // columns in increasing free order: free numbering is node-major, so iterate nodes.
-        let mut rows = Vec::new();
-        for n in 0..n_nodes {
-            for c in 0..3 {
-                let Some(col) = dofs.eq(3 * n + c) else {
-                    continue;
-                };
-                rows.clear();
-                for &m in &adj[n] {
-                    for k in 0..3 {
-                        if let Some(r) = dofs.eq(3 * m + k) {
-                            if r >= col {
-                                rows.push(r);
-                            }
-                        }
-                    }
-                }
-                rows.sort_unstable();
-                row_idx.extend_from_slice(&rows);
-                col_ptr[col + 1] = row_idx.len();
-            }
-        }
-        let mut pat = Self {
-            col_ptr,
-            row_idx,
-            element_map: Vec::new(),
-        };
-        pat.element_map = mesh
-            .elements
-            .par_iter()
-            .map(|conn| {
-                let mut map = vec![u32::MAX; DOFS * DOFS];
-                for (r, slot_row) in map.chunks_mut(DOFS).enumerate() {
-                    let Some(gr) = dofs.eq(3 * conn[r / 3] + r % 3) else {
-                        continue;
-                    };
-                    for (c, slot) in slot_row.iter_mut().enumerate() {
-                        let Some(gc) = dofs.eq(3 * conn[c / 3] + c % 3) else {
-                            continue;
-                        };
-                        if gr >= gc {
-                            *slot = pat.position(gr, gc).unwrap_or(u32::MAX as usize) as u32;
-                        }
-                    }
-                }
-                map
-            })
-            .collect();
-        pat
-    }
-
-    /// Position of entry (row, col) (row ≥ col) in the value array.
-    pub fn position(&self, row: usize, col: usize) -> Option<usize> {
-        let (s, e) = (self.col_ptr[col], self.col_ptr[col + 1]);
-        self.row_idx[s..e].binary_search(&row).ok().map(|p| s + p)
-    }
-
-    /// Number of stored entries.
-    pub fn nnz(&self) -> usize {
-        self.row_idx.len()
-    }
-}
+use scatter::{ColouredScatter, GlobalSystem};
+use serde::{Deserialize, Serialize};
+use terms::{dead_load, pair_contact};
 
 /// A pressurised face attached to its element.
 #[derive(Clone, Copy, Debug)]
@@ -244,6 +101,8 @@ pub struct FeModel {
     plane_shifts: Vec<Vec<[AtomicU64; 9]>>,
     /// Gap shifts of the face pairs.
     pair_shifts: Vec<[AtomicU64; 9]>,
+    /// Element terms added to this model after [`terms::ELEMENT_TERMS`].
+    extra_terms: Vec<Box<dyn ElementTerm>>,
 }
 
 fn load_shifts(a: &[AtomicU64; 9]) -> [f64; 9] {
@@ -266,19 +125,6 @@ pub struct ShiftUpdate {
     pub applied: bool,
 }
 
-/// Node couplings that a list of face pairs adds to the sparse pattern.
-pub fn pair_couplings(pairs: &[FacePair]) -> Vec<(usize, usize)> {
-    let mut out = Vec::with_capacity(pairs.len() * 81);
-    for p in pairs {
-        for &a in &p.back {
-            for &b in &p.front {
-                out.push((a, b));
-            }
-        }
-    }
-    out
-}
-
 /// Largest number of rigid planes in one model.
 pub const MAX_PLANES: usize = 4;
 
@@ -297,25 +143,6 @@ pub struct AssemblyInfo {
     pub pair_force: f64,
     /// Smallest gap at a quadrature point of the face pairs (mm).
     pub pair_min_gap: f64,
-}
-
-/// Energy, plane forces and smallest plane gaps of one element.
-type ElementOutput = (f64, [f64; MAX_PLANES], [f64; MAX_PLANES]);
-
-struct SharedMut(*mut f64);
-// SAFETY: used only for writes that are disjoint within one colour (see `assemble`).
-unsafe impl Send for SharedMut {}
-unsafe impl Sync for SharedMut {}
-
-impl SharedMut {
-    /// Adds `v` at offset `i`.
-    ///
-    /// # Safety
-    /// `i` must be in bounds and no other thread may access offset `i` concurrently.
-    #[inline]
-    unsafe fn add(&self, i: usize, v: f64) {
-        *self.0.add(i) += v;
-    }
 }
 
 impl FeModel {
@@ -366,6 +193,7 @@ impl FeModel {
                 closest_point: false,
             },
             pair_maps: Vec::new(),
+            extra_terms: Vec::new(),
             mesh,
         })
     }
@@ -441,6 +269,21 @@ impl FeModel {
             self.plane_shifts[f.element].push(zero_shifts());
         }
         Ok(index)
+    }
+
+    /// Adds an element term (evaluated after [`terms::ELEMENT_TERMS`], in the order added).
+    pub fn add_element_term(&mut self, term: Box<dyn ElementTerm>) {
+        self.extra_terms.push(term);
+    }
+
+    /// Names of the element terms this model assembles, in evaluation order.
+    pub fn element_term_names(&self) -> Vec<&'static str> {
+        ELEMENT_TERMS
+            .iter()
+            .copied()
+            .chain(self.extra_terms.iter().map(|t| &**t))
+            .map(|t| t.name())
+            .collect()
     }
 
     /// Sets the gravity load from a body force per unit reference volume (ρ·g vector).
@@ -711,216 +554,68 @@ impl FeModel {
             k.iter_mut().for_each(|v| *v = 0.0);
         }
         let with_k = k_values.is_some();
-        let k_ptr = SharedMut(k_values.map_or(std::ptr::null_mut(), |k| k.as_mut_ptr()));
-        let r_ptr = SharedMut(r_full.as_mut_ptr());
         let mut p_full = vec![0.0; r_full.len()];
-        let p_ptr = SharedMut(p_full.as_mut_ptr());
         let mut energy = 0.0;
         let mut plane_forces = [0.0; MAX_PLANES];
         let mut plane_min_gaps = [f64::INFINITY; MAX_PLANES];
-        for color in &self.mesh.colors {
-            let results: Vec<Result<ElementOutput, ElementError>> = color
-                .par_iter()
-                .map_init(
-                    || {
-                        let mut w = ElementWork::default();
-                        w.with_energy = with_energy;
-                        w
-                    },
-                    |work, &e| {
-                        work.tangent_pressure = tangent_pressure.map(|t| t[e]);
-                        let conn = &self.mesh.elements[e];
-                        let ue: [[f64; 3]; 27] =
-                            conn.map(|n| [u[3 * n], u[3 * n + 1], u[3 * n + 2]]);
-                        let mut en = element::residual_tangent(
-                            e,
-                            &self.geometry[e],
-                            &ue,
-                            &self.material,
-                            with_k,
-                            work,
-                        )?;
-                        let mut fp = [0.0; DOFS];
-                        for pf in &self.pressure_faces[e] {
-                            let xf: [[f64; 3]; 9] = pf.local.map(|l| {
-                                let x0 = self.mesh.nodes[conn[l]];
-                                [x0[0] + ue[l][0], x0[1] + ue[l][1], x0[2] + ue[l][2]]
-                            });
-                            let mut rf = [0.0; 27];
-                            let mut kf = [0.0; 729];
-                            let p = level.pressure * pf.scale;
-                            loads::pressure_face(p, &xf, &mut rf, with_k.then_some(&mut kf));
-                            if with_energy {
-                                let o = self.pressure_origin;
-                                let rel = xf.map(|x| [x[0] - o[0], x[1] - o[1], x[2] - o[2]]);
-                                en += p * loads::face_volume(&rel);
-                            }
-                            for (a, &la) in pf.local.iter().enumerate() {
-                                for i in 0..3 {
-                                    work.r[3 * la + i] += rf[3 * a + i];
-                                    fp[3 * la + i] += rf[3 * a + i];
-                                    if with_k {
-                                        for (b, &lb) in pf.local.iter().enumerate() {
-                                            for c in 0..3 {
-                                                work.k[(3 * la + i) * DOFS + 3 * lb + c] +=
-                                                    kf[(3 * a + i) * 27 + 3 * b + c];
-                                            }
-                                        }
-                                    }
-                                }
-                            }
-                        }
-                        let mut forces = [0.0; MAX_PLANES];
-                        let mut gaps = [f64::INFINITY; MAX_PLANES];
-                        for ((pi, local), shift) in
-                            self.contact_faces[e].iter().zip(&self.plane_shifts[e])
-                        {
-                            let x0: [[f64; 3]; 9] = local.map(|l| self.mesh.nodes[conn[l]]);
-                            let xf: [[f64; 3]; 9] = std::array::from_fn(|a| {
-                                let l = local[a];
-                                [
-                                    x0[a][0] + ue[l][0],
-                                    x0[a][1] + ue[l][1],
-                                    x0[a][2] + ue[l][2],
-                                ]
-                            });
-                            let mut rf = [0.0; 27];
-                            let mut kf = [0.0; 729];
-                            let (ce, cf, cg) = contact::plane_face(
-                                &self.planes[*pi],
-                                &x0,
-                                &xf,
-                                &load_shifts(shift),
-                                &mut rf,
-                                with_k.then_some(&mut kf),
-                            );
-                            if with_energy {
-                                en += ce;
-                            }
-                            forces[*pi] += cf;
-                            gaps[*pi] = gaps[*pi].min(cg);
-                            for (a, &la) in local.iter().enumerate() {
-                                for i in 0..3 {
-                                    work.r[3 * la + i] += rf[3 * a + i];
-                                    if with_k {
-                                        for (b, &lb) in local.iter().enumerate() {
-                                            for c in 0..3 {
-                                                work.k[(3 * la + i) * DOFS + 3 * lb + c] +=
-                                                    kf[(3 * a + i) * 27 + 3 * b + c];
-                                            }
-                                        }
-                                    }
-                                }
-                            }
-                        }
-                        // SAFETY: elements of one colour share no node, so the dofs and matrix
-                        // entries written here are written by no other task of this colour.
-                        unsafe {
-                            for (l, &n) in conn.iter().enumerate() {
-                                for i in 0..3 {
-                                    r_ptr.add(3 * n + i, work.r[3 * l + i]);
-                                    p_ptr.add(3 * n + i, fp[3 * l + i]);
-                                }
-                            }
-                            if with_k {
-                                let map = &self.pattern.element_map[e];
-                                for (pos, kv) in map.iter().zip(work.k.iter()) {
-                                    if *pos != u32::MAX {
-                                        k_ptr.add(*pos as usize, *kv);
-                                    }
-                                }
-                            }
-                        }
-                        Ok((en, forces, gaps))
-                    },
-                )
-                .collect();
-            for r in results {
-                let (en, forces, gaps) = r?;
+        let mut global = GlobalSystem {
+            residual: r_full,
+            external: &mut p_full,
+            tangent: k_values,
+        };
+        let scatter = ColouredScatter {
+            colors: &self.mesh.colors,
+            elements: &self.mesh.elements,
+            maps: &self.pattern.element_map,
+        };
+        scatter.run(
+            &mut global,
+            || LocalSystem::new(with_energy),
+            |local, e| {
+                let conn = &self.mesh.elements[e];
+                let cx = ElementContext {
+                    element: e,
+                    conn,
+                    ue: conn.map(|n| [u[3 * n], u[3 * n + 1], u[3 * n + 2]]),
+                    level,
+                    with_tangent: with_k,
+                    with_energy,
+                    mixed: tangent_pressure.map(|t| t[e]),
+                };
+                local.external = [0.0; DOFS];
+                local.plane_forces = [0.0; MAX_PLANES];
+                local.plane_gaps = [f64::INFINITY; MAX_PLANES];
+                let extra = self.extra_terms.iter().map(|t| &**t);
+                for term in ELEMENT_TERMS.iter().copied().chain(extra) {
+                    term.add(self, &cx, local)?;
+                }
+                Ok((local.energy, local.plane_forces, local.plane_gaps))
+            },
+            |(en, forces, gaps)| {
                 energy += en;
                 for i in 0..MAX_PLANES {
                     plane_forces[i] += forces[i];
                     plane_min_gaps[i] = plane_min_gaps[i].min(gaps[i]);
                 }
-            }
-        }
-        let mut pair_force = 0.0;
-        let mut pair_min_gap = f64::INFINITY;
-        if !self.pairs.is_empty() {
-            let pos = |n: usize| {
-                let x = self.mesh.nodes[n];
-                [x[0] + u[3 * n], x[1] + u[3 * n + 1], x[2] + u[3 * n + 2]]
-            };
-            type PairOut = (f64, f64, f64, Option<Box<([f64; PAIR_DOFS], Vec<f64>)>>);
-            let results: Vec<PairOut> = self
-                .pairs
-                .par_iter()
-                .zip(&self.pair_shifts)
-                .map(|(p, shift)| {
-                    let x0b = p.back.map(|n| self.mesh.nodes[n]);
-                    let xb = p.back.map(pos);
-                    let xf = p.front.map(pos);
-                    let mut r = [0.0; PAIR_DOFS];
-                    let mut k = with_k.then(|| Box::new([0.0; PAIR_DOFS * PAIR_DOFS]));
-                    let (e, f, g) = contact::pair_face(
-                        &self.pair_settings,
-                        p.orientation,
-                        &x0b,
-                        &xb,
-                        &xf,
-                        &load_shifts(shift),
-                        &mut r,
-                        k.as_deref_mut(),
-                    );
-                    let active = r.iter().any(|v| *v != 0.0)
-                        || k.as_ref().is_some_and(|k| k.iter().any(|v| *v != 0.0));
-                    let local = active.then(|| Box::new((r, k.map_or(Vec::new(), |k| k.to_vec()))));
-                    (e, f, g, local)
-                })
-                .collect();
-            for (p, (i, (e, f, g, local))) in self.pairs.iter().zip(results.into_iter().enumerate())
-            {
-                if with_energy {
-                    energy += e;
-                }
-                pair_force += f;
-                pair_min_gap = pair_min_gap.min(g);
-                let Some(local) = local else { continue };
-                let (r, k) = &*local;
-                for (l, &n) in p.back.iter().chain(&p.front).enumerate() {
-                    for c in 0..3 {
-                        r_full[3 * n + c] += r[3 * l + c];
-                    }
-                }
-                if with_k {
-                    // SAFETY: no other thread writes here (serial loop after the colours).
-                    for (slot, kv) in self.pair_maps[i].iter().zip(k.iter()) {
-                        if *slot != u32::MAX {
-                            unsafe { k_ptr.add(*slot as usize, *kv) };
-                        }
-                    }
-                }
-            }
-        }
-        let mut ext2 = 0.0;
-        for d in 0..r_full.len() {
-            let dead = level.gravity * self.f_gravity[d] + level.traction * self.f_traction[d];
-            r_full[d] -= dead;
-            if with_energy {
-                energy -= dead * u[d];
-            }
-            if self.dofs.eq(d).is_some() {
-                let f = dead - p_full[d];
-                ext2 += f * f;
-            }
-        }
+                Ok::<(), ElementError>(())
+            },
+        )?;
+        let pairs = pair_contact::add(self, u, with_energy.then_some(&mut energy), &mut global);
+        let ext2 = dead_load::add(
+            self,
+            u,
+            level,
+            &p_full,
+            with_energy.then_some(&mut energy),
+            r_full,
+        );
         Ok(AssemblyInfo {
             energy,
             external_norm: ext2.sqrt(),
             plane_forces,
             plane_min_gaps,
-            pair_force,
-            pair_min_gap,
+            pair_force: pairs.force,
+            pair_min_gap: pairs.min_gap,
         })
     }
 

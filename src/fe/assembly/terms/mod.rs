@@ -1,0 +1,301 @@
+//! The physical terms of the residual and tangent, one file each.
+//!
+//! | term | file | kind |
+//! |---|---|---|
+//! | hyperelastic volume (Ogden, Mooney–Rivlin, neo-Hookean; mixed u–θ–π) | [`volume`] | element |
+//! | follower pressure on the cavity faces | [`pressure`] | element |
+//! | contact with rigid planes (the clamp block, the force plate) | [`plane_contact`] | element |
+//! | deformable–deformable contact between facing bellow walls | [`pair_contact`] | face pair |
+//! | gravity and dead tractions | [`dead_load`] | load vector |
+//!
+//! An element term adds its contribution of one element to that element's local system
+//! ([`LocalSystem`]); the assembly evaluates [`ELEMENT_TERMS`] and then the model's added terms
+//! ([`FeModel::add_element_term`]) on every element, in that order, and scatters the sum once.
+//! A new physical term is one new file implementing [`ElementTerm`] and one entry in that list
+//! (or one call to `add_element_term` where a case builds its model).
+
+pub mod dead_load;
+pub mod pair_contact;
+pub mod plane_contact;
+pub mod pressure;
+pub mod volume;
+
+use super::scatter::LocalVectors;
+use super::{FeModel, LoadLevel, MAX_PLANES};
+use crate::fe::element::{ElementError, ElementWork, DOFS};
+
+/// The state of one element that a term sees.
+pub struct ElementContext<'a> {
+    /// Element id.
+    pub element: usize,
+    /// Its nodes.
+    pub conn: &'a [usize; 27],
+    /// Displacements of its nodes.
+    pub ue: [[f64; 3]; 27],
+    /// The load level.
+    pub level: &'a LoadLevel,
+    /// Whether the tangent is wanted.
+    pub with_tangent: bool,
+    /// Whether the potential energy is wanted.
+    pub with_energy: bool,
+    /// The mixed Newton iteration's element pressures for the tangent (see
+    /// [`crate::fe::element::linearised_pressure`]).
+    pub mixed: Option<[f64; 4]>,
+}
+
+impl ElementContext<'_> {
+    /// Current position of local node `l`.
+    pub fn position(&self, model: &FeModel, l: usize) -> [f64; 3] {
+        let x0 = model.mesh.nodes[self.conn[l]];
+        [
+            x0[0] + self.ue[l][0],
+            x0[1] + self.ue[l][1],
+            x0[2] + self.ue[l][2],
+        ]
+    }
+}
+
+/// One element's local system: what every term adds to.
+pub struct LocalSystem {
+    /// Residual and row-major 81 × 81 tangent (with the volume term's scratch).
+    pub work: ElementWork,
+    /// External force from the follower pressure, per local dof.
+    pub external: [f64; DOFS],
+    /// Potential energy (when asked for).
+    pub energy: f64,
+    /// Normal force of each rigid plane on this element (N).
+    pub plane_forces: [f64; MAX_PLANES],
+    /// Smallest gap to each rigid plane at this element's contact points (mm).
+    pub plane_gaps: [f64; MAX_PLANES],
+}
+
+impl LocalSystem {
+    /// An empty local system.
+    pub fn new(with_energy: bool) -> Self {
+        let mut work = ElementWork::default();
+        work.with_energy = with_energy;
+        Self {
+            work,
+            external: [0.0; DOFS],
+            energy: 0.0,
+            plane_forces: [0.0; MAX_PLANES],
+            plane_gaps: [f64::INFINITY; MAX_PLANES],
+        }
+    }
+
+    /// Adds a face term's local residual `rf` (9 nodes × 3) and tangent `kf` (27 × 27) at the
+    /// element-local nodes `local`.
+    pub fn add_face(&mut self, local: &[usize; 9], rf: &[f64; 27], kf: Option<&[f64; 729]>) {
+        for (a, &la) in local.iter().enumerate() {
+            for i in 0..3 {
+                self.work.r[3 * la + i] += rf[3 * a + i];
+                if let Some(kf) = kf {
+                    for (b, &lb) in local.iter().enumerate() {
+                        for c in 0..3 {
+                            self.work.k[(3 * la + i) * DOFS + 3 * lb + c] +=
+                                kf[(3 * a + i) * 27 + 3 * b + c];
+                        }
+                    }
+                }
+            }
+        }
+    }
+}
+
+impl LocalVectors for LocalSystem {
+    fn residual(&self) -> &[f64] {
+        &self.work.r
+    }
+    fn external(&self) -> &[f64; DOFS] {
+        &self.external
+    }
+    fn tangent(&self) -> &[f64] {
+        &self.work.k
+    }
+}
+
+/// A physical term evaluated element by element.
+pub trait ElementTerm: Send + Sync {
+    /// Short name (for traces and documentation).
+    fn name(&self) -> &'static str;
+
+    /// Adds the term's contribution of element `cx.element` to `local`. The first term of
+    /// [`ELEMENT_TERMS`] (the volume) sets the local residual and tangent; every later one
+    /// adds to them.
+    ///
+    /// # Errors
+    /// [`ElementError`] if the element is inverted or degenerate.
+    fn add(
+        &self,
+        model: &FeModel,
+        cx: &ElementContext<'_>,
+        local: &mut LocalSystem,
+    ) -> Result<(), ElementError>;
+}
+
+/// The element terms of every model, in evaluation order.
+pub const ELEMENT_TERMS: &[&dyn ElementTerm] = &[
+    &volume::Volume,
+    &pressure::Pressure,
+    &plane_contact::PlaneContact,
+];
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::assembly::Constraint;
+    use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
+    use crate::fe::mesh::{GridMesh, TensorGrid};
+
+    /// A linear spring `k · u` on every node of every element (counted once per element it
+    /// belongs to): an added term in the simplest form.
+    struct Springs(f64);
+
+    impl ElementTerm for Springs {
+        fn name(&self) -> &'static str {
+            "test springs"
+        }
+        fn add(
+            &self,
+            _model: &FeModel,
+            cx: &ElementContext<'_>,
+            local: &mut LocalSystem,
+        ) -> Result<(), ElementError> {
+            for a in 0..27 {
+                for i in 0..3 {
+                    let d = 3 * a + i;
+                    local.work.r[d] += self.0 * cx.ue[a][i];
+                    if cx.with_tangent {
+                        local.work.k[d * DOFS + d] += self.0;
+                    }
+                    if cx.with_energy {
+                        local.energy += 0.5 * self.0 * cx.ue[a][i] * cx.ue[a][i];
+                    }
+                }
+            }
+            Ok(())
+        }
+    }
+
+    fn block() -> FeModel {
+        let line = || vec![0.0, 1.0, 2.0];
+        let mesh = GridMesh::new(
+            TensorGrid {
+                lines: [line(), line(), line()],
+            },
+            |_| true,
+            |s| s,
+        )
+        .mesh;
+        let constraints: Vec<_> = (0..mesh.n_nodes())
+            .filter(|&n| mesh.nodes[n][2] == 0.0)
+            .flat_map(|node| {
+                (0..3).map(move |comp| Constraint {
+                    node,
+                    comp,
+                    value: 0.0,
+                })
+            })
+            .collect();
+        let material = Material::from_spec("ogden_002", DEFAULT_BULK_RATIO).expect("material");
+        FeModel::new(mesh, material, &constraints, &[], &[]).expect("model")
+    }
+
+    /// An added term is assembled after the built-in ones: its residual, tangent and energy
+    /// add exactly to the model's, and the tangent of the sum matches finite differences.
+    #[test]
+    fn an_added_term_adds_its_residual_tangent_and_energy() {
+        let plain = block();
+        let mut sprung = block();
+        let k = 0.37;
+        sprung.add_element_term(Box::new(Springs(k)));
+        assert_eq!(
+            sprung.element_term_names(),
+            ["volume", "pressure", "plane contact", "test springs"]
+        );
+        let n = 3 * plain.mesh.n_nodes();
+        let u: Vec<f64> = (0..n)
+            .map(|d| {
+                let node = plain.mesh.nodes[d / 3];
+                // zero on the clamped face
+                1e-2 * node[2] * ((d as f64) * 0.7).sin()
+            })
+            .collect();
+        let level = LoadLevel::default();
+        let nnz = plain.pattern.nnz();
+        let (mut r0, mut k0) = (vec![0.0; n], vec![0.0; nnz]);
+        let (mut r1, mut k1) = (vec![0.0; n], vec![0.0; nnz]);
+        let i0 = plain
+            .assemble_with_energy(&u, &level, &mut r0, Some(&mut k0))
+            .unwrap();
+        let i1 = sprung
+            .assemble_with_energy(&u, &level, &mut r1, Some(&mut k1))
+            .unwrap();
+        // element multiplicity of each node
+        let mut count = vec![0.0; plain.mesh.n_nodes()];
+        for conn in &plain.mesh.elements {
+            for &a in conn {
+                count[a] += 1.0;
+            }
+        }
+        let mut spring_energy = 0.0;
+        for d in 0..n {
+            let want = r0[d] + k * count[d / 3] * u[d];
+            assert!(
+                (r1[d] - want).abs() <= 1e-12 * (1.0 + want.abs()),
+                "dof {d}"
+            );
+            spring_energy += 0.5 * k * count[d / 3] * u[d] * u[d];
+        }
+        assert!((i1.energy - i0.energy - spring_energy).abs() <= 1e-12 * i0.energy.abs().max(1.0));
+        // the tangent's diagonal gains k per element of the node
+        for d in 0..n {
+            if let Some(e) = plain.dofs.eq(d) {
+                let p = plain.pattern.col_ptr[e];
+                let want = k0[p] + k * count[d / 3];
+                assert!((k1[p] - want).abs() <= 1e-12 * want.abs(), "dof {d}");
+            }
+        }
+        // finite differences of the summed residual along a direction
+        let dir: Vec<f64> = (0..n)
+            .map(|d| {
+                if plain.dofs.eq(d).is_some() {
+                    ((d as f64) * 1.3).cos()
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        let h = 1e-6;
+        let shifted = |s: f64| -> Vec<f64> {
+            let v: Vec<f64> = u.iter().zip(&dir).map(|(a, b)| a + s * b).collect();
+            let mut r = vec![0.0; n];
+            sprung.assemble(&v, &level, &mut r, None).unwrap();
+            r
+        };
+        let (rp, rm) = (shifted(h), shifted(-h));
+        // K · dir from the lower triangle
+        let mut kd = vec![0.0; plain.dofs.n_free];
+        let mut dfree = vec![0.0; plain.dofs.n_free];
+        plain.restrict(&dir, &mut dfree);
+        for col in 0..plain.dofs.n_free {
+            for p in plain.pattern.col_ptr[col]..plain.pattern.col_ptr[col + 1] {
+                let row = plain.pattern.row_idx[p];
+                kd[row] += k1[p] * dfree[col];
+                if row != col {
+                    kd[col] += k1[p] * dfree[row];
+                }
+            }
+        }
+        let mut fd = vec![0.0; n];
+        for d in 0..n {
+            fd[d] = (rp[d] - rm[d]) / (2.0 * h);
+        }
+        let mut fd_free = vec![0.0; plain.dofs.n_free];
+        plain.restrict(&fd, &mut fd_free);
+        let scale = fd_free.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        for (a, b) in kd.iter().zip(&fd_free) {
+            assert!((a - b).abs() <= 1e-5 * scale, "{a} vs {b}");
+        }
+    }
+}

@@ -1,0 +1,34 @@
+//! The hyperelastic volume term: internal forces and tangent of one Q2 hexahedron with the
+//! mixed (u, θ, π) formulation condensed per element ([`crate::fe::element`]), any material
+//! of [`crate::fe::material`]. It opens every element's local system.
+
+use super::{ElementContext, ElementTerm, LocalSystem};
+use crate::fe::assembly::FeModel;
+use crate::fe::element::{self, ElementError};
+
+/// Strain energy of the material: `∫ W(F) dV`.
+pub struct Volume;
+
+impl ElementTerm for Volume {
+    fn name(&self) -> &'static str {
+        "volume"
+    }
+
+    fn add(
+        &self,
+        model: &FeModel,
+        cx: &ElementContext<'_>,
+        local: &mut LocalSystem,
+    ) -> Result<(), ElementError> {
+        local.work.tangent_pressure = cx.mixed;
+        local.energy = element::residual_tangent(
+            cx.element,
+            &model.geometry[cx.element],
+            &cx.ue,
+            &model.material,
+            cx.with_tangent,
+            &mut local.work,
+        )?;
+        Ok(())
+    }
+}

@@ -1,0 +1,270 @@
+//! The sparse direct solver: supernodal LDLᵀ (faer) with its symbolic analysis done once per
+//! model, on the better of two fill-reducing orderings.
+//!
+//! The fill-reducing ordering is the one of AMD and METIS nested dissection
+//! ([`crate::fe::ordering`]) that gives the smaller factor: nested dissection on the standard
+//! mesh, AMD on the coarse one (measurements in `docs/SOLVER_MEASUREMENTS.md`).
+
+use faer::dyn_stack::{MemBuffer, MemStack};
+use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::perm::PermRef;
+use faer::sparse::linalg::cholesky::{
+    factorize_symbolic_cholesky, LdltRef, SymbolicCholesky, SymmetricOrdering,
+};
+use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
+use faer::{Conj, Mat, Side};
+
+use super::problem::NonlinearProblem;
+use super::settings::SolverError;
+
+/// Fill-reducing ordering of a [`LinearSolver`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Ordering {
+    /// faer's approximate minimum degree.
+    MinimumDegree,
+    /// METIS nested dissection on the node graph ([`crate::fe::ordering`]).
+    NestedDissection,
+}
+
+/// Sparse direct solver with a reusable symbolic analysis: supernodal LDLᵀ (faer) on the
+/// lower triangle. LDLᵀ needs no positive definiteness: the tangent of a pressurised
+/// structure away from equilibrium may be indefinite.
+pub struct LinearSolver {
+    n: usize,
+    /// The fill-reducing ordering in use.
+    pub ordering: Ordering,
+    col_ptr: Vec<usize>,
+    row_idx: Vec<usize>,
+    symbolic: SymbolicCholesky<usize>,
+    l_values: Vec<f64>,
+    factor_buf: MemBuffer,
+    solve_buf: MemBuffer,
+    rhs: Mat<f64>,
+    /// Number of factorisations performed.
+    pub factorizations: usize,
+    /// Whether `l_values` holds a complete factor (of the last matrix passed to `solve`).
+    factored: bool,
+}
+
+impl LinearSolver {
+    /// Symbolic analysis (fill-reducing ordering, elimination tree) of the model's pattern.
+    /// Both orderings are analysed, minimum degree and nested dissection, and the one with
+    /// the smaller factor is kept (the choice depends only on the pattern).
+    ///
+    /// # Errors
+    /// [`SolverError::Factorization`] if faer rejects the pattern.
+    pub fn new(model: &impl NonlinearProblem) -> Result<Self, SolverError> {
+        Self::with_ordering(model, None)
+    }
+
+    /// As [`Self::new`] with the given ordering (`None`: the one with the smaller factor).
+    ///
+    /// # Errors
+    /// [`SolverError::Factorization`] if faer rejects the pattern, or METIS fails when nested
+    /// dissection is asked for.
+    pub fn with_ordering(
+        model: &impl NonlinearProblem,
+        choice: Option<Ordering>,
+    ) -> Result<Self, SolverError> {
+        let n = model.n_free();
+        let col_ptr = model.pattern().col_ptr.clone();
+        let row_idx = model.pattern().row_idx.clone();
+        let sym = SymbolicSparseColMatRef::new_checked(n, n, &col_ptr, None, &row_idx);
+        let fail = |e| SolverError::Factorization(format!("{e:?}"));
+        let amd = || {
+            factorize_symbolic_cholesky(sym, Side::Lower, Default::default(), Default::default())
+                .map_err(fail)
+        };
+        let nd = || -> Result<_, SolverError> {
+            let Some(perm) = model.nested_dissection() else {
+                return Ok(None);
+            };
+            let mut inverse = vec![0usize; n];
+            for (new, &old) in perm.iter().enumerate() {
+                inverse[old] = new;
+            }
+            factorize_symbolic_cholesky(
+                sym,
+                Side::Lower,
+                SymmetricOrdering::Custom(PermRef::new_checked(&perm, &inverse, n)),
+                Default::default(),
+            )
+            .map(Some)
+            .map_err(fail)
+        };
+        let (symbolic, ordering) = match choice {
+            Some(Ordering::MinimumDegree) => (amd()?, Ordering::MinimumDegree),
+            Some(Ordering::NestedDissection) => (
+                nd()?.ok_or_else(|| {
+                    SolverError::Factorization("METIS nested dissection failed".into())
+                })?,
+                Ordering::NestedDissection,
+            ),
+            None => {
+                let a = amd()?;
+                match nd()? {
+                    Some(d) if d.len_val() < a.len_val() => (d, Ordering::NestedDissection),
+                    _ => (a, Ordering::MinimumDegree),
+                }
+            }
+        };
+        let par = faer::get_global_parallelism();
+        let factor_buf =
+            MemBuffer::new(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()));
+        let solve_buf = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
+        Ok(Self {
+            n,
+            ordering,
+            l_values: vec![0.0; symbolic.len_val()],
+            col_ptr,
+            row_idx,
+            symbolic,
+            factor_buf,
+            solve_buf,
+            rhs: Mat::zeros(n, 1),
+            factorizations: 0,
+            factored: false,
+        })
+    }
+
+    /// Stored entries of the factor L.
+    pub fn nnz_l(&self) -> usize {
+        self.symbolic.len_val()
+    }
+
+    /// Solves `K x = b` in place, K given by its lower triangle.
+    ///
+    /// # Errors
+    /// [`SolverError::Factorization`] on a zero pivot (singular tangent) or non-finite result.
+    pub fn solve(&mut self, values: &[f64], b: &mut [f64]) -> Result<(), SolverError> {
+        let sym = SymbolicSparseColMatRef::new_checked(
+            self.n,
+            self.n,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        );
+        let mat = SparseColMatRef::new(sym, values);
+        let par = faer::get_global_parallelism();
+        self.factorizations += 1;
+        self.factored = false;
+        self.symbolic
+            .factorize_numeric_ldlt(
+                &mut self.l_values,
+                mat,
+                Side::Lower,
+                LdltRegularization::default(),
+                par,
+                MemStack::new(&mut self.factor_buf),
+                Default::default(),
+            )
+            .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
+        self.factored = true;
+        self.solve_factored(b)
+    }
+
+    /// Whether a factor is available to [`Self::solve_factored`].
+    pub fn has_factor(&self) -> bool {
+        self.factored
+    }
+
+    /// Solves `K x = b` in place with the factor of the last matrix passed to
+    /// [`Self::solve`] (no factorisation).
+    ///
+    /// # Errors
+    /// [`SolverError::Factorization`] if no factor is available or the result is not finite.
+    pub fn solve_factored(&mut self, b: &mut [f64]) -> Result<(), SolverError> {
+        if !self.factored {
+            return Err(SolverError::Factorization(
+                "no factor to reuse: the last factorisation failed or none was made".into(),
+            ));
+        }
+        let par = faer::get_global_parallelism();
+        for (i, v) in b.iter().enumerate() {
+            self.rhs[(i, 0)] = *v;
+        }
+        LdltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
+            Conj::No,
+            self.rhs.as_mut(),
+            par,
+            MemStack::new(&mut self.solve_buf),
+        );
+        for (i, v) in b.iter_mut().enumerate() {
+            *v = self.rhs[(i, 0)];
+            if !v.is_finite() {
+                return Err(SolverError::Factorization(format!(
+                    "non-finite solution at equation {i}"
+                )));
+            }
+        }
+        Ok(())
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::assembly::Constraint;
+    use crate::fe::assembly::{FeModel, LoadLevel};
+    use crate::fe::material::Material;
+    use crate::fe::material::DEFAULT_BULK_RATIO;
+    use crate::fe::mesh::{GridMesh, TensorGrid};
+
+    /// A 4×4×4 block of Q2 hexes clamped at z = 0, loaded by gravity and pressure-free:
+    /// both orderings must give the same Newton step.
+    #[test]
+    fn orderings_give_the_same_solution() {
+        let line = || (0..=4).map(f64::from).collect::<Vec<_>>();
+        let mesh = GridMesh::new(
+            TensorGrid {
+                lines: [line(), line(), line()],
+            },
+            |_| true,
+            |s| s,
+        )
+        .mesh;
+        let constraints: Vec<_> = (0..mesh.n_nodes())
+            .filter(|&n| mesh.nodes[n][2] == 0.0)
+            .flat_map(|node| {
+                (0..3).map(move |comp| Constraint {
+                    node,
+                    comp,
+                    value: 0.0,
+                })
+            })
+            .collect();
+        let material =
+            Material::from_spec("ogden_002", DEFAULT_BULK_RATIO).expect("literature set");
+        let mut fe = FeModel::new(mesh, material, &constraints, &[], &[]).expect("model");
+        fe.set_body_force([0.1, -0.2, 0.3]);
+        let u = vec![0.0; 3 * fe.mesh.n_nodes()];
+        let level = LoadLevel {
+            gravity: 1.0,
+            ..Default::default()
+        };
+        let mut r_full = vec![0.0; u.len()];
+        let mut k = vec![0.0; fe.pattern.nnz()];
+        fe.assemble(&u, &level, &mut r_full, Some(&mut k))
+            .expect("assembly");
+        let mut r = vec![0.0; fe.dofs.n_free];
+        fe.restrict(&r_full, &mut r);
+        let mut x = Vec::new();
+        let mut sizes = Vec::new();
+        for o in [Ordering::MinimumDegree, Ordering::NestedDissection] {
+            let mut ls = LinearSolver::with_ordering(&fe, Some(o)).expect("symbolic");
+            assert_eq!(ls.ordering, o);
+            sizes.push(ls.nnz_l());
+            let mut b = r.clone();
+            ls.solve(&k, &mut b).expect("solve");
+            x.push(b);
+        }
+        let norm = |v: &[f64]| v.iter().map(|x| x * x).sum::<f64>().sqrt();
+        let scale = norm(&x[0]);
+        assert!(scale > 0.0);
+        let diff: Vec<f64> = x[0].iter().zip(&x[1]).map(|(a, b)| a - b).collect();
+        assert!(norm(&diff) <= 1e-10 * scale, "{} vs {scale}", norm(&diff));
+        // the automatic choice keeps the smaller factor
+        let auto = LinearSolver::new(&fe).expect("symbolic");
+        assert_eq!(auto.nnz_l(), sizes[0].min(sizes[1]));
+    }
+}
