@@ -20,8 +20,11 @@
 pub mod calibrate;
 pub mod error;
 pub mod fe;
-pub mod predict;
 pub mod rom;
 pub mod snapshots;
 
 pub use error::{Error, Result};
+
+/// The embedded predictor (`core` only, no allocation): the `surrogate-predict` crate of this
+/// workspace, which a controller depends on directly.
+pub use surrogate_predict as predict;
