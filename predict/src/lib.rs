@@ -708,8 +708,16 @@ mod tests {
         let cases = [
             (EmbeddedError::NonFinite(2), 1, "input P is not finite"),
             (EmbeddedError::NonFinite(9), 1, "input 9 is not finite"),
-            (EmbeddedError::UnknownN, 2, "N is not a trained number of bellows"),
-            (EmbeddedError::Inadmissible, 3, "inadmissible Ogden material"),
+            (
+                EmbeddedError::UnknownN,
+                2,
+                "N is not a trained number of bellows",
+            ),
+            (
+                EmbeddedError::Inadmissible,
+                3,
+                "inadmissible Ogden material",
+            ),
             (EmbeddedError::BadModel, 4, "inconsistent model tables"),
         ];
         for (e, code, text) in cases {
