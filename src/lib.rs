@@ -15,13 +15,26 @@
 //!                         ▼
 //!   calibrate (fit the material to recordings, identifiability, FE verification)
 //! ```
+//!
+//! The embedded predictor is a crate of its own, `surrogate-predict` (`predict/` in the
+//! repository: `#![no_std]`, no dependencies), re-exported here as [`predict`]; a controller
+//! depends on it alone and compiles a model written by [`rom::export`] (`surrogate export`).
+//!
+//! # Features
+//!
+//! - `cli` (default): the `surrogate` program and its dependencies (clap, indicatif,
+//!   plotters, anyhow). The library needs none of them; a library user depends on
+//!   `surrogate` with `default-features = false`.
 #![warn(missing_docs)]
 
 pub mod calibrate;
 pub mod error;
 pub mod fe;
-pub mod predict;
 pub mod rom;
 pub mod snapshots;
 
 pub use error::{Error, Result};
+
+/// The embedded predictor (`core` only, no allocation): the `surrogate-predict` crate of this
+/// workspace, which a controller depends on directly.
+pub use surrogate_predict as predict;

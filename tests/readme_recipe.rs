@@ -1,7 +1,8 @@
-//! The README's embedded export recipe, run as written: every block marked
-//! `<!-- recipe: FILE -->` is written to FILE in a scratch directory, the shell blocks run
-//! there with the `surrogate` binary on the PATH, the Rust program and the C program are
-//! built, called, and give the library's values.
+//! The embedded export recipes of `README.md` (a ramp) and `predict/README.md` (the whole
+//! model), run as written: every block marked `<!-- recipe: FILE -->` is written to FILE in a
+//! scratch directory that holds this repository as `surrogate/`, the shell blocks run there
+//! with the `surrogate` binary on the PATH, the Rust and the C controller are built with cargo
+//! against the `surrogate-predict` crate, called, and give the library's values.
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
@@ -37,6 +38,9 @@ fn sh(dir: &Path, script: &str) -> String {
         .arg(script)
         .current_dir(dir)
         .env("PATH", path)
+        // the controllers depend on `surrogate-predict` by path only
+        .env("CARGO_NET_OFFLINE", "true")
+        .env_remove("CARGO_TARGET_DIR")
         .output()
         .unwrap();
     assert!(
@@ -55,48 +59,35 @@ fn numbers(line: &str) -> Vec<f64> {
         .collect()
 }
 
-#[test]
-fn readme_export_recipe_builds_and_runs_in_rust_and_c() {
+/// Writes the recipe blocks of `readme` (relative to the repository) into a fresh scratch
+/// directory `name` beside a link `surrogate` to the repository, runs `export.sh`, and returns
+/// the directory; the block names must be `expected`.
+fn recipe(readme: &str, name: &str, expected: &[&str]) -> PathBuf {
     let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
-    let readme = std::fs::read_to_string(root.join("README.md")).unwrap();
-    let b = blocks(&readme);
+    let text = std::fs::read_to_string(root.join(readme)).unwrap();
+    let b = blocks(&text);
     let names: Vec<&str> = b.iter().map(|(n, _)| n.as_str()).collect();
-    assert_eq!(
-        names,
-        [
-            "export.sh",
-            "main.rs",
-            "build_rust.sh",
-            "lib.rs",
-            "main.c",
-            "build_c.sh"
-        ]
-    );
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("readme_recipe");
+    assert_eq!(names, expected, "{readme}");
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
     let _ = std::fs::remove_dir_all(&dir);
     std::fs::create_dir_all(&dir).unwrap();
-    // the recipe runs from the repository's root: its models and sources are reachable
-    for link in ["models", "src"] {
-        std::os::unix::fs::symlink(root.join(link), dir.join(link)).unwrap();
-    }
+    std::os::unix::fs::symlink(&root, dir.join("surrogate")).unwrap();
     for (name, body) in &b {
-        std::fs::write(dir.join(name), body).unwrap();
+        let path = dir.join(name);
+        std::fs::create_dir_all(path.parent().unwrap()).unwrap();
+        std::fs::write(path, body).unwrap();
     }
     sh(&dir, "export.sh");
-    let m = Surrogate::load(&root.join("models/actuator.json")).unwrap();
-    let q = Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
-    let mut pred = m.new_prediction();
-    m.ramp(&q).unwrap().predict_into(2.0, &mut pred).unwrap();
-    let lib = [
-        pred.tip_uz_mm(),
-        pred.tip_uy_mm(),
-        pred.angle_deg(),
-        pred.force_n(),
-    ];
-    let rust = sh(&dir, "build_rust.sh");
+    dir
+}
+
+/// Runs the Rust and (with a C compiler) the C build script of a recipe; each prints one line
+/// `tip Uz … mm, Uy … mm, angle … deg, force … N` that must give `lib` to the printed digits.
+fn check_rust_and_c(dir: &Path, lib: [f64; 4]) {
+    let rust = sh(dir, "build_rust.sh");
     let c_ok = Command::new("cc").arg("--version").output().is_ok();
     let c = if c_ok {
-        sh(&dir, "build_c.sh")
+        sh(dir, "build_c.sh")
     } else {
         eprintln!("no C compiler: the C half is skipped");
         rust.clone()
@@ -109,4 +100,62 @@ fn readme_export_recipe_builds_and_runs_in_rust_and_c() {
             assert!((v[k] - lib[k]).abs() <= 0.006, "{out}: {v:?} vs {lib:?}");
         }
     }
+}
+
+fn shipped_model() -> Surrogate {
+    Surrogate::load(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("models/actuator.json"))
+        .unwrap()
+}
+
+#[test]
+fn readme_export_recipe_builds_and_runs_in_rust_and_c() {
+    let dir = recipe(
+        "README.md",
+        "readme_recipe",
+        &[
+            "export.sh",
+            "controller/Cargo.toml",
+            "controller/src/main.rs",
+            "build_rust.sh",
+            "ramp_c/Cargo.toml",
+            "ramp_c/src/lib.rs",
+            "ramp_c/main.c",
+            "build_c.sh",
+        ],
+    );
+    let m = shipped_model();
+    let q = Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
+    let mut pred = m.new_prediction();
+    m.ramp(&q).unwrap().predict_into(2.0, &mut pred).unwrap();
+    let lib = [
+        pred.tip_uz_mm(),
+        pred.tip_uy_mm(),
+        pred.angle_deg(),
+        pred.force_n(),
+    ];
+    check_rust_and_c(&dir, lib);
+}
+
+#[test]
+fn predict_readme_recipe_builds_and_runs_in_rust_and_c() {
+    let dir = recipe(
+        "predict/README.md",
+        "predict_readme_recipe",
+        &[
+            "export.sh",
+            "controller/Cargo.toml",
+            "controller/src/main.rs",
+            "build_rust.sh",
+            "actuator_c/Cargo.toml",
+            "actuator_c/src/lib.rs",
+            "actuator_c/main.c",
+            "build_c.sh",
+        ],
+    );
+    let m = shipped_model();
+    let p = m
+        .predict(&Query::new(11, 2.0, 2.0, [1.13, 3.11, -13.17, -0.6]))
+        .unwrap();
+    let lib = [p.tip_uz_mm(), p.tip_uy_mm(), p.angle_deg(), p.force_n()];
+    check_rust_and_c(&dir, lib);
 }

@@ -465,6 +465,13 @@ fn export_writes_rust_tables_and_c_header() {
         src.contains("pub static MODEL: EmbeddedModel<'static, f32>")
             && src.contains("extern \"C\" fn surrogate_predict_f32")
     );
+    // the tables need the `surrogate-predict` crate, not a copied module
+    assert!(
+        src.contains("Needs the `surrogate-predict` crate")
+            && src.contains("use surrogate_predict::{evaluate, ")
+            && !src.contains("crate::predict"),
+        "{src}"
+    );
     let h = std::fs::read_to_string(rs.with_extension("h")).unwrap();
     assert!(h.contains("surrogate_predict_f32"));
     let o = bin()
@@ -597,7 +604,8 @@ fn export_ramp_writes_one_design_and_needs_it_named() {
     assert!(
         src.contains("pub static RAMP: RampTables<'static, f32>")
             && src.contains("extern \"C\" fn surrogate_ramp_f32(p_bar: f32, out: *mut f32)")
-            && src.contains("N = 11, T = 2 mm"),
+            && src.contains("N = 11, T = 2 mm")
+            && src.contains("use surrogate_predict::{evaluate_ramp, RampTables};"),
         "{src}"
     );
     assert!(std::fs::read_to_string(rs.with_extension("h"))

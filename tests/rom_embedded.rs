@@ -1,4 +1,5 @@
-//! The embedded predictor agrees with the library, and its module compiles with `#![no_std]`.
+//! The embedded predictor (the `surrogate-predict` crate) agrees with the library, and a
+//! `#![no_std]` crate of exported models that depends on it builds, also as a C static library.
 use surrogate::predict::{evaluate, evaluate_ramp, EmbeddedError, RampTables};
 use surrogate::rom::export::{
     c_header, ramp_c_header, ramp_rust_source, rust_source, EmbeddedTables, Precision,
@@ -94,55 +95,72 @@ fn embedded_rejects_bad_inputs_with_codes() {
     );
 }
 
+/// A scratch crate under the test's target directory that depends on the `surrogate-predict`
+/// crate of this workspace by path: `Cargo.toml` (with `extra` appended) and `src/lib.rs`, its
+/// other sources written by the caller into `src/`.
+fn scratch_crate(name: &str, lib_rs: &str, extra: &str) -> std::path::PathBuf {
+    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
+    std::fs::create_dir_all(dir.join("src")).unwrap();
+    let predict = concat!(env!("CARGO_MANIFEST_DIR"), "/predict");
+    std::fs::write(
+        dir.join("Cargo.toml"),
+        format!(
+            "[package]\nname = \"{name}\"\nversion = \"0.1.0\"\nedition = \"2021\"\n\n[dependencies]\nsurrogate-predict = {{ path = {predict:?} }}\n\n# not a member of the surrogate workspace\n[workspace]\n{extra}"
+        ),
+    )
+    .unwrap();
+    std::fs::write(dir.join("src/lib.rs"), lib_rs).unwrap();
+    dir
+}
+
+/// `cargo build --release --offline` of a scratch crate, in its own target directory.
+fn cargo_build(dir: &std::path::Path) {
+    let out = std::process::Command::new(env!("CARGO"))
+        .args(["build", "--release", "--offline", "--quiet"])
+        .arg("--manifest-path")
+        .arg(dir.join("Cargo.toml"))
+        .arg("--target-dir")
+        .arg(dir.join("target"))
+        .env_remove("CARGO_TARGET_DIR")
+        .output()
+        .unwrap();
+    assert!(
+        out.status.success(),
+        "cargo build of {} failed:\n{}",
+        dir.display(),
+        String::from_utf8_lossy(&out.stderr)
+    );
+}
+
+/// The exported models (f32, f64) and ramps compile in a `#![no_std]` crate that depends on
+/// `surrogate-predict` by path, as a controller's crate does.
 #[test]
-fn no_std_module_compiles() {
+fn no_std_crate_compiles() {
     let m = rom_common::small_model(None);
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rom_no_std_check");
-    std::fs::create_dir_all(&dir).unwrap();
-    let predict_src = concat!(env!("CARGO_MANIFEST_DIR"), "/src/predict/mod.rs");
-    std::fs::copy(predict_src, dir.join("predict.rs")).unwrap();
+    let dir = scratch_crate(
+        "rom_no_std_check",
+        "#![no_std]\n//! no_std check of the embedded predictor and exported models\npub mod model32;\npub mod model64;\npub mod ramp32;\npub mod ramp64;\n",
+        "",
+    );
+    let src = dir.join("src");
     let sum = m.checksum().unwrap();
     std::fs::write(
-        dir.join("model32.rs"),
+        src.join("model32.rs"),
         rust_source(&m, Precision::F32, &sum).unwrap(),
     )
     .unwrap();
     std::fs::write(
-        dir.join("model64.rs"),
+        src.join("model64.rs"),
         rust_source(&m, Precision::F64, &sum).unwrap(),
     )
     .unwrap();
     let q = Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
     for (file, p) in [("ramp32.rs", Precision::F32), ("ramp64.rs", Precision::F64)] {
-        std::fs::write(dir.join(file), ramp_rust_source(&m, &q, p, &sum).unwrap()).unwrap();
+        let text = ramp_rust_source(&m, &q, p, &sum).unwrap();
+        assert!(text.contains("Needs the `surrogate-predict` crate"));
+        std::fs::write(src.join(file), text).unwrap();
     }
-    std::fs::write(
-        dir.join("lib.rs"),
-        "#![no_std]\n//! no_std check of the embedded predictor\npub mod predict;\npub mod model32;\npub mod model64;\npub mod ramp32;\npub mod ramp64;\n",
-    )
-    .unwrap();
-    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
-    let out = std::process::Command::new(rustc)
-        .args([
-            "--edition",
-            "2021",
-            "--crate-type",
-            "rlib",
-            "--crate-name",
-            "nostd_check",
-            "-O",
-            "--emit=link",
-        ])
-        .arg("--out-dir")
-        .arg(&dir)
-        .arg(dir.join("lib.rs"))
-        .output()
-        .unwrap();
-    assert!(
-        out.status.success(),
-        "no_std build failed:\n{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
+    cargo_build(&dir);
     let header = c_header(Precision::F32, &sum);
     assert!(header.contains("int32_t surrogate_predict_f32(uint32_t n, float t_mm, float p_bar"));
     let header = ramp_c_header(&m, Precision::F64, &sum, &q);
@@ -199,8 +217,9 @@ fn exported_ramp_agrees_with_the_library_ramp() {
     }
 }
 
-/// The exported `extern "C"` entry point, built as a `#![no_std]` static library and called
-/// from C through the generated header, gives the library's values.
+/// The exported `extern "C"` entry point, built with `surrogate-predict` as a `#![no_std]`
+/// static library (cargo, `panic = "abort"`) and called from C through the generated header,
+/// gives the library's values.
 #[test]
 fn c_entry_point_links_and_agrees() {
     let cc = std::env::var("CC").unwrap_or_else(|_| "cc".into());
@@ -213,16 +232,14 @@ fn c_entry_point_links_and_agrees() {
         return;
     }
     let m = rom_common::small_model(None);
-    let dir = std::path::PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rom_c_check");
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch_crate(
+        "rom_c_check",
+        "#![no_std]\npub mod model32;\npub mod ramp32;\n#[panic_handler]\nfn panic(_: &core::panic::PanicInfo) -> ! {\n    loop {}\n}\n",
+        "\n[lib]\ncrate-type = [\"staticlib\"]\n\n[profile.release]\npanic = \"abort\"\n",
+    );
     let sum = m.checksum().unwrap();
-    std::fs::copy(
-        concat!(env!("CARGO_MANIFEST_DIR"), "/src/predict/mod.rs"),
-        dir.join("predict.rs"),
-    )
-    .unwrap();
     std::fs::write(
-        dir.join("model32.rs"),
+        dir.join("src/model32.rs"),
         rust_source(&m, Precision::F32, &sum).unwrap(),
     )
     .unwrap();
@@ -238,7 +255,7 @@ fn c_entry_point_links_and_agrees() {
         alpha2: -0.6f32 as f64,
     };
     std::fs::write(
-        dir.join("ramp32.rs"),
+        dir.join("src/ramp32.rs"),
         ramp_rust_source(&m, &q_ramp, Precision::F32, &sum).unwrap(),
     )
     .unwrap();
@@ -248,16 +265,10 @@ fn c_entry_point_links_and_agrees() {
     )
     .unwrap();
     std::fs::write(
-        dir.join("lib.rs"),
-        "#![no_std]\npub mod predict;\npub mod model32;\npub mod ramp32;\n#[panic_handler]\nfn panic(_: &core::panic::PanicInfo) -> ! {\n    loop {}\n}\n",
-    )
-    .unwrap();
-    std::fs::write(
         dir.join("main.c"),
         "#include <stdio.h>\n#include \"model.h\"\n#include \"ramp.h\"\n/* the precompiled libcore refers to it even with panic=abort; never called */\nvoid rust_eh_personality(void) {}\nint main(void) {\n  float out[SURROGATE_N_OUTPUTS];\n  int rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  int bad = surrogate_predict_f32(12, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out + 0);\n  printf(\"%d %d\", rc, bad);\n  rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", out[i]);\n  float ramp[SURROGATE_N_OUTPUTS];\n  printf(\" %d\", surrogate_ramp_f32(1.5f, ramp));\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", ramp[i]);\n  printf(\"\\n\");\n  return 0;\n}\n",
     )
     .unwrap();
-    let rustc = std::env::var("RUSTC").unwrap_or_else(|_| "rustc".into());
     let run = |cmd: &mut std::process::Command| {
         let o = cmd.output().unwrap();
         assert!(
@@ -267,24 +278,10 @@ fn c_entry_point_links_and_agrees() {
         );
         String::from_utf8_lossy(&o.stdout).into_owned()
     };
-    run(std::process::Command::new(rustc)
-        .args([
-            "--edition",
-            "2021",
-            "--crate-type",
-            "staticlib",
-            "--crate-name",
-            "surrogate_c",
-            "-O",
-            "-C",
-            "panic=abort",
-        ])
-        .arg("--out-dir")
-        .arg(&dir)
-        .arg(dir.join("lib.rs")));
+    cargo_build(&dir);
     run(std::process::Command::new(&cc)
         .arg(dir.join("main.c"))
-        .arg(dir.join("libsurrogate_c.a"))
+        .arg(dir.join("target/release/librom_c_check.a"))
         .arg("-o")
         .arg(dir.join("main"))
         .arg("-lm"));

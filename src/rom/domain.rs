@@ -26,7 +26,7 @@
 use super::data::CaseInputs;
 use super::regression::{raw_features, FeatureScaler};
 use super::surrogate::Query;
-use crate::predict::N_FEATURES;
+use surrogate_predict::N_FEATURES;
 
 /// The checked inputs, in the order violations are reported: `(name, unit)`.
 pub const DOMAIN_INPUTS: [(&str, &str); 7] = [

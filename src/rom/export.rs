@@ -1,12 +1,16 @@
-//! Export of a surrogate to the embedded predictor ([`crate::predict`]): owned tables in `f32`
-//! or `f64`, their borrowed [`EmbeddedModel`] view, and the text of a Rust source file of
-//! `static` tables (with an `extern "C"` entry point) and of the matching C header.
+//! Export of a surrogate to the embedded predictor (the `surrogate-predict` crate,
+//! [`surrogate_predict`]): owned tables in `f32` or `f64`, their borrowed [`EmbeddedModel`]
+//! view, and the text of a Rust source file of `static` tables (with an `extern "C"` entry
+//! point) and of the matching C header.
+//!
+//! The exported file is a module of the controller's crate, which depends on
+//! `surrogate-predict` (`no_std`, no dependencies); it refers to it as `surrogate_predict`.
 
 use std::fmt::Write as _;
 
 use super::surrogate::{Query, Surrogate};
 use super::{RomError, QUANTITY_NAMES};
-use crate::predict::{BlockTables, EmbeddedModel, GpTables, PolyTables, Real, MAX_COEFS};
+use surrogate_predict::{BlockTables, EmbeddedModel, GpTables, PolyTables, Real, MAX_COEFS};
 
 /// Owned tables of one block.
 #[derive(Debug, Clone)]
@@ -234,14 +238,14 @@ pub fn c_symbol(p: Precision) -> String {
 }
 
 /// Rust source of the exported model: `static` tables, `pub static MODEL`, and the C entry point
-/// `surrogate_predict_f32/f64`. It expects the predictor module at `crate::predict` (copy
-/// `src/predict/mod.rs` there) and compiles under `#![no_std]`.
+/// `surrogate_predict_f32/f64`. It is a module of a crate that depends on the
+/// `surrogate-predict` crate (`use surrogate_predict::…`) and compiles under `#![no_std]`.
 ///
 /// # Errors
 /// See [`EmbeddedTables::from_surrogate`].
 pub fn rust_source(s: &Surrogate, p: Precision, checksum: &str) -> Result<String, RomError> {
     let mut out = format!(
-        "//! Surrogate model exported by `surrogate export` (model {checksum}, precision {}).\n//! Needs the embedded predictor module at `crate::predict`; `core` only.\n//! Outputs (22): {}.\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse crate::predict::{{evaluate, BlockTables, EmbeddedModel, GpTables, PolyTables}};\n\n",
+        "//! Surrogate model exported by `surrogate export` (model {checksum}, precision {}).\n//! Needs the `surrogate-predict` crate (a dependency of the crate this module is in); `core` only.\n//! Outputs (22): {}.\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse surrogate_predict::{{evaluate, BlockTables, EmbeddedModel, GpTables, PolyTables}};\n\n",
         p.ty(),
         QUANTITY_NAMES.join(", ")
     );
@@ -288,7 +292,7 @@ pub fn ramp_c_symbol(p: Precision) -> String {
 /// Rust source of one design and material exported as its reconstructed pressure ramp
 /// ([`crate::rom::Ramp`]): `static` tables (the grid and 22 × n_p values), `pub static RAMP`
 /// and the C entry point `surrogate_ramp_f32/f64(p_bar, out)`. Like [`rust_source`] it
-/// expects the predictor module at `crate::predict` and compiles under `#![no_std]`.
+/// needs the `surrogate-predict` crate and compiles under `#![no_std]`.
 ///
 /// # Errors
 /// Invalid query ([`Surrogate::check_query`]).
@@ -302,7 +306,7 @@ pub fn ramp_rust_source(
     let ty = p.ty();
     let domain = ramp_domain_lines(s, q);
     let mut out = format!(
-        "//! Pressure ramp exported by `surrogate export --ramp` (model {checksum}, precision {ty}):\n//! N = {}, T = {} mm, Ogden μ₁ = {} MPa, α₁ = {}, μ₂ = {} MPa, α₂ = {}.\n{}//! Needs the embedded predictor module at `crate::predict`; `core` only.\n//! Outputs (22): {}.\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse crate::predict::{{evaluate_ramp, RampTables}};\n\n",
+        "//! Pressure ramp exported by `surrogate export --ramp` (model {checksum}, precision {ty}):\n//! N = {}, T = {} mm, Ogden μ₁ = {} MPa, α₁ = {}, μ₂ = {} MPa, α₂ = {}.\n{}//! Needs the `surrogate-predict` crate (a dependency of the crate this module is in); `core` only.\n//! Outputs (22): {}.\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse surrogate_predict::{{evaluate_ramp, RampTables}};\n\n",
         q.n,
         q.t_mm,
         q.mu1,

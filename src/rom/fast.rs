@@ -26,7 +26,7 @@ use super::pod::PodBasis;
 use super::regression::gp::Gp;
 use super::regression::poly::Poly;
 use super::regression::RegressorKind;
-use crate::predict::Stencil;
+use surrogate_predict::Stencil;
 
 /// Quantities of the fast path: tip Uz, tip Uy, angle, force.
 pub const SCALARS: std::ops::Range<usize> = super::Q_TIP_UZ..22;
@@ -410,7 +410,7 @@ fn kernel_vector_body(xs_t: &[f64], inv_len: &[f64], x: &[f64], k: &mut [f64]) {
 #[inline(always)]
 fn matern52(r: f64) -> f64 {
     const S5: f64 = 2.236_067_977_499_79;
-    let e = crate::predict::exp_nonpos(-S5 * r);
+    let e = surrogate_predict::exp_nonpos(-S5 * r);
     (1.0 + S5 * r + 5.0 / 3.0 * r * r) * e
 }
 

@@ -8,7 +8,7 @@
 //! `tip_uy`, `angle`, `force`): `y ∈ ℝ^{22·n_p}`. Pressure is therefore *not* a regression input:
 //! the regression sees one point per case (a held-out case never shares a ramp with training),
 //! and a query at pressure `P` interpolates the reconstructed ramp with a cubic Hermite stencil
-//! ([`crate::predict::stencil`]).
+//! ([`surrogate_predict::stencil`]).
 //!
 //! ## POD ([`pod`])
 //!

@@ -35,7 +35,7 @@
 use super::fast::SCALARS;
 use super::surrogate::{Prediction, Query, Surrogate};
 use super::{RomError, QUANTITY_NAMES, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
-use crate::predict::stencil;
+use surrogate_predict::stencil;
 
 const NQ: usize = QUANTITY_NAMES.len();
 

@@ -19,7 +19,7 @@ use super::regression::gp::{valid_group_bounds, Gp};
 use super::regression::poly::Poly;
 use super::regression::{raw_features, FeatureScaler, Regressor, RegressorKind};
 use super::{RomError, QUANTITY_NAMES};
-use crate::predict::{stencil, N_FEATURES};
+use surrogate_predict::{stencil, N_FEATURES};
 
 /// Number of differentiable inputs: `T, P, μ₁, α₁, μ₂, α₂` (N is discrete).
 pub const N_GRAD_INPUTS: usize = 6;

@@ -19,7 +19,7 @@ use super::regression::poly::{Poly, PolyParams};
 use super::regression::{raw_features, Data, FeatureScaler, Regressor, RegressorKind};
 use super::surrogate::{Block, InputSpec, Surrogate, TrainingInfo};
 use super::{RomError, N_MARKER_COMPONENTS, QUANTITY_NAMES, Q_TIP_UZ};
-use crate::predict::N_FEATURES;
+use surrogate_predict::N_FEATURES;
 
 /// Training settings.
 #[derive(Debug, Clone)]
@@ -384,7 +384,7 @@ fn interpolation_check(set: &CaseSet) -> Vec<InterpolationCheck> {
             .filter(|&(i, _)| i != j)
             .map(|(_, &p)| p)
             .collect();
-        let st = crate::predict::stencil(&reduced, grid[j]);
+        let st = surrogate_predict::stencil(&reduced, grid[j]);
         let node = |s: usize| {
             if st.start + s < j {
                 st.start + s

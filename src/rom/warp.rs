@@ -12,7 +12,7 @@
 //!
 //! with a scale `r` per case, fitted on the cases run at both fidelities (least squares over
 //! tip Uz, tip Uy and the angle along the whole ramp; `L` between grid pressures by the
-//! surrogate's own cubic Hermite stencil, [`crate::predict::stencil`]) and regressed by a
+//! surrogate's own cubic Hermite stencil, [`surrogate_predict::stencil`]) and regressed by a
 //! Gaussian process on `ln r` ([`PressureWarp::scale`]), on the case's design and material or
 //! on its low-fidelity response ([`WarpInputs`], chosen by leave-one-case-out error). The warped
 //! low-fidelity set ([`PressureWarp::apply`]) replaces `L` in [`super::fidelity::discrepancy`]
@@ -27,7 +27,7 @@ use super::data::{CaseInputs, SnapshotSet};
 use super::regression::gp::{Gp, GpParams};
 use super::regression::{raw_features, Data, Regressor};
 use super::{RomError, Q_TIP_UZ};
-use crate::predict::stencil;
+use surrogate_predict::stencil;
 
 /// Range of the pressure scale `r`.
 pub const SCALE_BOUNDS: (f64, f64) = (0.7, 1.5);

@@ -191,7 +191,8 @@ pub struct ExportArgs {
     /// Model file.
     #[arg(long)]
     pub model: PathBuf,
-    /// Output Rust source (const tables + extern "C" entry point).
+    /// Output Rust source (const tables + extern "C" entry point), a module of a crate that
+    /// depends on the `surrogate-predict` crate (`predict/`).
     #[arg(long)]
     pub rust: PathBuf,
     /// Output C header (default: the Rust path with extension .h).

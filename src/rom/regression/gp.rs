@@ -120,18 +120,18 @@ fn correlation(x: &[f64], n: usize, d: usize, theta: &[f64]) -> Vec<f64> {
     r
 }
 
-/// Matérn-5/2 value with the branch-free [`crate::predict::exp_nonpos`] (shared with the
+/// Matérn-5/2 value with the branch-free [`surrogate_predict::exp_nonpos`] (shared with the
 /// embedded predictor) and `std`'s square root.
 #[inline]
 fn kernel(r: f64) -> f64 {
     kernel_and_g(r).0
 }
 
-/// Matérn-5/2 value and `g = −(1/r) dk/dr` (see [`crate::predict::matern52`]).
+/// Matérn-5/2 value and `g = −(1/r) dk/dr` (see [`surrogate_predict::matern52`]).
 #[inline]
 fn kernel_and_g(r: f64) -> (f64, f64) {
     const S5: f64 = 2.236_067_977_499_79;
-    let e = crate::predict::exp_nonpos(-S5 * r);
+    let e = surrogate_predict::exp_nonpos(-S5 * r);
     (
         (1.0 + S5 * r + 5.0 / 3.0 * r * r) * e,
         5.0 / 3.0 * (1.0 + S5 * r) * e,

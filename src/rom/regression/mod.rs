@@ -16,7 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use super::data::CaseInputs;
 use super::RomError;
-use crate::predict::N_FEATURES;
+use surrogate_predict::N_FEATURES;
 
 /// Training data of a regressor: `n` points, `d` inputs, `m` outputs, row-major.
 #[derive(Debug, Clone, Copy)]

@@ -1,11 +1,13 @@
-//! Embedded predictor: evaluates an exported surrogate with `core` only.
+//! # surrogate-predict
 //!
-//! This module uses **only `core`** (no allocation, no `std` maths), so that its source can be
-//! compiled into a `#![no_std]` firmware crate next to a model exported by
-//! `surrogate export --rust OUT.rs` (the test `rom_embedded::no_std_module_compiles` does exactly
-//! that). It must not refer to anything else in this crate.
+//! The embedded predictor of the `surrogate` crate: evaluates a soft-actuator surrogate exported
+//! by `surrogate export --rust OUT.rs` with **`core` only**: `#![no_std]`, no allocation, no
+//! dependencies, no `std` maths, no `unsafe`. A controller adds this crate to its `Cargo.toml`
+//! and compiles the exported file as one of its modules; the exported file brings the model's
+//! `static` tables, `pub static MODEL` (or `RAMP`) and a C entry point (`README.md` of this
+//! crate: the Rust and the C controller side).
 //!
-//! The evaluation mirrors the library's [`Surrogate`](../rom/struct.Surrogate.html):
+//! The evaluation mirrors the library's `surrogate::rom::Surrogate`:
 //!
 //! 1. features `z = (N, T, ln μ0, α₁, s, α₂)` (μ0 = ½(μ₁α₁ + μ₂α₂), s = μ₁α₁/(2μ0)), scaled `x_d = (z_d − c_d)·s_d`;
 //! 2. POD coefficients `a = f(x)` from a Matérn-5/2 Gaussian process (posterior mean
@@ -17,7 +19,34 @@
 //! Transcendentals (`exp`, `ln`, `sqrt`) are evaluated in `f64` by the portable routines below
 //! (accurate to a few ulp); the Gaussian-process sum is always `f64` (see [`GpTables`]); the
 //! polynomial and the POD reconstruction run in the model's precision `F` (`f32` or `f64`).
-
+//!
+//! An exported ramp (`surrogate export --ramp`: one design and one material) is evaluated by
+//! [`evaluate_ramp`]; only the pressure stencil is left:
+//!
+//! ```
+//! use surrogate_predict::{evaluate_ramp, EmbeddedError, RampTables, N_QUANTITIES};
+//!
+//! // the shape of an exported ramp: a pressure grid (bar) and the 22 quantities at each node
+//! static PRESSURES: [f64; 2] = [0.0, 2.0];
+//! static VALUES: [f32; 2 * N_QUANTITIES] = {
+//!     let mut v = [0.0f32; 2 * N_QUANTITIES];
+//!     v[N_QUANTITIES + 21] = 1.2; // blocked force 1.2 N at 2 bar
+//!     v
+//! };
+//! static RAMP: RampTables<'static, f32> = RampTables { pressures: &PRESSURES, values: &VALUES };
+//!
+//! let mut out = [0.0f32; N_QUANTITIES];
+//! evaluate_ramp(&RAMP, 1.0, &mut out)?;
+//! assert!((out[21] - 0.6).abs() < 1e-6);
+//! // outside the grid the pressure is clamped to its ends
+//! evaluate_ramp(&RAMP, 5.0, &mut out)?;
+//! assert_eq!(out[21], 1.2);
+//! assert_eq!(evaluate_ramp(&RAMP, f32::NAN, &mut out), Err(EmbeddedError::NonFinite(2)));
+//! # Ok::<(), EmbeddedError>(())
+//! ```
+#![no_std]
+#![forbid(unsafe_code)]
+#![warn(missing_docs)]
 // index loops mirror the equations and the table layouts
 #![allow(clippy::needless_range_loop)]
 
@@ -438,6 +467,25 @@ impl EmbeddedError {
     }
 }
 
+impl core::fmt::Display for EmbeddedError {
+    fn fmt(&self, f: &mut core::fmt::Formatter<'_>) -> core::fmt::Result {
+        const INPUTS: [&str; N_INPUTS] = ["N", "T", "P", "mu1", "alpha1", "mu2", "alpha2"];
+        match *self {
+            EmbeddedError::NonFinite(i) => match INPUTS.get(i) {
+                Some(name) => write!(f, "input {name} is not finite"),
+                None => write!(f, "input {i} is not finite"),
+            },
+            EmbeddedError::UnknownN => f.write_str("N is not a trained number of bellows"),
+            EmbeddedError::Inadmissible => {
+                f.write_str("inadmissible Ogden material (mu1*alpha1 <= 0 or mu2*alpha2 <= 0)")
+            }
+            EmbeddedError::BadModel => f.write_str("inconsistent model tables"),
+        }
+    }
+}
+
+impl core::error::Error for EmbeddedError {}
+
 /// Raw features `(N, T, ln μ0, α₁, s, α₂)` of a query `[N, T, P, μ₁, α₁, μ₂, α₂]`.
 pub fn raw_features(input: &[f64; N_INPUTS]) -> Result<[f64; N_FEATURES], EmbeddedError> {
     let mut i = 0;
@@ -649,7 +697,34 @@ pub fn evaluate_ramp<F: Real>(
 
 #[cfg(test)]
 mod tests {
+    // the tests compare with std's maths
+    extern crate std;
+
     use super::*;
+
+    #[test]
+    fn errors_have_c_codes_and_messages() {
+        use std::string::ToString;
+        let cases = [
+            (EmbeddedError::NonFinite(2), 1, "input P is not finite"),
+            (EmbeddedError::NonFinite(9), 1, "input 9 is not finite"),
+            (
+                EmbeddedError::UnknownN,
+                2,
+                "N is not a trained number of bellows",
+            ),
+            (
+                EmbeddedError::Inadmissible,
+                3,
+                "inadmissible Ogden material",
+            ),
+            (EmbeddedError::BadModel, 4, "inconsistent model tables"),
+        ];
+        for (e, code, text) in cases {
+            assert_eq!(e.code(), code);
+            assert!(e.to_string().starts_with(text), "{e}");
+        }
+    }
 
     #[test]
     fn core_maths_match_std() {
