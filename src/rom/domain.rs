@@ -25,7 +25,7 @@
 
 use super::data::CaseInputs;
 use super::regression::{raw_features, FeatureScaler};
-use super::surrogate::Query;
+use super::query::Query;
 use crate::predict::N_FEATURES;
 
 /// The checked inputs, in the order violations are reported: `(name, unit)`.

@@ -105,6 +105,8 @@ pub mod fidelity;
 pub mod metrics;
 pub mod model;
 pub mod pod;
+pub mod provenance;
+pub mod query;
 pub mod ramp;
 pub mod regression;
 pub mod surrogate;
@@ -116,7 +118,8 @@ pub use data::{CaseInputs, SnapshotSet};
 pub use domain::{Domain, DomainViolation};
 pub use model::FORMAT_VERSION;
 pub use ramp::Ramp;
-pub use surrogate::{Gradient, Jacobian, Prediction, Query, Surrogate};
+pub use query::Query;
+pub use surrogate::{Gradient, Jacobian, Prediction, Surrogate};
 pub use train::{train, TrainConfig, TrainReport};
 
 use thiserror::Error;

@@ -17,7 +17,8 @@ use super::pod::PodBasis;
 use super::regression::gp::{Gp, GpParams};
 use super::regression::poly::{Poly, PolyParams};
 use super::regression::{raw_features, Data, FeatureScaler, Regressor, RegressorKind};
-use super::surrogate::{Block, InputSpec, Surrogate, TrainingInfo};
+use super::provenance::TrainingInfo;
+use super::surrogate::{Block, InputSpec, Surrogate};
 use super::{RomError, N_MARKER_COMPONENTS, QUANTITY_NAMES, Q_TIP_UZ};
 use crate::predict::N_FEATURES;
 
