@@ -20,6 +20,7 @@
 pub mod calibrate;
 pub mod error;
 pub mod fe;
+pub mod io;
 pub mod predict;
 pub mod rom;
 pub mod snapshots;

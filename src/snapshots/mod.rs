@@ -9,7 +9,8 @@
 //! * [`plan`]: the sampling plan — ranges, a seeded maximin Latin hypercube stratified over
 //!   `N`, the pressure ramp and the solver/mesh settings, and the explicit list of cases.
 //! * [`shard`]: the deterministic share `k/n` of a plan.
-//! * [`store`]: the snapshot CSV columns and the atomic per-case files of a shard directory.
+//! * [`store`]: a case's outcome ([`CaseOutcome`]), the snapshot CSV columns and the atomic
+//!   per-case files of a shard directory.
 //! * [`mod@merge`]: shard directories → one snapshot CSV, identical to a single run.
 //! * [`run`]: the case runner abstraction ([`CaseRunner`]), the shard driver with resume, and a
 //!   cheap analytic runner for tests and dry runs of the distribution machinery.
@@ -113,9 +114,9 @@ pub mod verify;
 
 pub use merge::{merge, MergeSummary};
 pub use plan::{Plan, PlanSettings, PlannedCase, Ranges};
-pub use run::{run_shard, CaseOutcome, CaseRunner, RunOptions, RunSummary, StepOutputs};
+pub use run::{run_shard, CaseRunner, RunOptions, RunSummary};
 pub use shard::Shard;
-pub use store::ShardDir;
+pub use store::{CaseOutcome, ShardDir, StepOutputs};
 
 use thiserror::Error;
 
