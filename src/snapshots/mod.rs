@@ -14,7 +14,8 @@
 //! * [`mod@merge`]: shard directories → one snapshot CSV, identical to a single run.
 //! * [`run`]: the case runner abstraction ([`CaseRunner`]), the shard driver with resume, and a
 //!   cheap analytic runner for tests and dry runs of the distribution machinery.
-//! * [`fe_runner`]: the real runner, one FE pressure ramp per case.
+//! * [`fe_runner`]: the real runner: per case, the FE bending ramp and the blocked-force ramp
+//!   ([`fe_runner::blocked_force_ramp`]) through the plan's pressures.
 //! * [`verify`]: re-simulates random cases of a snapshot file and compares the outputs.
 //!
 //! ## One case, one ramp
@@ -97,12 +98,6 @@
 //! resubmit and every shard resumes. `slurm/local_cluster.sh` starts a single-node Slurm
 //! (munge, slurmctld, slurmd) on a Debian machine; `slurm/local_run.sh` runs a tiny real-FE
 //! plan through it and writes `slurm/local_run.log` (merged file identical to a single run).
-//!
-//! ## Status
-//!
-//! The blocked-force ramp is a placeholder until the FE has its blocked-force mode: `force_n`
-//! is `NaN` (see [`fe_runner::blocked_force_ramp`]). The surrogate trainer requires finite
-//! values in converged rows, so FE snapshot sets become trainable once that mode is wired in.
 
 pub mod fe_runner;
 pub mod merge;

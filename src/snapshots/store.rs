@@ -21,7 +21,8 @@
 //! `case_id` is `case_<id, 6 digits>`. A case has one row per plan pressure, in plan order;
 //! steps the solver did not reach have `converged = false` and `NaN` outputs. Floats are
 //! written in Rust's shortest round-trip form (`{:?}`), so reading gives the same bits.
-//! `force_n` is `NaN` while the blocked-force mode is not wired in (see [`super::fe_runner`]).
+//! `force_n` is the plate reaction of the case's blocked-force ramp at the same pressure (see
+//! [`super::fe_runner`]).
 //!
 //! ## Shard directory
 //!
