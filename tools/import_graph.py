@@ -290,7 +290,7 @@ class Graph:
             children = [c for (cr, m) in self.by_mod if cr == f.crate and m[:-1] == f.module and m
                         for c in [m[-1]]]
             head = r"(?:crate|super|self)" + (r"|" + "|".join(map(re.escape, children)) if children else "")
-            pat = re.compile(r"(?<![\w:])((?:" + head + r")(?:\s*::\s*" + IDENT + r")+)")
+            pat = re.compile(r"(?<![\w:$])((?:" + head + r")(?:\s*::\s*" + IDENT + r")+)")
             use_spans = [(m.start(), m.end()) for m in re.finditer(r"\buse\s+[^;]+;", f.text)]
             vis_spans = [(m.start(), m.end()) for m in re.finditer(r"\bpub\s*\(\s*in\s+[^)]*\)", f.text)]
             for m in pat.finditer(f.text):
