@@ -15,6 +15,9 @@
 //!                         ▼
 //!   calibrate (fit the material to recordings, identifiability, FE verification)
 //! ```
+//!
+//! Each module returns its own error type; [`Error`] gathers them for a program that chains
+//! the stages, and [`io::write_atomic`] writes every file the crate produces.
 #![warn(missing_docs)]
 
 pub mod calibrate;

@@ -117,8 +117,8 @@ pub mod warp;
 pub use data::{CaseInputs, SnapshotSet};
 pub use domain::{Domain, DomainViolation};
 pub use model::FORMAT_VERSION;
-pub use ramp::Ramp;
 pub use query::Query;
+pub use ramp::Ramp;
 pub use surrogate::{Gradient, Jacobian, Prediction, Surrogate};
 pub use train::{train, TrainConfig, TrainReport};
 

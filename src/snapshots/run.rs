@@ -16,8 +16,8 @@ use rayon::prelude::*;
 
 use super::plan::{Plan, PlanSettings, PlannedCase};
 use super::shard::Shard;
-pub use super::store::{CaseOutcome, StepOutputs};
 use super::store::{read_case_file, ShardDir};
+pub use super::store::{CaseOutcome, StepOutputs};
 use super::SnapshotError;
 
 /// Computes one case. Implemented by every `Fn(&PlannedCase, &PlanSettings) -> CaseOutcome +

@@ -210,7 +210,6 @@ pub fn write_outputs(
     Ok(written)
 }
 
-
 /// Per configuration: measured, literature and calibrated (surrogate), FE at the optimum.
 fn configurations_csv(cal: &Calibration, fe: Option<&FeVerification>) -> Result<Vec<u8>> {
     let mut w = csv::Writer::from_writer(Vec::new());
