@@ -17,7 +17,9 @@ written inline (`crate::rom::Q_FORCE`, `super::warp::PressureWarp::fit`).
     ignored; `#[cfg(test)]` modules are ignored unless `--tests` is given.
 
 Prints every strongly connected component of more than one module (a cycle), with the
-references that make its edges, and exits with status 1 if there is any.
+references that make its edges, and exits with status 1 if there is any. `tests/import_graph/`
+applies the same rules in `cargo test` (same edges) and fails on any cycle but the known one
+listed there.
 
     python3 tools/import_graph.py            # cycles of src/
     python3 tools/import_graph.py --edges    # also every edge
