@@ -50,5 +50,5 @@ pub enum Error {
     Baseline(#[from] crate::calibrate::baseline::BaselineError),
 }
 
-/// Result alias for callers of the library ([`Error`]).
+/// Result alias for callers of the library ([`enum@Error`]).
 pub type Result<T, E = Error> = std::result::Result<T, E>;

@@ -1,5 +1,5 @@
 //! The snapshot store: what a runner returns for a case ([`CaseOutcome`]), the CSV columns, and
-//! the atomic per-case files of a shard directory (merged by [`super::merge`]).
+//! the atomic per-case files of a shard directory (merged by [`mod@super::merge`]).
 //!
 //! ## Columns
 //!
