@@ -9,7 +9,7 @@ use std::path::Path;
 use surrogate::calibrate::{calibrate, CalibrationSettings, Recordings, Weights};
 use surrogate::rom::Surrogate;
 
-fn main() -> Result<(), Box<dyn std::error::Error>> {
+fn main() -> surrogate::Result<()> {
     let model = Surrogate::load(Path::new("models/actuator.json"))?;
     let recordings = Recordings::shipped()?;
     let settings = CalibrationSettings {

@@ -1,32 +1,54 @@
-//! Crate-wide error type: one variant per module error.
+//! Crate-wide error type: one variant per module error a caller of the pipeline meets.
+//!
+//! Library functions return their module's error (`RomError`, `CalibrateError`, …), which
+//! names what went wrong where. A program that chains stages (load a model, read recordings,
+//! calibrate, simulate) can return [`Result`] and let `?` convert each of them:
+//!
+//! ```no_run
+//! use surrogate::calibrate::{calibrate, CalibrationSettings, Recordings};
+//! use surrogate::fe::geometry::DesignParams;
+//! use surrogate::rom::Surrogate;
+//!
+//! fn main() -> surrogate::Result<()> {
+//!     let model = Surrogate::load(std::path::Path::new("models/actuator.json"))?; // RomError
+//!     let recordings = Recordings::shipped()?; // CalibrateError
+//!     let cal = calibrate(&model, &recordings, &CalibrationSettings::default(), &|_| {})?;
+//!     let design = DesignParams::default().validate()?; // GeometryError
+//!     println!("{:?}, N = {}", cal.best, design.params().n_bellows);
+//!     Ok(())
+//! }
+//! ```
 
 use thiserror::Error;
 
-/// Every error the library can return.
+/// Every error the library's modules return, for callers that chain them.
 #[derive(Debug, Error)]
 pub enum Error {
+    /// An invalid actuator design.
+    #[error(transparent)]
+    Geometry(#[from] crate::fe::geometry::GeometryError),
     /// Invalid material parameters or an unknown material name.
     #[error(transparent)]
     Material(#[from] crate::fe::material::MaterialError),
+    /// An FE simulation: its case, or a solve that did not converge.
+    #[error(transparent)]
+    Simulate(#[from] crate::fe::simulate::SimulateError),
+    /// Sampling plans, snapshot directories and merges.
+    #[error(transparent)]
+    Snapshots(#[from] crate::snapshots::SnapshotError),
     /// Reduced-order model: snapshot data, training, model files, queries.
     #[error(transparent)]
     Rom(#[from] crate::rom::RomError),
     /// Calibration of the material to recordings.
     #[error(transparent)]
     Calibrate(#[from] crate::calibrate::CalibrateError),
-    /// Sampling plans, snapshot directories and merges.
+    /// Experiment files.
     #[error(transparent)]
-    Snapshots(#[from] crate::snapshots::SnapshotError),
-    /// Input/output failure with the path involved.
-    #[error("{path}: {source}")]
-    Io {
-        /// File or directory involved.
-        path: String,
-        /// Underlying error.
-        #[source]
-        source: std::io::Error,
-    },
+    Experiments(#[from] crate::calibrate::experiments::ExperimentError),
+    /// The FE baseline sweep against the experiments.
+    #[error(transparent)]
+    Baseline(#[from] crate::calibrate::baseline::BaselineError),
 }
 
-/// Result alias used throughout the crate.
+/// Result alias for callers of the library ([`enum@Error`]).
 pub type Result<T, E = Error> = std::result::Result<T, E>;

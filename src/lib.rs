@@ -25,11 +25,15 @@
 //! - `cli` (default): the `surrogate` program and its dependencies (clap, indicatif,
 //!   plotters, anyhow). The library needs none of them; a library user depends on
 //!   `surrogate` with `default-features = false`.
+//!
+//! Each module returns its own error type; [`Error`] gathers them for a program that chains
+//! the stages, and [`io::write_atomic`] writes every file the crate produces.
 #![warn(missing_docs)]
 
 pub mod calibrate;
 pub mod error;
 pub mod fe;
+pub mod io;
 pub mod rom;
 pub mod snapshots;
 

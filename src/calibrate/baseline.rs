@@ -53,7 +53,9 @@ pub struct BaselineRow {
     pub force_sim_n: f64,
     /// `F_sim − F_exp` (N).
     pub force_error_n: f64,
-    /// Solver message if a ramp stopped before this pressure (its values are then `NaN`).
+    /// Solver message if a ramp stopped before this pressure (its values are then `NaN`);
+    /// empty when absent from a table (tables written before the column existed).
+    #[serde(default)]
     pub error: String,
 }
 
@@ -219,7 +221,7 @@ impl RampCache {
             error: r.1.clone(),
         };
         let text = serde_json::to_string(&c).map_err(|e| BaselineError::cache(&self.path, e))?;
-        crate::snapshots::store::write_atomic(&self.path, text.as_bytes())
+        crate::io::write_atomic(&self.path, text.as_bytes())
             .map_err(|e| BaselineError::cache(&self.path, e))
     }
 }

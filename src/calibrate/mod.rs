@@ -16,7 +16,7 @@
 //! ```
 //!
 //! [`fit::calibrate`] runs the whole pipeline and returns a [`fit::Calibration`] report; each
-//! stage is a public function a design loop or the diagnoser can call on its own.
+//! stage is a public function a design loop can call on its own.
 //!
 //! ```no_run
 //! use surrogate::calibrate::{calibrate, CalibrationSettings, Recordings};

@@ -1,6 +1,6 @@
 //! Synthetic recordings: model outputs at known parameters plus noise at the experiments'
 //! standard deviations, in the experiments' own format. They test the calibrator (does it
-//! recover what it was given, within the intervals it reports?) and, later, the diagnoser.
+//! recover what it was given, within the intervals it reports?).
 //!
 //! The noise of each configuration is the recorded scatter of the matching experimental row
 //! (same `N, T, P`): the angle gets `N(0, σ_α)`, tip Uz and Uy each `N(0, r σ_α)` (the tip

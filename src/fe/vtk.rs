@@ -137,12 +137,6 @@ fn grid_head(s: &mut String, mesh: &super::mesh::Mesh, u: &[f64], n_cells: usize
     s.push_str("</Points>\n<Cells>\n");
 }
 
-fn write_atomic(path: &Path, text: &str) -> io::Result<()> {
-    let tmp = path.with_extension("vtu.tmp");
-    std::fs::write(&tmp, text)?;
-    std::fs::rename(&tmp, path)
-}
-
 /// Writes the deformed mesh of one step to `dir/step_{index:03}.vtu` and its pressurised
 /// surfaces to `dir/step_{index:03}_surfaces.vtu`. Returns the volume file's path.
 ///
@@ -182,7 +176,7 @@ pub fn write_step(
     int_array(&mut s, "element", (0..n_cells).map(|c| c / 8));
     s.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
     let path = dir.join(format!("step_{index:03}.vtu"));
-    write_atomic(&path, &s)?;
+    crate::io::write_atomic(&path, s.as_bytes())?;
     write_surfaces(&dir.join(format!("step_{index:03}_surfaces.vtu")), model, u)?;
     if !model.fe.pairs.is_empty() {
         write_contact(&dir.join(format!("step_{index:03}_contact.vtu")), model, u)?;
@@ -248,7 +242,7 @@ fn write_contact(path: &Path, model: &ActuatorModel, u: &[f64]) -> io::Result<()
         values.iter().flat_map(|v| std::iter::repeat_n(v.1, 8)),
     );
     s.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
-    write_atomic(path, &s)
+    crate::io::write_atomic(path, s.as_bytes())
 }
 
 fn write_surfaces(path: &Path, model: &ActuatorModel, u: &[f64]) -> io::Result<()> {
@@ -296,7 +290,7 @@ fn write_surfaces(path: &Path, model: &ActuatorModel, u: &[f64]) -> io::Result<(
         faces.iter().flat_map(|(_, id)| std::iter::repeat_n(*id, 4)),
     );
     s.push_str("</CellData>\n</Piece>\n</UnstructuredGrid>\n</VTKFile>\n");
-    write_atomic(path, &s)
+    crate::io::write_atomic(path, s.as_bytes())
 }
 
 /// Writes `dir/steps.pvd` listing the step files with their pressures (bar) as time values.

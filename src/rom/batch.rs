@@ -21,7 +21,8 @@ use std::io::{Read, Write};
 use serde::Serialize;
 
 use super::domain::{BatchDomainReport, DomainViolation};
-use super::surrogate::{Query, Surrogate};
+use super::query::Query;
+use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES};
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::simulate::Marker;

@@ -24,8 +24,8 @@
 //! to the pressure is zero there). Both are reported in [`DomainViolation::clamped`].
 
 use super::data::CaseInputs;
+use super::query::Query;
 use super::regression::{raw_features, FeatureScaler};
-use super::surrogate::Query;
 use surrogate_predict::N_FEATURES;
 
 /// The checked inputs, in the order violations are reported: `(name, unit)`.

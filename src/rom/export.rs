@@ -8,7 +8,8 @@
 
 use std::fmt::Write as _;
 
-use super::surrogate::{Query, Surrogate};
+use super::query::Query;
+use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES};
 use surrogate_predict::{BlockTables, EmbeddedModel, GpTables, PolyTables, Real, MAX_COEFS};
 

@@ -115,9 +115,9 @@ impl Surrogate {
         Ok(model)
     }
 
-    /// Writes the model file atomically (a temporary file beside it, then a rename: a reader
-    /// never sees a half-written model), creating parent directories. An existing file is
-    /// replaced; [`Self::save_new`] refuses to.
+    /// Writes the model file atomically ([`crate::io::write_atomic`]: a reader never sees a
+    /// half-written model), creating parent directories. An existing file is replaced;
+    /// [`Self::save_new`] refuses to.
     ///
     /// # Errors
     /// I/O or serialisation failure.
@@ -130,19 +130,7 @@ impl Surrogate {
         if let Some(dir) = dir {
             std::fs::create_dir_all(dir).map_err(io)?;
         }
-        let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("model");
-        let tmp = dir
-            .unwrap_or(Path::new("."))
-            .join(format!(".{name}.{}.tmp", std::process::id()));
-        let written = std::fs::write(&tmp, self.to_json()?).and_then(|()| {
-            std::fs::File::open(&tmp)?.sync_all()?;
-            std::fs::rename(&tmp, path)
-        });
-        if let Err(e) = written {
-            let _ = std::fs::remove_file(&tmp);
-            return Err(io(e));
-        }
-        Ok(())
+        crate::io::write_atomic(path, self.to_json()?.as_bytes()).map_err(io)
     }
 
     /// [`Self::save`], refusing to replace an existing file unless `overwrite`.

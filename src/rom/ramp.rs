@@ -33,7 +33,8 @@
 //! ```
 
 use super::fast::SCALARS;
-use super::surrogate::{Prediction, Query, Surrogate};
+use super::query::Query;
+use super::surrogate::{Prediction, Surrogate};
 use super::{RomError, QUANTITY_NAMES, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
 use surrogate_predict::stencil;
 

@@ -14,10 +14,11 @@ use rayon::prelude::*;
 use super::data::{CaseInputs, CaseRamp, CaseSet, PartialRamp};
 use super::metrics::{ErrorAccumulator, InterpolationCheck, OutputValidation, Validation};
 use super::pod::PodBasis;
+use super::provenance::TrainingInfo;
 use super::regression::gp::{Gp, GpParams};
 use super::regression::poly::{Poly, PolyParams};
 use super::regression::{raw_features, Data, FeatureScaler, Regressor, RegressorKind};
-use super::surrogate::{Block, InputSpec, Surrogate, TrainingInfo};
+use super::surrogate::{Block, InputSpec, Surrogate};
 use super::{RomError, N_MARKER_COMPONENTS, QUANTITY_NAMES, Q_TIP_UZ};
 use surrogate_predict::N_FEATURES;
 

@@ -5,7 +5,7 @@
 //! reached; the outcome carries the solver's error for the rest.
 
 use super::plan::{PlanSettings, PlannedCase};
-use super::run::{CaseOutcome, StepOutputs};
+use super::store::{CaseOutcome, StepOutputs};
 use crate::fe::simulate::{simulate_with, Case, Mode, StepResult};
 
 /// The FE case (bending or blocked-force test) of a planned case.

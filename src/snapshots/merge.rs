@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::plan::{Plan, PlannedCase};
-use super::store::{case_name, header_line, read_case_file, write_atomic, ShardDir};
+use super::store::{case_name, header_line, read_case_file, ShardDir};
 use super::SnapshotError;
 
 /// What a merge wrote.
@@ -173,8 +173,10 @@ pub fn merge_with(
     if let Some(parent) = out.parent().filter(|p| !p.as_os_str().is_empty()) {
         std::fs::create_dir_all(parent).map_err(|e| SnapshotError::io(parent, e))?;
     }
-    write_atomic(&sidecar_path(out), plan.pretty_json().as_bytes())?;
-    write_atomic(out, &text)?;
+    let sidecar = sidecar_path(out);
+    crate::io::write_atomic(&sidecar, plan.pretty_json().as_bytes())
+        .map_err(|e| SnapshotError::io(&sidecar, e))?;
+    crate::io::write_atomic(out, &text).map_err(|e| SnapshotError::io(out, e))?;
     Ok(summary)
 }
 

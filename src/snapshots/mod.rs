@@ -9,11 +9,13 @@
 //! * [`plan`]: the sampling plan — ranges, a seeded maximin Latin hypercube stratified over
 //!   `N`, the pressure ramp and the solver/mesh settings, and the explicit list of cases.
 //! * [`shard`]: the deterministic share `k/n` of a plan.
-//! * [`store`]: the snapshot CSV columns and the atomic per-case files of a shard directory.
+//! * [`store`]: a case's outcome ([`CaseOutcome`]), the snapshot CSV columns and the atomic
+//!   per-case files of a shard directory.
 //! * [`mod@merge`]: shard directories → one snapshot CSV, identical to a single run.
 //! * [`run`]: the case runner abstraction ([`CaseRunner`]), the shard driver with resume, and a
 //!   cheap analytic runner for tests and dry runs of the distribution machinery.
-//! * [`fe_runner`]: the real runner, one FE pressure ramp per case.
+//! * [`fe_runner`]: the real runner: per case, the FE bending ramp and the blocked-force ramp
+//!   ([`fe_runner::blocked_force_ramp`]) through the plan's pressures.
 //! * [`verify`]: re-simulates random cases of a snapshot file and compares the outputs.
 //!
 //! ## One case, one ramp
@@ -96,12 +98,6 @@
 //! resubmit and every shard resumes. `slurm/local_cluster.sh` starts a single-node Slurm
 //! (munge, slurmctld, slurmd) on a Debian machine; `slurm/local_run.sh` runs a tiny real-FE
 //! plan through it and writes `slurm/local_run.log` (merged file identical to a single run).
-//!
-//! ## Status
-//!
-//! The blocked-force ramp is a placeholder until the FE has its blocked-force mode: `force_n`
-//! is `NaN` (see [`fe_runner::blocked_force_ramp`]). The surrogate trainer requires finite
-//! values in converged rows, so FE snapshot sets become trainable once that mode is wired in.
 
 pub mod fe_runner;
 pub mod merge;
@@ -113,9 +109,9 @@ pub mod verify;
 
 pub use merge::{merge, MergeSummary};
 pub use plan::{Plan, PlanSettings, PlannedCase, Ranges};
-pub use run::{run_shard, CaseOutcome, CaseRunner, RunOptions, RunSummary, StepOutputs};
+pub use run::{run_shard, CaseRunner, RunOptions, RunSummary};
 pub use shard::Shard;
-pub use store::ShardDir;
+pub use store::{CaseOutcome, ShardDir, StepOutputs};
 
 use thiserror::Error;
 

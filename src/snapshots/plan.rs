@@ -32,8 +32,9 @@
 //! Both literature Ogden sets (`ogden_002`, `ogden_005`) lie inside (tested;
 //! [`Ranges::literature_inside`] lists them); `mooney_rivlin_5` is not an Ogden set. `μ0` spans
 //! a factor 10 around the literature values and NinjaFlex's data-sheet modulus (E ≈ 12 MPa,
-//! μ0 ≈ 4 MPa), so a calibrated optimum near the experiments lies inside as long as the
-//! calibrator searches the same box (it can use [`Ranges::default`] as its bounds).
+//! μ0 ≈ 4 MPa), so a calibrated optimum near the experiments lies inside: the calibrator
+//! searches the training domain of a model trained on the plan
+//! ([`crate::calibrate::ParamSpace::Training`]), which lies inside this box.
 //!
 //! **Why all of 7..15 for `N`**: the SPEC's model range is 7..15 and the surrogate accepts only
 //! trained values of `N`; a case costs the same whatever its `N`, so covering every integer

@@ -17,59 +17,8 @@ use rayon::prelude::*;
 use super::plan::{Plan, PlanSettings, PlannedCase};
 use super::shard::Shard;
 use super::store::{read_case_file, ShardDir};
+pub use super::store::{CaseOutcome, StepOutputs};
 use super::SnapshotError;
-
-/// Outputs of one converged pressure step.
-#[derive(Clone, Debug, PartialEq)]
-pub struct StepOutputs {
-    /// Tip `Uz = −Δz` (mm).
-    pub tip_uz_mm: f64,
-    /// Tip `Uy = Δy` (mm).
-    pub tip_uy_mm: f64,
-    /// Bending angle (deg).
-    pub angle_deg: f64,
-    /// Blocked force (N); `NaN` when not computed.
-    pub force_n: f64,
-    /// Markers 1..9: `[Uz, Uy]` (mm).
-    pub markers: [[f64; 2]; 9],
-    /// Newton iterations to reach the step.
-    pub newton_iterations: usize,
-    /// Load substeps.
-    pub substeps: usize,
-    /// Cut-backs.
-    pub cutbacks: usize,
-    /// Final normalised residual.
-    pub residual: f64,
-    /// Smallest deformed gap between bellows (mm).
-    pub min_gap_mm: f64,
-    /// Whether the step converged.
-    pub converged: bool,
-}
-
-/// What a runner returns for one case: the steps reached, in plan-pressure order (a prefix
-/// of the ramp), and why it stopped early, if it did.
-#[derive(Clone, Debug, PartialEq, Default)]
-pub struct CaseOutcome {
-    /// Steps reached (at most one per plan pressure).
-    pub steps: Vec<StepOutputs>,
-    /// The error that stopped the ramp.
-    pub error: Option<String>,
-}
-
-impl CaseOutcome {
-    /// A case that produced nothing.
-    pub fn failed(error: impl Into<String>) -> Self {
-        Self {
-            steps: Vec::new(),
-            error: Some(error.into()),
-        }
-    }
-
-    /// Whether the case stopped early.
-    pub fn is_failed(&self) -> bool {
-        self.error.is_some()
-    }
-}
 
 /// Computes one case. Implemented by every `Fn(&PlannedCase, &PlanSettings) -> CaseOutcome +
 /// Sync`: the FE ([`super::fe_runner::fe_runner`]) or a cheap stand-in ([`AnalyticRunner`]).

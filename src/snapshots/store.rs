@@ -1,4 +1,5 @@
-//! The snapshot store: CSV columns, atomic per-case files in a shard directory, and the merge.
+//! The snapshot store: what a runner returns for a case ([`CaseOutcome`]), the CSV columns, and
+//! the atomic per-case files of a shard directory (merged by [`mod@super::merge`]).
 //!
 //! ## Columns
 //!
@@ -20,21 +21,73 @@
 //! `case_id` is `case_<id, 6 digits>`. A case has one row per plan pressure, in plan order;
 //! steps the solver did not reach have `converged = false` and `NaN` outputs. Floats are
 //! written in Rust's shortest round-trip form (`{:?}`), so reading gives the same bits.
-//! `force_n` is `NaN` while the blocked-force mode is not wired in (see [`super::fe_runner`]).
+//! `force_n` is the plate reaction of the case's blocked-force ramp at the same pressure (see
+//! [`super::fe_runner`]).
 //!
 //! ## Shard directory
 //!
 //! `plan.json`, `plan_hash` and `cases/case_<id>.csv` (see [`super`]); case files are written
-//! to `cases/.case_<id>.csv.<pid>.tmp`, fsynced, renamed, and the directory fsynced.
+//! to `cases/.case_<id>.csv.<pid>.tmp`, fsynced, renamed, and the directory fsynced
+//! ([`crate::io::write_atomic`]).
 
 use std::collections::BTreeMap;
-use std::io::Write;
 use std::path::{Path, PathBuf};
 
 use super::plan::{Plan, PlanSettings, PlannedCase};
-use super::run::{CaseOutcome, StepOutputs};
 use super::{code_version, SnapshotError};
 pub use crate::rom::data::REQUIRED_COLUMNS;
+
+/// Outputs of one converged pressure step.
+#[derive(Clone, Debug, PartialEq)]
+pub struct StepOutputs {
+    /// Tip `Uz = −Δz` (mm).
+    pub tip_uz_mm: f64,
+    /// Tip `Uy = Δy` (mm).
+    pub tip_uy_mm: f64,
+    /// Bending angle (deg).
+    pub angle_deg: f64,
+    /// Blocked force (N); `NaN` when not computed.
+    pub force_n: f64,
+    /// Markers 1..9: `[Uz, Uy]` (mm).
+    pub markers: [[f64; 2]; 9],
+    /// Newton iterations to reach the step.
+    pub newton_iterations: usize,
+    /// Load substeps.
+    pub substeps: usize,
+    /// Cut-backs.
+    pub cutbacks: usize,
+    /// Final normalised residual.
+    pub residual: f64,
+    /// Smallest deformed gap between bellows (mm).
+    pub min_gap_mm: f64,
+    /// Whether the step converged.
+    pub converged: bool,
+}
+
+/// What a runner returns for one case: the steps reached, in plan-pressure order (a prefix
+/// of the ramp), and why it stopped early, if it did.
+#[derive(Clone, Debug, PartialEq, Default)]
+pub struct CaseOutcome {
+    /// Steps reached (at most one per plan pressure).
+    pub steps: Vec<StepOutputs>,
+    /// The error that stopped the ramp.
+    pub error: Option<String>,
+}
+
+impl CaseOutcome {
+    /// A case that produced nothing.
+    pub fn failed(error: impl Into<String>) -> Self {
+        Self {
+            steps: Vec::new(),
+            error: Some(error.into()),
+        }
+    }
+
+    /// Whether the case stopped early.
+    pub fn is_failed(&self) -> bool {
+        self.error.is_some()
+    }
+}
 
 /// Provenance columns after [`REQUIRED_COLUMNS`].
 pub const PROVENANCE_COLUMNS: [&str; 12] = [
@@ -167,32 +220,6 @@ pub fn case_csv(case: &PlannedCase, settings: &PlanSettings, outcome: &CaseOutco
     }
     out.extend(w.into_inner().expect("writing to memory")); // ok: flushing a Vec cannot fail
     out
-}
-
-/// Writes `bytes` to `path` atomically: temporary file in the same directory, fsync, rename,
-/// fsync of the directory.
-///
-/// # Errors
-/// [`SnapshotError::Io`] naming the file.
-pub fn write_atomic(path: &Path, bytes: &[u8]) -> Result<(), SnapshotError> {
-    let dir = path.parent().unwrap_or(Path::new("."));
-    let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
-    let tmp_err = |e| SnapshotError::io(&tmp, e);
-    let mut f = std::fs::File::create(&tmp).map_err(tmp_err)?;
-    f.write_all(bytes).map_err(tmp_err)?;
-    f.sync_all().map_err(tmp_err)?;
-    drop(f);
-    std::fs::rename(&tmp, path).map_err(|e| SnapshotError::io(path, e))?;
-    // make the rename itself durable
-    if let Ok(d) = std::fs::File::open(if dir.as_os_str().is_empty() {
-        Path::new(".")
-    } else {
-        dir
-    }) {
-        let _ = d.sync_all();
-    }
-    Ok(())
 }
 
 /// A validated case file: its data rows as written (without the header).
@@ -348,10 +375,14 @@ impl ShardDir {
                 };
                 let cases = dir.cases_dir();
                 std::fs::create_dir_all(&cases).map_err(|e| SnapshotError::io(&cases, e))?;
-                write_atomic(&root.join(PLAN_FILE), plan.pretty_json().as_bytes())?;
+                let plan_file = root.join(PLAN_FILE);
+                crate::io::write_atomic(&plan_file, plan.pretty_json().as_bytes())
+                    .map_err(|e| SnapshotError::io(&plan_file, e))?;
                 // the hash marker last: it commits the directory to the plan
+                let hash_file = root.join(PLAN_HASH_FILE);
                 let hash = format!("{}\n", plan.hash());
-                write_atomic(&root.join(PLAN_HASH_FILE), hash.as_bytes())?;
+                crate::io::write_atomic(&hash_file, hash.as_bytes())
+                    .map_err(|e| SnapshotError::io(&hash_file, e))?;
                 dir
             }
         };
@@ -472,7 +503,8 @@ impl ShardDir {
         outcome: &CaseOutcome,
     ) -> Result<PathBuf, SnapshotError> {
         let path = self.case_path(case.id);
-        write_atomic(&path, &case_csv(case, settings, outcome))?;
+        crate::io::write_atomic(&path, &case_csv(case, settings, outcome))
+            .map_err(|e| SnapshotError::io(&path, e))?;
         Ok(path)
     }
 }

@@ -15,8 +15,8 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
 use super::plan::Plan;
-use super::run::{CaseOutcome, CaseRunner};
-use super::store::{case_csv, case_name, REQUIRED_COLUMNS};
+use super::run::CaseRunner;
+use super::store::{case_csv, case_name, CaseOutcome, REQUIRED_COLUMNS};
 use super::SnapshotError;
 
 /// Index of the first output column (`tip_uz_mm`).

@@ -1,7 +1,7 @@
 //! Verification cases of the FE solver against analytic and reference solutions.
 //!
 //! Shared by the `verification_*` tests (which assert the tolerances at one refinement) and by
-//! `examples/verification.rs` (which runs every refinement level and writes
+//! `benches/verification.rs` (which runs every refinement level and writes
 //! `fe_reference/verification.json`). Each case module builds its mesh, solves, measures and
 //! returns [`Check`]s: a computed value, its reference, the error and, where it is asserted,
 //! the tolerance.

@@ -18,6 +18,7 @@ use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::rom::Surrogate;
 
 use crate::calibrate_plots::write_plots;
+use crate::files::write_file;
 
 /// `surrogate calibrate`.
 #[derive(Debug, Args)]
@@ -197,21 +198,16 @@ pub fn write_outputs(
     let mut written = Vec::new();
     let report = serde_json::json!({ "calibration": cal, "fe_verification": fe });
     let p = dir.join("report.json");
-    write_atomic(&p, serde_json::to_string_pretty(&report)?.as_bytes())?;
+    write_file(&p, serde_json::to_string_pretty(&report)?.as_bytes())?;
     written.push(p);
     let p = dir.join("configurations.csv");
-    write_atomic(&p, &configurations_csv(cal, fe)?)?;
+    write_file(&p, &configurations_csv(cal, fe)?)?;
     written.push(p);
     let p = dir.join("summary.md");
-    write_atomic(&p, summary_text(cal, fe).as_bytes())?;
+    write_file(&p, summary_text(cal, fe).as_bytes())?;
     written.push(p);
     written.extend(write_plots(cal, fe, dir)?);
     Ok(written)
-}
-
-fn write_atomic(path: &Path, bytes: &[u8]) -> Result<()> {
-    surrogate::snapshots::store::write_atomic(path, bytes)
-        .with_context(|| format!("writing {}", path.display()))
 }
 
 /// Per configuration: measured, literature and calibrated (surrogate), FE at the optimum.

@@ -7,7 +7,7 @@ use surrogate::rom::Query;
 use crate::args::{ExportArgs, PrecisionArg};
 
 pub fn run(a: ExportArgs) -> Result<()> {
-    let model = crate::load_model(&a.model)?;
+    let model = crate::files::load_model(&a.model)?;
     let precision = match a.precision {
         PrecisionArg::F32 => Precision::F32,
         PrecisionArg::F64 => Precision::F64,
@@ -44,13 +44,13 @@ pub fn run(a: ExportArgs) -> Result<()> {
             c_header(precision, &sum),
         )
     };
-    crate::write_file(&a.rust, src.as_bytes())
+    crate::files::write_file(&a.rust, src.as_bytes())
         .with_context(|| format!("writing {}", a.rust.display()))?;
     let header = a
         .header
         .clone()
         .unwrap_or_else(|| a.rust.with_extension("h"));
-    crate::write_file(&header, c.as_bytes())
+    crate::files::write_file(&header, c.as_bytes())
         .with_context(|| format!("writing {}", header.display()))?;
     eprintln!(
         "wrote {} -> {} + {}",

@@ -6,6 +6,7 @@ mod calibrate_plots;
 mod demo;
 mod export;
 mod figure;
+mod files;
 mod predict;
 mod simulate;
 mod snapshots;
@@ -13,11 +14,9 @@ mod speedup;
 mod train;
 mod validate;
 
-use std::path::Path;
 use std::process::ExitCode;
 
 use clap::Parser;
-use surrogate::rom::Surrogate;
 
 fn main() -> ExitCode {
     let cli = args::Cli::parse();
@@ -55,41 +54,6 @@ pub fn flatten(e: &anyhow::Error) -> String {
         out.push_str(&text);
     }
     out
-}
-
-/// Loads a model file; a missing one says where it was looked for and what to give instead.
-pub fn load_model(path: &Path) -> anyhow::Result<Surrogate> {
-    Surrogate::load(path).map_err(|e| {
-        if path.exists() {
-            anyhow::Error::from(e)
-        } else {
-            anyhow::anyhow!(
-                "{e}; give --model PATH (the shipped models are models/actuator.json and \
-                 models/actuator_coarse.json in the repository: run from its root, or give \
-                 the full path)"
-            )
-        }
-    })
-}
-
-/// Writes a file atomically (temporary file beside it, then a rename) from a writer closure.
-pub fn write_atomic(
-    path: &Path,
-    fill: impl FnOnce(&mut Vec<u8>) -> anyhow::Result<()>,
-) -> anyhow::Result<()> {
-    let mut buf = Vec::new();
-    fill(&mut buf)?;
-    write_file(path, &buf)
-}
-
-/// Writes `bytes` to a file atomically, creating its directory.
-pub fn write_file(path: &Path, bytes: &[u8]) -> anyhow::Result<()> {
-    if let Some(dir) = path.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir)
-            .map_err(|e| anyhow::anyhow!("creating {}: {e}", dir.display()))?;
-    }
-    surrogate::snapshots::store::write_atomic(path, bytes)?;
-    Ok(())
 }
 
 #[cfg(test)]

@@ -15,7 +15,7 @@ const ALLOW_HINT: &str = "give --allow-extrapolation to predict anyway (the outp
                           which inputs were outside and whether they were clamped)";
 
 pub fn run(a: PredictArgs) -> Result<()> {
-    let model = crate::load_model(&a.model)?;
+    let model = crate::files::load_model(&a.model)?;
     if a.validation {
         let mut text = model.validation.table();
         if let Some(c) = &model.training.correction {
@@ -93,7 +93,9 @@ fn batch(
         write_predictions(std::io::stdout().lock(), &predicted)?;
         return Ok(());
     }
-    crate::write_atomic(out, |w| Ok(write_predictions(w, &predicted)?))?;
+    let mut buf = Vec::new();
+    write_predictions(&mut buf, &predicted)?;
+    crate::files::write_file(out, &buf)?;
     eprintln!(
         "wrote {} predictions to {}",
         predicted.rows.len(),

@@ -137,7 +137,7 @@ struct BenchRow {
 fn write_output(out: Option<&PathBuf>, json: &str, what: &str) -> Result<()> {
     match out.filter(|p| p.as_os_str() != "-") {
         Some(p) => {
-            crate::write_file(p, json.as_bytes())
+            crate::files::write_file(p, json.as_bytes())
                 .with_context(|| format!("writing {}", p.display()))?;
             eprintln!("wrote {what} to {}", p.display());
         }

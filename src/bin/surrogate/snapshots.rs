@@ -263,7 +263,7 @@ fn plan(a: PlanArgs) -> Result<()> {
         ..PlanSettings::default()
     };
     let plan = Plan::generate(a.cases, a.seed, ranges, settings)?;
-    surrogate::snapshots::store::write_atomic(&a.out, plan.pretty_json().as_bytes())?;
+    crate::files::write_file(&a.out, plan.pretty_json().as_bytes())?;
     let inside: Vec<String> = plan
         .literature_in_sampled_domain()?
         .into_iter()
@@ -297,7 +297,7 @@ fn subset(a: SubsetArgs) -> Result<()> {
         wall_elements: None,
     };
     let plan = parent.subset(a.cases, mesh)?;
-    surrogate::snapshots::store::write_atomic(&a.out, plan.pretty_json().as_bytes())?;
+    crate::files::write_file(&a.out, plan.pretty_json().as_bytes())?;
     let ids: Vec<String> = plan.cases.iter().map(|c| c.id.to_string()).collect();
     eprintln!(
         "wrote {}: {} of the {} cases of plan {} on the {} mesh, plan hash {}; ids {}",

@@ -10,7 +10,7 @@ use std::hint::black_box;
 use std::path::Path;
 use std::time::Instant;
 
-use anyhow::{Context, Result};
+use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
 use surrogate::fe::geometry::DesignParams;
@@ -132,8 +132,7 @@ pub fn run(model: &Surrogate, a: &PredictArgs, mesh: &str, out: &Path) -> Result
         max_tip_difference_mm: max_diff,
     };
     let text = serde_json::to_string_pretty(&result)?;
-    surrogate::snapshots::store::write_atomic(out, text.as_bytes())
-        .with_context(|| format!("writing {}", out.display()))?;
+    crate::files::write_file(out, text.as_bytes())?;
     println!("{text}");
     Ok(())
 }

@@ -261,7 +261,7 @@ fn write_held_out(path: &std::path::Path, points: &[HeldOutPoint]) -> Result<()>
         ])?;
     }
     let bytes = w.into_inner().context("CSV buffer")?;
-    surrogate::snapshots::store::write_atomic(path, &bytes)?;
+    crate::files::write_file(path, &bytes)?;
     Ok(())
 }
 

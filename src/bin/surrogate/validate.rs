@@ -62,22 +62,14 @@ pub fn run(a: ValidateArgs) -> Result<()> {
         },
     )?;
     bar.finish_and_clear();
-    if let Some(dir) = a.out.parent().filter(|d| !d.as_os_str().is_empty()) {
-        std::fs::create_dir_all(dir).with_context(|| format!("creating {}", dir.display()))?;
+    let mut w = csv::Writer::from_writer(Vec::new());
+    for r in &rows {
+        w.serialize(r)?;
     }
-    let tmp = a.out.with_extension("csv.tmp");
-    {
-        let mut w =
-            csv::Writer::from_path(&tmp).with_context(|| format!("writing {}", tmp.display()))?;
-        for r in &rows {
-            w.serialize(r)?;
-        }
-        w.flush()?;
-    }
-    std::fs::rename(&tmp, &a.out)?;
+    let table = w.into_inner().context("CSV buffer")?;
+    crate::files::write_file(&a.out, &table)?;
     let svg = a.out.with_extension("svg");
-    let plot_rows: Vec<PlotRow> = rows.iter().map(PlotRow::from).collect();
-    plot(&svg, &plot_rows, &a.material)?;
+    plot(&svg, &rows, &a.material)?;
     let s = summarize(&rows);
     println!(
         "{}: {} configurations ({} not reached), mean BE {:.2} mm, median BE {:.2} mm, mean |F error| {:.3} N, \
@@ -102,50 +94,11 @@ pub fn run(a: ValidateArgs) -> Result<()> {
     Ok(())
 }
 
-/// The values of one configuration that the figure draws (a row of the baseline CSV).
-#[derive(Debug, Clone, serde::Deserialize)]
-pub struct PlotRow {
-    /// Number of bellows.
-    pub n_bellows: usize,
-    /// Wall thickness (mm).
-    pub wall_thickness_mm: f64,
-    /// Pressure (bar).
-    pub pressure_bar: f64,
-    /// Measured tip Uz (mm).
-    pub uz_exp_mm: f64,
-    /// Simulated tip Uz (mm).
-    pub uz_sim_mm: f64,
-    /// Measured tip Uy (mm).
-    pub uy_exp_mm: f64,
-    /// Simulated tip Uy (mm).
-    pub uy_sim_mm: f64,
-    /// Measured blocked force (N).
-    pub force_exp_n: f64,
-    /// Simulated blocked force (N).
-    pub force_sim_n: f64,
-}
-
-impl From<&BaselineRow> for PlotRow {
-    fn from(r: &BaselineRow) -> Self {
-        PlotRow {
-            n_bellows: r.n_bellows,
-            wall_thickness_mm: r.wall_thickness_mm,
-            pressure_bar: r.pressure_bar,
-            uz_exp_mm: r.uz_exp_mm,
-            uz_sim_mm: r.uz_sim_mm,
-            uy_exp_mm: r.uy_exp_mm,
-            uy_sim_mm: r.uy_sim_mm,
-            force_exp_n: r.force_exp_n,
-            force_sim_n: r.force_sim_n,
-        }
-    }
-}
-
 /// Free length of the experimental actuators (mm): tip position `z = Lf − Uz`.
 const LF: f64 = 92.0;
 
 /// Tip positions `(z, y)` in mm, measured and simulated, of every row.
-fn tips(rows: &[PlotRow]) -> Vec<(f64, f64)> {
+fn tips(rows: &[BaselineRow]) -> Vec<(f64, f64)> {
     rows.iter()
         .flat_map(|r| {
             [
@@ -158,7 +111,7 @@ fn tips(rows: &[PlotRow]) -> Vec<(f64, f64)> {
 
 /// Axis ranges `(z, y)` of the tip panel: every tip, the support (0, 0) and the unloaded
 /// tip (Lf, 0).
-pub fn tip_axes(rows: &[PlotRow]) -> ((f64, f64), (f64, f64)) {
+pub fn tip_axes(rows: &[BaselineRow]) -> ((f64, f64), (f64, f64)) {
     let t = tips(rows);
     (
         axis_range_with(t.iter().map(|p| p.0), &[0.0, LF]),
@@ -167,7 +120,7 @@ pub fn tip_axes(rows: &[PlotRow]) -> ((f64, f64), (f64, f64)) {
 }
 
 /// Axis range of the force panel (both axes, with zero): every measured and simulated force.
-pub fn force_axes(rows: &[PlotRow]) -> (f64, f64) {
+pub fn force_axes(rows: &[BaselineRow]) -> (f64, f64) {
     axis_range_with(
         rows.iter().flat_map(|r| [r.force_exp_n, r.force_sim_n]),
         &[0.0],
@@ -176,7 +129,7 @@ pub fn force_axes(rows: &[PlotRow]) -> (f64, f64) {
 
 /// Measured vs simulated tip positions (left, coloured by design) and blocked forces (right,
 /// coloured by pressure), with legends and units.
-fn plot(path: &Path, rows: &[PlotRow], material: &str) -> Result<()> {
+fn plot(path: &Path, rows: &[BaselineRow], material: &str) -> Result<()> {
     let root = SVGBackend::new(path, (1200, 560)).into_drawing_area();
     root.fill(&WHITE)?;
     let (left, right) = root.split_horizontally(680);
@@ -202,7 +155,7 @@ fn plot(path: &Path, rows: &[PlotRow], material: &str) -> Result<()> {
     designs.dedup();
     for (k, &(n, t)) in designs.iter().enumerate() {
         let col = colour(k);
-        let mine: Vec<&PlotRow> = rows
+        let mine: Vec<&BaselineRow> = rows
             .iter()
             .filter(|r| r.n_bellows == n && r.wall_thickness_mm == t)
             .collect();
@@ -271,7 +224,7 @@ fn plot(path: &Path, rows: &[PlotRow], material: &str) -> Result<()> {
 fn plot_only(a: &ValidateArgs) -> Result<()> {
     let mut r = csv::Reader::from_path(&a.out)
         .with_context(|| format!("reading {} (--plot-only)", a.out.display()))?;
-    let rows: Vec<PlotRow> = r
+    let rows: Vec<BaselineRow> = r
         .deserialize()
         .collect::<Result<_, _>>()
         .with_context(|| format!("reading {}", a.out.display()))?;
@@ -292,8 +245,8 @@ mod tests {
     use super::*;
     use crate::figure::holds;
 
-    fn row(n: usize, uz: f64, uy: f64, f_exp: f64, f_sim: f64) -> PlotRow {
-        PlotRow {
+    fn row(n: usize, uz: f64, uy: f64, f_exp: f64, f_sim: f64) -> BaselineRow {
+        BaselineRow {
             n_bellows: n,
             wall_thickness_mm: 1.6,
             pressure_bar: 3.0,
@@ -301,8 +254,13 @@ mod tests {
             uz_sim_mm: uz + 5.0,
             uy_exp_mm: uy,
             uy_sim_mm: uy - 3.0,
+            angle_exp_deg: f64::NAN,
+            angle_sim_deg: f64::NAN,
+            be_mm: f64::NAN,
             force_exp_n: f_exp,
             force_sim_n: f_sim,
+            force_error_n: f_sim - f_exp,
+            error: String::new(),
         }
     }
 

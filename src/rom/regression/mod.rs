@@ -169,6 +169,9 @@ impl FeatureScaler {
 
 /// Lower Cholesky factor in place (row-major `n × n`; the upper part is left as is).
 ///
+/// Written here rather than taken from faer so that retraining reproduces the shipped models
+/// bit for bit (faer's factor is faster but rounds differently: `src/rom/NOTES.md`).
+///
 /// # Errors
 /// The index of the first non-positive pivot.
 pub(crate) fn cholesky_in_place(a: &mut [f64], n: usize) -> Result<(), usize> {
