@@ -21,12 +21,13 @@
 
 use nalgebra::{Matrix3, SymmetricEigen, Vector3};
 
-use super::Tangent9;
-
 /// Relative gap between principal values of `C` below which `θ_ab` uses its limit.
 const COALESCENCE_TOL: f64 = 1e-6;
 
 /// Iteration cap of the symmetric eigen solver (3×3 converges in a handful).
+/// Fourth-order tangent as a 9×9 matrix: `A[(3*i + J, 3*k + L)] = ∂P_iJ / ∂F_kL`.
+pub type Tangent9 = nalgebra::SMatrix<f64, 9, 9>;
+
 const EIGEN_MAX_ITER: usize = 200;
 
 /// `J = det F` and `F^{-T}` if `J > 0` and finite.

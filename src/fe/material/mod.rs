@@ -39,7 +39,7 @@ pub use mooney_rivlin::{MooneyRivlin5, MooneyRivlinParams};
 pub use neo_hookean::{NeoHookean, NeoHookeanParams};
 pub use ogden::{Ogden2, OgdenParams};
 
-use nalgebra::{Matrix3, SMatrix};
+use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -47,8 +47,7 @@ use thiserror::Error;
 /// `κ = 1000 μ0`: nearly incompressible, as the printed elastomer (`docs/MODEL.md`).
 pub const DEFAULT_BULK_RATIO: f64 = 1000.0;
 
-/// Fourth-order tangent as a 9×9 matrix: `A[(3*i + J, 3*k + L)] = ∂P_iJ / ∂F_kL`.
-pub type Tangent9 = SMatrix<f64, 9, 9>;
+pub use isotropic::Tangent9;
 
 /// Errors of material parameters.
 #[derive(Debug, Error)]

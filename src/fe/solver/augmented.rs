@@ -2,9 +2,9 @@
 //! output level, each followed by a Newton solve at the same load, so that the penalty's
 //! contact surface moves onto the true one.
 
-use super::continuation::PathState;
 use super::problem::NonlinearProblem;
 use super::settings::{SolverError, StepReport, AUGMENTED_GAP_TOL};
+use super::state::PathState;
 use super::Solver;
 use crate::fe::assembly::LoadLevel;
 

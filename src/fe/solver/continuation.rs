@@ -6,34 +6,9 @@
 
 use super::problem::NonlinearProblem;
 use super::settings::{SolverError, SolverSettings, StepReport};
-use super::stabilization::STABILIZED_INCREMENT;
+use super::state::{PathState, STABILIZED_INCREMENT};
 use super::Solver;
 use crate::fe::assembly::LoadLevel;
-
-/// The state carried along a load path.
-pub struct PathState {
-    /// Free unknowns at the last converged level.
-    pub u_free: Vec<f64>,
-    /// Full displacement vector at the last converged level.
-    pub u_full: Vec<f64>,
-    /// The last converged level.
-    pub level: LoadLevel,
-    /// Up to two earlier converged states (oldest first), for the predictor.
-    pub(super) history: Vec<(Vec<f64>, LoadLevel)>,
-}
-
-impl PathState {
-    /// The undeformed state at zero load (and the model's contact gap shifts reset).
-    pub fn new(model: &impl NonlinearProblem) -> Self {
-        model.reset_contact_shifts();
-        Self {
-            u_free: vec![0.0; model.n_free()],
-            u_full: vec![0.0; model.n_full()],
-            level: LoadLevel::default(),
-            history: Vec::new(),
-        }
-    }
-}
 
 impl<P: NonlinearProblem> Solver<'_, P> {
     /// Advances `state` to `target` with adaptive substeps.

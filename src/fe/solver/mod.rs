@@ -15,6 +15,7 @@
 //! | [`stabilization`] | viscous pseudo-time stepping where load control stops |
 //! | [`linear`] | the sparse LDLᵀ factorisation and its fill-reducing ordering |
 //! | [`settings`] | settings, step reports, errors |
+//! | [`state`] | the path state and the stabilisation's viscous term |
 //!
 //! Why it is built this way:
 //!
@@ -47,18 +48,20 @@ pub mod predictor;
 pub mod problem;
 pub mod settings;
 pub mod stabilization;
+pub mod state;
 
-pub use continuation::{solve_path, solve_path_from, PathState};
+pub use continuation::{solve_path, solve_path_from};
 pub use linear::{LinearSolver, Ordering};
 pub use problem::NonlinearProblem;
 pub use settings::{
     SolverError, SolverSettings, StepReport, AUGMENTED_GAP_TOL, DEFAULT_STABILIZATION,
     REUSE_CONTRACTION,
 };
+pub use state::PathState;
 
 use super::assembly::{FeModel, LoadLevel};
 use super::element::ElementError;
-use stabilization::Stabilization;
+use state::Stabilization;
 
 /// Drives a model along a load path.
 pub struct Solver<'m, P: NonlinearProblem = FeModel> {

@@ -2,8 +2,8 @@
 //! quadratic through the last three converged states (linear through two), unless that would
 //! push a contact point into penetration.
 
-use super::continuation::PathState;
 use super::problem::NonlinearProblem;
+use super::state::PathState;
 use super::Solver;
 use crate::fe::assembly::LoadLevel;
 

@@ -4,31 +4,15 @@
 //! stepping), and the output level is then relaxed at constant load until an undamped
 //! equilibrium is found: only undamped equilibria are reported.
 
-use super::continuation::PathState;
 use super::problem::NonlinearProblem;
 use super::settings::{SolverError, StepReport};
+use super::state::{PathState, Stabilization};
 use super::Solver;
 use crate::fe::assembly::LoadLevel;
-
-/// The viscous term `c ⊙ (u − u_ref)` of the stabilised continuation
-/// ([`SolverSettings::stabilization`]), on the free unknowns.
-pub(super) struct Stabilization {
-    /// β · |K₀ᵢᵢ| per free unknown.
-    pub(super) damping: Vec<f64>,
-    /// The state of the last substep.
-    pub(super) u_ref: Vec<f64>,
-    /// The undamped equilibrium it started from, restored if it fails.
-    pub(super) origin: (Vec<f64>, LoadLevel),
-    /// Factor on `damping` (pseudo-time step⁻¹ of the relaxation).
-    pub(super) scale: f64,
-}
 
 /// Stabilised relaxation steps at the output level, each followed by an undamped solve,
 /// before the stabilised continuation gives up.
 const MAX_RELAXATIONS: usize = 40;
-
-/// First pressure increment (MPa) of the stabilised continuation.
-pub(super) const STABILIZED_INCREMENT: f64 = 0.0025;
 
 impl<P: NonlinearProblem> Solver<'_, P> {
     /// Switches the stabilised continuation on at the converged `state`: the viscous

@@ -2,7 +2,8 @@
 //! dead tractions ([`FeModel::add_dead_traction`]), as load vectors scaled by the load
 //! level's factors. Their potential is `−f · u`.
 
-use crate::fe::assembly::{FeModel, LoadLevel};
+use crate::fe::assembly::load::LoadLevel;
+use crate::fe::assembly::model::FeModel;
 
 /// Subtracts the dead loads at `level` from `r_full` (all dofs), adds their potential
 /// (`−f · u`) to `energy` if given, and returns the squared norm of the external forces on the

@@ -9,149 +9,46 @@
 //! | gravity and dead tractions | [`dead_load`] | load vector |
 //!
 //! An element term adds its contribution of one element to that element's local system
-//! ([`LocalSystem`]); the assembly evaluates [`ELEMENT_TERMS`] and then the model's added terms
+//! ([`term::LocalSystem`]); the assembly evaluates [`ELEMENT_TERMS`] and then the model's added terms
 //! ([`FeModel::add_element_term`]) on every element, in that order, and scatters the sum once.
-//! A new physical term is one new file implementing [`ElementTerm`] and one entry in that list
+//! A new physical term is one new file implementing [`term::ElementTerm`] and one entry in that list
 //! (or one call to `add_element_term` where a case builds its model).
 
 pub mod dead_load;
 pub mod pair_contact;
 pub mod plane_contact;
 pub mod pressure;
+pub mod term;
 pub mod volume;
 
-use super::scatter::LocalVectors;
-use super::{FeModel, LoadLevel, MAX_PLANES};
-use crate::fe::element::{ElementError, ElementWork, DOFS};
-
-/// The state of one element that a term sees.
-pub struct ElementContext<'a> {
-    /// Element id.
-    pub element: usize,
-    /// Its nodes.
-    pub conn: &'a [usize; 27],
-    /// Displacements of its nodes.
-    pub ue: [[f64; 3]; 27],
-    /// The load level.
-    pub level: &'a LoadLevel,
-    /// Whether the tangent is wanted.
-    pub with_tangent: bool,
-    /// Whether the potential energy is wanted.
-    pub with_energy: bool,
-    /// The mixed Newton iteration's element pressures for the tangent (see
-    /// [`crate::fe::element::linearised_pressure`]).
-    pub mixed: Option<[f64; 4]>,
-}
-
-impl ElementContext<'_> {
-    /// Current position of local node `l`.
-    pub fn position(&self, model: &FeModel, l: usize) -> [f64; 3] {
-        let x0 = model.mesh.nodes[self.conn[l]];
-        [
-            x0[0] + self.ue[l][0],
-            x0[1] + self.ue[l][1],
-            x0[2] + self.ue[l][2],
-        ]
-    }
-}
-
-/// One element's local system: what every term adds to.
-pub struct LocalSystem {
-    /// Residual and row-major 81 × 81 tangent (with the volume term's scratch).
-    pub work: ElementWork,
-    /// External force from the follower pressure, per local dof.
-    pub external: [f64; DOFS],
-    /// Potential energy (when asked for).
-    pub energy: f64,
-    /// Normal force of each rigid plane on this element (N).
-    pub plane_forces: [f64; MAX_PLANES],
-    /// Smallest gap to each rigid plane at this element's contact points (mm).
-    pub plane_gaps: [f64; MAX_PLANES],
-}
-
-impl LocalSystem {
-    /// An empty local system.
-    pub fn new(with_energy: bool) -> Self {
-        let mut work = ElementWork::default();
-        work.with_energy = with_energy;
-        Self {
-            work,
-            external: [0.0; DOFS],
-            energy: 0.0,
-            plane_forces: [0.0; MAX_PLANES],
-            plane_gaps: [f64::INFINITY; MAX_PLANES],
-        }
-    }
-
-    /// Adds a face term's local residual `rf` (9 nodes × 3) and tangent `kf` (27 × 27) at the
-    /// element-local nodes `local`.
-    pub fn add_face(&mut self, local: &[usize; 9], rf: &[f64; 27], kf: Option<&[f64; 729]>) {
-        for (a, &la) in local.iter().enumerate() {
-            for i in 0..3 {
-                self.work.r[3 * la + i] += rf[3 * a + i];
-                if let Some(kf) = kf {
-                    for (b, &lb) in local.iter().enumerate() {
-                        for c in 0..3 {
-                            self.work.k[(3 * la + i) * DOFS + 3 * lb + c] +=
-                                kf[(3 * a + i) * 27 + 3 * b + c];
-                        }
-                    }
-                }
-            }
-        }
-    }
-}
-
-impl LocalVectors for LocalSystem {
-    fn residual(&self) -> &[f64] {
-        &self.work.r
-    }
-    fn external(&self) -> &[f64; DOFS] {
-        &self.external
-    }
-    fn tangent(&self) -> &[f64] {
-        &self.work.k
-    }
-}
-
-/// A physical term evaluated element by element.
-pub trait ElementTerm: Send + Sync {
-    /// Short name (for traces and documentation).
-    fn name(&self) -> &'static str;
-
-    /// Adds the term's contribution of element `cx.element` to `local`. The first term of
-    /// [`ELEMENT_TERMS`] (the volume) sets the local residual and tangent; every later one
-    /// adds to them.
-    ///
-    /// # Errors
-    /// [`ElementError`] if the element is inverted or degenerate.
-    fn add(
-        &self,
-        model: &FeModel,
-        cx: &ElementContext<'_>,
-        local: &mut LocalSystem,
-    ) -> Result<(), ElementError>;
-}
+use crate::fe::assembly::model::FeModel;
+use term::ElementTerm;
 
 /// The element terms of every model, in evaluation order.
-pub const ELEMENT_TERMS: &[&dyn ElementTerm] = &[
+pub const ELEMENT_TERMS: &[&dyn ElementTerm<FeModel>] = &[
     &volume::Volume,
     &pressure::Pressure,
     &plane_contact::PlaneContact,
 ];
 
 #[cfg(test)]
+// index loops mirror the CSC layout
+#[allow(clippy::needless_range_loop)]
 mod tests {
     use super::*;
+    use crate::fe::assembly::model::FeModel;
     use crate::fe::assembly::Constraint;
+    use crate::fe::assembly::LoadLevel;
+    use crate::fe::element::{ElementError, DOFS};
     use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
     use crate::fe::mesh::{GridMesh, TensorGrid};
+    use term::{ElementContext, LocalSystem};
 
     /// A linear spring `k · u` on every node of every element (counted once per element it
     /// belongs to): an added term in the simplest form.
     struct Springs(f64);
 
-    impl ElementTerm for Springs {
+    impl ElementTerm<FeModel> for Springs {
         fn name(&self) -> &'static str {
             "test springs"
         }

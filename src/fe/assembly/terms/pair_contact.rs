@@ -5,8 +5,8 @@
 
 use rayon::prelude::*;
 
+use crate::fe::assembly::model::{load_shifts, FeModel};
 use crate::fe::assembly::scatter::GlobalSystem;
-use crate::fe::assembly::{load_shifts, FeModel};
 use crate::fe::contact::{self, PAIR_DOFS};
 
 /// Transmitted normal force (N) and smallest gap (mm) of the face pairs.

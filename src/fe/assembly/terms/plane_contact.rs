@@ -3,15 +3,15 @@
 //! multipliers ([`crate::fe::contact::plane_face`]). Reports each plane's normal force and
 //! smallest gap.
 
-use super::{ElementContext, ElementTerm, LocalSystem};
-use crate::fe::assembly::{load_shifts, FeModel};
+use super::term::{ElementContext, ElementTerm, LocalSystem};
+use crate::fe::assembly::model::{load_shifts, FeModel};
 use crate::fe::contact;
 use crate::fe::element::ElementError;
 
 /// Contact with the model's [`FeModel::planes`] on the faces of [`FeModel::contact_faces`].
 pub struct PlaneContact;
 
-impl ElementTerm for PlaneContact {
+impl ElementTerm<FeModel> for PlaneContact {
     fn name(&self) -> &'static str {
         "plane contact"
     }

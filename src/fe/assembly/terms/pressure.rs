@@ -6,15 +6,15 @@
 // Index loops mirror the local (node, component) layout.
 #![allow(clippy::needless_range_loop)]
 
-use super::{ElementContext, ElementTerm, LocalSystem};
-use crate::fe::assembly::FeModel;
+use super::term::{ElementContext, ElementTerm, LocalSystem};
+use crate::fe::assembly::model::FeModel;
 use crate::fe::element::ElementError;
 use crate::fe::loads;
 
 /// The cavity pressure on the faces listed in [`FeModel::pressure_faces`].
 pub struct Pressure;
 
-impl ElementTerm for Pressure {
+impl ElementTerm<FeModel> for Pressure {
     fn name(&self) -> &'static str {
         "pressure"
     }
@@ -26,7 +26,7 @@ impl ElementTerm for Pressure {
         local: &mut LocalSystem,
     ) -> Result<(), ElementError> {
         for pf in &model.pressure_faces[cx.element] {
-            let xf: [[f64; 3]; 9] = pf.local.map(|l| cx.position(model, l));
+            let xf: [[f64; 3]; 9] = pf.local.map(|l| cx.position(l));
             let mut rf = [0.0; 27];
             let mut kf = [0.0; 729];
             let p = cx.level.pressure * pf.scale;

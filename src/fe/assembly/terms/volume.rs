@@ -2,14 +2,14 @@
 //! mixed (u, θ, π) formulation condensed per element ([`crate::fe::element`]), any material
 //! of [`crate::fe::material`]. It opens every element's local system.
 
-use super::{ElementContext, ElementTerm, LocalSystem};
-use crate::fe::assembly::FeModel;
+use super::term::{ElementContext, ElementTerm, LocalSystem};
+use crate::fe::assembly::model::FeModel;
 use crate::fe::element::{self, ElementError};
 
 /// Strain energy of the material: `∫ W(F) dV`.
 pub struct Volume;
 
-impl ElementTerm for Volume {
+impl ElementTerm<FeModel> for Volume {
     fn name(&self) -> &'static str {
         "volume"
     }
