@@ -1,11 +1,11 @@
 //! Verification cases of the FE solver against analytic and reference solutions.
 //!
-//! Shared by the `verification_*` tests (which assert the tolerances at one refinement) and by
-//! `benches/verification.rs` (which runs every refinement level and writes
-//! `fe_reference/verification.json`). Each case module builds its mesh, solves, measures and
-//! returns [`Check`]s: a computed value, its reference, the error and, where it is asserted,
-//! the tolerance.
-#![allow(dead_code)] // each test binary uses only some of the cases
+//! Shared by the `verification_*` modules of the FE tests (`tests/fe/`, which assert the
+//! tolerances at one refinement) and by `benches/verification.rs` (which runs every refinement
+//! level and writes `fe_reference/verification.json`). Each case module builds its mesh,
+//! solves, measures and returns [`Check`]s: a computed value, its reference, the error and,
+//! where it is asserted, the tolerance.
+#![allow(dead_code)] // the FE tests and the bench each use only some of the helpers
 
 pub mod cantilever;
 pub mod cook;

@@ -1,9 +1,7 @@
 //! Multi-fidelity training: a biased low-fidelity set corrected by the discrepancy to a
 //! high-fidelity subset of its cases (`rom::fidelity`, `train --high-fidelity`).
 
-mod rom_common;
-
-use rom_common::synthetic_csv;
+use crate::rom_common::synthetic_csv;
 use surrogate::rom::data::{SnapshotRow, SnapshotSet};
 use surrogate::rom::fidelity::{correct, discrepancy, end_to_end};
 use surrogate::rom::{train, Query, Surrogate, TrainConfig};

@@ -3,9 +3,7 @@
 //! errors, failure records. Everything uses the cheap analytic runner, so it runs in seconds;
 //! plans are tested in `snapshots_plan.rs`, the real FE runner in `snapshots_fe.rs`.
 
-mod snapshots_common;
-
-use snapshots_common::{cli, plan, scratch};
+use crate::snapshots_common::{cli, plan, scratch};
 
 use std::path::{Path, PathBuf};
 use std::process::Command;

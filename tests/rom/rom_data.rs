@@ -2,7 +2,7 @@
 use surrogate::rom::data::{SnapshotSet, REQUIRED_COLUMNS};
 use surrogate::rom::RomError;
 
-mod rom_common;
+use crate::rom_common;
 
 fn read(text: &str) -> Result<SnapshotSet, RomError> {
     SnapshotSet::from_reader(text.as_bytes(), "t.csv")

@@ -22,7 +22,8 @@ fn root(p: &str) -> PathBuf {
 
 fn assert_merge_is_shipped(dir: &str, set: &str, how: &str) {
     let name = Path::new(set).file_name().unwrap().to_string_lossy();
-    let out = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("merged_{name}"));
+    let out =
+        PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("shipped_model_merged_{name}"));
     let summary = merge(&[root(dir)], &out).unwrap_or_else(|e| {
         panic!(
             "the committed case files of {dir} merge without --partial (the set is complete): {e}"

@@ -51,6 +51,89 @@ fn bad_input_is_a_named_error_with_nonzero_exit() {
     }
 }
 
+/// The attribute `name="…"` of the first tag that has one, parsed.
+fn attribute<T: std::str::FromStr>(xml: &str, name: &str) -> T {
+    let key = format!(" {name}=\"");
+    let start = xml.find(&key).unwrap_or_else(|| panic!("no {name}")) + key.len();
+    let len = xml[start..].find('"').unwrap();
+    xml[start..start + len]
+        .parse()
+        .unwrap_or_else(|_| panic!("{name} = {:?}", &xml[start..start + len]))
+}
+
+/// The opening tag and the values of the `DataArray` named `name`.
+fn data_array<'a>(xml: &'a str, name: &str) -> (&'a str, Vec<f64>) {
+    let at = xml
+        .find(&format!("Name=\"{name}\""))
+        .unwrap_or_else(|| panic!("no DataArray {name}"));
+    let open = xml[..at].rfind("<DataArray").unwrap();
+    let body = open + xml[open..].find('>').unwrap() + 1;
+    let end = body + xml[body..].find("</DataArray>").unwrap();
+    let values = xml[body..end]
+        .split_whitespace()
+        .map(|x| x.parse().unwrap_or_else(|_| panic!("{name}: {x:?}")))
+        .collect();
+    (&xml[open..body], values)
+}
+
+/// A volume file of `simulate --vtk` is a complete VTK unstructured grid of the whole mesh:
+/// balanced elements, one point per node, each hexahedron written as 8 linear ones (VTK type
+/// 12) over those points, and a displacement, 3 components per point, that is not zero.
+fn check_step_vtu(vtu: &str, nodes: usize, elements: usize) {
+    assert!(vtu.starts_with("<?xml version=\"1.0\"?>\n<VTKFile type=\"UnstructuredGrid\""));
+    assert!(vtu.trim_end().ends_with("</VTKFile>"));
+    for tag in [
+        "VTKFile",
+        "UnstructuredGrid",
+        "Piece",
+        "Points",
+        "Cells",
+        "PointData",
+        "CellData",
+        "DataArray",
+    ] {
+        let opened =
+            vtu.matches(&format!("<{tag} ")).count() + vtu.matches(&format!("<{tag}>")).count();
+        assert_eq!(
+            opened,
+            vtu.matches(&format!("</{tag}>")).count(),
+            "<{tag}> unbalanced"
+        );
+    }
+    assert_eq!(vtu.matches("<Piece ").count(), 1);
+    let piece = &vtu[vtu.find("<Piece ").unwrap()..];
+    let points: usize = attribute(piece, "NumberOfPoints");
+    let cells: usize = attribute(piece, "NumberOfCells");
+    assert_eq!(points, nodes, "NumberOfPoints against the JSON's nodes");
+    assert_eq!(
+        cells,
+        8 * elements,
+        "NumberOfCells against the JSON's elements"
+    );
+    let (_, position) = data_array(vtu, "position");
+    assert_eq!(position.len(), 3 * points);
+    let (_, connectivity) = data_array(vtu, "connectivity");
+    assert_eq!(connectivity.len(), 8 * cells);
+    assert!(connectivity
+        .iter()
+        .all(|&n| n >= 0.0 && (n as usize) < points));
+    let (_, offsets) = data_array(vtu, "offsets");
+    assert_eq!(offsets.len(), cells);
+    assert_eq!(offsets.last().copied(), Some((8 * cells) as f64));
+    let (_, types) = data_array(vtu, "types");
+    assert!(types.len() == cells && types.iter().all(|&t| t == 12.0));
+    let (tag, displacement) = data_array(vtu, "displacement");
+    assert_eq!(attribute::<usize>(tag, "NumberOfComponents"), 3);
+    assert_eq!(displacement.len(), 3 * points);
+    assert!(displacement.iter().all(|u| u.is_finite()));
+    assert!(
+        displacement.iter().any(|&u| u != 0.0),
+        "no displacement at 0.1 bar"
+    );
+    let (_, von_mises) = data_array(vtu, "von_mises");
+    assert_eq!(von_mises.len(), points);
+}
+
 #[test]
 fn small_run_writes_json_and_vtk() {
     let dir = std::env::temp_dir().join(format!("surrogate_fe_cli_{}", std::process::id()));
@@ -107,7 +190,9 @@ fn small_run_writes_json_and_vtk() {
     assert!(steps[1]["tip_uy_mm"].as_f64().unwrap() < 0.0);
     assert!(vtk.join("steps.pvd").exists());
     let vtu = std::fs::read_to_string(vtk.join("step_001.vtu")).unwrap();
-    assert!(vtu.contains("Name=\"displacement\"") && vtu.contains("Name=\"von_mises\""));
+    let nodes = v["nodes"].as_u64().unwrap() as usize;
+    let elements = v["elements"].as_u64().unwrap() as usize;
+    check_step_vtu(&vtu, nodes, elements);
     assert!(vtk.join("step_001_surfaces.vtu").exists());
     let contact = std::fs::read_to_string(vtk.join("step_001_contact.vtu")).unwrap();
     assert!(contact.contains("Name=\"gap_mm\"") && contact.contains("contact_pressure_mpa"));
@@ -125,7 +210,7 @@ fn force_mode_reports_the_plate_reaction() {
         "--t",
         "2.4",
         "--pressures",
-        "0,0.1",
+        "0,1",
         "--mesh",
         "coarse",
         "--mode",
@@ -137,8 +222,10 @@ fn force_mode_reports_the_plate_reaction() {
     let v: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     let steps = v["steps"].as_array().unwrap();
-    // the plate is 5 mm below the hanging tip: no force at P = 0 (the scale is tared)
+    // the plate is 5 mm below the hanging tip: no force at P = 0 (the scale is tared); at 1 bar
+    // the bent tip presses on it (about 0.005 N on this mesh)
     assert_eq!(steps[0]["force_n"].as_f64().unwrap(), 0.0);
-    assert!(steps[1]["force_n"].as_f64().unwrap() >= 0.0);
+    let force = steps[1]["force_n"].as_f64().unwrap();
+    assert!(force > 0.0, "blocked force {force} N at 1 bar");
     std::fs::remove_dir_all(&dir).ok();
 }

@@ -1,6 +1,6 @@
 //! One output schema: a step of `simulate` and a prediction of `predict` write the same keys
 //! for the same quantities (markers as `[{"uz_mm", "uy_mm"}]`), and pressures as given.
-mod rom_common;
+use crate::rom_common;
 
 use surrogate::fe::simulate::StepResult;
 use surrogate::rom::batch::PredictionRecord;

@@ -1,9 +1,9 @@
 //! Issue item 2: homogeneous uniaxial, equibiaxial and planar stretch of one element of
 //! Ogden "002" against the analytic nominal stress (see `common::homogeneous`).
 
-mod common;
+use crate::common;
 
-use common::homogeneous::{run, Mode, STRETCHES};
+use crate::common::homogeneous::{run, Mode, STRETCHES};
 
 #[test]
 fn uniaxial_stretch_matches_analytic_ogden_stress() {

@@ -6,11 +6,8 @@
 //! * [`admissibility`]: parameter validation, specification parsing, literature sets.
 //! * Here: the quadrature-point functions do not allocate.
 
-#[path = "materials/admissibility.rs"]
 mod admissibility;
-#[path = "materials/closed_forms.rs"]
 mod closed_forms;
-#[path = "materials/derivatives.rs"]
 mod derivatives;
 
 use nalgebra::Matrix3;

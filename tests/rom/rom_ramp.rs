@@ -4,7 +4,7 @@
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::Query;
 
-mod rom_common;
+use crate::rom_common;
 
 #[test]
 fn ramp_matches_the_library_path_bit_for_bit() {

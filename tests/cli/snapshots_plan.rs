@@ -1,11 +1,9 @@
 //! Sampling plans: determinism, admissibility, stratification over N, the literature sets
 //! inside the ranges, malformed plans and bad shard specifications (library and CLI).
 
-mod snapshots_common;
-
 use std::collections::BTreeMap;
 
-use snapshots_common::{cli, plan, scratch, small_settings};
+use crate::snapshots_common::{cli, plan, scratch, small_settings};
 use surrogate::fe::material::Ogden2;
 use surrogate::snapshots::{Plan, Ranges, Shard, SnapshotError};
 
@@ -202,7 +200,7 @@ fn shards_partition_the_plan() {
 
 #[test]
 fn cli_plan_and_bad_shards() {
-    let root = scratch("cli");
+    let root = scratch("plan_cli");
     let plan_path = root.join("plan.json");
     let ps = plan_path.to_str().unwrap();
     let (ok, err) = cli(&[

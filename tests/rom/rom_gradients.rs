@@ -8,7 +8,7 @@ use surrogate::rom::regression::{Data, Regressor, RegressorKind};
 use surrogate::rom::surrogate::GRAD_INPUT_NAMES;
 use surrogate::rom::{Jacobian, Query};
 
-mod rom_common;
+use crate::rom_common;
 
 /// Generic finite-difference check of `jacobian_into` (and of its values vs `predict_into`).
 fn check_regressor<R: Regressor>(r: &R, x: &[f64], name: &str) {

@@ -1,7 +1,7 @@
 //! Model files (round trip, version, corruption, checksum), validation, queries and domain.
 use surrogate::rom::{Query, RomError, Surrogate, TrainConfig};
 
-mod rom_common;
+use crate::rom_common;
 
 fn q(n: u32, p: f64) -> Query {
     Query {

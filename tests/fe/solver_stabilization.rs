@@ -3,9 +3,7 @@
 //! plain load control stops. With the viscous term the solver crosses over to the inverted
 //! branch, and every reported state is an undamped equilibrium.
 
-mod common;
-
-use common::{fix, node_at, plane_strain_layer, uniform};
+use crate::common::{fix, node_at, plane_strain_layer, uniform};
 use surrogate::fe::assembly::{FeModel, LoadLevel};
 use surrogate::fe::material::Material;
 use surrogate::fe::solver::{solve_path, SolverError, SolverSettings, StepReport};

@@ -1,8 +1,8 @@
 //! Issue item 3: patch test on a distorted, curved mesh (see `common::patch`).
 
-mod common;
+use crate::common;
 
-use common::patch::{run, SCALES};
+use crate::common::patch::{run, SCALES};
 
 #[test]
 fn distorted_patch_reproduces_small_linear_field_and_uniform_stress() {

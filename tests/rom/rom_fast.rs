@@ -4,7 +4,7 @@ use surrogate::rom::fast::kernel_vector;
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::{Query, Surrogate};
 
-mod rom_common;
+use crate::rom_common;
 
 fn queries() -> Vec<Query> {
     let cases = rom_common::synthetic_cases(10, 99);

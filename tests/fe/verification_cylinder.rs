@@ -2,9 +2,9 @@
 //! neo-Hookean cylinder against the analytic pressure–stretch relation (see
 //! `common::cylinder`).
 
-mod common;
+use crate::common;
 
-use common::cylinder::{pressure, pressure_by_quadrature, run, ASSERTED, STRETCHES};
+use crate::common::cylinder::{pressure, pressure_by_quadrature, run, ASSERTED, STRETCHES};
 
 #[test]
 fn closed_form_pressure_matches_the_integral() {

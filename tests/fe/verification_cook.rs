@@ -1,9 +1,9 @@
 //! Issue item 4: Cook's membrane, nearly incompressible neo-Hookean in plane strain
 //! (see `common::cook`).
 
-mod common;
+use crate::common;
 
-use common::cook::study;
+use crate::common::cook::study;
 
 #[test]
 fn cook_membrane_corner_displacement_converges_to_reference() {

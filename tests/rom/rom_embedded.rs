@@ -7,7 +7,7 @@ use surrogate::rom::export::{
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::{Query, Surrogate};
 
-mod rom_common;
+use crate::rom_common;
 
 /// Held-out queries: cases of another seed, at pressures between and on the grid nodes.
 fn held_out(m: &Surrogate) -> Vec<Query> {

@@ -1,9 +1,9 @@
 //! Issue item 6: large rotation of a slender cantilever under a dead tip load against the
 //! elastica (see `common::cantilever`).
 
-mod common;
+use crate::common;
 
-use common::cantilever::{elastica, run, tip_displacements_with, ASSERTED};
+use crate::common::cantilever::{elastica, run, tip_displacements_with, ASSERTED};
 
 #[test]
 fn elastica_shooting_reproduces_small_load_beam_theory() {

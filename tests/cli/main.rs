@@ -1,0 +1,18 @@
+//! The `surrogate` program: every test that runs the binary (`simulate`, `snapshots`, `train`,
+//! `predict`, `export`, `calibrate`, the README recipes) and the figures it draws. Built with the
+//! `cli` feature only.
+//!
+//! One test binary; each module is one subject.
+
+#[path = "../rom_common/mod.rs"]
+mod rom_common;
+mod snapshots_common;
+
+mod calibrate_cli;
+mod fe_cli;
+mod figures;
+mod readme_recipe;
+mod rom_cli;
+mod rom_fidelity;
+mod snapshots;
+mod snapshots_plan;

@@ -1,0 +1,19 @@
+//! The POD surrogate (`surrogate::rom`) and the embedded predictor: snapshot data, model files,
+//! gradients, the allocation-free and fast paths, ramps, exports, the training domain, the
+//! shared output schema, and the shipped models.
+//!
+//! One test binary; each module is one subject.
+
+#[path = "../rom_common/mod.rs"]
+mod rom_common;
+
+mod domain;
+mod output_schema;
+mod rom_alloc;
+mod rom_data;
+mod rom_embedded;
+mod rom_fast;
+mod rom_gradients;
+mod rom_model;
+mod rom_ramp;
+mod shipped_model;
