@@ -26,7 +26,7 @@
 //! joint confidence region of the four parameters (statrs quantile). The pointwise threshold
 //! `χ²₁(0.95) = 3.84` assumes the other parameters are well determined and interior; with
 //! weakly determined ones on the box it under-covers (measured on the synthetic FE recordings of
-//! `tests/calibrate.rs`: 23 of 30 noise seeds covered the true μ0 at 95 %). The projection is
+//! `tests/calibrate/calibrate.rs`: 23 of 30 noise seeds covered the true μ0 at 95 %). The projection is
 //! conservative for a single parameter, which is the safe side for a report that says what
 //! the data determine (`IdentifySettings::simultaneous = false` gives the pointwise
 //! interval). A side on which the profile never
