@@ -204,38 +204,13 @@ impl LinearSolver {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fe::assembly::Constraint;
-    use crate::fe::assembly::{FeModel, LoadLevel};
-    use crate::fe::material::Material;
-    use crate::fe::material::DEFAULT_BULK_RATIO;
-    use crate::fe::mesh::{GridMesh, TensorGrid};
+    use crate::fe::assembly::LoadLevel;
 
     /// A 4×4×4 block of Q2 hexes clamped at z = 0, loaded by gravity and pressure-free:
     /// both orderings must give the same Newton step.
     #[test]
     fn orderings_give_the_same_solution() {
-        let line = || (0..=4).map(f64::from).collect::<Vec<_>>();
-        let mesh = GridMesh::new(
-            TensorGrid {
-                lines: [line(), line(), line()],
-            },
-            |_| true,
-            |s| s,
-        )
-        .mesh;
-        let constraints: Vec<_> = (0..mesh.n_nodes())
-            .filter(|&n| mesh.nodes[n][2] == 0.0)
-            .flat_map(|node| {
-                (0..3).map(move |comp| Constraint {
-                    node,
-                    comp,
-                    value: 0.0,
-                })
-            })
-            .collect();
-        let material =
-            Material::from_spec("ogden_002", DEFAULT_BULK_RATIO).expect("literature set");
-        let mut fe = FeModel::new(mesh, material, &constraints, &[], &[]).expect("model");
+        let mut fe = crate::fe::assembly::model::clamped_block(4);
         fe.set_body_force([0.1, -0.2, 0.3]);
         let u = vec![0.0; 3 * fe.mesh.n_nodes()];
         let level = LoadLevel {

@@ -37,11 +37,8 @@ pub const ELEMENT_TERMS: &[&dyn ElementTerm<FeModel>] = &[
 mod tests {
     use super::*;
     use crate::fe::assembly::model::FeModel;
-    use crate::fe::assembly::Constraint;
     use crate::fe::assembly::LoadLevel;
     use crate::fe::element::{ElementError, DOFS};
-    use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
-    use crate::fe::mesh::{GridMesh, TensorGrid};
     use term::{ElementContext, LocalSystem};
 
     /// A linear spring `k · u` on every node of every element (counted once per element it
@@ -75,27 +72,7 @@ mod tests {
     }
 
     fn block() -> FeModel {
-        let line = || vec![0.0, 1.0, 2.0];
-        let mesh = GridMesh::new(
-            TensorGrid {
-                lines: [line(), line(), line()],
-            },
-            |_| true,
-            |s| s,
-        )
-        .mesh;
-        let constraints: Vec<_> = (0..mesh.n_nodes())
-            .filter(|&n| mesh.nodes[n][2] == 0.0)
-            .flat_map(|node| {
-                (0..3).map(move |comp| Constraint {
-                    node,
-                    comp,
-                    value: 0.0,
-                })
-            })
-            .collect();
-        let material = Material::from_spec("ogden_002", DEFAULT_BULK_RATIO).expect("material");
-        FeModel::new(mesh, material, &constraints, &[], &[]).expect("model")
+        crate::fe::assembly::model::clamped_block(2)
     }
 
     /// An added term is assembled after the built-in ones: its residual, tangent and energy
