@@ -73,7 +73,7 @@ fn a_failing_fe_case_is_recorded_with_the_solver_error() {
 /// (`snapshots::verify`) and (2) rebuilds one case from nothing but its CSV rows (inputs and
 /// provenance columns) and runs `fe::simulate` on it; every stored output must agree to 1e-9.
 /// About 3 minutes on 2 busy cores, hence ignored:
-/// `cargo test --release --test snapshots_fe -- --ignored`.
+/// `cargo test --release --test snapshots -- --ignored`.
 #[test]
 #[ignore = "real FE: about 3 minutes"]
 fn fe_snapshots_reproduce_when_re_simulated() {
