@@ -16,6 +16,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use super::experiments::{bending_error, BendingRecord, ForceRecord};
+use crate::fe::effects::Effects;
 use crate::fe::geometry::DesignParams;
 use crate::fe::material::Material;
 use crate::fe::mesh::MeshOptions;
@@ -197,6 +198,10 @@ impl RampCache {
         if case.mode == Mode::Force {
             key["plate_revision"] = FORCE_MODEL_REVISION.into();
         }
+        // a neutral case keeps the key (and the cache) it had before effects existed
+        if !case.effects.is_neutral() {
+            key["effects"] = serde_json::to_value(&case.effects).unwrap_or_default();
+        }
         let key = key.to_string();
         RampCache {
             path: dir.join(format!(
@@ -320,6 +325,7 @@ fn sweep(
                 solver: SolverSettings::default(),
                 mode,
                 contact,
+                effects: Effects::default(),
             };
             let cached = cache.map(|dir| RampCache::at(dir, &case));
             let r = match cached.as_ref().and_then(RampCache::load) {
@@ -480,6 +486,7 @@ mod tests {
                 stiffness,
                 ..ContactSettings::default()
             },
+            effects: Effects::default(),
         }
     }
 

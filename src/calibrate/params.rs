@@ -84,8 +84,9 @@ impl OgdenSet {
     /// # Errors
     /// An unknown name or a set that is not a two-term Ogden material.
     pub fn literature(name: &str) -> Result<Self, CalibrateError> {
-        let m = crate::fe::material::Material::from_spec(name, 1000.0)
-            .map_err(|e| CalibrateError::input("material", name, &e.to_string()))?;
+        let m =
+            crate::fe::material::Material::from_spec(name, crate::fe::material::DEFAULT_BULK_RATIO)
+                .map_err(|e| CalibrateError::input("material", name, &e.expected()))?;
         let [a, b, c, d] = m
             .ogden_params()
             .ok_or_else(|| CalibrateError::input("material", name, "a two-term Ogden set"))?;

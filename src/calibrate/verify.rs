@@ -72,9 +72,9 @@ pub struct FeVerification {
 /// An inadmissible set (cannot happen for a validated [`OgdenSet`]).
 pub fn fe_material(p: &OgdenSet) -> Result<Material, CalibrateError> {
     let law = Ogden2::new(p.mu1_mpa, p.alpha1, p.mu2_mpa, p.alpha2)
-        .map_err(|e| CalibrateError::input("material", p.spec(), &e.to_string()))?;
+        .map_err(|e| CalibrateError::input("material", p.spec(), &e.expected()))?;
     Material::new(MaterialLaw::Ogden(law), DEFAULT_BULK_RATIO)
-        .map_err(|e| CalibrateError::input("material", p.spec(), &e.to_string()))
+        .map_err(|e| CalibrateError::input("material", p.spec(), &e.expected()))
 }
 
 /// Runs (or reads from `cache`) the FE ramps of every recorded design at `params` on `mesh`

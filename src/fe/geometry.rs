@@ -50,6 +50,10 @@ pub const MIN_CAVITY_LENGTH: f64 = 0.5;
 pub const N_RANGE: (usize, usize) = (7, 15);
 /// Range of the wall thickness (mm).
 pub const T_RANGE: (f64, f64) = (1.2, 2.8);
+/// Range of a printed wall's actual thickness (mm) when it differs from the nominal `T`
+/// ([`DesignParams::bellow_wall_thickness`], [`DesignParams::skin_thickness`]): the nominal
+/// range widened by what a printer can miss.
+pub const PRINTED_WALL_RANGE: (f64, f64) = (0.6, 3.4);
 
 /// Raw design parameters (all lengths in mm). Defaults are the SPEC's pinned values.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -74,6 +78,15 @@ pub struct DesignParams {
     pub duct_bottom: f64,
     /// Upper face y₁ of the air duct.
     pub duct_top: f64,
+    /// Thickness of the bellow walls that face the gaps (normal ±z), when it differs from
+    /// `wall_thickness` (a printed wall off nominal, [`crate::fe::effects`]). Not written when
+    /// `None`, so designs written before it keep their hash.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub bellow_wall_thickness: Option<f64>,
+    /// Thickness of the outer skin of the bellows (the side wall, normal ±x, and the top,
+    /// normal +y), when it differs from `wall_thickness`. Not written when `None`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub skin_thickness: Option<f64>,
 }
 
 impl Default for DesignParams {
@@ -89,6 +102,8 @@ impl Default for DesignParams {
             duct_half_width: 2.0,
             duct_bottom: 1.0,
             duct_top: 3.0,
+            bellow_wall_thickness: None,
+            skin_thickness: None,
         }
     }
 }
@@ -138,12 +153,29 @@ impl DesignParams {
                 ),
             });
         }
-        let t = p.wall_thickness;
+        if let Some(tb) = p.bellow_wall_thickness {
+            check_range(
+                "bellow_wall_thickness",
+                tb,
+                PRINTED_WALL_RANGE.0,
+                PRINTED_WALL_RANGE.1,
+            )?;
+        }
+        if let Some(ts) = p.skin_thickness {
+            check_range(
+                "skin_thickness",
+                ts,
+                PRINTED_WALL_RANGE.0,
+                PRINTED_WALL_RANGE.1,
+            )?;
+        }
+        let t = p.bellow_wall_thickness.unwrap_or(p.wall_thickness);
+        let ts = p.skin_thickness.unwrap_or(p.wall_thickness);
         let pitch = p.free_length / n as f64;
         let length = pitch - p.gap - 2.0 * t;
         if length < MIN_CAVITY_LENGTH
-            || p.width - 2.0 * t <= 0.0
-            || p.height - t <= p.base_thickness
+            || p.width - 2.0 * ts <= 0.0
+            || p.height - ts <= p.base_thickness
         {
             return Err(GeometryError::NoCavity {
                 n,
@@ -213,9 +245,21 @@ impl Design {
     pub fn n_bellows(&self) -> usize {
         self.params.n_bellows
     }
-    /// Wall thickness T (mm).
+    /// Nominal wall thickness T (mm).
     pub fn wall_thickness(&self) -> f64 {
         self.params.wall_thickness
+    }
+    /// Thickness of the bellow walls facing the gaps (mm): T unless overridden.
+    pub fn bellow_wall(&self) -> f64 {
+        self.params
+            .bellow_wall_thickness
+            .unwrap_or(self.params.wall_thickness)
+    }
+    /// Thickness of the outer skin, side wall and top (mm): T unless overridden.
+    pub fn skin(&self) -> f64 {
+        self.params
+            .skin_thickness
+            .unwrap_or(self.params.wall_thickness)
     }
     /// Free length Lf (mm).
     pub fn free_length(&self) -> f64 {
@@ -248,10 +292,10 @@ impl Design {
     pub fn cavity(&self, i: usize) -> Aabb {
         let p = &self.params;
         let b = self.bellow(i);
-        let t = p.wall_thickness;
+        let (t, ts) = (self.bellow_wall(), self.skin());
         Aabb {
-            lo: [t, p.base_thickness, b.lo[2] + t],
-            hi: [p.width - t, p.height - t, b.hi[2] - t],
+            lo: [ts, p.base_thickness, b.lo[2] + t],
+            hi: [p.width - ts, p.height - ts, b.hi[2] - t],
         }
     }
 

@@ -476,21 +476,23 @@ impl ActuatorMesh {
     pub fn new(design: &Design, options: &MeshOptions) -> Self {
         let p = design.params();
         let (h, wall_div) = options.sizing();
-        let t = p.wall_thickness;
+        // bellow walls (facing the gaps) and outer skin: both T unless a printed thickness
+        // differs ([`Design::bellow_wall`], [`Design::skin`])
+        let (t, ts) = (design.bellow_wall(), design.skin());
         let w2 = p.width / 2.0;
-        let wall_div = wall_div.max((t / h - 1e-9).ceil() as usize);
+        let wall_div = wall_div.max((t.max(ts) / h - 1e-9).ceil() as usize);
         let duct = design.duct();
         // x: walls resolved with `wall_div` elements, the rest by size.
-        let mut xb = vec![0.0, t, w2];
+        let mut xb = vec![0.0, ts, w2];
         if let Some(d) = duct {
             xb.push(d.lo[0]);
         }
-        let xs = TensorGrid::subdivide(&xb, &[(0.0, t)], h, wall_div);
-        let mut yb = vec![0.0, p.base_thickness, p.height - t, p.height];
+        let xs = TensorGrid::subdivide(&xb, &[(0.0, ts)], h, wall_div);
+        let mut yb = vec![0.0, p.base_thickness, p.height - ts, p.height];
         if duct.is_some() {
             yb.extend([p.duct_bottom, p.duct_top]);
         }
-        let ys = TensorGrid::subdivide(&yb, &[(p.height - t, p.height)], h, wall_div);
+        let ys = TensorGrid::subdivide(&yb, &[(p.height - ts, p.height)], h, wall_div);
         let mut zb = vec![0.0, p.free_length];
         let mut walls = Vec::new();
         for i in 0..p.n_bellows {

@@ -6,6 +6,7 @@
 pub mod assembly;
 pub mod contact;
 pub mod contact_cp;
+pub mod effects;
 pub mod element;
 pub mod geometry;
 pub mod loads;

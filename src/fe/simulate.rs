@@ -10,8 +10,10 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use super::assembly::terms::foundation::Foundation;
 use super::assembly::{pair_couplings, Constraint, FeModel, LoadLevel};
 use super::contact::{pair_orientation, ContactError, FacePair, PairSettings, RigidPlane};
+use super::effects::{EffectError, Effects};
 use super::element::{shape, ElementError};
 use super::geometry::{Design, GeometryError, Region};
 use super::material::Material;
@@ -120,6 +122,9 @@ pub enum SimulateError {
     /// Invalid contact settings.
     #[error(transparent)]
     Contact(#[from] ContactError),
+    /// An invalid effect.
+    #[error(transparent)]
+    Effect(#[from] EffectError),
     /// A setting out of range (solver, mesh).
     #[error(transparent)]
     Setting(#[from] crate::fe::InvalidSetting),
@@ -162,6 +167,10 @@ pub struct Case {
     pub mode: Mode,
     /// Contact settings.
     pub contact: ContactSettings,
+    /// Physics beyond the nominal model ([`super::effects`]); neutral by default, and then
+    /// not written.
+    #[serde(skip_serializing_if = "Effects::is_neutral")]
+    pub effects: Effects,
 }
 
 impl Case {
@@ -178,7 +187,23 @@ impl Case {
         self.mesh.validate().map_err(|e| e.within("mesh."))?;
         self.solver.validate().map_err(|e| e.within("solver."))?;
         self.contact.validate()?;
+        self.printed_design()?;
         Ok(())
+    }
+
+    /// The design as printed: the nominal design with the effects' biases
+    /// ([`Effects::printed_design`]); the nominal design itself when they are neutral.
+    ///
+    /// # Errors
+    /// [`SimulateError::Geometry`] when a bias leaves an invalid design (e.g. no cavity).
+    pub fn printed_design(&self) -> Result<Design, SimulateError> {
+        if self.effects.is_neutral() {
+            return Ok(self.design.clone());
+        }
+        Ok(self
+            .effects
+            .printed_design(self.design.params())
+            .validate()?)
     }
 }
 
@@ -325,11 +350,40 @@ impl ActuatorModel {
         mode: Mode,
         contact: &ContactSettings,
     ) -> Result<Self, SimulateError> {
+        Self::with_effects(
+            design,
+            material,
+            options,
+            mode,
+            contact,
+            &Effects::neutral(),
+        )
+    }
+
+    /// [`ActuatorModel::new`] with the model-side effects: a compliant clamp
+    /// ([`Effects::clamp_springs`]: the support face on springs instead of fixed in the
+    /// directions that have one) and the self-weight's scale. The design is taken as given
+    /// (pass [`Case::printed_design`]); pressure and force-rig effects act in [`simulate_with`].
+    ///
+    /// # Errors
+    /// See [`ActuatorModel::new`].
+    pub fn with_effects(
+        design: &Design,
+        material: &Material,
+        options: &MeshOptions,
+        mode: Mode,
+        contact: &ContactSettings,
+        effects: &Effects,
+    ) -> Result<Self, SimulateError> {
         contact.validate()?;
         let mesh = ActuatorMesh::new(design, options);
+        let springs = effects.clamp_springs();
         let mut constraints = Vec::new();
         for &n in &mesh.support {
-            for comp in 0..3 {
+            for (comp, spring) in springs.iter().enumerate() {
+                if spring.is_some() {
+                    continue;
+                }
                 constraints.push(Constraint {
                     node: n,
                     comp,
@@ -410,7 +464,28 @@ impl ActuatorModel {
             )?;
             plate = Some(fe.add_plane_contact(far, &faces)?);
         }
-        fe.set_body_force([0.0, -DENSITY * GRAVITY, 0.0]);
+        if springs.iter().any(Option::is_some) {
+            let faces: Vec<_> = mesh
+                .grid
+                .boundary_faces(|k| matches!(k, None | Some(Region::Exterior)))
+                .into_iter()
+                .map(|(f, _)| f)
+                .filter(|f| f.axis == 2 && !f.positive)
+                .filter(|f| f.nodes.iter().all(|&n| mesh.mesh().nodes[n][2] == 0.0))
+                .collect();
+            let k = springs.map(|k| k.unwrap_or(0.0));
+            fe.add_element_term(Box::new(Foundation::new(
+                mesh.mesh().n_elements(),
+                &faces,
+                k,
+            )));
+        }
+        let gravity = effects.gravity_scale();
+        if gravity == 1.0 {
+            fe.set_body_force([0.0, -DENSITY * GRAVITY, 0.0]);
+        } else {
+            fe.set_body_force([0.0, -DENSITY * GRAVITY * gravity, 0.0]);
+        }
         // the cavities are closed by the symmetry plane x = W/2 and the duct by the clamped
         // face z = 0: both pass through this origin, so the pressure potential is exact
         fe.pressure_origin = [design.width() / 2.0, 0.0, 0.0];
@@ -665,12 +740,14 @@ pub fn simulate_with(
 ) -> Result<Response, SimulateError> {
     let start = Instant::now();
     case.validate()?;
-    let mut model = ActuatorModel::new(
-        &case.design,
+    let design = case.printed_design()?;
+    let mut model = ActuatorModel::with_effects(
+        &design,
         &case.material,
         &case.mesh,
         case.mode,
         &case.contact,
+        &case.effects,
     )?;
     let g = if case.gravity { 1.0 } else { 0.0 };
     let mut levels = vec![LoadLevel {
@@ -680,12 +757,12 @@ pub fn simulate_with(
     let first_is_zero = case.pressures_bar[0] == 0.0;
     let skip = usize::from(first_is_zero);
     levels.extend(case.pressures_bar[skip..].iter().map(|&p| LoadLevel {
-        pressure: p * BAR,
+        pressure: case.effects.effective_pressure_bar(p) * BAR,
         gravity: g,
         ..Default::default()
     }));
     let total = levels.len();
-    let lf = case.design.free_length();
+    let lf = design.free_length();
     let mut steps = Vec::new();
     let mut state = PathState::new(&model.fe);
     // Stage 1: self-weight (the state reported at P = 0).
@@ -706,7 +783,8 @@ pub fn simulate_with(
     // Stage 2 (blocked force): the plate goes 5 mm below the hanging tip.
     if let Some(plate) = model.plate {
         let tip = model.marker_displacement(8, &state.u_full);
-        model.fe.planes[plate].point = [0.0, tip[1] - PLATE_OFFSET, 0.0];
+        let offset = PLATE_OFFSET + case.effects.plate_offset_mm();
+        model.fe.planes[plate].point = [0.0, tip[1] - offset, 0.0];
     }
     // Stage 3: the pressure ramp.
     let ramp = solve_path_from(
@@ -716,7 +794,13 @@ pub fn simulate_with(
         &levels[1..],
         |i, state, rep| {
             progress(i + 2, total);
-            let result = measure(&model, state, rep, lf, case.pressures_bar[skip + i]);
+            let mut result = measure(&model, state, rep, lf, case.pressures_bar[skip + i]);
+            if let Some(f) = result.force_n.as_mut() {
+                let scale = case.effects.force_scale();
+                if scale != 1.0 {
+                    *f *= scale;
+                }
+            }
             on_result(&model, &result, &state.u_full);
             steps.push(result);
         },

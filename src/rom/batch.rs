@@ -35,7 +35,7 @@ use crate::fe::simulate::Marker;
 /// parametrised by the Ogden constants).
 pub fn material_params(spec: &str) -> Result<[f64; 4], RomError> {
     let material = Material::from_spec(spec.trim(), DEFAULT_BULK_RATIO)
-        .map_err(|e| RomError::invalid("material", spec, &e.to_string()))?;
+        .map_err(|e| RomError::invalid("material", spec, &e.expected()))?;
     material.ogden_params().ok_or_else(|| {
         RomError::invalid(
             "material",

@@ -25,6 +25,7 @@ pub fn fe_case(case: &PlannedCase, settings: &PlanSettings, mode: Mode) -> Resul
         solver: settings.solver.clone(),
         mode,
         contact: settings.contact,
+        effects: crate::fe::effects::Effects::default(),
     })
 }
 

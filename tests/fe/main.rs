@@ -10,6 +10,7 @@ mod common;
 mod actuator_tangent;
 mod contact_pairs;
 mod contact_plane;
+mod effects;
 mod element_tangent;
 mod force_plate_faces;
 mod materials;

@@ -128,6 +128,7 @@ fn fe_snapshots_reproduce_when_re_simulated() {
         },
         mode: surrogate::fe::simulate::Mode::Bending,
         contact: Default::default(),
+        effects: Default::default(),
     };
     let again = simulate(&case).unwrap();
     assert_eq!(again.steps.len(), chunk.len());

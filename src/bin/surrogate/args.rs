@@ -31,6 +31,17 @@ pub enum Command {
     Calibrate(Box<crate::calibrate::CalibrateArgs>),
     /// Snapshots: sampling plans, shard runs (resumable), merges.
     Snapshots(Box<crate::snapshots::SnapshotsArgs>),
+    /// List the effect library: physics the nominal model leaves out (name, meaning, unit,
+    /// neutral value, range).
+    Effects(EffectsArgs),
+}
+
+/// `surrogate effects`.
+#[derive(Debug, Args)]
+pub struct EffectsArgs {
+    /// Write the library as JSON instead of a table.
+    #[arg(long)]
+    pub json: bool,
 }
 
 /// Regressor family restriction.
@@ -284,6 +295,10 @@ pub struct SimulateArgs {
     /// under sliding) instead of between points of equal reference position.
     #[arg(long)]
     pub closest_point_contact: bool,
+    /// Physics beyond the nominal model, NAME=VALUE (repeatable), e.g. --effect wall_bias=-0.1
+    /// --effect clamp_compliance=0.2; `surrogate effects` lists the names, units and ranges.
+    #[arg(long, value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    pub effect: Vec<String>,
     /// Largest pressure increment of one load substep (bar).
     #[arg(long, default_value_t = 0.5)]
     pub max_increment: f64,

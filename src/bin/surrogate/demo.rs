@@ -169,6 +169,7 @@ fn live(a: &DemoArgs, level: MeshLevel, material: Material, cal: &Calibration) -
         solver: SolverSettings::default(),
         mode: Mode::Bending,
         contact: ContactSettings::default(),
+        effects: surrogate::fe::effects::Effects::default(),
     };
     eprintln!(
         "FE model: N = {}, T = {} mm, {}, {} mesh, gravity and contact on, 0 → 3 bar",

@@ -4,6 +4,7 @@ mod args;
 mod calibrate;
 mod calibrate_plots;
 mod demo;
+mod effects;
 mod export;
 mod figure;
 mod files;
@@ -29,14 +30,25 @@ fn main() -> ExitCode {
         args::Command::Validate(a) => validate::run(a),
         args::Command::Calibrate(a) => calibrate::run(*a),
         args::Command::Snapshots(a) => snapshots::run(*a),
+        args::Command::Effects(a) => effects::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
+        // a reader that closed the pipe (`surrogate predict … | head`) is not an error
+        Err(e) if is_broken_pipe(&e) => ExitCode::SUCCESS,
         Err(e) => {
             eprintln!("error: {}", flatten(&e));
             ExitCode::FAILURE
         }
     }
+}
+
+/// Whether the error (or a cause) is a write to a closed pipe.
+fn is_broken_pipe(e: &anyhow::Error) -> bool {
+    e.chain().any(|c| {
+        c.downcast_ref::<std::io::Error>()
+            .is_some_and(|io| io.kind() == std::io::ErrorKind::BrokenPipe)
+    })
 }
 
 /// An error and its causes as one line, `outer: inner: …`, each message once: a cause whose

@@ -53,6 +53,7 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
             smoothing: a.contact_smoothing,
             closest_point: a.closest_point_contact,
         },
+        effects: surrogate::fe::effects::Effects::parse(a.effect.iter().map(String::as_str))?,
     };
     case.validate().map_err(|e| match e {
         // name the command-line flag

@@ -69,6 +69,7 @@ pub fn run(model: &Surrogate, a: &PredictArgs, mesh: &str, out: &Path) -> Result
         solver: SolverSettings::default(),
         mode: Mode::Bending,
         contact: ContactSettings::default(),
+        effects: surrogate::fe::effects::Effects::default(),
     };
     eprintln!(
         "FE ramp: N = {n}, T = {t} mm, {spec}, {} mesh, 0 → {} bar ({} steps)",

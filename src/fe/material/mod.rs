@@ -80,6 +80,22 @@ pub enum MaterialError {
     },
 }
 
+impl MaterialError {
+    /// What was expected, for messages that name the field and the value themselves
+    /// (`invalid material = "x": expected …`).
+    pub fn expected(&self) -> String {
+        match self {
+            MaterialError::Inadmissible {
+                field,
+                value,
+                expected,
+            } => format!("an admissible set ({field} = {value}, expected {expected})"),
+            MaterialError::UnknownName { known, .. } => format!("one of {known}"),
+            MaterialError::Parse { reason, .. } => reason.clone(),
+        }
+    }
+}
+
 /// Builds an [`MaterialError::Inadmissible`].
 pub(crate) fn inadmissible(field: &str, value: f64, expected: &str) -> MaterialError {
     MaterialError::Inadmissible {

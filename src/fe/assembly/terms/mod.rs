@@ -7,6 +7,7 @@
 //! | contact with rigid planes (the clamp block, the force plate) | [`plane_contact`] | element |
 //! | deformable–deformable contact between facing bellow walls | [`pair_contact`] | face pair |
 //! | gravity and dead tractions | [`dead_load`] | load vector |
+//! | elastic foundation of a compliant clamp (added by a case's effects) | [`foundation`] | element, added |
 //!
 //! An element term adds its contribution of one element to that element's local system
 //! ([`term::LocalSystem`]); the assembly evaluates [`ELEMENT_TERMS`] and then the model's added terms
@@ -15,6 +16,7 @@
 //! (or one call to `add_element_term` where a case builds its model).
 
 pub mod dead_load;
+pub mod foundation;
 pub mod pair_contact;
 pub mod plane_contact;
 pub mod pressure;
