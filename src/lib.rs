@@ -26,6 +26,9 @@
 //!   plotters, anyhow). The library needs none of them; a library user depends on
 //!   `surrogate` with `default-features = false`.
 //!
+//! Every CSV column and file quantity (name, unit, meaning) and the column order of each file
+//! format are defined once, in [`schema`].
+//!
 //! Each module returns its own error type; [`Error`] gathers them for a program that chains
 //! the stages, and [`io::write_atomic`] writes every file the crate produces.
 #![warn(missing_docs)]
@@ -35,6 +38,7 @@ pub mod error;
 pub mod fe;
 pub mod io;
 pub mod rom;
+pub mod schema;
 pub mod snapshots;
 
 pub use error::{Error, Result};

@@ -1,11 +1,14 @@
 //! The experiments shipped in `training_data/`: bending (tip Uz, Uy, angle) and blocked force,
 //! 27 (N, T, P) configurations each, and the study's tip bending error
-//! `BE = sqrt((Uz_exp − Uz_sim)² + (Uy_exp − Uy_sim)²)` (mm).
+//! `BE = sqrt((Uz_exp − Uz_sim)² + (Uy_exp − Uy_sim)²)` (mm). The columns of the experiment
+//! files, with units and meanings: [`crate::schema`] (formats `bending`, `force`, `markers`).
 
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
+
+use crate::schema;
 
 /// Errors reading experiment files.
 #[derive(Debug, Error)]
@@ -128,7 +131,7 @@ fn parse<T: for<'de> Deserialize<'de>>(
                     ));
                 }
             }
-            if h.ends_with("_std_deg") || h.ends_with("_std_n") || h == "std_mm" {
+            if STD_COLUMNS.contains(&h) {
                 let x: f64 = v.parse().unwrap_or(f64::NAN);
                 if x <= 0.0 {
                     return Err(record_error(
@@ -164,7 +167,13 @@ fn parse<T: for<'de> Deserialize<'de>>(
 }
 
 /// Columns holding integers.
-const INTEGER_COLUMNS: [&str; 2] = ["n_bellows", "marker"];
+const INTEGER_COLUMNS: [&str; 2] = [schema::N_BELLOWS.name, schema::MARKER.name];
+/// Columns holding standard deviations (must be > 0).
+const STD_COLUMNS: [&str; 3] = [
+    schema::ANGLE_STD.name,
+    schema::FORCE_STD.name,
+    schema::MARKER_RECORDED_STD.name,
+];
 
 /// Rejects two records of the same key, naming both lines (header = line 1).
 fn check_duplicates<K: PartialEq + std::fmt::Debug>(
@@ -193,34 +202,12 @@ fn record_error(name: &str, line: usize, column: &str, reason: &str) -> Experime
     }
 }
 
-const BENDING_COLUMNS: [&str; 7] = [
-    "n_bellows",
-    "wall_thickness_mm",
-    "pressure_bar",
-    "tip_uz_mm",
-    "tip_uy_mm",
-    "angle_deg",
-    "angle_std_deg",
-];
-const FORCE_COLUMNS: [&str; 5] = [
-    "n_bellows",
-    "wall_thickness_mm",
-    "pressure_bar",
-    "force_n",
-    "force_std_n",
-];
+const BENDING_COLUMNS: [&str; 7] = schema::names(&schema::BENDING_COLUMNS);
+const FORCE_COLUMNS: [&str; 5] = schema::names(&schema::FORCE_COLUMNS);
 
 /// Columns of a marker-recording file (optional: recordings that track points along the
 /// actuator, in the convention of the tip columns).
-const MARKER_COLUMNS: [&str; 7] = [
-    "n_bellows",
-    "wall_thickness_mm",
-    "pressure_bar",
-    "marker",
-    "uz_mm",
-    "uy_mm",
-    "std_mm",
-];
+const MARKER_COLUMNS: [&str; 7] = schema::names(&schema::MARKER_RECORDING_COLUMNS);
 
 /// One recorded marker (bottom-face point `k = 1..9` at `z = k·Lf/9`; 9 is the tip).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -283,7 +270,7 @@ fn markers_from(name: &str, text: &str) -> Result<Vec<MarkerRecord>, ExperimentE
             return Err(record_error(
                 name,
                 i + 2,
-                "marker",
+                schema::MARKER.name,
                 &format!("{} is not a marker number 1..9", r.marker),
             ));
         }

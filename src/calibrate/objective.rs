@@ -40,6 +40,7 @@ use super::experiments::{BendingRecord, ForceRecord, MarkerRecord};
 use super::params::ParamSpace;
 use super::CalibrateError;
 use crate::rom::{Jacobian, Prediction, Query, Surrogate};
+use crate::schema::{self, Quantity};
 
 /// Free length used to derive the tip's standard deviation (mm).
 pub const FREE_LENGTH_MM: f64 = 92.0;
@@ -85,26 +86,32 @@ impl Output {
         }
     }
 
-    /// A readable name (`tip_uz_mm`, `m3_uy_mm`, …).
+    /// A readable name: the output's [`schema`] column (`tip_uz_mm`, `m3_uy_mm`, …).
     pub fn name(self) -> String {
+        let marker = |list: &[Quantity; 9], k: u8, component: &str| match list
+            .get(usize::from(k).wrapping_sub(1))
+        {
+            Some(q) => q.name.to_string(),
+            None => format!("marker {k} {component} (not a marker 1..9)"),
+        };
         match self {
-            Output::TipUz => "tip_uz_mm".into(),
-            Output::TipUy => "tip_uy_mm".into(),
-            Output::Angle => "angle_deg".into(),
-            Output::Force => "force_n".into(),
-            Output::MarkerUz(k) => format!("m{k}_uz_mm"),
-            Output::MarkerUy(k) => format!("m{k}_uy_mm"),
+            Output::TipUz => schema::TIP_UZ.name.into(),
+            Output::TipUy => schema::TIP_UY.name.into(),
+            Output::Angle => schema::ANGLE.name.into(),
+            Output::Force => schema::FORCE.name.into(),
+            Output::MarkerUz(k) => marker(&schema::MARKER_UZ, k, "Uz"),
+            Output::MarkerUy(k) => marker(&schema::MARKER_UY, k, "Uy"),
         }
     }
 
     /// Name of the surrogate's validation entry holding this output's held-out error.
     fn validation_name(self) -> &'static str {
         match self {
-            Output::TipUz => "tip_uz_mm",
-            Output::TipUy => "tip_uy_mm",
-            Output::Angle => "angle_deg",
-            Output::Force => "force_n",
-            Output::MarkerUz(_) | Output::MarkerUy(_) => "markers_mm",
+            Output::TipUz => schema::TIP_UZ.name,
+            Output::TipUy => schema::TIP_UY.name,
+            Output::Angle => schema::ANGLE.name,
+            Output::Force => schema::FORCE.name,
+            Output::MarkerUz(_) | Output::MarkerUy(_) => schema::MARKERS.name,
         }
     }
 }
@@ -664,7 +671,7 @@ fn check_domain(
     };
     if !model.n_allowed.contains(&c.n_bellows) {
         return Err(fail(
-            "n_bellows",
+            schema::N_BELLOWS.name,
             c.n_bellows.to_string(),
             format!("trained N {:?}", model.n_allowed),
         ));
@@ -672,7 +679,7 @@ fn check_domain(
     let t = &model.inputs[1];
     if c.wall_thickness_mm < t.min - 1e-9 || c.wall_thickness_mm > t.max + 1e-9 {
         return Err(fail(
-            "wall_thickness_mm",
+            schema::WALL_THICKNESS.name,
             c.wall_thickness_mm.to_string(),
             format!("[{:.3}, {:.3}] mm", t.min, t.max),
         ));
@@ -683,7 +690,7 @@ fn check_domain(
     );
     if c.pressure_bar < p0 - 1e-9 || c.pressure_bar > p1 + 1e-9 {
         return Err(fail(
-            "pressure_bar",
+            schema::PRESSURE.name,
             c.pressure_bar.to_string(),
             format!("[{p0}, {p1}] bar"),
         ));

@@ -26,6 +26,7 @@ use serde::{Deserialize, Serialize};
 
 use super::CalibrateError;
 use crate::rom::Surrogate;
+use crate::schema;
 
 /// A second-order Ogden parameter set (ANSYS convention), admissible (`μᵢαᵢ > 0`).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -164,11 +165,12 @@ impl OgdenSet {
     }
 }
 
-/// Names of the Ogden parameters, in [`OgdenSet::as_array`] order.
-pub const NAMES: [&str; 4] = ["mu1_mpa", "alpha1", "mu2_mpa", "alpha2"];
+/// Names of the Ogden parameters, in [`OgdenSet::as_array`] order ([`schema::OGDEN_COLUMNS`]).
+pub const NAMES: [&str; 4] = schema::names(&schema::OGDEN_COLUMNS);
 
-/// Names of the sampling coordinates, in [`MaterialCoords::as_array`] order.
-pub const COORD_NAMES: [&str; 4] = ["mu0_mpa", "term1_share", "alpha1", "alpha2"];
+/// Names of the sampling coordinates, in [`MaterialCoords::as_array`] order
+/// ([`schema::OGDEN_COORDINATES`]).
+pub const COORD_NAMES: [&str; 4] = schema::names(&schema::OGDEN_COORDINATES);
 
 /// The sampling coordinates of an Ogden set (see the [module docs](self)).
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]

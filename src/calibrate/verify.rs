@@ -21,6 +21,7 @@ use crate::fe::material::{Material, MaterialLaw, Ogden2, DEFAULT_BULK_RATIO};
 use crate::fe::mesh::MeshOptions;
 use crate::fe::simulate::ContactSettings;
 use crate::rom::{Query, Surrogate, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
+use crate::schema;
 
 /// One configuration: FE, surrogate, experiment.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -153,7 +154,7 @@ pub fn compare_fe(
         let sur = [pred.tip_uz_mm(), pred.tip_uy_mm(), pred.force_n()];
         let std = [pred.std[Q_TIP_UZ], pred.std[Q_TIP_UY], pred.std[Q_FORCE]];
         let fe = [r.uz_sim_mm, r.uy_sim_mm, r.force_sim_n];
-        let disagree: Vec<String> = ["tip_uz_mm", "tip_uy_mm", "force_n"]
+        let disagree: Vec<String> = [schema::TIP_UZ.name, schema::TIP_UY.name, schema::FORCE.name]
             .iter()
             .enumerate()
             .filter(|&(k, _)| fe[k].is_finite() && (fe[k] - sur[k]).abs() > 2.0 * std[k])

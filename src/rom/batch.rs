@@ -1,4 +1,5 @@
 //! Batch queries and the prediction output schema, for `surrogate predict` and for programs.
+//! The columns, their units and meanings: [`crate::schema`] (formats `query`, `prediction`).
 //!
 //! A query CSV has the columns `n_bellows, wall_thickness_mm, pressure_bar` and either
 //! `material` (a name or `mu1,alpha1,mu2,alpha2` in quotes) or the four
@@ -26,6 +27,7 @@ use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES};
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::simulate::Marker;
+use crate::schema;
 
 /// Ogden parameters `[μ₁, α₁, μ₂, α₂]` of a material spec (a literature name or four numbers
 /// `mu1,alpha1,mu2,alpha2`), parsed and checked by [`Material::from_spec`].
@@ -35,10 +37,10 @@ use crate::fe::simulate::Marker;
 /// parametrised by the Ogden constants).
 pub fn material_params(spec: &str) -> Result<[f64; 4], RomError> {
     let material = Material::from_spec(spec.trim(), DEFAULT_BULK_RATIO)
-        .map_err(|e| RomError::invalid("material", spec, &e.expected()))?;
+        .map_err(|e| RomError::invalid(MATERIAL, spec, &e.expected()))?;
     material.ogden_params().ok_or_else(|| {
         RomError::invalid(
-            "material",
+            MATERIAL,
             spec,
             "an Ogden material: the surrogate is parametrised by Ogden (μ₁, α₁, μ₂, α₂)",
         )
@@ -65,26 +67,21 @@ pub struct QueryTable {
     pub rows: Vec<QueryRow>,
 }
 
-const BASE: [&str; 3] = ["n_bellows", "wall_thickness_mm", "pressure_bar"];
-const OGDEN: [&str; 4] = ["mu1_mpa", "alpha1", "mu2_mpa", "alpha2"];
+const BASE: [&str; 3] = schema::names(&schema::QUERY_COLUMNS);
+const OGDEN: [&str; 4] = schema::names(&schema::OGDEN_COLUMNS);
 /// The input columns of the output CSV.
-const INPUT_COLUMNS: [&str; 7] = [
-    "n_bellows",
-    "wall_thickness_mm",
-    "pressure_bar",
-    "mu1_mpa",
-    "alpha1",
-    "mu2_mpa",
-    "alpha2",
-];
+const INPUT_COLUMNS: [&str; 7] = schema::names(&schema::PREDICTION_INPUT_COLUMNS);
+const MATERIAL: &str = schema::MATERIAL.name;
 
 /// Whether a column name is one the output CSV writes itself (so it cannot be passed through).
 fn is_output_column(name: &str) -> bool {
     INPUT_COLUMNS.contains(&name)
         || QUANTITY_NAMES.contains(&name)
-        || QUANTITY_NAMES.iter().any(|q| name == format!("{q}_std"))
-        || name == "in_domain"
-        || name == "outside_domain"
+        || QUANTITY_NAMES
+            .iter()
+            .any(|q| name == format!("{q}{}", schema::STD_SUFFIX))
+        || name == schema::IN_DOMAIN.name
+        || name == schema::OUTSIDE_DOMAIN.name
 }
 
 /// Reads and validates a query CSV against a model.
@@ -115,10 +112,10 @@ pub fn read_queries<R: Read>(
         source_name: source.into(),
         message,
     };
-    let has_material = header.iter().any(|h| h == "material");
+    let has_material = header.iter().any(|h| h == MATERIAL);
     let mut wanted: Vec<&str> = BASE.to_vec();
     if has_material {
-        wanted.push("material");
+        wanted.push(MATERIAL);
     } else {
         wanted.extend(OGDEN);
     }
@@ -139,8 +136,8 @@ pub fn read_queries<R: Read>(
     // every other column is passed through; `material` is kept as well (the spec as given)
     let mut extra_idx = Vec::new();
     for (i, h) in header.iter().enumerate() {
-        if h == "material" || !wanted.contains(&h.as_str()) {
-            if h != "material" && is_output_column(h) {
+        if h == MATERIAL || !wanted.contains(&h.as_str()) {
+            if h != MATERIAL && is_output_column(h) {
                 return Err(header_err(format!(
                     "column `{h}` would be overwritten by the prediction: rename it to pass it through"
                 )));
@@ -416,10 +413,14 @@ pub fn write_predictions<W: Write>(out: W, table: &PredictedTable) -> Result<(),
     header.extend(INPUT_COLUMNS.iter().map(|s| s.to_string()));
     header.extend(QUANTITY_NAMES.iter().map(|s| s.to_string()));
     if with_std {
-        header.extend(QUANTITY_NAMES.iter().map(|s| format!("{s}_std")));
+        header.extend(
+            QUANTITY_NAMES
+                .iter()
+                .map(|s| format!("{s}{}", schema::STD_SUFFIX)),
+        );
     }
-    header.push("in_domain".into());
-    header.push("outside_domain".into());
+    header.push(schema::IN_DOMAIN.name.into());
+    header.push(schema::OUTSIDE_DOMAIN.name.into());
     w.write_record(&header).map_err(err)?;
     for r in &table.rows {
         let q = &r.row.query;

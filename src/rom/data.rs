@@ -2,7 +2,8 @@
 //!
 //! ## Column rule
 //!
-//! The header must **start with** exactly these 31 columns, in this order:
+//! The header must **start with** exactly these 31 columns ([`schema::SNAPSHOT_COLUMNS`]), in
+//! this order:
 //! `case_id, n_bellows, wall_thickness_mm, mu1_mpa, alpha1, mu2_mpa, alpha2, pressure_bar,
 //! converged, tip_uz_mm, tip_uy_mm, angle_deg, force_n, m1_uz_mm, m1_uy_mm, …, m9_uz_mm, m9_uy_mm`.
 //! Any columns *after* them (provenance: `newton_iterations`, `mesh`, `code_version`, `error`, …)
@@ -16,41 +17,10 @@ use std::io::Read;
 use std::path::Path;
 
 use super::{RomError, N_MARKER_COMPONENTS, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
+use crate::schema;
 
-/// The required columns, in order.
-pub const REQUIRED_COLUMNS: [&str; 31] = [
-    "case_id",
-    "n_bellows",
-    "wall_thickness_mm",
-    "mu1_mpa",
-    "alpha1",
-    "mu2_mpa",
-    "alpha2",
-    "pressure_bar",
-    "converged",
-    "tip_uz_mm",
-    "tip_uy_mm",
-    "angle_deg",
-    "force_n",
-    "m1_uz_mm",
-    "m1_uy_mm",
-    "m2_uz_mm",
-    "m2_uy_mm",
-    "m3_uz_mm",
-    "m3_uy_mm",
-    "m4_uz_mm",
-    "m4_uy_mm",
-    "m5_uz_mm",
-    "m5_uy_mm",
-    "m6_uz_mm",
-    "m6_uy_mm",
-    "m7_uz_mm",
-    "m7_uy_mm",
-    "m8_uz_mm",
-    "m8_uy_mm",
-    "m9_uz_mm",
-    "m9_uy_mm",
-];
+/// The required columns, in order ([`schema::SNAPSHOT_COLUMNS`]).
+pub const REQUIRED_COLUMNS: [&str; 31] = schema::names(&schema::SNAPSHOT_COLUMNS);
 
 /// Design and material of a case (everything but the pressure).
 #[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
@@ -298,7 +268,7 @@ fn check_header(header: &csv::StringRecord, source_name: &str) -> Result<(), Rom
                 let message = if REQUIRED_COLUMNS.contains(&got) {
                     format!("column {} is `{got}`, expected `{want}` (required columns must come first, in contract order)", i + 1)
                 } else {
-                    format!("unknown column `{got}` at position {}, expected `{want}` (extra columns are allowed only after `m9_uy_mm`)", i + 1)
+                    format!("unknown column `{got}` at position {}, expected `{want}` (extra columns are allowed only after `{}`)", i + 1, REQUIRED_COLUMNS[REQUIRED_COLUMNS.len() - 1])
                 };
                 return Err(RomError::Header {
                     source_name: source_name.to_string(),
@@ -404,7 +374,7 @@ fn group_by_case(set: &SnapshotSet) -> Result<Groups<'_>, RomError> {
                 return Err(RomError::Cell {
                     source_name: set.source.clone(),
                     line: row.line,
-                    column: "case_id".into(),
+                    column: schema::CASE_ID.name.into(),
                     value: row.case_id.clone(),
                     expected: format!(
                         "the same design and material as line {} of this case",
@@ -419,7 +389,7 @@ fn group_by_case(set: &SnapshotSet) -> Result<Groups<'_>, RomError> {
                 return Err(RomError::Cell {
                     source_name: set.source.clone(),
                     line: row.line,
-                    column: "pressure_bar".into(),
+                    column: schema::PRESSURE.name.into(),
                     value: row.pressure_bar.to_string(),
                     expected: format!("a pressure not already given for case {}", row.case_id),
                 });

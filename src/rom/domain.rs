@@ -26,18 +26,11 @@
 use super::data::CaseInputs;
 use super::query::Query;
 use super::regression::{raw_features, FeatureScaler};
+use crate::schema;
 use surrogate_predict::N_FEATURES;
 
-/// The checked inputs, in the order violations are reported: `(name, unit)`.
-pub const DOMAIN_INPUTS: [(&str, &str); 7] = [
-    ("n_bellows", "1"),
-    ("wall_thickness_mm", "mm"),
-    ("pressure_bar", "bar"),
-    ("mu0_mpa", "MPa"),
-    ("term1_share", "1"),
-    ("alpha1", "1"),
-    ("alpha2", "1"),
-];
+/// The checked inputs (name, unit, meaning), in the order violations are reported.
+pub use crate::schema::DOMAIN_INPUTS;
 
 /// Index of each regression feature `(N, T, ln μ0, α₁, s, α₂)` among [`DOMAIN_INPUTS`].
 const FEATURE_INPUT: [usize; N_FEATURES] = [0, 1, 3, 5, 4, 6];
@@ -81,8 +74,8 @@ impl DomainViolation {
 
 impl std::fmt::Display for DomainViolation {
     fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        if self.name == "n_bellows" {
-            return write!(f, "n_bellows = {} was not trained", self.value);
+        if self.name == schema::N_BELLOWS.name {
+            return write!(f, "{} = {} was not trained", self.name, self.value);
         }
         write!(
             f,
@@ -173,7 +166,7 @@ impl Domain {
         let mut out = Vec::new();
         if !self.n_bellows.contains(&q.n) {
             out.push(DomainViolation {
-                name: DOMAIN_INPUTS[0].0.into(),
+                name: DOMAIN_INPUTS[0].name.into(),
                 value: values[0],
                 min: self.n_bellows.first().map_or(f64::NAN, |&n| f64::from(n)),
                 max: self.n_bellows.last().map_or(f64::NAN, |&n| f64::from(n)),
@@ -191,7 +184,7 @@ impl Domain {
             let tol = 1e-9 * (1.0 + lo.abs().max(hi.abs()));
             if !(v >= lo - tol && v <= hi + tol) {
                 out.push(DomainViolation {
-                    name: DOMAIN_INPUTS[i].0.into(),
+                    name: DOMAIN_INPUTS[i].name.into(),
                     value: v,
                     min: lo,
                     max: hi,

@@ -31,14 +31,15 @@ use super::query::Query;
 use super::surrogate::Surrogate;
 use super::train::{train, TrainConfig};
 use super::RomError;
+use crate::schema;
 
 /// Output groups of the end-to-end check: the 18 marker components, then each scalar.
 const GROUPS: [(&str, std::ops::Range<usize>); 5] = [
-    ("markers_mm", 0..18),
-    ("tip_uz_mm", 18..19),
-    ("tip_uy_mm", 19..20),
-    ("angle_deg", 20..21),
-    ("force_n", 21..22),
+    (schema::MARKERS.name, 0..18),
+    (schema::TIP_UZ.name, 18..19),
+    (schema::TIP_UY.name, 19..20),
+    (schema::ANGLE.name, 20..21),
+    (schema::FORCE.name, 21..22),
 ];
 
 /// Runs the end-to-end check of [`EndToEnd`] with `folds` folds over the high-fidelity cases

@@ -124,31 +124,10 @@ pub use train::{train, TrainConfig, TrainReport};
 
 use thiserror::Error;
 
-/// Names of the 22 predicted quantities, in storage order.
-pub const QUANTITY_NAMES: [&str; 22] = [
-    "m1_uz_mm",
-    "m1_uy_mm",
-    "m2_uz_mm",
-    "m2_uy_mm",
-    "m3_uz_mm",
-    "m3_uy_mm",
-    "m4_uz_mm",
-    "m4_uy_mm",
-    "m5_uz_mm",
-    "m5_uy_mm",
-    "m6_uz_mm",
-    "m6_uy_mm",
-    "m7_uz_mm",
-    "m7_uy_mm",
-    "m8_uz_mm",
-    "m8_uy_mm",
-    "m9_uz_mm",
-    "m9_uy_mm",
-    "tip_uz_mm",
-    "tip_uy_mm",
-    "angle_deg",
-    "force_n",
-];
+use crate::schema;
+
+/// Names of the 22 predicted quantities, in storage order ([`schema::OUTPUTS`]).
+pub const QUANTITY_NAMES: [&str; 22] = schema::names(&schema::OUTPUTS);
 /// Index of `tip_uz_mm` among the quantities.
 pub const Q_TIP_UZ: usize = 18;
 /// Index of `tip_uy_mm`.

@@ -21,18 +21,19 @@ use super::regression::gp::{valid_group_bounds, Gp};
 use super::regression::poly::Poly;
 use super::regression::{raw_features, FeatureScaler, Regressor, RegressorKind};
 use super::{RomError, QUANTITY_NAMES};
+use crate::schema;
 use surrogate_predict::{stencil, N_FEATURES};
 
 /// Number of differentiable inputs: `T, P, μ₁, α₁, μ₂, α₂` (N is discrete).
 pub const N_GRAD_INPUTS: usize = 6;
 /// Names of the differentiable inputs.
 pub const GRAD_INPUT_NAMES: [&str; N_GRAD_INPUTS] = [
-    "wall_thickness_mm",
-    "pressure_bar",
-    "mu1_mpa",
-    "alpha1",
-    "mu2_mpa",
-    "alpha2",
+    schema::WALL_THICKNESS.name,
+    schema::PRESSURE.name,
+    schema::MU1.name,
+    schema::ALPHA1.name,
+    schema::MU2.name,
+    schema::ALPHA2.name,
 ];
 
 /// Buffers reused across predictions (so that `*_into` calls do not allocate).

@@ -16,6 +16,7 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 
 use super::data::{CaseInputs, REQUIRED_COLUMNS};
 use super::{Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
+use crate::schema;
 
 /// Settings of a synthetic snapshot set.
 #[derive(Debug, Clone)]
@@ -125,8 +126,11 @@ pub fn write_csv<W: Write>(cfg: &SyntheticConfig, out: W) -> std::io::Result<()>
     let mut w = std::io::BufWriter::new(out);
     writeln!(
         w,
-        "{},newton_iterations,mesh,code_version",
-        REQUIRED_COLUMNS.join(",")
+        "{},{},{},{}",
+        REQUIRED_COLUMNS.join(","),
+        schema::NEWTON_ITERATIONS.name,
+        schema::MESH.name,
+        schema::CODE_VERSION.name
     )?;
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(cfg.seed ^ 0x5eed);
     let cases = sample_cases(cfg);

@@ -19,7 +19,8 @@ use super::regression::gp::{Gp, GpParams};
 use super::regression::poly::{Poly, PolyParams};
 use super::regression::{raw_features, Data, FeatureScaler, Regressor, RegressorKind};
 use super::surrogate::{Block, InputSpec, Surrogate};
-use super::{RomError, N_MARKER_COMPONENTS, QUANTITY_NAMES, Q_TIP_UZ};
+use super::{RomError, N_MARKER_COMPONENTS, QUANTITY_NAMES, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
+use crate::schema::{self, Quantity};
 use surrogate_predict::N_FEATURES;
 
 /// Training settings.
@@ -143,10 +144,10 @@ pub struct Fitted {
 }
 
 const SCALARS: [(&str, usize); 4] = [
-    ("tip_uz_mm", 18),
-    ("tip_uy_mm", 19),
-    ("angle_deg", 20),
-    ("force_n", 21),
+    (schema::TIP_UZ.name, Q_TIP_UZ),
+    (schema::TIP_UY.name, Q_TIP_UY),
+    (schema::ANGLE.name, Q_ANGLE),
+    (schema::FORCE.name, Q_FORCE),
 ];
 
 /// Fits features, POD blocks and both regressors to `cases`.
@@ -405,13 +406,7 @@ fn interpolation_check(set: &CaseSet) -> Vec<InterpolationCheck> {
             }
         }
     }
-    let names = [
-        "markers_mm",
-        "tip_uz_mm",
-        "tip_uy_mm",
-        "angle_deg",
-        "force_n",
-    ];
+    let names = schema::names(&schema::VALIDATION_GROUPS);
     names
         .iter()
         .zip(acc)
@@ -447,7 +442,13 @@ fn choose(
         .iter()
         .min_by(|&&a, &&b| rmse(0, 0, a).total_cmp(&rmse(0, 0, b)))
         .unwrap_or(&0);
-    let mut outputs = vec![validation_entry("markers_mm", 0, 0, field_kind, table)];
+    let mut outputs = vec![validation_entry(
+        schema::MARKERS.name,
+        0,
+        0,
+        field_kind,
+        table,
+    )];
     let mut candidates = Vec::new();
     let mut scalar_choice = [(0, field_kind); 4];
     for (si, (name, _)) in SCALARS.iter().enumerate() {
@@ -463,7 +464,7 @@ fn choose(
     }
     for o in 0..5 {
         let name = if o == 0 {
-            "markers_mm"
+            schema::MARKERS.name
         } else {
             SCALARS[o - 1].0
         };
@@ -488,17 +489,17 @@ fn choose(
 
 fn input_specs(cases: &[CaseInputs], pressures: &[f64]) -> Vec<InputSpec> {
     type Getter = fn(&CaseInputs) -> f64;
-    let get: [(&str, &str, Getter); 6] = [
-        ("n_bellows", "1", |c| c.n_bellows as f64),
-        ("wall_thickness_mm", "mm", |c| c.wall_thickness_mm),
-        ("mu1_mpa", "MPa", |c| c.mu1_mpa),
-        ("alpha1", "1", |c| c.alpha1),
-        ("mu2_mpa", "MPa", |c| c.mu2_mpa),
-        ("alpha2", "1", |c| c.alpha2),
+    let get: [(Quantity, Getter); 6] = [
+        (schema::N_BELLOWS, |c| c.n_bellows as f64),
+        (schema::WALL_THICKNESS, |c| c.wall_thickness_mm),
+        (schema::MU1, |c| c.mu1_mpa),
+        (schema::ALPHA1, |c| c.alpha1),
+        (schema::MU2, |c| c.mu2_mpa),
+        (schema::ALPHA2, |c| c.alpha2),
     ];
-    let spec = |(name, unit, f): (&str, &str, Getter)| InputSpec {
-        name: name.into(),
-        unit: unit.into(),
+    let spec = |(q, f): (Quantity, Getter)| InputSpec {
+        name: q.name.into(),
+        unit: q.unit.into(),
         min: cases.iter().map(f).fold(f64::INFINITY, f64::min),
         max: cases.iter().map(f).fold(f64::NEG_INFINITY, f64::max),
     };
@@ -506,8 +507,8 @@ fn input_specs(cases: &[CaseInputs], pressures: &[f64]) -> Vec<InputSpec> {
     v.insert(
         2,
         InputSpec {
-            name: "pressure_bar".into(),
-            unit: "bar".into(),
+            name: schema::PRESSURE.name.into(),
+            unit: schema::PRESSURE.unit.into(),
             min: pressures[0],
             max: pressures[pressures.len() - 1],
         },

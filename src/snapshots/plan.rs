@@ -70,6 +70,7 @@ use crate::fe::simulate::{validate_pressures, SimulateError};
 use crate::fe::solver::SolverSettings;
 use crate::rom::data::CaseInputs;
 use crate::rom::domain::{Domain, DomainViolation};
+use crate::schema;
 
 /// Version of the plan format written and accepted.
 pub const FORMAT_VERSION: u32 = 1;
@@ -443,7 +444,7 @@ impl PlannedCase {
                 expected,
             }) => {
                 let name = if field == "wall_thickness" {
-                    "wall_thickness_mm"
+                    schema::WALL_THICKNESS.name
                 } else {
                     field
                 };
@@ -451,7 +452,7 @@ impl PlannedCase {
             }
             Err(e @ GeometryError::NoCavity { .. }) => {
                 return Err(SnapshotError::field(
-                    at("wall_thickness_mm"),
+                    at(schema::WALL_THICKNESS.name),
                     self.wall_thickness_mm,
                     &format!("a thickness that leaves a cavity ({e})"),
                 ));

@@ -6,17 +6,11 @@
 //! [`REQUIRED_COLUMNS`] (the surrogate trainer's contract: `case_id, n_bellows,
 //! wall_thickness_mm, mu1_mpa, alpha1, mu2_mpa, alpha2, pressure_bar, converged, tip_uz_mm,
 //! tip_uy_mm, angle_deg, force_n, m1_uz_mm, m1_uy_mm, …, m9_uz_mm, m9_uy_mm`), then
-//! [`PROVENANCE_COLUMNS`]:
-//!
-//! | column | content |
-//! |---|---|
-//! | `newton_iterations`, `substeps`, `cutbacks` | how the step was reached (empty if not) |
-//! | `residual` | final normalised residual of the step |
-//! | `min_gap_mm` | smallest deformed gap between bellows (negative: interpenetration) |
-//! | `mesh`, `element_size_mm` | mesh level and element-size override (empty: none) |
-//! | `bulk_ratio`, `gravity`, `solver_rtol` | the plan's FE settings |
-//! | `code_version` | [`super::code_version`] |
-//! | `error` | why the step has no result (empty for converged steps) |
+//! [`PROVENANCE_COLUMNS`]; their units and meanings are in [`crate::schema`] (format
+//! `snapshots`). The provenance holds how the step was reached (`newton_iterations`,
+//! `substeps`, `cutbacks`: empty if not), its `residual` and `min_gap_mm`, the plan's FE
+//! settings (`mesh`, `element_size_mm`, `bulk_ratio`, `gravity`, `solver_rtol`),
+//! [`super::code_version`] and the `error` that left a step without a result.
 //!
 //! `case_id` is `case_<id, 6 digits>`. A case has one row per plan pressure, in plan order;
 //! steps the solver did not reach have `converged = false` and `NaN` outputs. Floats are
@@ -36,6 +30,7 @@ use std::path::{Path, PathBuf};
 use super::plan::{Plan, PlanSettings, PlannedCase};
 use super::{code_version, SnapshotError};
 pub use crate::rom::data::REQUIRED_COLUMNS;
+use crate::schema;
 
 /// Outputs of one converged pressure step.
 #[derive(Clone, Debug, PartialEq)]
@@ -89,21 +84,8 @@ impl CaseOutcome {
     }
 }
 
-/// Provenance columns after [`REQUIRED_COLUMNS`].
-pub const PROVENANCE_COLUMNS: [&str; 12] = [
-    "newton_iterations",
-    "substeps",
-    "cutbacks",
-    "residual",
-    "min_gap_mm",
-    "mesh",
-    "element_size_mm",
-    "bulk_ratio",
-    "gravity",
-    "solver_rtol",
-    "code_version",
-    "error",
-];
+/// Provenance columns after [`REQUIRED_COLUMNS`] ([`schema::PROVENANCE_COLUMNS`]).
+pub const PROVENANCE_COLUMNS: [&str; 12] = schema::names(&schema::PROVENANCE_COLUMNS);
 
 /// Name of the plan-hash marker file.
 pub const PLAN_HASH_FILE: &str = "plan_hash";

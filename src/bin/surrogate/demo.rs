@@ -22,6 +22,7 @@ use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::simulate::{simulate_with_progress, Case, ContactSettings, Mode, StepResult};
 use surrogate::fe::solver::SolverSettings;
 use surrogate::rom::{Query, Surrogate};
+use surrogate::schema;
 
 use crate::args::DemoArgs;
 use crate::calibrate::{summary_text, write_outputs};
@@ -93,10 +94,10 @@ fn describe_model(model: &Surrogate, path: &Path) {
         path.display(),
         model.training.n_cases,
         model.training.source,
-        v("tip_uz_mm"),
-        v("tip_uy_mm"),
-        v("angle_deg"),
-        v("force_n")
+        v(schema::TIP_UZ.name),
+        v(schema::TIP_UY.name),
+        v(schema::ANGLE.name),
+        v(schema::FORCE.name)
     );
     let mut pred = model.new_prediction();
     let n = 20_000;
@@ -277,7 +278,7 @@ fn surrogate_comparison(
         .validation
         .outputs
         .iter()
-        .find(|o| o.name == "tip_uz_mm")
+        .find(|o| o.name == schema::TIP_UZ.name)
         .map_or(f64::NAN, |o| o.total.rmse);
     println!(
         "Surrogate {} ({} training cases from {}; held-out tip Uz RMSE {:.2} mm):",

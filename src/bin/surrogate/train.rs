@@ -7,6 +7,7 @@ use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::train::HeldOutPoint;
 use surrogate::rom::{train, TrainConfig};
+use surrogate::schema;
 
 use crate::args::{OnlyArg, TrainArgs};
 
@@ -225,10 +226,10 @@ fn print_worst(points: &[HeldOutPoint]) {
 }
 
 const OUTPUTS: [(&str, &str); 4] = [
-    ("tip_uz_mm", "tip Uz (mm)"),
-    ("tip_uy_mm", "tip Uy (mm)"),
-    ("angle_deg", "bending angle (°)"),
-    ("force_n", "blocked force (N)"),
+    (schema::TIP_UZ.name, "tip Uz (mm)"),
+    (schema::TIP_UY.name, "tip Uy (mm)"),
+    (schema::ANGLE.name, "bending angle (°)"),
+    (schema::FORCE.name, "blocked force (N)"),
 ];
 
 /// The held-out predictions as CSV, written atomically.

@@ -16,6 +16,7 @@ use serde::{Deserialize, Serialize};
 
 use super::data::CaseInputs;
 use super::RomError;
+use crate::schema;
 use surrogate_predict::N_FEATURES;
 
 /// Training data of a regressor: `n` points, `d` inputs, `m` outputs, row-major.
@@ -113,12 +114,12 @@ pub struct FeatureScaler {
 
 /// Raw feature names.
 pub const FEATURE_NAMES: [&str; N_FEATURES] = [
-    "n_bellows",
-    "wall_thickness_mm",
+    schema::N_BELLOWS.name,
+    schema::WALL_THICKNESS.name,
     "ln_mu0",
-    "alpha1",
+    schema::ALPHA1.name,
     "share1",
-    "alpha2",
+    schema::ALPHA2.name,
 ];
 
 /// Raw features of a case (`μᵢαᵢ > 0` is assumed validated).
