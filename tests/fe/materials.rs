@@ -4,14 +4,14 @@
 //!   objectivity and isotropy.
 //! * [`closed_forms`]: material-point checks against the incompressible closed forms.
 //! * [`admissibility`]: parameter validation, specification parsing, literature sets.
-//! * Here: the quadrature-point functions do not allocate.
+//! * Here: the quadrature-point functions do not allocate (with and without a fibre term).
 
 mod admissibility;
 mod closed_forms;
 mod derivatives;
 
 use nalgebra::Matrix3;
-use surrogate::fe::material::{Material, Tangent9};
+use surrogate::fe::material::{Fibre, Material, Tangent9};
 
 /// Counts heap allocations of the current thread (other test threads are not counted).
 struct CountingAllocator;
@@ -47,8 +47,16 @@ fn quadrature_point_functions_do_not_allocate() {
         ALLOCATIONS.with(|n| n.get()) > before && *boxed == 1.0,
         "the counter counts"
     );
-    for spec in ["ogden_002", "mooney_rivlin_5", "neo_hookean:2.5"] {
-        let m = Material::from_spec(spec, 1000.0).unwrap();
+    let printed = Material::from_spec("ogden_002", 1000.0)
+        .unwrap()
+        .with_fibre(Fibre::new([0.3, -0.5, 0.8], -1.0).unwrap())
+        .unwrap();
+    let materials = ["ogden_002", "mooney_rivlin_5", "neo_hookean:2.5"]
+        .map(|spec| (spec, Material::from_spec(spec, 1000.0).unwrap()));
+    for (spec, m) in materials
+        .into_iter()
+        .chain([("ogden_002 + fibre", printed)])
+    {
         let before = ALLOCATIONS.with(|n| n.get());
         let mut energy = m.energy(&f) + m.iso_energy(&f);
         m.iso_stress_into(&f, &mut p);

@@ -1,7 +1,8 @@
 //! Hyperelastic material laws with the isochoric / volumetric split.
 //!
 //! Every law stores its isochoric strain energy `W_iso(F) = Ŵ(F̄)`, `F̄ = J^{-1/3} F`,
-//! `J = det F`, and shares the volumetric energy `U(J) = κ/2 (J − 1)²` (ANSYS: `d = 2/κ`):
+//! `J = det F`, and shares the volumetric energy `U(J) = κ/2 (J − 1)²` (ANSYS: `d = 2/κ`).
+//! A [`Material`] may add an anisotropic fibre term `W_f(F̄)` to the isochoric part (below):
 //!
 //! ```text
 //!   W(F) = W_iso(F) + U(J)
@@ -19,6 +20,12 @@
 //!   `μ0 = 2 (C10 + C01)`; see [`mooney_rivlin`].
 //! * [`NeoHookean`]: `W_iso = μ/2 (Ī1 − 3)`, `μ0 = μ`; see [`neo_hookean`].
 //!
+//! Print anisotropy (optional, [`Material::fibre`]): [`Fibre`] adds
+//! `W_f = (k/2)(Ī4 − 1)²`, `Ī4 = J^{-2/3} a0·C a0`, along the filament direction `a0` of the
+//! FDM print, `k` in MPa, `−μ0/4 ≤ k ≤ 4μ0`. It is a function of `F̄` only, so it is part of
+//! the isochoric energy: `W_iso(F) = Ŵ(F̄) + W_f(F̄)` in everything above, and the `iso_*`
+//! functions of [`Material`] include it. See [`fibre`].
+//!
 //! Index convention for fourth-order tangents stored as 9×9 matrices:
 //! `A[(3*i + J, 3*k + L)] = ∂P_iJ / ∂F_kL`, with `P` the first Piola–Kirchhoff stress
 //! and `F` the deformation gradient (`nalgebra::Matrix3`, row `i`, column `J`).
@@ -27,6 +34,7 @@
 //! filled with `NaN` (a solver should treat that as a failed trial state); nothing panics.
 //! The `*_into` functions write into caller buffers and never allocate.
 
+pub mod fibre;
 mod isotropic;
 mod literature;
 pub mod mooney_rivlin;
@@ -34,6 +42,7 @@ pub mod neo_hookean;
 pub mod ogden;
 mod spec;
 
+pub use fibre::{Fibre, FibreParams, FIBRE_MODULUS_RANGE};
 pub use literature::literature_sets;
 pub use mooney_rivlin::{MooneyRivlin5, MooneyRivlinParams};
 pub use neo_hookean::{NeoHookean, NeoHookeanParams};
@@ -199,10 +208,13 @@ impl MaterialLaw {
     }
 }
 
-/// A material: an isochoric law plus the volumetric energy `U(J) = κ/2 (J − 1)²`.
+/// A material: an isochoric law, optionally a fibre term, and the volumetric energy
+/// `U(J) = κ/2 (J − 1)²`.
 ///
 /// The fields are public for reading; build it with [`Material::new`],
-/// [`Material::with_kappa`] or [`Material::from_spec`] (deserialisation validates too).
+/// [`Material::with_kappa`] or [`Material::from_spec`], then [`Material::with_fibre`]
+/// (deserialisation validates too). Without a fibre the serialised form has no `fibre` key,
+/// exactly as before the field existed.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "MaterialFields")]
 pub struct Material {
@@ -210,6 +222,9 @@ pub struct Material {
     pub law: MaterialLaw,
     /// Bulk modulus `κ` (same unit as the law's moduli, MPa in this crate).
     pub kappa: f64,
+    /// Print anisotropy: a fibre term added to the isochoric energy (see [`fibre`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fibre: Option<Fibre>,
 }
 
 /// Unvalidated mirror of [`Material`] for deserialisation.
@@ -217,12 +232,18 @@ pub struct Material {
 struct MaterialFields {
     law: MaterialLaw,
     kappa: f64,
+    #[serde(default)]
+    fibre: Option<Fibre>,
 }
 
 impl TryFrom<MaterialFields> for Material {
     type Error = MaterialError;
     fn try_from(m: MaterialFields) -> Result<Self, MaterialError> {
-        Material::with_kappa(m.law, m.kappa)
+        let material = Material::with_kappa(m.law, m.kappa)?;
+        match m.fibre {
+            Some(fibre) => material.with_fibre(fibre),
+            None => Ok(material),
+        }
     }
 }
 
@@ -243,7 +264,7 @@ impl Material {
         Self::with_kappa(law, kappa)
     }
 
-    /// A material with the given bulk modulus `κ`.
+    /// A material with the given bulk modulus `κ` (and no fibre term).
     ///
     /// # Errors
     /// [`MaterialError::Inadmissible`] naming `kappa` unless it is finite and `> 0`.
@@ -251,10 +272,37 @@ impl Material {
         if !(kappa.is_finite() && kappa > 0.0) {
             return Err(inadmissible("kappa", kappa, "a finite number > 0"));
         }
-        Ok(Self { law, kappa })
+        Ok(Self {
+            law,
+            kappa,
+            fibre: None,
+        })
     }
 
-    /// Initial shear modulus `μ0` of the law.
+    /// This material with the fibre term `fibre` (replacing any previous one).
+    ///
+    /// ```
+    /// use surrogate::fe::material::{Fibre, Material};
+    /// let m = Material::from_spec("ogden_002", 1000.0)?;
+    /// let k = m.mu0(); // uniaxial modulus along z: 3μ0 + 4k instead of 3μ0 (incompressible)
+    /// let printed = m.with_fibre(Fibre::new(Fibre::ALONG_LENGTH, k)?)?;
+    /// assert!(printed.fibre.is_some());
+    /// # Ok::<(), surrogate::fe::material::MaterialError>(())
+    /// ```
+    ///
+    /// # Errors
+    /// [`MaterialError::Inadmissible`] naming `fibre.modulus` unless
+    /// `−μ0/4 ≤ k ≤ 4μ0` ([`FIBRE_MODULUS_RANGE`], `μ0` of the law; see [`fibre`]).
+    pub fn with_fibre(self, fibre: Fibre) -> Result<Self, MaterialError> {
+        fibre.check_modulus(self.mu0())?;
+        Ok(Self {
+            fibre: Some(fibre),
+            ..self
+        })
+    }
+
+    /// Initial shear modulus `μ0` of the law (a fibre term leaves every small-strain shear
+    /// modulus along and across its direction unchanged, see [`fibre`]).
     pub fn mu0(&self) -> f64 {
         self.law.initial_shear_modulus()
     }
@@ -270,24 +318,34 @@ impl Material {
         }
     }
 
-    /// Isochoric strain energy density `W_iso(F)`.
+    /// Isochoric strain energy density `W_iso(F)`: the law's, plus the fibre term's if any.
     pub fn iso_energy(&self, f: &Matrix3<f64>) -> f64 {
-        self.law.iso_energy(f)
+        let w = self.law.iso_energy(f);
+        match &self.fibre {
+            Some(fibre) => w + fibre.energy(f),
+            None => w,
+        }
     }
 
-    /// Isochoric first Piola–Kirchhoff stress into `p`.
+    /// Isochoric first Piola–Kirchhoff stress into `p` (law plus fibre term).
     pub fn iso_stress_into(&self, f: &Matrix3<f64>, p: &mut Matrix3<f64>) {
-        self.law.iso_stress_into(f, p)
+        self.law.iso_stress_into(f, p);
+        if let Some(fibre) = &self.fibre {
+            fibre.add_stress_into(f, p);
+        }
     }
 
-    /// Isochoric stress into `p` and its tangent into `a`.
+    /// Isochoric stress into `p` and its tangent into `a` (law plus fibre term).
     pub fn iso_stress_tangent_into(
         &self,
         f: &Matrix3<f64>,
         p: &mut Matrix3<f64>,
         a: &mut Tangent9,
     ) {
-        self.law.iso_stress_tangent_into(f, p, a)
+        self.law.iso_stress_tangent_into(f, p, a);
+        if let Some(fibre) = &self.fibre {
+            fibre.add_stress_tangent_into(f, p, a);
+        }
     }
 
     /// Volumetric energy `U(J) = κ/2 (J − 1)²`.

@@ -1,12 +1,15 @@
 //! One finite-difference checker applied to every law, isochoric (through the trait) and
-//! total: stress = ∂W/∂F and tangent = ∂P/∂F by fourth-order central differences (step 10⁻⁴:
-//! truncation ~h⁴, round-off ~ε/h, both far below the 10⁻⁶ tolerance); objectivity and isotropy.
+//! total, and to the print-anisotropy fibre term, alone and added to `ogden_002` and other laws
+//! (along `z` and an oblique direction, `k` positive and negative): stress = ∂W/∂F and
+//! tangent = ∂P/∂F by fourth-order central differences (step 10⁻⁴: truncation ~h⁴, round-off
+//! ~ε/h, both far below the 10⁻⁶ tolerance); objectivity, and isotropy (transverse isotropy
+//! about the fibre direction with a fibre).
 
 use nalgebra::{Matrix3, Rotation3, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use surrogate::fe::material::{
-    Hyperelastic, Material, MaterialLaw, MooneyRivlin5, NeoHookean, Ogden2, Tangent9,
+    Fibre, Hyperelastic, Material, MaterialLaw, MooneyRivlin5, NeoHookean, Ogden2, Tangent9,
 };
 
 /// Relative tolerance of the finite-difference checks.
@@ -48,7 +51,30 @@ impl<H: Hyperelastic> Response for Iso<'_, H> {
     }
 }
 
-/// The total model (isochoric + volumetric) of a [`Material`].
+/// The fibre term alone, through its adding `*_into` functions on zeroed buffers.
+struct FibreTerm<'a>(&'a Fibre);
+
+impl Response for FibreTerm<'_> {
+    fn energy(&self, f: &Matrix3<f64>) -> f64 {
+        self.0.energy(f)
+    }
+    fn stress(&self, f: &Matrix3<f64>) -> Matrix3<f64> {
+        let mut p = Matrix3::zeros();
+        self.0.add_stress_into(f, &mut p);
+        p
+    }
+    fn stress_tangent(&self, f: &Matrix3<f64>) -> (Matrix3<f64>, Tangent9) {
+        let mut p = Matrix3::zeros();
+        let mut a = Tangent9::zeros();
+        self.0.add_stress_tangent_into(f, &mut p, &mut a);
+        (p, a)
+    }
+    fn scale(&self) -> f64 {
+        self.0.modulus().abs()
+    }
+}
+
+/// The total model (isochoric + fibre + volumetric) of a [`Material`].
 struct Total<'a>(&'a Material);
 
 impl Response for Total<'_> {
@@ -197,9 +223,41 @@ fn rotate_tangent(q: &Matrix3<f64>, a: &Tangent9) -> Tangent9 {
     })
 }
 
-/// Objectivity `W(QF) = W(F)`, `P(QF) = Q P(F)`, `A(QF) = Q·A(F)·Q`, and isotropy
-/// `W(FQ) = W(F)`, `P(FQ) = P(F) Q`.
-fn check_objectivity(label: &str, r: &impl Response) {
+/// The material symmetry group of a response.
+#[derive(Clone, Copy)]
+enum Symmetry {
+    /// Every rotation.
+    Isotropic,
+    /// Rotations about a direction, and its reversal.
+    Transverse(Vector3<f64>),
+}
+
+impl Symmetry {
+    /// A random element of the group.
+    fn random_element(self, rng: &mut impl Rng) -> Matrix3<f64> {
+        match self {
+            Symmetry::Isotropic => random_rotation(rng),
+            Symmetry::Transverse(a0) => {
+                let about = Rotation3::from_axis_angle(
+                    &nalgebra::Unit::new_normalize(a0),
+                    rng.gen_range(-3.0..3.0),
+                );
+                // a half turn about an axis normal to a0 maps a0 to −a0
+                let normal = nalgebra::Unit::new_normalize(a0.cross(&Vector3::new(0.3, 0.9, 0.1)));
+                let flip = Rotation3::from_axis_angle(&normal, std::f64::consts::PI);
+                if rng.gen_bool(0.5) {
+                    (about * flip).into_inner()
+                } else {
+                    about.into_inner()
+                }
+            }
+        }
+    }
+}
+
+/// Objectivity `W(QF) = W(F)`, `P(QF) = Q P(F)`, `A(QF) = Q·A(F)·Q`, and material symmetry
+/// `W(FQ) = W(F)`, `P(FQ) = P(F) Q` for `Q` in the symmetry group.
+fn check_objectivity(label: &str, r: &impl Response, symmetry: Symmetry) {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
     for (name, f) in check_points() {
         let q = random_rotation(&mut rng);
@@ -214,6 +272,7 @@ fn check_objectivity(label: &str, r: &impl Response) {
         assert!(e_p < 1e-10, "{label} {name}: P(QF) != Q P(F) ({e_p:e})");
         let e_a = rel_err(&aq, &rotate_tangent(&q, &a), scale);
         assert!(e_a < 1e-10, "{label} {name}: A(QF) != Q A(F) Q ({e_a:e})");
+        let q = symmetry.random_element(&mut rng);
         let w_iso = r.energy(&(f * q));
         assert!(
             (w_iso - w).abs() <= 1e-12 * scale,
@@ -253,9 +312,9 @@ macro_rules! law_tests {
             #[test]
             fn objective_and_isotropic() {
                 let law = $law.unwrap();
-                check_objectivity("iso", &Iso(&law));
+                check_objectivity("iso", &Iso(&law), Symmetry::Isotropic);
                 let material = Material::new(MaterialLaw::from(law), BULK_RATIO).unwrap();
-                check_objectivity("total", &Total(&material));
+                check_objectivity("total", &Total(&material), Symmetry::Isotropic);
             }
         }
     )+};
@@ -268,4 +327,63 @@ law_tests! {
     mooney_rivlin_5: MooneyRivlin5::new(-0.233, 2.562, 0.116, -0.561, 0.900);
     mooney_rivlin_two_term: MooneyRivlin5::new(0.4, 0.1, 0.0, 0.0, 0.0);
     neo_hookean: NeoHookean::new(2.5);
+}
+
+/// Derivative and symmetry tests of a fibre term `k = ratio · μ0` along `direction`, alone and
+/// added to a law (total model).
+macro_rules! fibre_tests {
+    ($($name:ident: $law:expr, $direction:expr, $ratio:expr;)+) => {$(
+        mod $name {
+            use super::*;
+
+            fn material() -> Material {
+                let material = Material::new(MaterialLaw::from($law.unwrap()), BULK_RATIO).unwrap();
+                let fibre = Fibre::new($direction, $ratio * material.mu0()).unwrap();
+                material.with_fibre(fibre).unwrap()
+            }
+
+            #[test]
+            fn fibre_stress_and_tangent_match_finite_differences() {
+                let material = material();
+                let fibre = material.fibre.as_ref().unwrap();
+                let worst = check_points()
+                    .iter()
+                    .map(|(point, f)| check_derivatives(&format!("fibre {point}"), &FibreTerm(fibre), f))
+                    .fold(0.0, f64::max);
+                println!("{}: worst fibre FD error {worst:e}", stringify!($name));
+            }
+
+            #[test]
+            fn total_stress_and_tangent_match_finite_differences() {
+                let material = material();
+                let worst = check_points()
+                    .iter()
+                    .map(|(point, f)| check_derivatives(&format!("total {point}"), &Total(&material), f))
+                    .fold(0.0, f64::max);
+                println!("{}: worst total FD error {worst:e}", stringify!($name));
+            }
+
+            #[test]
+            fn objective_and_transversely_isotropic() {
+                let material = material();
+                let fibre = material.fibre.as_ref().unwrap();
+                let symmetry = Symmetry::Transverse(*fibre.direction());
+                check_objectivity("fibre", &FibreTerm(fibre), symmetry);
+                check_objectivity("total", &Total(&material), symmetry);
+            }
+        }
+    )+};
+}
+
+/// A generic oblique direction, not normalised.
+const OBLIQUE: [f64; 3] = [0.3, -0.5, 0.8];
+
+fibre_tests! {
+    ogden_002_fibre_along_z_stiffer: Ogden2::new(1.13, 3.11, -13.17, -0.6), Fibre::ALONG_LENGTH, 1.0;
+    ogden_002_fibre_along_z_softer: Ogden2::new(1.13, 3.11, -13.17, -0.6), Fibre::ALONG_LENGTH, -0.25;
+    ogden_002_fibre_oblique_stiffer: Ogden2::new(1.13, 3.11, -13.17, -0.6), OBLIQUE, 4.0;
+    ogden_002_fibre_oblique_softer: Ogden2::new(1.13, 3.11, -13.17, -0.6), OBLIQUE, -0.2;
+    ogden_002_fibre_in_build_plane: Ogden2::new(1.13, 3.11, -13.17, -0.6), [0.0, 1.0, 1.0], 0.5;
+    mooney_rivlin_5_fibre_oblique: MooneyRivlin5::new(-0.233, 2.562, 0.116, -0.561, 0.900), OBLIQUE, -0.25;
+    neo_hookean_fibre_along_z: NeoHookean::new(2.5), Fibre::ALONG_LENGTH, 2.0;
 }
