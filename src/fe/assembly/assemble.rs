@@ -40,7 +40,7 @@ impl FeModel {
 
     /// As [`Self::assemble`], with the initial-stress term of each element's tangent evaluated
     /// with the given pressure coefficients (the mixed Newton iteration's pressures, see
-    /// [`element::linearised_pressure`]) instead of the consistent ones. The residual is
+    /// [`crate::fe::element::linearised_pressure`]) instead of the consistent ones. The residual is
     /// unchanged.
     ///
     /// # Errors

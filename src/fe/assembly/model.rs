@@ -159,7 +159,7 @@ impl FeModel {
     }
 
     /// Sets the face pairs of deformable–deformable contact. Their node couplings
-    /// ([`pair_couplings`]) must have been passed to [`Self::new`].
+    /// ([`super::dofs::pair_couplings`]) must have been passed to [`Self::new`].
     ///
     /// # Errors
     /// [`ContactError::MissingCoupling`] if the pattern lacks a coupling;

@@ -10,7 +10,7 @@ use crate::fe::assembly::LoadLevel;
 
 impl<P: NonlinearProblem> Solver<'_, P> {
     /// Uzawa updates of the contact gap shifts at the converged `level`, each followed by a
-    /// Newton solve at the same load (see [`SolverSettings::augmented_updates`]).
+    /// Newton solve at the same load (see [`super::settings::SolverSettings::augmented_updates`]).
     ///
     /// # Errors
     /// [`SolverError::Factorization`] / [`SolverError::Element`] from the Newton solves. A
