@@ -19,7 +19,9 @@
 //! | `pressure_loss` | 1 | 0 | 0 … 0.3 | effective pressure `(1 − f)·P − p₀` |
 //! | `pressure_offset` | bar | 0 | 0 … 0.3 | the `p₀` above |
 //! | `density` | 1 | 1 | 0.5 … 1.5 | self-weight scaled |
+//! | `anisotropy` | 1 | 0 | −0.25 … 1 | fibre term along the length, `k = a·μ0` |
 //! | `plate_offset` | mm | 0 | −2 … 2 | plate `5 + offset` mm below the sagged tip |
+//! | `plate_compliance` | mm/N | 0 | 0 … 1 | plate yields `c·F` under the blocked force |
 //! | `force_scale` | 1 | 1 | 0.7 … 1.3 | reported blocked force scaled (load-cell calibration) |
 //!
 //! Why each is plausible, from the printing process and the rigs:
@@ -40,12 +42,17 @@
 //!   some pressure when flowing and a small offset to leaks or a zero error.
 //! * **Density** — the print is not fully dense (infill, voids between lines), and the
 //!   recorded mass of TPU varies by grade.
+//! * **Print anisotropy** — the actuators are printed lying on their side, the bending plane
+//!   parallel to the build plate, so the perimeter lines of the skin and the base run along
+//!   the length `z`; lines bond to each other less well than a line holds together, which
+//!   makes the print stiffer (`a > 0`) or, with poor fusion of the lines' ends, softer
+//!   (`a < 0`) along `z` than across. Modelled as a transversely isotropic fibre term
+//!   `W_f = k/2 (Ī₄ − 1)²` along `z` ([`Fibre`](super::material::Fibre)) with `k = a·μ0`:
+//!   the small-strain modulus along `z` becomes `3μ0 + 4k`, the shear moduli stay `μ0`.
 //! * **Force rig** — the plate is set 5 mm below the hanging tip by eye; the load cell's
-//!   calibration is a scale factor.
-//!
-//! Print anisotropy (a transversely isotropic term along the deposition direction) and a
-//! plate on a spring are further candidates of the same library that need material and
-//! solver support of their own.
+//!   calibration is a scale factor; the load cell and the plate's mount deflect under the
+//!   force (a beam load cell with a cantilevered plate yields tenths of a millimetre per
+//!   newton), which lowers the force the tip builds up against it.
 
 use std::collections::BTreeMap;
 use std::fmt;
@@ -54,6 +61,7 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use super::geometry::DesignParams;
+use super::material::{Fibre, Material, MaterialError};
 
 /// One effect of the library.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, PartialOrd, Ord, Hash, Serialize, Deserialize)]
@@ -83,8 +91,12 @@ pub enum Effect {
     PressureOffset,
     /// Self-weight scale (1).
     Density,
+    /// Print anisotropy: fibre modulus along the length over μ0 (1).
+    Anisotropy,
     /// Plate further below the sagged tip than 5 mm (mm).
     PlateOffset,
+    /// Compliance of the plate and load cell (mm/N).
+    PlateCompliance,
     /// Load-cell scale (1).
     ForceScale,
 }
@@ -119,7 +131,7 @@ pub struct EffectInfo {
 }
 
 /// The library, in the order listed by `surrogate effects`.
-pub const EFFECTS: [EffectInfo; 14] = [
+pub const EFFECTS: [EffectInfo; 16] = [
     EffectInfo {
         effect: Effect::WallBias,
         name: "wall_bias",
@@ -229,12 +241,30 @@ pub const EFFECTS: [EffectInfo; 14] = [
         acts_on: Acts::Both,
     },
     EffectInfo {
+        effect: Effect::Anisotropy,
+        name: "anisotropy",
+        meaning: "print anisotropy: fibre term along the length (deposition), k = a·μ0",
+        unit: "1",
+        neutral: 0.0,
+        range: (-0.25, 1.0),
+        acts_on: Acts::Both,
+    },
+    EffectInfo {
         effect: Effect::PlateOffset,
         name: "plate_offset",
         meaning: "force plate this much further than 5 mm below the sagged tip (negative: closer)",
         unit: "mm",
         neutral: 0.0,
         range: (-2.0, 2.0),
+        acts_on: Acts::Force,
+    },
+    EffectInfo {
+        effect: Effect::PlateCompliance,
+        name: "plate_compliance",
+        meaning: "plate and load cell on a spring: the plate yields c·F under the force F",
+        unit: "mm/N",
+        neutral: 0.0,
+        range: (0.0, 1.0),
         acts_on: Acts::Force,
     },
     EffectInfo {
@@ -492,6 +522,37 @@ impl Effects {
         self.get(Effect::PlateOffset)
     }
 
+    /// Compliance of the plate's support (mm/N): the plate moves `c·F` away from the tip
+    /// under the blocked force `F` (the whole actuator's, N).
+    pub fn plate_compliance_mm_per_n(&self) -> f64 {
+        self.get(Effect::PlateCompliance)
+    }
+
+    /// The material as printed: `material` with the anisotropy's fibre term along the length
+    /// (`k = a·μ0`); `material` itself (cloned) when the anisotropy is neutral.
+    ///
+    /// # Errors
+    /// [`MaterialError::Inadmissible`] naming `fibre` when `material` already has a fibre term
+    /// (the effect would replace it silently), or when `k` is outside the fibre's admissible
+    /// range for this law.
+    pub fn printed_material(&self, material: &Material) -> Result<Material, MaterialError> {
+        let a = self.get(Effect::Anisotropy);
+        if a == 0.0 {
+            return Ok(material.clone());
+        }
+        if let Some(f) = &material.fibre {
+            return Err(MaterialError::Inadmissible {
+                field: "fibre".into(),
+                value: f.modulus(),
+                expected: "no fibre term in a material the anisotropy effect applies to \
+                           (the effect adds its own along the length)"
+                    .into(),
+            });
+        }
+        let fibre = Fibre::new(Fibre::ALONG_LENGTH, a * material.mu0())?;
+        material.clone().with_fibre(fibre)
+    }
+
     /// The load cell's scale.
     pub fn force_scale(&self) -> f64 {
         self.get(Effect::ForceScale)
@@ -568,6 +629,19 @@ mod tests {
         assert_eq!(e.effective_pressure_bar(0.0), 0.0);
         let e = Effects::parse(["clamp_compliance=0.2"]).unwrap();
         assert_eq!(e.clamp_springs(), [None, None, Some(5.0)]);
+    }
+
+    #[test]
+    fn anisotropy_adds_a_fibre_along_the_length_and_refuses_to_replace_one() {
+        let m = Material::from_spec("ogden_002", crate::fe::material::DEFAULT_BULK_RATIO).unwrap();
+        assert_eq!(Effects::neutral().printed_material(&m).unwrap(), m);
+        let e = Effects::parse(["anisotropy=0.5"]).unwrap();
+        let printed = e.printed_material(&m).unwrap();
+        let fibre = printed.fibre.as_ref().unwrap();
+        assert!((fibre.modulus() - 0.5 * m.mu0()).abs() < 1e-12);
+        assert_eq!(fibre.params().direction, Fibre::ALONG_LENGTH);
+        let err = e.printed_material(&printed).unwrap_err().to_string();
+        assert!(err.contains("fibre") && err.contains("anisotropy"), "{err}");
     }
 
     /// Fuzz-style: every malformed assignment is an error naming the effect and its range.

@@ -30,6 +30,12 @@ pub const BAR: f64 = 0.1;
 pub const MAX_PRESSURE_BAR: f64 = 10.0;
 /// Distance of the force plate below the tip of the unpressurised actuator (mm, SPEC).
 pub const PLATE_OFFSET: f64 = 5.0;
+
+/// Tolerance on the compliant plate's position `|y − (y0 − c·F)|` (mm).
+pub const PLATE_SETTLE_MM: f64 = 1e-4;
+
+/// Re-solves allowed per load level for the compliant plate to settle.
+pub const PLATE_SETTLE_ITERATIONS: usize = 30;
 /// The plate lies under z ∈ [Lf − 25, Lf + 5] (mm, SPEC).
 pub const PLATE_REACH: (f64, f64) = (25.0, 5.0);
 
@@ -125,6 +131,22 @@ pub enum SimulateError {
     /// An invalid effect.
     #[error(transparent)]
     Effect(#[from] EffectError),
+    /// An invalid material (including one an effect makes, e.g. anisotropy).
+    #[error(transparent)]
+    Material(#[from] crate::fe::material::MaterialError),
+    /// The plate on a spring (`plate_compliance`) did not settle at a pressure.
+    #[error(
+        "the compliant plate did not settle at {pressure_bar} bar: after {iterations} re-solves \
+         its position is {mismatch_mm:.2e} mm from c·F (expected below {PLATE_SETTLE_MM} mm)"
+    )]
+    PlateNotSettled {
+        /// The gauge pressure (bar).
+        pressure_bar: f64,
+        /// Re-solves made.
+        iterations: usize,
+        /// Last `|y − (y0 − c·F)|` (mm).
+        mismatch_mm: f64,
+    },
     /// A setting out of range (solver, mesh).
     #[error(transparent)]
     Setting(#[from] crate::fe::InvalidSetting),
@@ -741,9 +763,10 @@ pub fn simulate_with(
     let start = Instant::now();
     case.validate()?;
     let design = case.printed_design()?;
+    let material = case.effects.printed_material(&case.material)?;
     let mut model = ActuatorModel::with_effects(
         &design,
-        &case.material,
+        &material,
         &case.mesh,
         case.mode,
         &case.contact,
@@ -787,24 +810,38 @@ pub fn simulate_with(
         model.fe.planes[plate].point = [0.0, tip[1] - offset, 0.0];
     }
     // Stage 3: the pressure ramp.
-    let ramp = solve_path_from(
-        &model.fe,
-        case.solver.clone(),
-        &mut state,
-        &levels[1..],
-        |i, state, rep| {
-            progress(i + 2, total);
-            let mut result = measure(&model, state, rep, lf, case.pressures_bar[skip + i]);
-            if let Some(f) = result.force_n.as_mut() {
-                let scale = case.effects.force_scale();
-                if scale != 1.0 {
-                    *f *= scale;
-                }
+    let mut record = |i: usize, model: &ActuatorModel, state: &PathState, rep: &StepReport| {
+        progress(i + 2, total);
+        let mut result = measure(model, state, rep, lf, case.pressures_bar[skip + i]);
+        if let Some(f) = result.force_n.as_mut() {
+            let scale = case.effects.force_scale();
+            if scale != 1.0 {
+                *f *= scale;
             }
-            on_result(&model, &result, &state.u_full);
-            steps.push(result);
-        },
-    );
+        }
+        on_result(model, &result, &state.u_full);
+        steps.push(result);
+    };
+    let compliance = case.effects.plate_compliance_mm_per_n();
+    let ramp = if model.plate.is_some() && compliance > 0.0 {
+        let pressures = &case.pressures_bar[skip..];
+        compliant_plate_ramp(
+            &mut model,
+            &case.solver,
+            &mut state,
+            (&levels[1..], pressures),
+            compliance,
+            &mut record,
+        )?
+    } else {
+        solve_path_from(
+            &model.fe,
+            case.solver.clone(),
+            &mut state,
+            &levels[1..],
+            |i, state, rep| record(i, &model, state, rep),
+        )
+    };
     match ramp {
         Ok(r) => reports.extend(r),
         Err(SolverError::NotConverged {
@@ -839,6 +876,116 @@ pub fn simulate_with(
         factor_time_s,
         assembly_time_s,
     })
+}
+
+/// The pressure ramp against a plate on a spring of compliance `c` (mm/N): at each level the
+/// plate sits at `y = y0 − c·F(y)`, `F` the blocked force of the whole actuator there.
+///
+/// Each level is solved with the plate where it is, then the plate is moved by a secant step
+/// on `g(y) = y − (y0 − c·F(y))` and the same level is solved again from the converged state
+/// (a few Newton iterations each), until `|g|` is below [`PLATE_SETTLE_MM`]. The fixed point
+/// is unique and the iteration contracts while `c` times the tip's stiffness against the
+/// plate is below 1 (about 0.3 N/mm × 1 mm/N at the library's largest compliance). The
+/// reports of one level add up its re-solves.
+///
+/// The outer `Result` is the plate's own failure; the inner one the solver's, as
+/// [`solve_path_from`] returns it (with `completed` counting the levels before the failure).
+fn compliant_plate_ramp(
+    model: &mut ActuatorModel,
+    settings: &SolverSettings,
+    state: &mut PathState,
+    (levels, pressures_bar): (&[LoadLevel], &[f64]),
+    compliance: f64,
+    observe: &mut impl FnMut(usize, &ActuatorModel, &PathState, &StepReport),
+) -> Result<Result<Vec<StepReport>, SolverError>, SimulateError> {
+    let plate = model.plate.expect("a compliant plate needs the plate");
+    let y0 = model.fe.planes[plate].point[1];
+    let mut reports: Vec<StepReport> = Vec::with_capacity(levels.len());
+    let mut r = vec![0.0; state.u_full.len()];
+    for (i, level) in levels.iter().enumerate() {
+        let mut sum: Option<StepReport> = None;
+        let mut previous: Option<(f64, f64)> = None;
+        let mut settled = None;
+        for iteration in 1..=PLATE_SETTLE_ITERATIONS {
+            let solved = solve_path_from(
+                &model.fe,
+                settings.clone(),
+                state,
+                std::slice::from_ref(level),
+                |_, _, _| {},
+            );
+            let rep = match solved {
+                Ok(mut r) => r.remove(0),
+                Err(SolverError::NotConverged {
+                    target,
+                    reached,
+                    cutbacks,
+                    residual,
+                    ..
+                }) => {
+                    return Ok(Err(SolverError::NotConverged {
+                        target,
+                        reached,
+                        cutbacks,
+                        residual,
+                        completed: i,
+                        reports,
+                    }))
+                }
+                Err(e) => return Ok(Err(e)),
+            };
+            sum = Some(match sum {
+                None => rep,
+                Some(mut s) => {
+                    s.level = rep.level;
+                    s.newton_iterations += rep.newton_iterations;
+                    s.substeps += rep.substeps;
+                    s.cutbacks += rep.cutbacks;
+                    s.residual = rep.residual;
+                    s.update = rep.update;
+                    s.converged = rep.converged;
+                    s.factor_seconds += rep.factor_seconds;
+                    s.assembly_seconds += rep.assembly_seconds;
+                    s.augmented_updates += rep.augmented_updates;
+                    s.augmented_failed |= rep.augmented_failed;
+                    s.factorizations += rep.factorizations;
+                    s.stabilized |= rep.stabilized;
+                    s
+                }
+            });
+            let info = model
+                .fe
+                .assemble(&state.u_full, &state.level, &mut r, None)?;
+            // ×2: the model is a half
+            let force = 2.0 * info.plane_forces[plate];
+            let y = model.fe.planes[plate].point[1];
+            let mismatch = y - (y0 - compliance * force);
+            if mismatch.abs() < PLATE_SETTLE_MM {
+                settled = Some(iteration);
+                break;
+            }
+            if iteration == PLATE_SETTLE_ITERATIONS {
+                return Err(SimulateError::PlateNotSettled {
+                    pressure_bar: pressures_bar[i],
+                    iterations: iteration,
+                    mismatch_mm: mismatch.abs(),
+                });
+            }
+            let next = match previous {
+                Some((yp, gp)) if (mismatch - gp).abs() > f64::EPSILON * y.abs().max(1.0) => {
+                    y - mismatch * (y - yp) / (mismatch - gp)
+                }
+                _ => y0 - compliance * force,
+            };
+            previous = Some((y, mismatch));
+            model.fe.planes[plate].point[1] = next;
+        }
+        debug_assert!(settled.is_some());
+        let rep = sum.expect("at least one solve per level");
+        observe(i, model, state, &rep);
+        reports.push(rep);
+    }
+    Ok(Ok(reports))
 }
 
 /// Runs one case.

@@ -53,6 +53,8 @@ fn neutral_effects_give_the_results_of_the_model_without_them() {
             (Effect::PressureLoss, 0.0),
             (Effect::PressureOffset, 0.0),
             (Effect::Density, 1.0),
+            (Effect::Anisotropy, 0.0),
+            (Effect::PlateCompliance, 0.0),
         ],
     );
     assert_eq!(plain, neutral);
@@ -113,6 +115,13 @@ fn load_and_support_effects_move_the_bending_the_way_their_physics_says() {
     let (_, heavy) = angle_and_sag(&run(Mode::Bending, &[(Effect::Density, 1.5)]));
     let ratio = heavy / s0;
     assert!((1.35..=1.65).contains(&ratio), "sag ratio {ratio}");
+    // print anisotropy: a stiffer print along the length bends less, a softer one more
+    let (stiff, _) = angle_and_sag(&run(Mode::Bending, &[(Effect::Anisotropy, 0.5)]));
+    let (soft, _) = angle_and_sag(&run(Mode::Bending, &[(Effect::Anisotropy, -0.2)]));
+    assert!(
+        stiff < 0.98 * a0 && soft > 1.01 * a0,
+        "{soft} > {a0} > {stiff}"
+    );
     // a yielding clamp adds sag at P = 0
     let (_, soft) = angle_and_sag(&run(
         Mode::Bending,
@@ -138,4 +147,15 @@ fn force_rig_effects_move_the_blocked_force_the_way_their_physics_says() {
     // a pressure loss lowers the force
     let lost = force(&run(Mode::Force, &[(Effect::PressureLoss, 0.2)]));
     assert!(lost < f0, "{lost} vs {f0}");
+    // a plate on a spring yields c·F: less force, and the same force as a rigid plate set
+    // c·F further away (the equilibrium does not depend on how the plate got there)
+    let c = 1.0;
+    let yielding = force(&run(Mode::Force, &[(Effect::PlateCompliance, c)]));
+    assert!(yielding < f0 && yielding > 0.0, "{yielding} vs {f0}");
+    let moved = force(&run(Mode::Force, &[(Effect::PlateOffset, c * yielding)]));
+    assert!(
+        (moved - yielding).abs() < 0.01 * yielding,
+        "compliant {yielding} N, rigid plate {} mm further {moved} N",
+        c * yielding
+    );
 }
