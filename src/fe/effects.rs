@@ -47,7 +47,7 @@
 //!   the length `z`; lines bond to each other less well than a line holds together, which
 //!   makes the print stiffer (`a > 0`) or, with poor fusion of the lines' ends, softer
 //!   (`a < 0`) along `z` than across. Modelled as a transversely isotropic fibre term
-//!   `W_f = k/2 (Ī₄ − 1)²` along `z` ([`Fibre`](super::material::Fibre)) with `k = a·μ0`:
+//!   `W_f = k/2 (Ī₄ − 1)²` along `z` ([`Fibre`]) with `k = a·μ0`:
 //!   the small-strain modulus along `z` becomes `3μ0 + 4k`, the shear moduli stay `μ0`.
 //! * **Force rig** — the plate is set 5 mm below the hanging tip by eye; the load cell's
 //!   calibration is a scale factor; the load cell and the plate's mount deflect under the
