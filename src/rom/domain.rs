@@ -83,9 +83,9 @@ impl std::fmt::Display for DomainViolation {
             self.name, self.value, self.min, self.max
         )?;
         if self.clamped {
-            write!(f, " (clamped: the values at {} are returned)", self.used())
+            write!(f, " (a prediction there is clamped to {})", self.used())
         } else {
-            write!(f, " (extrapolated)")
+            write!(f, " (a prediction there is extrapolated)")
         }
     }
 }
