@@ -12,6 +12,7 @@ use std::collections::BTreeMap;
 
 use super::geometry::{Design, Region};
 use serde::{Deserialize, Serialize};
+use thiserror::Error;
 
 /// Nodes per element.
 pub const NODES_PER_ELEMENT: usize = 27;
@@ -452,6 +453,85 @@ pub struct MarkerLocation {
     pub xi: [f64; 3],
 }
 
+/// Why a mesh cannot be moved onto another design ([`ActuatorMesh::moved`]).
+#[derive(Debug, Error, PartialEq)]
+pub enum MeshMoveError {
+    /// The designs' features differ in number or order along an axis.
+    #[error("the designs' features along axis {axis} differ in number or order: expected the same design up to small changes of its dimensions")]
+    Features {
+        /// 0 = x, 1 = y, 2 = z.
+        axis: usize,
+    },
+    /// A moved cell lies in another region.
+    #[error("a cell of the moved mesh lies in another region of the design: expected the same design up to small changes of its dimensions")]
+    Regions,
+}
+
+/// The feature positions of a design along each axis, where the mesh must have grid lines,
+/// and the wall intervals that get at least the wall's element count.
+struct Breaks {
+    at: [Vec<f64>; 3],
+    walls: [Vec<(f64, f64)>; 3],
+    thickest_wall: f64,
+}
+
+impl Breaks {
+    fn of(design: &Design) -> Self {
+        let p = design.params();
+        // bellow walls (facing the gaps) and outer skin: both T unless a printed thickness
+        // differs ([`Design::bellow_wall`], [`Design::skin`])
+        let (t, ts) = (design.bellow_wall(), design.skin());
+        let w2 = p.width / 2.0;
+        let duct = design.duct();
+        // x: walls resolved with `wall_div` elements, the rest by size.
+        let mut xb = vec![0.0, ts, w2];
+        if let Some(d) = duct {
+            xb.push(d.lo[0]);
+        }
+        let mut yb = vec![0.0, p.base_thickness, p.height - ts, p.height];
+        if duct.is_some() {
+            yb.extend([p.duct_bottom, p.duct_top]);
+        }
+        let mut zb = vec![0.0, p.free_length];
+        let mut walls = Vec::new();
+        for i in 0..p.n_bellows {
+            let b = design.bellow(i);
+            zb.extend([b.lo[2], b.lo[2] + t, b.hi[2] - t, b.hi[2]]);
+            walls.push((b.lo[2], b.lo[2] + t));
+            walls.push((b.hi[2] - t, b.hi[2]));
+        }
+        if let Some(d) = duct {
+            zb.push(d.hi[2]);
+        }
+        Self {
+            at: [xb, yb, zb],
+            walls: [vec![(0.0, ts)], vec![(p.height - ts, p.height)], walls],
+            thickest_wall: t.max(ts),
+        }
+    }
+}
+
+/// Sorted, with values closer than 1e-9 merged (as [`TensorGrid::subdivide`] does).
+fn dedup_sorted(v: &[f64]) -> Vec<f64> {
+    let mut b = v.to_vec();
+    b.sort_by(f64::total_cmp);
+    b.dedup_by(|a, c| (*a - *c).abs() < 1e-9);
+    b
+}
+
+/// The piecewise-linear map with `from[i] ↦ to[i]` at `x` (constant slope beyond the ends).
+fn piecewise_linear(from: &[f64], to: &[f64], x: f64) -> f64 {
+    let i = from
+        .partition_point(|&v| v <= x)
+        .saturating_sub(1)
+        .min(from.len().saturating_sub(2));
+    if from.len() < 2 {
+        return x - from[0] + to[0];
+    }
+    let s = (x - from[i]) / (from[i + 1] - from[i]);
+    to[i] + s * (to[i + 1] - to[i])
+}
+
 /// The half-model mesh of an actuator design, with its node and face sets.
 #[derive(Clone, Debug)]
 pub struct ActuatorMesh {
@@ -474,40 +554,55 @@ pub struct ActuatorMesh {
 impl ActuatorMesh {
     /// Meshes the half model x ∈ [0, W/2] of a design.
     pub fn new(design: &Design, options: &MeshOptions) -> Self {
-        let p = design.params();
         let (h, wall_div) = options.sizing();
-        // bellow walls (facing the gaps) and outer skin: both T unless a printed thickness
-        // differs ([`Design::bellow_wall`], [`Design::skin`])
-        let (t, ts) = (design.bellow_wall(), design.skin());
-        let w2 = p.width / 2.0;
-        let wall_div = wall_div.max((t.max(ts) / h - 1e-9).ceil() as usize);
-        let duct = design.duct();
-        // x: walls resolved with `wall_div` elements, the rest by size.
-        let mut xb = vec![0.0, ts, w2];
-        if let Some(d) = duct {
-            xb.push(d.lo[0]);
-        }
-        let xs = TensorGrid::subdivide(&xb, &[(0.0, ts)], h, wall_div);
-        let mut yb = vec![0.0, p.base_thickness, p.height - ts, p.height];
-        if duct.is_some() {
-            yb.extend([p.duct_bottom, p.duct_top]);
-        }
-        let ys = TensorGrid::subdivide(&yb, &[(p.height - ts, p.height)], h, wall_div);
-        let mut zb = vec![0.0, p.free_length];
-        let mut walls = Vec::new();
-        for i in 0..p.n_bellows {
-            let b = design.bellow(i);
-            zb.extend([b.lo[2], b.lo[2] + t, b.hi[2] - t, b.hi[2]]);
-            walls.push((b.lo[2], b.lo[2] + t));
-            walls.push((b.hi[2] - t, b.hi[2]));
-        }
-        if let Some(d) = duct {
-            zb.push(d.hi[2]);
-        }
-        let zs = TensorGrid::subdivide(&zb, &walls, h, wall_div);
+        let breaks = Breaks::of(design);
+        let wall_div = wall_div.max((breaks.thickest_wall / h - 1e-9).ceil() as usize);
+        let [xs, ys, zs] = std::array::from_fn(|a| {
+            TensorGrid::subdivide(&breaks.at[a], &breaks.walls[a], h, wall_div)
+        });
         let grid = TensorGrid {
             lines: [xs, ys, zs],
         };
+        Self::on_grid(design, grid)
+    }
+
+    /// The mesh of `design` with the elements of this mesh (of `reference`): every grid line
+    /// moved by the piecewise-linear map that takes `reference`'s feature positions (walls,
+    /// cavities, duct, free length) to `design`'s. The node numbering, the connectivity and
+    /// every node and face set stay those of this mesh; only coordinates (and the markers'
+    /// local coordinates) change. This is how a dimension of the design is differentiated:
+    /// the derivative of the discrete model along a smooth motion of its nodes.
+    ///
+    /// # Errors
+    /// [`MeshMoveError`] if the two designs do not have the same features in the same order
+    /// (a different `N`, a duct in one only, features swapping places), or if a cell of the
+    /// moved grid falls in a different region of `design` than it did of `reference`.
+    pub fn moved(&self, reference: &Design, design: &Design) -> Result<Self, MeshMoveError> {
+        let (from, to) = (Breaks::of(reference), Breaks::of(design));
+        let mut lines: [Vec<f64>; 3] = Default::default();
+        for a in 0..3 {
+            let (f, t) = (dedup_sorted(&from.at[a]), dedup_sorted(&to.at[a]));
+            if f.len() != t.len() || t.windows(2).any(|w| w[1] <= w[0]) {
+                return Err(MeshMoveError::Features { axis: a });
+            }
+            lines[a] = self.grid.grid.lines[a]
+                .iter()
+                .map(|&x| piecewise_linear(&f, &t, x))
+                .collect();
+        }
+        let moved = Self::on_grid(design, TensorGrid { lines });
+        if moved.grid.cell_kinds != self.grid.cell_kinds
+            || moved.mesh().elements != self.mesh().elements
+        {
+            return Err(MeshMoveError::Regions);
+        }
+        Ok(moved)
+    }
+
+    /// The mesh of `design` on a given grid.
+    fn on_grid(design: &Design, grid: TensorGrid) -> Self {
+        let p = design.params();
+        let w2 = p.width / 2.0;
         let gm = GridMesh::new(grid, |c| design.region(c), |r| r == Region::Solid);
         let support = gm.nodes_on_plane(2, 0.0);
         let symmetry = gm.nodes_on_plane(0, w2);
@@ -584,6 +679,32 @@ mod tests {
         assert_eq!(o.validate().unwrap_err().field, "wall_elements");
         o.wall_elements = Some(3);
         o.validate().expect("valid overrides");
+    }
+
+    #[test]
+    fn a_moved_mesh_is_the_mesh_of_the_moved_design_when_the_element_counts_agree() {
+        let opts = MeshOptions::level(MeshLevel::Coarse);
+        let nominal = DesignParams::new(9, 2.0).validate().unwrap();
+        let mesh = ActuatorMesh::new(&nominal, &opts);
+        let same = mesh.moved(&nominal, &nominal).unwrap();
+        assert_eq!(same.mesh().nodes, mesh.mesh().nodes);
+        let mut p = nominal.params().clone();
+        p.skin_thickness = Some(2.05);
+        p.gap += 0.03;
+        p.free_length -= 0.2;
+        let printed = p.validate().unwrap();
+        let moved = mesh.moved(&nominal, &printed).unwrap();
+        let fresh = ActuatorMesh::new(&printed, &opts);
+        assert_eq!(moved.mesh().elements, fresh.mesh().elements);
+        for (a, b) in moved.mesh().nodes.iter().zip(&fresh.mesh().nodes) {
+            for c in 0..3 {
+                assert!((a[c] - b[c]).abs() < 1e-12, "{a:?} vs {b:?}");
+            }
+        }
+        assert_eq!(moved.markers, fresh.markers);
+        // another number of bellows is not a motion
+        let other = DesignParams::new(11, 2.0).validate().unwrap();
+        assert!(mesh.moved(&nominal, &other).is_err());
     }
 
     #[test]
