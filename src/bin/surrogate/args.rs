@@ -351,6 +351,11 @@ pub struct ValidateArgs {
     /// Bellow walls in contact: gap to the closest point of the facing wall.
     #[arg(long)]
     pub closest_point_contact: bool,
+    /// Physics beyond the nominal model for every ramp, NAME=VALUE (repeatable), e.g.
+    /// --effect wall_bias=-0.1; `surrogate effects` lists the names, units and ranges. Cached
+    /// ramps are keyed by the effects too.
+    #[arg(long, value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    pub effect: Vec<String>,
     /// Output CSV (one row per configuration); an SVG plot is written beside it.
     #[arg(long)]
     pub out: PathBuf,
