@@ -48,6 +48,9 @@ pub enum Error {
     /// The FE baseline sweep against the experiments.
     #[error(transparent)]
     Baseline(#[from] crate::calibrate::baseline::BaselineError),
+    /// Twin recordings.
+    #[error(transparent)]
+    Twin(#[from] crate::calibrate::twin::TwinError),
 }
 
 /// Result alias for callers of the library ([`enum@Error`]).
