@@ -362,7 +362,10 @@ fn committed_plans_hash_as_recorded() {
     assert_eq!(plan(5, 7).sampler, surrogate::snapshots::plan::SAMPLER);
 }
 
-fn effect_plan(fixed: &[&str], sampled: &[(&str, [f64; 2])]) -> Result<Plan, SnapshotError> {
+/// Sampled effects of a test plan: name and range.
+type Sampled<'a> = &'a [(&'a str, [f64; 2])];
+
+fn effect_plan(fixed: &[&str], sampled: Sampled) -> Result<Plan, SnapshotError> {
     let ranges = Ranges {
         n_bellows: vec![9, 11, 13],
         effects: sampled.iter().map(|(n, r)| (n.to_string(), *r)).collect(),
@@ -435,7 +438,7 @@ fn plans_fix_and_sample_effects() {
 
 #[test]
 fn bad_effects_in_plans_are_errors_naming_the_field() {
-    let cases: [(&[&str], &[(&str, [f64; 2])], &str); 4] = [
+    let cases: [(&[&str], Sampled, &str); 4] = [
         (&[], &[("wal_bias", [0.0, 0.1])], "ranges.effects = wal_bias"),
         (
             &[],
