@@ -674,6 +674,20 @@ mod tests {
             .all(|r| r.error.is_empty() && r.be_mm.is_finite()));
     }
 
+    /// The committed standard-mesh verification of the calibrated set (what `demo` and
+    /// `calibrate --verify-fe standard --fe-cache …` read) is found whole in its cache.
+    #[test]
+    fn committed_verification_ramps_keep_their_keys() {
+        let set = crate::calibrate::OgdenSet::new(0.03821, 5.996, -5.195, -1.996).unwrap();
+        let material = crate::calibrate::verify::fe_material(&set).unwrap();
+        let settings = SweepSettings::new(material, MeshOptions::level(MeshLevel::Standard));
+        let bending = crate::calibrate::experiments::shipped_bending().unwrap();
+        let dir = committed("fe_reference/calibration/standard/fe_standard_ramps");
+        let ramps = cached_ramps(&settings, &recorded_designs(&bending), &dir).unwrap();
+        assert_eq!(ramps.len(), 18);
+        assert!(ramps.iter().all(|r| r.source == RampSource::Cache));
+    }
+
     #[test]
     fn cached_ramps_are_reused_only_for_the_same_settings() {
         let dir = std::env::temp_dir().join(format!("surrogate_ramps_{}", std::process::id()));
