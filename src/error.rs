@@ -30,6 +30,9 @@ pub enum Error {
     /// Invalid material parameters or an unknown material name.
     #[error(transparent)]
     Material(#[from] crate::fe::material::MaterialError),
+    /// An effect setting: unknown name, value out of range, given twice.
+    #[error(transparent)]
+    Effect(#[from] crate::fe::effects::EffectError),
     /// An FE simulation: its case, or a solve that did not converge.
     #[error(transparent)]
     Simulate(#[from] crate::fe::simulate::SimulateError),
@@ -48,6 +51,9 @@ pub enum Error {
     /// The FE baseline sweep against the experiments.
     #[error(transparent)]
     Baseline(#[from] crate::calibrate::baseline::BaselineError),
+    /// Twin recordings.
+    #[error(transparent)]
+    Twin(#[from] crate::calibrate::twin::TwinError),
 }
 
 /// Result alias for callers of the library ([`enum@Error`]).

@@ -9,7 +9,7 @@
 //!
 //! | tag | file | columns, in order |
 //! |---|---|---|
-//! | snapshots | snapshot CSV (`surrogate snapshots`, `training_data/snapshots_*.csv`): the training data | [`SNAPSHOT_COLUMNS`] (the trainer's contract), then [`PROVENANCE_COLUMNS`] (ignored by the trainer) |
+//! | snapshots | snapshot CSV (`surrogate snapshots`, `training_data/snapshots_*.csv`): the training data | [`SNAPSHOT_COLUMNS`] (the trainer's contract), then [`PROVENANCE_COLUMNS`] (ignored by the trainer), then for a plan with effects one [`effect_column`] per effect |
 //! | query | `surrogate predict --csv`: the query | [`QUERY_COLUMNS`] and either [`MATERIAL`] or [`OGDEN_COLUMNS`], in any order; other columns are passed through |
 //! | prediction | `surrogate predict --csv --out`: the predictions | the passed-through columns, [`PREDICTION_INPUT_COLUMNS`], [`OUTPUTS`], with `--std` each output with [`STD_SUFFIX`], [`IN_DOMAIN`], [`OUTSIDE_DOMAIN`] |
 //! | model | model JSON (`models/*.json`) | `inputs[]`: [`PREDICTION_INPUT_COLUMNS`] with units; `outputs`: [`OUTPUTS`]; `validation.outputs[]` and the end-to-end check: [`VALIDATION_GROUPS`] |
@@ -273,6 +273,29 @@ pub const OUTSIDE_DOMAIN: Quantity = q(
 );
 /// Suffix of the column holding an output's standard deviation (`tip_uz_mm_std`).
 pub const STD_SUFFIX: &str = "_std";
+
+// ---- effects ----------------------------------------------------------------------------
+
+/// Prefix of a snapshot column holding the value of an effect ([`effect_column`]).
+pub const EFFECT_PREFIX: &str = "effect_";
+
+/// The snapshot column of an effect (`crate::fe::effects`) of name `name` and unit `unit`:
+/// `effect_<name>` with the unit as suffix like every other column (`mm` → `_mm`, `bar` →
+/// `_bar`, `MPa` → `_mpa`, `mm/MPa` → `_mm_per_mpa`; none for a dimensionless `1`), holding
+/// the effect's value in that unit.
+///
+/// ```
+/// assert_eq!(surrogate::schema::effect_column("wall_bias", "mm"), "effect_wall_bias_mm");
+/// assert_eq!(surrogate::schema::effect_column("density", "1"), "effect_density");
+/// ```
+pub fn effect_column(name: &str, unit: &str) -> String {
+    let suffix = unit.to_lowercase().replace('/', "_per_");
+    if suffix.is_empty() || suffix == "1" {
+        format!("{EFFECT_PREFIX}{name}")
+    } else {
+        format!("{EFFECT_PREFIX}{name}_{suffix}")
+    }
+}
 
 // ---- experiments ------------------------------------------------------------------------
 

@@ -5,9 +5,17 @@
 //! ramp through 0 and the measured pressures; per (N, T, P) the simulated and measured tip
 //! Uz, Uy, angle, the tip bending error `BE` and the force error `F_sim − F_exp`.
 //!
+//! The settings shared by every ramp ([`SweepSettings`]: material, mesh, contact, effects,
+//! solver, gravity) travel together, so an effect of the library ([`crate::fe::effects`])
+//! reaches every case of the sweep. [`run_ramps`] is the sweep itself (designs and pressures
+//! in, ramps out), for other users of the same cached ramps (twin recordings,
+//! [`crate::calibrate::twin`]).
+//!
 //! With a cache directory every finished ramp is written there atomically (one JSON per design
 //! and mode, keyed by everything that defines the ramp), and a later run with the same
-//! settings takes it from there: a long standard-mesh sweep resumes after an interruption.
+//! settings takes it from there: a long standard-mesh sweep resumes after an interruption. A
+//! sweep without effects has the key it had before effects existed (the committed caches
+//! under `fe_reference/` are read as they are; tested).
 
 use std::path::{Path, PathBuf};
 
@@ -231,6 +239,144 @@ impl RampCache {
     }
 }
 
+/// The settings of a sweep, shared by every ramp: everything but the design and the pressures.
+///
+/// [`SweepSettings::new`] gives the baseline's own (gravity, default contact and solver, no
+/// effect); a cached ramp is keyed by every field, and a neutral [`Effects`] leaves the key
+/// as it was before effects existed, so committed caches stay valid.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepSettings {
+    /// The material.
+    pub material: Material,
+    /// Mesh level and options.
+    pub mesh: MeshOptions,
+    /// Contact settings (bellows, clamp, force plate).
+    pub contact: ContactSettings,
+    /// Physics beyond the nominal model, the same for every ramp.
+    pub effects: Effects,
+    /// Nonlinear solver settings.
+    pub solver: SolverSettings,
+    /// Self-weight on/off.
+    pub gravity: bool,
+}
+
+impl SweepSettings {
+    /// The baseline's settings for `material` on `mesh`: gravity, default contact and solver,
+    /// no effect.
+    pub fn new(material: Material, mesh: MeshOptions) -> Self {
+        Self {
+            material,
+            mesh,
+            contact: ContactSettings::default(),
+            effects: Effects::default(),
+            solver: SolverSettings::default(),
+            gravity: true,
+        }
+    }
+
+    /// The FE case of design `(n, t)` in `mode` through `pressures_bar`.
+    ///
+    /// # Errors
+    /// [`SimulateError`] for a design outside the model's range.
+    pub fn case(
+        &self,
+        n: usize,
+        t: f64,
+        pressures_bar: Vec<f64>,
+        mode: Mode,
+    ) -> Result<Case, SimulateError> {
+        Ok(Case {
+            design: DesignParams::new(n, t)
+                .validate()
+                .map_err(SimulateError::from)?,
+            material: self.material.clone(),
+            pressures_bar,
+            gravity: self.gravity,
+            mesh: self.mesh,
+            solver: self.solver.clone(),
+            mode,
+            contact: self.contact,
+            effects: self.effects.clone(),
+        })
+    }
+}
+
+/// One design of a sweep and the pressures of its ramps (bar, increasing, from 0).
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepDesign {
+    /// Number of bellows.
+    pub n_bellows: usize,
+    /// Wall thickness (mm).
+    pub wall_thickness_mm: f64,
+    /// The ramp's pressures (bar): 0 and the recorded ones.
+    pub pressures_bar: Vec<f64>,
+}
+
+/// The designs of `bending` (sorted by N, then T), each with 0 and its recorded pressures.
+pub fn recorded_designs(bending: &[BendingRecord]) -> Vec<SweepDesign> {
+    let mut designs: Vec<(usize, f64)> = bending
+        .iter()
+        .map(|r| (r.n_bellows, r.wall_thickness_mm))
+        .collect();
+    designs.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    designs.dedup();
+    designs
+        .into_iter()
+        .map(|(n, t)| {
+            let mut pressures: Vec<f64> = bending
+                .iter()
+                .filter(|r| r.n_bellows == n && r.wall_thickness_mm == t)
+                .map(|r| r.pressure_bar)
+                .collect();
+            pressures.sort_by(f64::total_cmp);
+            pressures.insert(0, 0.0);
+            pressures.dedup();
+            SweepDesign {
+                n_bellows: n,
+                wall_thickness_mm: t,
+                pressures_bar: pressures,
+            }
+        })
+        .collect()
+}
+
+/// Where a ramp of a sweep came from.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum RampSource {
+    /// Run now (and cached, with a cache).
+    Run,
+    /// Read from the cache.
+    Cache,
+    /// Neither: not in the cache and not computed ([`cached_ramps`]).
+    Missing,
+}
+
+/// One ramp of a sweep: the steps reached and the solver's message if it stopped.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SweepRamp {
+    /// Number of bellows.
+    pub n_bellows: usize,
+    /// Wall thickness (mm).
+    pub wall_thickness_mm: f64,
+    /// Bending or blocked force.
+    pub mode: Mode,
+    /// The steps reached, in pressure order.
+    pub steps: Vec<StepResult>,
+    /// Why the ramp stopped early (empty if it did not).
+    pub error: String,
+    /// Run now or read from the cache.
+    pub source: RampSource,
+}
+
+impl SweepRamp {
+    /// The step at pressure `p` (bar), if reached.
+    pub fn at(&self, p: f64) -> Option<&StepResult> {
+        self.steps
+            .iter()
+            .find(|s| (s.pressure_bar - p).abs() < 1e-9)
+    }
+}
+
 /// Runs the sweep for one material; `progress(done, total)` after every FE ramp. A ramp that
 /// stops keeps the pressures it reached; the others get `NaN` values and the solver's message
 /// in [`BaselineRow::error`].
@@ -239,17 +385,14 @@ impl RampCache {
 /// An invalid experimental design (N or T out of the model's range); a cache directory that
 /// cannot be written.
 pub fn run_baseline(
-    material: &Material,
-    mesh: MeshOptions,
-    contact: ContactSettings,
+    settings: &SweepSettings,
     bending: &[BendingRecord],
     force: &[ForceRecord],
     cache: Option<&Path>,
     progress: impl Fn(usize, usize) + Sync,
 ) -> Result<Vec<BaselineRow>, BaselineError> {
-    sweep(
-        material, mesh, contact, bending, force, cache, true, progress,
-    )
+    let ramps = run_ramps(settings, &recorded_designs(bending), cache, progress)?;
+    Ok(rows(&ramps, bending, force))
 }
 
 /// The rows of the ramps already in `cache`, without running any FE: a ramp that is not
@@ -259,78 +402,76 @@ pub fn run_baseline(
 /// # Errors
 /// An invalid experimental design.
 pub fn cached_baseline(
-    material: &Material,
-    mesh: MeshOptions,
-    contact: ContactSettings,
+    settings: &SweepSettings,
     bending: &[BendingRecord],
     force: &[ForceRecord],
     cache: &Path,
 ) -> Result<Vec<BaselineRow>, BaselineError> {
-    sweep(
-        material,
-        mesh,
-        contact,
-        bending,
-        force,
-        Some(cache),
-        false,
-        |_, _| {},
-    )
+    let ramps = cached_ramps(settings, &recorded_designs(bending), cache)?;
+    Ok(rows(&ramps, bending, force))
 }
 
-#[allow(clippy::too_many_arguments)] // the two public entry points above name them
+/// The bending and blocked-force ramps of every design, each read from `cache` when it holds
+/// the same ramp (same key) and run otherwise (then written there atomically, so an
+/// interrupted sweep resumes); `progress(done, total)` after every ramp. Ramps run in
+/// parallel (rayon); the result lists each design's bending ramp, then its force ramp.
+///
+/// # Errors
+/// An invalid design; a cache directory that cannot be written.
+pub fn run_ramps(
+    settings: &SweepSettings,
+    designs: &[SweepDesign],
+    cache: Option<&Path>,
+    progress: impl Fn(usize, usize) + Sync,
+) -> Result<Vec<SweepRamp>, BaselineError> {
+    sweep(settings, designs, cache, true, progress)
+}
+
+/// [`run_ramps`] from `cache` only: a ramp not there is [`RampSource::Missing`] with no step
+/// and the error `not in the cache`.
+///
+/// # Errors
+/// An invalid design.
+pub fn cached_ramps(
+    settings: &SweepSettings,
+    designs: &[SweepDesign],
+    cache: &Path,
+) -> Result<Vec<SweepRamp>, BaselineError> {
+    sweep(settings, designs, Some(cache), false, |_, _| {})
+}
+
 fn sweep(
-    material: &Material,
-    mesh: MeshOptions,
-    contact: ContactSettings,
-    bending: &[BendingRecord],
-    force: &[ForceRecord],
+    settings: &SweepSettings,
+    designs: &[SweepDesign],
     cache: Option<&Path>,
     compute: bool,
     progress: impl Fn(usize, usize) + Sync,
-) -> Result<Vec<BaselineRow>, BaselineError> {
+) -> Result<Vec<SweepRamp>, BaselineError> {
     if let (Some(dir), true) = (cache, compute) {
         std::fs::create_dir_all(dir).map_err(|e| BaselineError::cache(dir, e))?;
     }
-    let mut designs: Vec<(usize, f64)> = bending
+    let jobs: Vec<(&SweepDesign, Mode)> = designs
         .iter()
-        .map(|r| (r.n_bellows, r.wall_thickness_mm))
-        .collect();
-    designs.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
-    designs.dedup();
-    let jobs: Vec<((usize, f64), Mode)> = designs
-        .iter()
-        .flat_map(|&d| [(d, Mode::Bending), (d, Mode::Force)])
+        .flat_map(|d| [(d, Mode::Bending), (d, Mode::Force)])
         .collect();
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let results: Vec<Result<_, BaselineError>> = jobs
+    let results: Vec<Result<SweepRamp, BaselineError>> = jobs
         .par_iter()
-        .map(|&((n, t), mode)| {
-            let mut pressures: Vec<f64> = bending
-                .iter()
-                .filter(|r| r.n_bellows == n && r.wall_thickness_mm == t)
-                .map(|r| r.pressure_bar)
-                .collect();
-            pressures.sort_by(f64::total_cmp);
-            pressures.insert(0, 0.0);
-            pressures.dedup();
-            let case = Case {
-                design: DesignParams::new(n, t)
-                    .validate()
-                    .map_err(SimulateError::from)?,
-                material: material.clone(),
-                pressures_bar: pressures,
-                gravity: true,
-                mesh,
-                solver: SolverSettings::default(),
+        .map(|&(d, mode)| {
+            let case = settings.case(
+                d.n_bellows,
+                d.wall_thickness_mm,
+                d.pressures_bar.clone(),
                 mode,
-                contact,
-                effects: Effects::default(),
-            };
+            )?;
             let cached = cache.map(|dir| RampCache::at(dir, &case));
-            let r = match cached.as_ref().and_then(RampCache::load) {
-                Some(r) => r,
-                None if !compute => (Vec::new(), "not in the cache".to_string()),
+            let (steps, error, source) = match cached.as_ref().and_then(RampCache::load) {
+                Some((steps, error)) => (steps, error, RampSource::Cache),
+                None if !compute => (
+                    Vec::new(),
+                    "not in the cache".to_string(),
+                    RampSource::Missing,
+                ),
                 None => {
                     let mut steps = Vec::new();
                     let outcome = simulate_with(&case, |_, _| {}, |_, r, _| steps.push(r.clone()));
@@ -341,31 +482,37 @@ fn sweep(
                     if let Some(c) = &cached {
                         c.store(&r)?;
                     }
-                    r
+                    (r.0, r.1, RampSource::Run)
                 }
             };
             let k = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
             progress(k, jobs.len());
-            Ok(((n, t), mode, r))
+            Ok(SweepRamp {
+                n_bellows: d.n_bellows,
+                wall_thickness_mm: d.wall_thickness_mm,
+                mode,
+                steps,
+                error,
+                source,
+            })
         })
         .collect();
+    results.into_iter().collect()
+}
+
+/// The baseline table: one row per bending record, from the ramps of its design.
+fn rows(ramps: &[SweepRamp], bending: &[BendingRecord], force: &[ForceRecord]) -> Vec<BaselineRow> {
     let mut rows = Vec::new();
-    let results = results.into_iter().collect::<Result<Vec<_>, _>>()?;
     for rec in bending {
         let find = |mode: Mode| {
-            results
+            ramps
                 .iter()
-                .find(|(d, m, _)| {
-                    *m == mode && d.0 == rec.n_bellows && d.1 == rec.wall_thickness_mm
+                .find(|r| {
+                    r.mode == mode
+                        && r.n_bellows == rec.n_bellows
+                        && r.wall_thickness_mm == rec.wall_thickness_mm
                 })
-                .map(|(_, _, (steps, err))| {
-                    (
-                        steps
-                            .iter()
-                            .find(|s| (s.pressure_bar - rec.pressure_bar).abs() < 1e-9),
-                        err.as_str(),
-                    )
-                })
+                .map(|r| (r.at(rec.pressure_bar), r.error.as_str()))
                 .unwrap_or((None, "not run"))
         };
         let ((b, eb), (f, ef)) = (find(Mode::Bending), find(Mode::Force));
@@ -405,7 +552,7 @@ fn sweep(
             error: error.join("; "),
         });
     }
-    Ok(rows)
+    rows
 }
 
 /// Mean / median BE and force errors of a table, over the configurations the FE reached; the
@@ -488,6 +635,57 @@ mod tests {
             },
             effects: Effects::default(),
         }
+    }
+
+    fn committed(path: &str) -> PathBuf {
+        Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+    }
+
+    /// The committed literature baseline is read from its cache: every ramp's key is the one
+    /// written before the settings were gathered and effects existed; an effect changes the
+    /// key (nothing read), a neutral one given explicitly does not.
+    #[test]
+    fn committed_baseline_ramps_keep_their_keys() {
+        let bending = crate::calibrate::experiments::shipped_bending().unwrap();
+        let designs = recorded_designs(&bending);
+        assert_eq!(designs.len(), 9);
+        assert_eq!(designs[0].pressures_bar, [0.0, 1.0, 2.0, 3.0]);
+        let dir = committed("fe_reference/baseline/ogden_002_standard_ramps");
+        let material = Material::from_spec("ogden_002", DEFAULT_BULK_RATIO).unwrap();
+        let mut settings = SweepSettings::new(material, MeshOptions::level(MeshLevel::Standard));
+        let sources = |s: &SweepSettings| -> Vec<RampSource> {
+            cached_ramps(s, &designs, &dir)
+                .unwrap()
+                .iter()
+                .map(|r| r.source)
+                .collect()
+        };
+        assert_eq!(sources(&settings), vec![RampSource::Cache; 18]);
+        settings.effects = Effects::parse(["wall_bias=0"]).unwrap();
+        assert_eq!(sources(&settings), vec![RampSource::Cache; 18]);
+        settings.effects = Effects::parse(["wall_bias=0.1"]).unwrap();
+        assert_eq!(sources(&settings), vec![RampSource::Missing; 18]);
+        // the rows of the table: every configuration reached
+        let force = crate::calibrate::experiments::shipped_force().unwrap();
+        settings.effects = Effects::default();
+        let rows = cached_baseline(&settings, &bending, &force, &dir).unwrap();
+        assert!(rows
+            .iter()
+            .all(|r| r.error.is_empty() && r.be_mm.is_finite()));
+    }
+
+    /// The committed standard-mesh verification of the calibrated set (what `demo` and
+    /// `calibrate --verify-fe standard --fe-cache …` read) is found whole in its cache.
+    #[test]
+    fn committed_verification_ramps_keep_their_keys() {
+        let set = crate::calibrate::OgdenSet::new(0.03821, 5.996, -5.195, -1.996).unwrap();
+        let material = crate::calibrate::verify::fe_material(&set).unwrap();
+        let settings = SweepSettings::new(material, MeshOptions::level(MeshLevel::Standard));
+        let bending = crate::calibrate::experiments::shipped_bending().unwrap();
+        let dir = committed("fe_reference/calibration/standard/fe_standard_ramps");
+        let ramps = cached_ramps(&settings, &recorded_designs(&bending), &dir).unwrap();
+        assert_eq!(ramps.len(), 18);
+        assert!(ramps.iter().all(|r| r.source == RampSource::Cache));
     }
 
     #[test]

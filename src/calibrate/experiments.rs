@@ -70,6 +70,13 @@ pub struct ForceRecord {
     pub force_std_n: f64,
 }
 
+/// File name of bending recordings in a recordings directory (`training_data/`, a twin's).
+pub const BENDING_FILE: &str = "bending_experiments.csv";
+/// File name of blocked-force recordings in a recordings directory.
+pub const FORCE_FILE: &str = "blocked_force_experiments.csv";
+/// File name of marker recordings in a recordings directory (optional).
+pub const MARKERS_FILE: &str = "marker_experiments.csv";
+
 const BENDING_CSV: &str = include_str!("../../training_data/bending_experiments.csv");
 const FORCE_CSV: &str = include_str!("../../training_data/blocked_force_experiments.csv");
 

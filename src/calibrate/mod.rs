@@ -13,6 +13,9 @@
 //!        │                    extra measurements that would determine what is left
 //!        ├─► the study's procedure: per-configuration fits in ±10 % of Ogden 002, their spread
 //!        └─► FE verification at the optimum (the baseline sweep, cached and resumable)
+//!
+//!   twin: FE ramps with concealed effects (the same sweep) + noise ──► recordings in the
+//!         experiments' format, the key apart
 //! ```
 //!
 //! [`fit::calibrate`] runs the whole pipeline and returns a [`fit::Calibration`] report; each
@@ -39,6 +42,7 @@ pub mod optimise;
 pub mod params;
 pub mod study;
 pub mod synthetic;
+pub mod twin;
 pub mod verify;
 
 pub use fit::{calibrate, Calibration, CalibrationSettings};

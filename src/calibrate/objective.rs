@@ -397,6 +397,49 @@ impl Recordings {
             markers_source: String::new(),
         })
     }
+
+    /// The recordings of a directory laid out like `training_data/` (a twin's output, say):
+    /// [`super::experiments::BENDING_FILE`] (required), and
+    /// [`super::experiments::FORCE_FILE`] and [`super::experiments::MARKERS_FILE`] where they
+    /// exist.
+    ///
+    /// # Errors
+    /// A missing bending file; any file that does not read ([`super::experiments`]).
+    pub fn read_dir(dir: &std::path::Path) -> Result<Self, CalibrateError> {
+        use super::experiments::{
+            read_bending, read_force, read_markers, BENDING_FILE, FORCE_FILE, MARKERS_FILE,
+        };
+        let (b, f, m) = (
+            dir.join(BENDING_FILE),
+            dir.join(FORCE_FILE),
+            dir.join(MARKERS_FILE),
+        );
+        let source = |p: &std::path::Path| p.display().to_string();
+        Ok(Recordings {
+            bending: read_bending(&b)?,
+            force: if f.exists() {
+                read_force(&f)?
+            } else {
+                Vec::new()
+            },
+            markers: if m.exists() {
+                read_markers(&m)?
+            } else {
+                Vec::new()
+            },
+            bending_source: source(&b),
+            force_source: if f.exists() {
+                source(&f)
+            } else {
+                String::new()
+            },
+            markers_source: if m.exists() {
+                source(&m)
+            } else {
+                String::new()
+            },
+        })
+    }
 }
 
 /// One standardised observation.

@@ -7,12 +7,17 @@
 //! noise model of [`super::objective`]), the force `N(0, σ_F)`; the standard-deviation columns
 //! of the written records are the experiments' ones. Normal deviates come from a seeded
 //! xoshiro256+ stream (Box–Muller), in record order: the same seed gives the same recordings.
+//!
+//! Marker recordings ([`noisy_markers`]) have no recorded scatter to copy: marker `k` gets the
+//! tip's rule along its own chord, `σ_k = r_k σ_α` with `r_k = √((k·L_f/9 − Uz_k)² + Uy_k²)`
+//! (σ_α in radians) for each component, from an independent stream of the same seed (the
+//! generator's long jump), so adding markers changes no bending or force value.
 
 use rand::{RngCore, SeedableRng};
 use rand_xoshiro::Xoshiro256Plus;
 use serde::{Deserialize, Serialize};
 
-use super::experiments::{BendingRecord, ForceRecord};
+use super::experiments::{BendingRecord, ForceRecord, MarkerRecord};
 use super::objective::{Recordings, FREE_LENGTH_MM};
 use super::CalibrateError;
 
@@ -112,6 +117,69 @@ pub fn noisy_recordings(
     })
 }
 
+/// Noise-free markers of one configuration.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TrueMarkers {
+    /// Number of bellows.
+    pub n_bellows: usize,
+    /// Wall thickness (mm).
+    pub wall_thickness_mm: f64,
+    /// Pressure (bar).
+    pub pressure_bar: f64,
+    /// Markers 1..9: `[Uz, Uy]` (mm).
+    pub markers: [[f64; 2]; 9],
+}
+
+/// Marker recordings of `truth`, each component with noise `N(0, r_k σ_α)` (see the
+/// [module docs](self)), `σ_α` from the matching bending row of `noise_from`; the standard
+/// deviation column holds `r_k σ_α`.
+///
+/// # Errors
+/// A configuration of `truth` without a matching bending row in `noise_from` (naming it).
+pub fn noisy_markers(
+    truth: &[TrueMarkers],
+    noise_from: &Recordings,
+    seed: u64,
+) -> Result<Vec<MarkerRecord>, CalibrateError> {
+    let mut rng = Xoshiro256Plus::seed_from_u64(seed);
+    rng.long_jump();
+    let mut out = Vec::with_capacity(9 * truth.len());
+    for t in truth {
+        let b = noise_from
+            .bending
+            .iter()
+            .find(|r| {
+                r.n_bellows == t.n_bellows
+                    && (r.wall_thickness_mm - t.wall_thickness_mm).abs() < 1e-9
+                    && (r.pressure_bar - t.pressure_bar).abs() < 1e-9
+            })
+            .ok_or_else(|| {
+                CalibrateError::input(
+                    "synthetic configuration",
+                    format!(
+                        "N={} T={} P={}",
+                        t.n_bellows, t.wall_thickness_mm, t.pressure_bar
+                    ),
+                    "a configuration of the noise source's bending recordings",
+                )
+            })?;
+        for (k, m) in t.markers.iter().enumerate() {
+            let z = FREE_LENGTH_MM * (k + 1) as f64 / 9.0;
+            let std = (z - m[0]).hypot(m[1]) * b.angle_std_deg.to_radians();
+            out.push(MarkerRecord {
+                n_bellows: t.n_bellows,
+                wall_thickness_mm: t.wall_thickness_mm,
+                pressure_bar: t.pressure_bar,
+                marker: k + 1,
+                uz_mm: m[0] + std * normal(&mut rng),
+                uy_mm: m[1] + std * normal(&mut rng),
+                std_mm: std,
+            });
+        }
+    }
+    Ok(out)
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;
@@ -149,5 +217,32 @@ mod tests {
         let mut bad = truth[0].clone();
         bad.pressure_bar = 2.5;
         assert!(noisy_recordings(&[bad], &rec, 3, "t").is_err());
+    }
+
+    #[test]
+    fn marker_noise_follows_the_chord_and_is_reproducible() {
+        let rec = Recordings::shipped().unwrap();
+        let b = &rec.bending[0];
+        let truth = [TrueMarkers {
+            n_bellows: b.n_bellows,
+            wall_thickness_mm: b.wall_thickness_mm,
+            pressure_bar: b.pressure_bar,
+            markers: std::array::from_fn(|k| [0.0, -(k as f64)]),
+        }];
+        let a = noisy_markers(&truth, &rec, 5).unwrap();
+        assert_eq!(a, noisy_markers(&truth, &rec, 5).unwrap());
+        assert_ne!(a, noisy_markers(&truth, &rec, 6).unwrap());
+        assert_eq!(a.len(), 9);
+        let sa = b.angle_std_deg.to_radians();
+        // marker 1 at z = Lf/9, no deflection: r = Lf/9; the tip: r = hypot(Lf, 8)
+        assert!((a[0].std_mm - FREE_LENGTH_MM / 9.0 * sa).abs() < 1e-12);
+        assert!((a[8].std_mm - FREE_LENGTH_MM.hypot(8.0) * sa).abs() < 1e-12);
+        assert!(a
+            .iter()
+            .all(|m| m.std_mm > 0.0 && (1..=9).contains(&m.marker)));
+        // an independent stream: the first deviate differs from the bending stream's
+        let mut rng = Xoshiro256Plus::seed_from_u64(5);
+        let first = normal(&mut rng) * a[0].std_mm;
+        assert_ne!(a[0].uz_mm, first);
     }
 }

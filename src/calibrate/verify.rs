@@ -13,13 +13,14 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
-use super::baseline::{cached_baseline, run_baseline, summarize, BaselineRow, BaselineSummary};
+use super::baseline::{
+    cached_baseline, run_baseline, summarize, BaselineRow, BaselineSummary, SweepSettings,
+};
 use super::objective::{Config, Recordings};
 use super::params::OgdenSet;
 use super::CalibrateError;
 use crate::fe::material::{Material, MaterialLaw, Ogden2, DEFAULT_BULK_RATIO};
 use crate::fe::mesh::MeshOptions;
-use crate::fe::simulate::ContactSettings;
 use crate::rom::{Query, Surrogate, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
 use crate::schema;
 
@@ -92,16 +93,8 @@ pub fn verify_fe(
     cache: &Path,
     progress: impl Fn(usize, usize) + Sync,
 ) -> Result<FeVerification, CalibrateError> {
-    let material = fe_material(params)?;
-    let rows = run_baseline(
-        &material,
-        mesh,
-        ContactSettings::default(),
-        &rec.bending,
-        &rec.force,
-        Some(cache),
-        progress,
-    )?;
+    let settings = SweepSettings::new(fe_material(params)?, mesh);
+    let rows = run_baseline(&settings, &rec.bending, &rec.force, Some(cache), progress)?;
     compare_fe(model, params, mesh, rows)
 }
 
@@ -117,15 +110,8 @@ pub fn cached_verification(
     mesh: MeshOptions,
     cache: &Path,
 ) -> Result<FeVerification, CalibrateError> {
-    let material = fe_material(params)?;
-    let rows = cached_baseline(
-        &material,
-        mesh,
-        ContactSettings::default(),
-        &rec.bending,
-        &rec.force,
-        cache,
-    )?;
+    let settings = SweepSettings::new(fe_material(params)?, mesh);
+    let rows = cached_baseline(&settings, &rec.bending, &rec.force, cache)?;
     compare_fe(model, params, mesh, rows)
 }
 

@@ -8,11 +8,12 @@ use super::plan::{PlanSettings, PlannedCase};
 use super::store::{CaseOutcome, StepOutputs};
 use crate::fe::simulate::{simulate_with, Case, Mode, StepResult};
 
-/// The FE case (bending or blocked-force test) of a planned case.
+/// The FE case (bending or blocked-force test) of a planned case, with the plan's fixed
+/// effects and the case's sampled ones.
 ///
 /// # Errors
-/// The design or material error as text (plans are validated on load, so only a hand-built
-/// case can fail here).
+/// The design, material or effect error as text (plans are validated on load, so only a
+/// hand-built case can fail here).
 pub fn fe_case(case: &PlannedCase, settings: &PlanSettings, mode: Mode) -> Result<Case, String> {
     Ok(Case {
         design: case.design().map_err(|e| e.to_string())?,
@@ -25,7 +26,7 @@ pub fn fe_case(case: &PlannedCase, settings: &PlanSettings, mode: Mode) -> Resul
         solver: settings.solver.clone(),
         mode,
         contact: settings.contact,
-        effects: crate::fe::effects::Effects::default(),
+        effects: case.effects_with(settings).map_err(|e| e.to_string())?,
     })
 }
 

@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::plan::{Plan, PlannedCase};
-use super::store::{case_name, header_line, read_case_file, ShardDir};
+use super::store::{case_name, header_with, read_case_file, ShardDir};
 use super::SnapshotError;
 
 /// What a merge wrote.
@@ -153,7 +153,7 @@ pub fn merge_with(
         .filter(|c| found.contains_key(&c.id))
         .collect();
     cases.sort_by_key(|c| c.id);
-    let mut text = header_line().into_bytes();
+    let mut text = header_with(&plan.effect_columns()).into_bytes();
     text.push(b'\n');
     let mut summary = MergeSummary {
         cases: cases.len(),

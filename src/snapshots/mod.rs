@@ -38,6 +38,10 @@
 //!                "mu1_mpa": 1.2, "alpha1": 3.3, "mu2_mpa": -9.1, "alpha2": -0.7 }, … ] }
 //! ```
 //!
+//! A plan with effects ([`plan`], "Effects") adds `settings.effects` (`{name: value}`, fixed
+//! for every case), `ranges.effects` (`{name: [lo, hi]}`, sampled) and `cases[i].effects` (the
+//! sampled values); a plan without effects has none of these fields.
+//!
 //! The cases are explicit: a plan can be edited by hand (every case is validated on load), and
 //! the sampler only matters when a plan is generated. The **plan hash** is the CRC-32 of the
 //! plan's canonical compact JSON (the parsed plan re-serialised, so formatting does not count).

@@ -55,7 +55,25 @@
 //! the `N` value number `⌊rank_i · m / K⌋` (rank of its coordinate among the `K` cases, `m`
 //! values of `N`), so every `N` gets `⌊K/m⌋` or `⌈K/m⌉` cases. The other dimensions map linearly
 //! (`μ0` logarithmically) onto the ranges; `T`'s range is the one capped for the case's `N`.
+//!
+//! ## Effects
+//!
+//! A plan can add physics beyond the nominal model ([`crate::fe::effects`]) in two ways:
+//!
+//! * **fixed** for every case: `settings.effects`, a map `{name: value}`;
+//! * **sampled**: `ranges.effects`, a map `{name: [lo, hi]}` (inside the effect's own range):
+//!   each sampled effect is one more axis of the Latin hypercube, `[0, 1]^(6 + k)` for `k`
+//!   sampled effects in the library's order, mapped linearly onto its range, and every case
+//!   carries its values in `cases[i].effects`.
+//!
+//! An effect is fixed or sampled, not both. A plan without effects writes neither field, so a
+//! plan written before effects existed reads, re-serialises and hashes exactly as before
+//! (tested on the committed plans), and its sampler is the 6-dimensional one above. The
+//! snapshot CSV of a plan with effects carries one column per effect after the provenance
+//! ([`crate::schema::effect_column`]); the trainer ignores them. [`Plan::subset`] picks its
+//! cases by the 6 design and material axes.
 
+use std::collections::BTreeMap;
 use std::path::Path;
 
 use egobox_doe::{Lhs, LhsKind, SamplingMethod};
@@ -65,6 +83,7 @@ use rand_xoshiro::Xoshiro256Plus;
 use serde::{Deserialize, Serialize};
 
 use super::{Shard, SnapshotError};
+use crate::fe::effects::{Effect, EffectError, Effects};
 use crate::fe::geometry::{Design, DesignParams, GeometryError, MIN_CAVITY_LENGTH, N_RANGE};
 use crate::fe::material::{
     literature_sets, Hyperelastic, Material, MaterialError, MaterialLaw, Ogden2,
@@ -101,6 +120,9 @@ pub struct Ranges {
     pub alpha1: [f64; 2],
     /// Exponent `α₂ < 0`.
     pub alpha2: [f64; 2],
+    /// Sampled effects: name → `[lo, hi]` in the effect's unit, uniform (none: not written).
+    #[serde(default, skip_serializing_if = "BTreeMap::is_empty")]
+    pub effects: BTreeMap<String, [f64; 2]>,
 }
 
 impl Default for Ranges {
@@ -112,6 +134,7 @@ impl Default for Ranges {
             term1_share: [0.02, 0.95],
             alpha1: [1.0, 8.0],
             alpha2: [-3.0, -0.004],
+            effects: BTreeMap::new(),
         }
     }
 }
@@ -133,6 +156,14 @@ pub struct PlanSettings {
     /// Contact settings (bellows, clamp, force plate).
     #[serde(default)]
     pub contact: ContactSettings,
+    /// Effects fixed for every case (none: not written).
+    #[serde(default, skip_serializing_if = "no_effects")]
+    pub effects: Effects,
+}
+
+/// Whether no effect is set (a plan without effects writes no `effects` field).
+fn no_effects(e: &Effects) -> bool {
+    e.iter().next().is_none()
 }
 
 impl Default for PlanSettings {
@@ -146,6 +177,7 @@ impl Default for PlanSettings {
             bulk_ratio: crate::fe::material::DEFAULT_BULK_RATIO,
             solver: SolverSettings::default(),
             contact: ContactSettings::default(),
+            effects: Effects::default(),
         }
     }
 }
@@ -168,6 +200,9 @@ pub struct PlannedCase {
     pub mu2_mpa: f64,
     /// Ogden `α₂`.
     pub alpha2: f64,
+    /// Values of the plan's sampled effects (none: not written).
+    #[serde(default, skip_serializing_if = "no_effects")]
+    pub effects: Effects,
 }
 
 /// A sampling plan (see the [module docs](self) and the format in [`super`]).
@@ -269,11 +304,47 @@ impl Ranges {
             "both inside (0, 1)",
         )?;
         check_interval("ranges.alpha1", self.alpha1, |v| v > 0.0, "both > 0")?;
-        check_interval("ranges.alpha2", self.alpha2, |v| v < 0.0, "both < 0")
+        check_interval("ranges.alpha2", self.alpha2, |v| v < 0.0, "both < 0")?;
+        self.sampled_effects().map(|_| ())
     }
 
-    /// Maps a point `u ∈ [0, 1]⁵` (T, μ0, s, α₁, α₂) and `N` to a case.
-    fn case_at(&self, id: usize, n: usize, u: [f64; 5]) -> PlannedCase {
+    /// The sampled effects and their ranges, in the library's order (the order of their axes
+    /// and columns).
+    ///
+    /// # Errors
+    /// [`SnapshotError::PlanField`] for an unknown effect or a range outside the effect's own.
+    pub fn sampled_effects(&self) -> Result<Vec<(Effect, [f64; 2])>, SnapshotError> {
+        let mut out = Vec::with_capacity(self.effects.len());
+        for (name, &r) in &self.effects {
+            let e = Effect::from_name(name)
+                .map_err(|err| SnapshotError::field("ranges.effects", name, &err.to_string()))?;
+            let info = e.info();
+            let expected = format!(
+                "inside the effect's range [{}, {}] {}",
+                info.range.0, info.range.1, info.unit
+            );
+            check_interval(
+                &format!("ranges.effects.{name}"),
+                r,
+                |v| Effects::neutral().with(e, v).is_ok(),
+                &expected,
+            )?;
+            out.push((e, r));
+        }
+        out.sort_by_key(|&(e, _)| e);
+        Ok(out)
+    }
+
+    /// Maps a point `u ∈ [0, 1]⁵` (T, μ0, s, α₁, α₂), `N` and the points `v` of the sampled
+    /// effects' axes to a case.
+    fn case_at(
+        &self,
+        id: usize,
+        n: usize,
+        u: [f64; 5],
+        sampled: &[(Effect, [f64; 2])],
+        v: &[f64],
+    ) -> Result<PlannedCase, EffectError> {
         let lerp = |r: [f64; 2], x: f64| r[0] + x * (r[1] - r[0]);
         let t_range = [
             self.wall_thickness_mm[0],
@@ -283,7 +354,12 @@ impl Ranges {
         let s = lerp(self.term1_share, u[2]);
         let alpha1 = lerp(self.alpha1, u[3]);
         let alpha2 = lerp(self.alpha2, u[4]);
-        PlannedCase {
+        let mut effects = Effects::default();
+        for (&(e, r), &x) in sampled.iter().zip(v) {
+            // the end points are inside the effect's range (validated), so is every value between
+            effects.set(e, lerp(r, x).clamp(r[0], r[1]))?;
+        }
+        Ok(PlannedCase {
             id,
             n_bellows: n,
             wall_thickness_mm: lerp(t_range, u[0]),
@@ -291,7 +367,8 @@ impl Ranges {
             alpha1,
             mu2_mpa: 2.0 * (1.0 - s) * mu0 / alpha2,
             alpha2,
-        }
+            effects,
+        })
     }
 
     /// A case's place in the unit box of `(N, T, ln μ0, s, α₁, α₂)` over these ranges (the
@@ -438,6 +515,43 @@ impl PlannedCase {
         Material::new(MaterialLaw::Ogden(law), bulk_ratio)
     }
 
+    /// The effects of the case's FE runs: the plan's fixed effects and the case's sampled ones.
+    ///
+    /// # Errors
+    /// An effect both fixed and sampled with different values (a validated plan has none).
+    pub fn effects_with(&self, settings: &PlanSettings) -> Result<Effects, EffectError> {
+        let mut all = settings.effects.clone();
+        for (e, v) in self.effects.iter() {
+            let fixed = settings.effects.iter().find(|&(f, _)| f == e);
+            if let Some((_, first)) = fixed.filter(|&(_, first)| first != v) {
+                return Err(EffectError::Duplicate {
+                    name: e.name(),
+                    first,
+                    second: v,
+                });
+            }
+            all.set(e, v)?;
+        }
+        Ok(all)
+    }
+
+    /// Checks that the case carries a value of every sampled effect and no other.
+    fn validate_effects(&self, index: usize, sampled: &[Effect]) -> Result<(), SnapshotError> {
+        let mine: Vec<Effect> = self.effects.iter().map(|(e, _)| e).collect();
+        if mine != sampled {
+            let names = |v: &[Effect]| v.iter().map(|e| e.name()).collect::<Vec<_>>().join(", ");
+            return Err(SnapshotError::field(
+                format!("cases[{index}] (id {}).effects", self.id),
+                format!("{{{}}}", names(&mine)),
+                &format!(
+                    "a value of each effect sampled by the plan (ranges.effects: {{{}}}) and no other",
+                    names(sampled)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
     /// Checks design and material; errors name `cases[index]`.
     fn validate(&self, index: usize) -> Result<(), SnapshotError> {
         let at = |f: &str| format!("cases[{index}] (id {}).{f}", self.id);
@@ -551,7 +665,9 @@ impl Plan {
         if n_cases == 0 {
             return Err(SnapshotError::field("cases", 0, "at least 1 case"));
         }
-        let u = unit_lhs(n_cases, 6, seed);
+        let sampled = ranges.sampled_effects()?;
+        let dims = 6 + sampled.len();
+        let u = unit_lhs(n_cases, dims, seed);
         let mut order: Vec<usize> = (0..n_cases).collect();
         order.sort_by(|&a, &b| u[[a, 0]].total_cmp(&u[[b, 0]]).then(a.cmp(&b)));
         let mut stratum = vec![0; n_cases];
@@ -563,13 +679,26 @@ impl Plan {
             .map(|i| {
                 let n = ranges.n_bellows[stratum[i]];
                 let x = [u[[i, 1]], u[[i, 2]], u[[i, 3]], u[[i, 4]], u[[i, 5]]];
-                ranges.case_at(i, n, x)
+                let v: Vec<f64> = (6..dims).map(|d| u[[i, d]]).collect();
+                ranges
+                    .case_at(i, n, x, &sampled, &v)
+                    .map_err(|e| SnapshotError::field("ranges.effects", &e, "values in range"))
             })
-            .collect();
+            .collect::<Result<_, _>>()?;
+        let sampler = if sampled.is_empty() {
+            SAMPLER.to_owned()
+        } else {
+            let names: Vec<&str> = sampled.iter().map(|(e, _)| e.name()).collect();
+            format!(
+                "egobox-doe 0.35 Lhs(Optimized: maximin ESE) on [0,1]^{dims} (N, T, mu0, s, alpha1, \
+                 alpha2, {}), Xoshiro256Plus::seed_from_u64(seed); N stratified by rank",
+                names.join(", ")
+            )
+        };
         let plan = Self {
             format_version: FORMAT_VERSION,
             seed,
-            sampler: SAMPLER.to_owned(),
+            sampler,
             ranges,
             settings,
             cases,
@@ -592,6 +721,23 @@ impl Plan {
         }
         self.ranges.validate()?;
         self.settings.validate()?;
+        let sampled: Vec<Effect> = self
+            .ranges
+            .sampled_effects()?
+            .into_iter()
+            .map(|(e, _)| e)
+            .collect();
+        if let Some(e) = sampled
+            .iter()
+            .find(|e| self.settings.effects.iter().any(|(f, _)| f == **e))
+        {
+            return Err(SnapshotError::field(
+                "settings.effects",
+                e.name(),
+                "an effect that ranges.effects does not sample (an effect is fixed or sampled, \
+                 not both)",
+            ));
+        }
         if self.cases.is_empty() {
             return Err(SnapshotError::field("cases", "[]", "at least 1 case"));
         }
@@ -605,6 +751,7 @@ impl Plan {
                 ));
             }
             c.validate(i)?;
+            c.validate_effects(i, &sampled)?;
         }
         Ok(())
     }
@@ -742,6 +889,18 @@ impl Plan {
         };
         plan.validate()?;
         Ok(plan)
+    }
+
+    /// The effects of the plan's snapshot columns: the fixed and the sampled ones, in the
+    /// library's order (empty for a plan without effects).
+    pub fn effect_columns(&self) -> Vec<Effect> {
+        let mut all: Vec<Effect> = self.settings.effects.iter().map(|(e, _)| e).collect();
+        if let Some(c) = self.cases.first() {
+            all.extend(c.effects.iter().map(|(e, _)| e));
+        }
+        all.sort();
+        all.dedup();
+        all
     }
 
     /// The cases of `shard`, in plan order (see [`Shard`]).

@@ -12,6 +12,11 @@
 //! settings (`mesh`, `element_size_mm`, `bulk_ratio`, `gravity`, `solver_rtol`),
 //! [`super::code_version`] and the `error` that left a step without a result.
 //!
+//! A plan with effects (fixed or sampled, [`super::plan`]) adds one column per effect after
+//! the provenance, in the library's order, named by [`schema::effect_column`]
+//! (`effect_wall_bias_mm`), holding the case's value; a plan without effects writes exactly
+//! the columns above.
+//!
 //! `case_id` is `case_<id, 6 digits>`. A case has one row per plan pressure, in plan order;
 //! steps the solver did not reach have `converged = false` and `NaN` outputs. Floats are
 //! written in Rust's shortest round-trip form (`{:?}`), so reading gives the same bits.
@@ -29,6 +34,7 @@ use std::path::{Path, PathBuf};
 
 use super::plan::{Plan, PlanSettings, PlannedCase};
 use super::{code_version, SnapshotError};
+use crate::fe::effects::Effect;
 pub use crate::rom::data::REQUIRED_COLUMNS;
 use crate::schema;
 
@@ -94,19 +100,37 @@ pub const PLAN_FILE: &str = "plan.json";
 /// Name of the case-file folder.
 pub const CASES_DIR: &str = "cases";
 
-/// The header line (without newline).
+/// The header line (without newline) of a plan without effects.
 pub fn header_line() -> String {
-    let all: Vec<&str> = REQUIRED_COLUMNS
+    header_with(&[])
+}
+
+/// The header line (without newline) of a plan whose effect columns are `effects`
+/// ([`Plan::effect_columns`]).
+pub fn header_with(effects: &[Effect]) -> String {
+    let mut all: Vec<String> = REQUIRED_COLUMNS
         .iter()
         .chain(PROVENANCE_COLUMNS.iter())
-        .copied()
+        .map(|c| c.to_string())
         .collect();
+    all.extend(
+        effects
+            .iter()
+            .map(|e| schema::effect_column(e.name(), e.info().unit)),
+    );
     all.join(",")
 }
 
-/// Total number of columns.
-fn n_columns() -> usize {
-    REQUIRED_COLUMNS.len() + PROVENANCE_COLUMNS.len()
+/// Number of columns without effects; the `error` column is the last of them.
+const BASE_COLUMNS: usize = REQUIRED_COLUMNS.len() + PROVENANCE_COLUMNS.len();
+
+/// The effects of a case's columns and their values, in the library's order.
+fn effect_cells(case: &PlannedCase, settings: &PlanSettings) -> Vec<(Effect, f64)> {
+    // a validated plan never conflicts; a hand-built one shows its case's own values
+    let all = case
+        .effects_with(settings)
+        .unwrap_or_else(|_| case.effects.clone());
+    all.iter().collect()
 }
 
 /// The `case_id` of a plan case.
@@ -164,6 +188,11 @@ fn row_cells(
         code_version(),
         error.to_owned(),
     ]);
+    r.extend(
+        effect_cells(case, settings)
+            .into_iter()
+            .map(|(_, v)| num(v)),
+    );
     r
 }
 
@@ -192,7 +221,11 @@ pub fn case_csv(case: &PlannedCase, settings: &PlanSettings, outcome: &CaseOutco
     let mut w = csv::WriterBuilder::new()
         .has_headers(false)
         .from_writer(Vec::new());
-    let mut out = header_line().into_bytes();
+    let effects: Vec<Effect> = effect_cells(case, settings)
+        .into_iter()
+        .map(|(e, _)| e)
+        .collect();
+    let mut out = header_with(&effects).into_bytes();
     out.push(b'\n');
     for (j, &p) in settings.pressures_bar.iter().enumerate() {
         let step = outcome.steps.get(j);
@@ -228,15 +261,22 @@ fn check_row(
         let n = settings.pressures_bar.len();
         return Err(format!("more rows than the plan's {n} pressures"));
     };
-    if rec.len() != n_columns() {
-        return Err(format!("{} cells, expected {}", rec.len(), n_columns()));
-    }
-    // inputs, pressure and the plan's settings (not code_version: a resume may use a newer build)
+    // inputs, pressure, the plan's settings (not code_version: a resume may use a newer build)
+    // and the effects
     let expected = row_cells(case, settings, p, None, "");
-    let header = header_line();
-    for col in (0..8).chain(n_columns() - 7..n_columns() - 2) {
+    if rec.len() != expected.len() {
+        return Err(format!("{} cells, expected {}", rec.len(), expected.len()));
+    }
+    let effects: Vec<Effect> = effect_cells(case, settings)
+        .into_iter()
+        .map(|(e, _)| e)
+        .collect();
+    let header = header_with(&effects);
+    let header: Vec<&str> = header.split(',').collect();
+    let b = BASE_COLUMNS;
+    for col in (0..8).chain(b - 7..b - 2).chain(b..expected.len()) {
         if rec[col] != expected[col] {
-            let name = header.split(',').nth(col).unwrap_or("?");
+            let name = header.get(col).copied().unwrap_or("?");
             return Err(format!(
                 "{name} = {:?}, expected {:?} (the plan's value)",
                 &rec[col], expected[col]
@@ -276,7 +316,11 @@ pub fn read_case_file(
         Some(i) => (&bytes[..i], &bytes[i + 1..]),
         None => (&bytes[..], &[][..]),
     };
-    if head != header_line().as_bytes() {
+    let effects: Vec<Effect> = effect_cells(case, settings)
+        .into_iter()
+        .map(|(e, _)| e)
+        .collect();
+    if head != header_with(&effects).as_bytes() {
         let why = "header differs from this program's snapshot columns (written by another \
                    version?); delete the file to re-run the case";
         return Err(bad(1, why.into()));
@@ -295,7 +339,7 @@ pub fn read_case_file(
         let rec = rec.map_err(|e| bad(j + 2, e.to_string()))?;
         let converged = check_row(&rec, j, case, settings).map_err(|m| bad(j + 2, m))?;
         out.unconverged_rows += usize::from(!converged);
-        let error = &rec[n_columns() - 1];
+        let error = &rec[BASE_COLUMNS - 1];
         if !error.is_empty() && out.error.is_none() {
             out.error = Some(error.to_string());
         }

@@ -2,3 +2,4 @@
 //! tests are in `tests/cli/`.
 
 mod calibrate;
+mod twin;

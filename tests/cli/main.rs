@@ -16,3 +16,4 @@ mod rom_cli;
 mod rom_fidelity;
 mod snapshots;
 mod snapshots_plan;
+mod twin_cli;

@@ -341,3 +341,169 @@ fn subset_keeps_cases_spreads_them_and_balances_n() {
         assert!(e.contains(&format!("{k}")) && e.contains("1 ..= 90"), "{e}");
     }
 }
+
+/// Plans written before effects existed load, re-serialise and hash exactly as recorded by
+/// the runs made from them (their `plan_hash` files), and write no effect field.
+#[test]
+fn committed_plans_hash_as_recorded() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    for dir in [
+        "training_data/snapshots/coarse",
+        "training_data/snapshots/standard",
+        "fe_reference/calibration/synthetic_coarse/cases",
+    ] {
+        let p = Plan::read(&root.join(dir).join("plan.json")).unwrap();
+        let recorded = std::fs::read_to_string(root.join(dir).join("plan_hash")).unwrap();
+        assert_eq!(p.hash(), recorded.trim(), "{dir}");
+        assert!(p.effect_columns().is_empty(), "{dir}");
+        assert!(!p.canonical_json().contains("effects"), "{dir}");
+    }
+    // the same seed and ranges without effects: the sampler of before
+    assert_eq!(plan(5, 7).sampler, surrogate::snapshots::plan::SAMPLER);
+}
+
+/// Sampled effects of a test plan: name and range.
+type Sampled<'a> = &'a [(&'a str, [f64; 2])];
+
+fn effect_plan(fixed: &[&str], sampled: Sampled) -> Result<Plan, SnapshotError> {
+    let ranges = Ranges {
+        n_bellows: vec![9, 11, 13],
+        effects: sampled.iter().map(|(n, r)| (n.to_string(), *r)).collect(),
+        ..Ranges::default()
+    };
+    let settings = surrogate::snapshots::PlanSettings {
+        effects: surrogate::fe::effects::Effects::parse(fixed.iter().copied()).unwrap(),
+        ..small_settings()
+    };
+    Plan::generate(12, 5, ranges, settings)
+}
+
+/// An effect fixed for all cases and one sampled as an axis of the hypercube: every case
+/// carries the sampled value (spread over its range, one per stratum of the hypercube), the
+/// plan round-trips, the FE case gets both, and the snapshot columns name them.
+#[test]
+fn plans_fix_and_sample_effects() {
+    use surrogate::fe::effects::Effect;
+    let p = effect_plan(&["pressure_loss=0.1"], &[("wall_bias", [-0.2, 0.2])]).unwrap();
+    assert!(p.sampler.contains("[0,1]^7") && p.sampler.contains("wall_bias"));
+    let mut values: Vec<f64> = p
+        .cases
+        .iter()
+        .map(|c| c.effects.get(Effect::WallBias))
+        .collect();
+    values.sort_by(f64::total_cmp);
+    // a Latin hypercube: one value in each of the 12 strata of [-0.2, 0.2]
+    for (k, v) in values.iter().enumerate() {
+        let lo = -0.2 + 0.4 * k as f64 / 12.0;
+        assert!(
+            *v >= lo - 1e-12 && *v <= lo + 0.4 / 12.0 + 1e-12,
+            "{k}: {v}"
+        );
+    }
+    let back = Plan::from_json(&p.pretty_json(), "round trip").unwrap();
+    assert_eq!(back, p);
+    assert_eq!(back.hash(), p.hash());
+    assert_eq!(
+        p.effect_columns(),
+        vec![Effect::WallBias, Effect::PressureLoss]
+    );
+    let fe = surrogate::snapshots::fe_runner::fe_case(
+        &p.cases[3],
+        &p.settings,
+        surrogate::fe::simulate::Mode::Bending,
+    )
+    .unwrap();
+    assert_eq!(fe.effects.get(Effect::PressureLoss), 0.1);
+    assert_eq!(
+        fe.effects.get(Effect::WallBias),
+        p.cases[3].effects.get(Effect::WallBias)
+    );
+    // the snapshot CSV: the plain columns, then one per effect with the case's value
+    let csv = surrogate::snapshots::store::case_csv(
+        &p.cases[3],
+        &p.settings,
+        &surrogate::snapshots::CaseOutcome::default(),
+    );
+    let text = String::from_utf8(csv).unwrap();
+    let header = text.lines().next().unwrap();
+    let plain = surrogate::snapshots::store::header_line();
+    assert_eq!(
+        header,
+        format!("{plain},effect_wall_bias_mm,effect_pressure_loss")
+    );
+    let row = text.lines().nth(1).unwrap();
+    let wall = p.cases[3].effects.get(Effect::WallBias);
+    assert!(row.ends_with(&format!(",{wall:?},0.1")), "{row}");
+}
+
+#[test]
+fn bad_effects_in_plans_are_errors_naming_the_field() {
+    let cases: [(&[&str], Sampled, &str); 4] = [
+        (&[], &[("wal_bias", [0.0, 0.1])], "ranges.effects = wal_bias"),
+        (
+            &[],
+            &[("wall_bias", [-0.5, 0.1])],
+            "ranges.effects.wall_bias = [-0.5, 0.1]: expected [lo, hi] with lo ≤ hi, inside the effect's range [-0.4, 0.4] mm",
+        ),
+        (&[], &[("density", [1.2, 0.8])], "ranges.effects.density"),
+        (
+            &["wall_bias=0.1"],
+            &[("wall_bias", [0.0, 0.1])],
+            "settings.effects = wall_bias: expected an effect that ranges.effects does not sample",
+        ),
+    ];
+    for (fixed, sampled, want) in cases {
+        let err = effect_plan(fixed, sampled).unwrap_err().to_string();
+        assert!(err.contains(want), "{err}");
+    }
+    // a hand-edited case without the sampled effect's value
+    let p = effect_plan(&[], &[("wall_bias", [-0.2, 0.2])]).unwrap();
+    let mut json: serde_json::Value = serde_json::from_str(&p.pretty_json()).unwrap();
+    json["cases"][2].as_object_mut().unwrap().remove("effects");
+    let err = Plan::from_json(&json.to_string(), "edited")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("cases[2] (id 2).effects = {}: expected a value of each effect sampled by the plan (ranges.effects: {wall_bias})"),
+        "{err}"
+    );
+    // a value outside the effect's range: the effect's own message
+    json["cases"][2]["effects"] = serde_json::json!({"wall_bias": 0.9});
+    let err = Plan::from_json(&json.to_string(), "edited")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("expected a value in [-0.4, 0.4] mm"), "{err}");
+}
+
+/// A plan with effects through the shard driver and the merge (analytic runner): the case
+/// files carry the effect columns, a resume validates them, the merged file has them once.
+#[test]
+fn effect_columns_survive_run_resume_and_merge() {
+    use surrogate::snapshots::run::AnalyticRunner;
+    use surrogate::snapshots::{merge, run_shard, RunOptions};
+    let p = effect_plan(&["density=1.2"], &[("gap_bias", [-0.3, 0.3])]).unwrap();
+    let dir = scratch("effect_columns");
+    let options = RunOptions {
+        shard: Shard::ALL,
+        threads: Some(1),
+        retry_failed: false,
+    };
+    let runner = AnalyticRunner::default();
+    let first = run_shard(&p, &dir.join("run"), &options, &runner, &|_| {}).unwrap();
+    assert_eq!((first.done, first.skipped), (12, 0));
+    let again = run_shard(&p, &dir.join("run"), &options, &runner, &|_| {}).unwrap();
+    assert_eq!((again.done, again.skipped), (0, 12));
+    let out = dir.join("merged.csv");
+    let s = merge(&[dir.join("run")], &out).unwrap();
+    assert_eq!(s.rows, 12 * 6);
+    let text = std::fs::read_to_string(&out).unwrap();
+    let header = text.lines().next().unwrap();
+    assert!(
+        header.ends_with(",error,effect_gap_bias_mm,effect_density"),
+        "{header}"
+    );
+    assert_eq!(text.lines().filter(|l| l.contains("effect_")).count(), 1);
+    // the trainer's reader accepts the file (extra columns after the contract)
+    surrogate::rom::data::SnapshotSet::read(&out).unwrap();
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -34,6 +34,42 @@ pub enum Command {
     /// List the effect library: physics the nominal model leaves out (name, meaning, unit,
     /// neutral value, range).
     Effects(EffectsArgs),
+    /// Twin recordings: the FE model with concealed effects, noise at the experiments'
+    /// standard deviations, in the experiments' format; the settings to a key file only.
+    Twin(TwinArgs),
+}
+
+/// `surrogate twin`.
+#[derive(Debug, Args)]
+pub struct TwinArgs {
+    /// A concealed effect, NAME=VALUE (repeatable; none: a twin of the material alone);
+    /// `surrogate effects` lists the names, units and ranges.
+    #[arg(long, value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    pub effect: Vec<String>,
+    /// Material (see `simulate --help`).
+    #[arg(long, allow_hyphen_values = true)]
+    pub material: String,
+    /// Mesh level: coarse | standard | fine.
+    #[arg(long, default_value = "standard")]
+    pub mesh: String,
+    /// Directory with the recordings whose designs, pressures and standard deviations the
+    /// twin takes (bending_experiments.csv, blocked_force_experiments.csv).
+    #[arg(long, default_value = "training_data")]
+    pub noise_from: PathBuf,
+    /// Seed of the noise.
+    #[arg(long)]
+    pub seed: u64,
+    /// Output directory: bending_experiments.csv, blocked_force_experiments.csv,
+    /// marker_experiments.csv, nothing else.
+    #[arg(long)]
+    pub out: PathBuf,
+    /// Key file (JSON: effects, material, mesh, seed, version and commit); outside --out.
+    #[arg(long)]
+    pub key: Option<PathBuf>,
+    /// FE cache (default: `twin_fe_ramps/` beside --out, shared by every twin there; ramps
+    /// are keyed by every setting, so a twin with another seed runs no FE); outside --out.
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
 }
 
 /// `surrogate effects`.
@@ -351,6 +387,11 @@ pub struct ValidateArgs {
     /// Bellow walls in contact: gap to the closest point of the facing wall.
     #[arg(long)]
     pub closest_point_contact: bool,
+    /// Physics beyond the nominal model for every ramp, NAME=VALUE (repeatable), e.g.
+    /// --effect wall_bias=-0.1; `surrogate effects` lists the names, units and ranges. Cached
+    /// ramps are keyed by the effects too.
+    #[arg(long, value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    pub effect: Vec<String>,
     /// Output CSV (one row per configuration); an SVG plot is written beside it.
     #[arg(long)]
     pub out: PathBuf,

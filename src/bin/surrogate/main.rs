@@ -13,6 +13,7 @@ mod simulate;
 mod snapshots;
 mod speedup;
 mod train;
+mod twin;
 mod validate;
 
 use std::process::ExitCode;
@@ -31,6 +32,7 @@ fn main() -> ExitCode {
         args::Command::Calibrate(a) => calibrate::run(*a),
         args::Command::Snapshots(a) => snapshots::run(*a),
         args::Command::Effects(a) => effects::run(a),
+        args::Command::Twin(a) => twin::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

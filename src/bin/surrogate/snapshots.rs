@@ -1,6 +1,7 @@
 //! `surrogate snapshots`: sampling plans, shard runs (resumable), merges.
 //!
 //! `surrogate snapshots --plan P --shard k/n --out DIR` is `snapshots run`.
+use std::collections::BTreeMap;
 use std::io::IsTerminal;
 use std::path::PathBuf;
 use std::time::Duration;
@@ -8,6 +9,7 @@ use std::time::Duration;
 use anyhow::{Context, Result};
 use clap::{Args, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
+use surrogate::fe::effects::Effects;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::snapshots::fe_runner::fe_runner;
 use surrogate::snapshots::merge::{merge_with, sidecar_path};
@@ -154,6 +156,14 @@ pub struct PlanArgs {
     /// Switch self-weight off.
     #[arg(long)]
     pub no_gravity: bool,
+    /// An effect fixed for every case, NAME=VALUE (repeatable; `surrogate effects` lists the
+    /// names, units and ranges).
+    #[arg(long, value_name = "NAME=VALUE", allow_hyphen_values = true)]
+    pub effect: Vec<String>,
+    /// An effect sampled as one more axis of the Latin hypercube, NAME=LO,HI (repeatable),
+    /// uniform in [LO, HI] (inside the effect's range), e.g. --effect-range wall_bias=-0.2,0.2.
+    #[arg(long, value_name = "NAME=LO,HI", allow_hyphen_values = true)]
+    pub effect_range: Vec<String>,
 }
 
 /// `snapshots merge`.
@@ -240,6 +250,22 @@ fn n_values(s: &str) -> Result<Vec<usize>> {
         .collect()
 }
 
+/// `NAME=LO,HI` items of `--effect-range`, each name once (the plan checks names and ranges).
+fn effect_ranges(items: &[String]) -> Result<BTreeMap<String, [f64; 2]>> {
+    let mut out = BTreeMap::new();
+    for item in items {
+        let (name, r) = item.split_once('=').with_context(|| {
+            format!("--effect-range {item:?}: expected NAME=LO,HI, e.g. wall_bias=-0.2,0.2")
+        })?;
+        let r = pair("effect-range", r)?;
+        anyhow::ensure!(
+            out.insert(name.trim().to_string(), r).is_none(),
+            "--effect-range {name}: given twice, expected each effect at most once"
+        );
+    }
+    Ok(out)
+}
+
 /// A comma list, or `max:step` from 0.
 fn plan(a: PlanArgs) -> Result<()> {
     let ranges = Ranges {
@@ -249,6 +275,7 @@ fn plan(a: PlanArgs) -> Result<()> {
         term1_share: pair("share-range", &a.share_range)?,
         alpha1: pair("alpha1-range", &a.alpha1_range)?,
         alpha2: pair("alpha2-range", &a.alpha2_range)?,
+        effects: effect_ranges(&a.effect_range)?,
     };
     let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
     let settings = PlanSettings {
@@ -260,6 +287,7 @@ fn plan(a: PlanArgs) -> Result<()> {
             wall_elements: None,
         },
         bulk_ratio: a.bulk_ratio,
+        effects: Effects::parse(a.effect.iter().map(String::as_str))?,
         ..PlanSettings::default()
     };
     let plan = Plan::generate(a.cases, a.seed, ranges, settings)?;

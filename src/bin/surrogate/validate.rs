@@ -5,8 +5,9 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use plotters::prelude::*;
-use surrogate::calibrate::baseline::{run_baseline, summarize, BaselineRow};
+use surrogate::calibrate::baseline::{run_baseline, summarize, BaselineRow, SweepSettings};
 use surrogate::calibrate::experiments::{shipped_bending, shipped_force};
+use surrogate::fe::effects::Effects;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::simulate::ContactSettings;
@@ -45,22 +46,28 @@ pub fn run(a: ValidateArgs) -> Result<()> {
     bar.set_style(ProgressStyle::with_template(
         "{spinner} FE ramps [{bar:30}] {pos}/{len}, {elapsed_precise}, eta {eta}",
     )?);
-    let rows = run_baseline(
-        &material,
-        MeshOptions {
-            level,
-            element_size: a.element_size,
-            wall_elements: None,
-        },
+    let settings = SweepSettings {
         contact,
-        &bending,
-        &force,
-        Some(&cache),
-        |k, n| {
-            bar.set_length(n as u64);
-            bar.set_position(k as u64);
-        },
-    )?;
+        effects: Effects::parse(a.effect.iter().map(String::as_str))?,
+        ..SweepSettings::new(
+            material,
+            MeshOptions {
+                level,
+                element_size: a.element_size,
+                wall_elements: None,
+            },
+        )
+    };
+    if !settings.effects.is_neutral() {
+        eprintln!(
+            "effects: {}",
+            serde_json::to_string(&settings.effects).context("effects as JSON")?
+        );
+    }
+    let rows = run_baseline(&settings, &bending, &force, Some(&cache), |k, n| {
+        bar.set_length(n as u64);
+        bar.set_position(k as u64);
+    })?;
     bar.finish_and_clear();
     let mut w = csv::Writer::from_writer(Vec::new());
     for r in &rows {
