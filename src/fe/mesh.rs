@@ -580,12 +580,12 @@ impl ActuatorMesh {
     pub fn moved(&self, reference: &Design, design: &Design) -> Result<Self, MeshMoveError> {
         let (from, to) = (Breaks::of(reference), Breaks::of(design));
         let mut lines: [Vec<f64>; 3] = Default::default();
-        for a in 0..3 {
+        for (a, line) in lines.iter_mut().enumerate() {
             let (f, t) = (dedup_sorted(&from.at[a]), dedup_sorted(&to.at[a]));
             if f.len() != t.len() || t.windows(2).any(|w| w[1] <= w[0]) {
                 return Err(MeshMoveError::Features { axis: a });
             }
-            lines[a] = self.grid.grid.lines[a]
+            *line = self.grid.grid.lines[a]
                 .iter()
                 .map(|&x| piecewise_linear(&f, &t, x))
                 .collect();
