@@ -189,6 +189,20 @@ pub fn plane_face(
     x: &[[f64; 3]; 9],
     shift: &[f64; 9],
     r: &mut [f64; 27],
+    k: Option<&mut [f64; 729]>,
+) -> (f64, f64, f64) {
+    plane_face_with(|g| plane.barrier(g), plane, x0, x, shift, r, k)
+}
+
+/// [`plane_face`] with another contact law `law(g) = (ψ, ψ', ψ'')` in place of the plane's
+/// penalty (e.g. the log barrier of [`crate::fe::assembly::terms::barrier`]).
+pub fn plane_face_with(
+    law: impl Fn(f64) -> (f64, f64, f64),
+    plane: &RigidPlane,
+    x0: &[[f64; 3]; 9],
+    x: &[[f64; 3]; 9],
+    shift: &[f64; 9],
+    r: &mut [f64; 27],
     mut k: Option<&mut [f64; 729]>,
 ) -> (f64, f64, f64) {
     let n = plane.normal;
@@ -204,7 +218,7 @@ pub fn plane_face(
         }
         let g = plane.gap(xq);
         min_gap = min_gap.min(g);
-        let (psi, dpsi, ddpsi) = plane.barrier(g - shift[q]);
+        let (psi, dpsi, ddpsi) = law(g - shift[q]);
         if dpsi == 0.0 && ddpsi == 0.0 {
             continue;
         }
@@ -421,10 +435,38 @@ pub fn pair_face(
     x_front: &[[f64; 3]; 9],
     shift: &[f64; 9],
     r: &mut [f64; PAIR_DOFS],
+    k: Option<&mut [f64; PAIR_DOFS * PAIR_DOFS]>,
+) -> (f64, f64, f64) {
+    let law = |g| barrier(settings.stiffness, settings.smoothing, g);
+    pair_face_with(
+        law,
+        settings,
+        orientation,
+        x0_back,
+        x_back,
+        x_front,
+        shift,
+        r,
+        k,
+    )
+}
+
+/// [`pair_face`] with another contact law `law(g) = (ψ, ψ', ψ'')` in place of the pairs'
+/// penalty (e.g. the log barrier of [`crate::fe::assembly::terms::barrier`]).
+#[allow(clippy::too_many_arguments)]
+pub fn pair_face_with(
+    law: impl Fn(f64) -> (f64, f64, f64),
+    settings: &PairSettings,
+    orientation: f64,
+    x0_back: &[[f64; 3]; 9],
+    x_back: &[[f64; 3]; 9],
+    x_front: &[[f64; 3]; 9],
+    shift: &[f64; 9],
+    r: &mut [f64; PAIR_DOFS],
     mut k: Option<&mut [f64; PAIR_DOFS * PAIR_DOFS]>,
 ) -> (f64, f64, f64) {
     if settings.closest_point {
-        return pair_face_closest(settings, orientation, x0_back, x_back, x_front, shift, r, k);
+        return pair_face_closest(&law, orientation, x0_back, x_back, x_front, shift, r, k);
     }
     let mut energy = 0.0;
     let mut front = [0.0; 3];
@@ -439,7 +481,7 @@ pub fn pair_face(
         let z = gap_variables(&na, &nas, &nat, x_back, x_front);
         let g0 = gap_value(&z, orientation);
         min_gap = min_gap.min(g0);
-        let (psi, dpsi, ddpsi) = barrier(settings.stiffness, settings.smoothing, g0 - shift[q]);
+        let (psi, dpsi, ddpsi) = law(g0 - shift[q]);
         if dpsi == 0.0 && ddpsi == 0.0 {
             continue;
         }
@@ -493,7 +535,7 @@ pub fn pair_face(
 /// projection does not converge is open.
 #[allow(clippy::too_many_arguments)]
 fn pair_face_closest(
-    settings: &PairSettings,
+    law: &impl Fn(f64) -> (f64, f64, f64),
     orientation: f64,
     x0_back: &[[f64; 3]; 9],
     x_back: &[[f64; 3]; 9],
@@ -511,7 +553,7 @@ fn pair_face_closest(
             continue;
         };
         min_gap = min_gap.min(g);
-        let (psi, dpsi, ddpsi) = barrier(settings.stiffness, settings.smoothing, g - shift[q]);
+        let (psi, dpsi, ddpsi) = law(g - shift[q]);
         if dpsi == 0.0 && ddpsi == 0.0 {
             continue;
         }

@@ -10,6 +10,7 @@ use std::time::Instant;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use super::assembly::terms::barrier::IpcBarrier;
 use super::assembly::terms::foundation::Foundation;
 use super::assembly::{pair_couplings, Constraint, FeModel, LoadLevel};
 use super::contact::{pair_orientation, ContactError, FacePair, PairSettings, RigidPlane};
@@ -18,7 +19,9 @@ use super::element::{shape, ElementError};
 use super::geometry::{Design, GeometryError, Region};
 use super::material::Material;
 use super::mesh::{ActuatorMesh, GapSide, MeshOptions};
-use super::solver::{solve_path_from, PathState, SolverError, SolverSettings, StepReport};
+use super::solver::{
+    solve_path_from, PathState, SolverError, SolverKind, SolverSettings, StepReport,
+};
 
 /// TPU density (t/mm³).
 pub const DENSITY: f64 = 1.19e-9;
@@ -346,6 +349,9 @@ pub struct Response {
     pub factor_time_s: f64,
     /// Time spent in assembly (s).
     pub assembly_time_s: f64,
+    /// Factorisations of the tangent over the whole path.
+    #[serde(default)]
+    pub factorizations: usize,
 }
 
 /// The actuator's FE model with its mesh bookkeeping.
@@ -772,6 +778,10 @@ pub fn simulate_with(
         &case.contact,
         &case.effects,
     )?;
+    if let SolverKind::Minimise(m) = case.solver.kind {
+        // the minimisation solver's contact law
+        model.fe.barrier = Some(IpcBarrier::new(m.dhat_mm, m.barrier_pressure)?);
+    }
     let g = if case.gravity { 1.0 } else { 0.0 };
     let mut levels = vec![LoadLevel {
         gravity: g,
@@ -867,6 +877,7 @@ pub fn simulate_with(
     }
     let factor_time_s = reports.iter().map(|r| r.factor_seconds).sum();
     let assembly_time_s = reports.iter().map(|r| r.assembly_seconds).sum();
+    let factorizations = reports.iter().map(|r| r.factorizations).sum();
     Ok(Response {
         steps,
         nodes: model.fe.mesh.n_nodes(),
@@ -875,6 +886,7 @@ pub fn simulate_with(
         wall_time_s: start.elapsed().as_secs_f64(),
         factor_time_s,
         assembly_time_s,
+        factorizations,
     })
 }
 

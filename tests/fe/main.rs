@@ -14,6 +14,7 @@ mod effects;
 mod element_tangent;
 mod force_plate_faces;
 mod materials;
+mod minimise;
 mod model_doc;
 mod solver_stabilization;
 mod verification_cantilever;

@@ -364,6 +364,25 @@ pub struct SimulateArgs {
     /// JSON summary (to --out).
     #[arg(long)]
     pub bench: bool,
+    /// Nonlinear solver: newton (residual Newton, augmented-Lagrangian contact: the reference)
+    /// or minimise (minimisation of the total potential with log-barrier contact).
+    #[arg(long, value_enum, default_value = "newton")]
+    pub solver: SolverArg,
+    /// Activation distance of the barrier contact of --solver minimise (mm).
+    #[arg(long, default_value_t = surrogate::fe::solver::MinimiseSettings::default().dhat_mm)]
+    pub barrier_dhat: f64,
+    /// Pressure scale of the barrier contact of --solver minimise (MPa).
+    #[arg(long, default_value_t = surrogate::fe::solver::MinimiseSettings::default().barrier_pressure)]
+    pub barrier_pressure: f64,
+}
+
+/// `--solver`.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, ValueEnum)]
+pub enum SolverArg {
+    /// Residual Newton with augmented-Lagrangian contact (the reference).
+    Newton,
+    /// Minimisation of the total potential with barrier contact.
+    Minimise,
 }
 
 /// `surrogate validate`.

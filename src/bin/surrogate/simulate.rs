@@ -9,10 +9,10 @@ use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::simulate::{simulate_with, Case, ContactSettings, Mode, Response};
-use surrogate::fe::solver::SolverSettings;
+use surrogate::fe::solver::{MinimiseSettings, SolverKind, SolverSettings};
 use surrogate::fe::vtk;
 
-use crate::args::{ModeArg, SimulateArgs};
+use crate::args::{ModeArg, SimulateArgs, SolverArg};
 
 fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result<Case> {
     let design = DesignParams::new(a.n, a.t).validate()?;
@@ -41,6 +41,14 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
             grow_below_iterations: a.grow_below,
             augmented_updates: a.augmented,
             reuse_factor: a.reuse_factor,
+            kind: match a.solver {
+                SolverArg::Newton => SolverKind::Newton,
+                SolverArg::Minimise => SolverKind::Minimise(MinimiseSettings {
+                    dhat_mm: a.barrier_dhat,
+                    barrier_pressure: a.barrier_pressure,
+                    ..MinimiseSettings::default()
+                }),
+            },
             ..SolverSettings::default()
         },
         mode: match a.mode {
@@ -63,6 +71,8 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
                 "mesh.wall_elements" => "--wall-elements",
                 "solver.rtol" => "--rtol",
                 "solver.augmented_updates" => "--augmented",
+                "solver.kind.dhat_mm" => "--barrier-dhat",
+                "solver.kind.barrier_pressure" => "--barrier-pressure",
                 other => other,
             };
             anyhow::anyhow!("{flag} {}: expected {}", s.value, s.expected)
@@ -118,9 +128,18 @@ fn run_case(case: &Case, vtk_dir: Option<&PathBuf>, label: &str) -> Result<Respo
     Ok(response)
 }
 
+/// Newton iterations and substeps to reach one output level of a benchmark ramp.
+#[derive(Serialize)]
+struct BenchLevel {
+    pressure_bar: f64,
+    newton_iterations: usize,
+    substeps: usize,
+}
+
 #[derive(Serialize)]
 struct BenchRow {
     mesh: &'static str,
+    solver: &'static str,
     nodes: usize,
     elements: usize,
     dofs: usize,
@@ -133,6 +152,12 @@ struct BenchRow {
     newton_per_substep: f64,
     tip_uz_mm_3bar: f64,
     tip_uy_mm_3bar: f64,
+    factorizations: usize,
+    /// Per output level (the first is the self-weight at 0 bar).
+    levels: Vec<BenchLevel>,
+    /// Blocked force at 3 bar (N), in force mode.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    force_n_3bar: Option<f64>,
 }
 
 fn write_output(out: Option<&PathBuf>, json: &str, what: &str) -> Result<()> {
@@ -189,6 +214,10 @@ fn bench(a: &SimulateArgs) -> Result<()> {
         let last = r.steps.last().context("no step")?;
         let row = BenchRow {
             mesh: level.name(),
+            solver: match a.solver {
+                SolverArg::Newton => "newton",
+                SolverArg::Minimise => "minimise",
+            },
             nodes: r.nodes,
             elements: r.elements,
             dofs: r.dofs,
@@ -201,6 +230,17 @@ fn bench(a: &SimulateArgs) -> Result<()> {
             newton_per_substep: iters as f64 / substeps.max(1) as f64,
             tip_uz_mm_3bar: last.tip_uz_mm,
             tip_uy_mm_3bar: last.tip_uy_mm,
+            factorizations: r.factorizations,
+            levels: r
+                .steps
+                .iter()
+                .map(|s| BenchLevel {
+                    pressure_bar: s.pressure_bar,
+                    newton_iterations: s.newton_iterations,
+                    substeps: s.substeps,
+                })
+                .collect(),
+            force_n_3bar: last.force_n,
         };
         eprintln!(
             "{:>8}: {} dofs, {:.1} s ({:.0} % factorisation), {} Newton iterations in {} substeps",

@@ -7,6 +7,7 @@
 
 use super::load::LoadLevel;
 use super::model::{AssemblyInfo, FeModel};
+use super::projection::project_psd;
 use super::scatter::{ColouredScatter, GlobalSystem};
 use super::terms::term::{ElementContext, LocalSystem, MAX_PLANES};
 use super::terms::{dead_load, pair_contact, ELEMENT_TERMS};
@@ -35,7 +36,27 @@ impl FeModel {
         r_full: &mut [f64],
         k_values: Option<&mut [f64]>,
     ) -> Result<AssemblyInfo, ElementError> {
-        self.assemble_impl(u, level, r_full, k_values, false, None)
+        self.assemble_impl(u, level, r_full, k_values, false, None, false)
+    }
+
+    /// As [`Self::assemble_with_energy`], for the minimisation solver: the tangent's
+    /// initial-stress term may take the mixed iteration's pressures (`tangent_pressure`, see
+    /// [`Self::assemble_mixed`]), and with `project` each element's local tangent (all of its
+    /// terms) is projected onto the positive semi-definite cone ([`super::projection`]) before
+    /// it is scattered. The residual and the potential are unchanged by either.
+    ///
+    /// # Errors
+    /// As [`Self::assemble`].
+    pub fn assemble_potential(
+        &self,
+        u: &[f64],
+        level: &LoadLevel,
+        r_full: &mut [f64],
+        k_values: Option<&mut [f64]>,
+        tangent_pressure: Option<&[[f64; 4]]>,
+        project: bool,
+    ) -> Result<AssemblyInfo, ElementError> {
+        self.assemble_impl(u, level, r_full, k_values, true, tangent_pressure, project)
     }
 
     /// As [`Self::assemble`], with the initial-stress term of each element's tangent evaluated
@@ -53,7 +74,7 @@ impl FeModel {
         k_values: Option<&mut [f64]>,
         tangent_pressure: Option<&[[f64; 4]]>,
     ) -> Result<AssemblyInfo, ElementError> {
-        self.assemble_impl(u, level, r_full, k_values, false, tangent_pressure)
+        self.assemble_impl(u, level, r_full, k_values, false, tangent_pressure, false)
     }
 
     /// As [`Self::assemble`], and also evaluates the total potential
@@ -71,9 +92,10 @@ impl FeModel {
         r_full: &mut [f64],
         k_values: Option<&mut [f64]>,
     ) -> Result<AssemblyInfo, ElementError> {
-        self.assemble_impl(u, level, r_full, k_values, true, None)
+        self.assemble_impl(u, level, r_full, k_values, true, None, false)
     }
 
+    #[allow(clippy::too_many_arguments)]
     fn assemble_impl(
         &self,
         u: &[f64],
@@ -82,6 +104,7 @@ impl FeModel {
         mut k_values: Option<&mut [f64]>,
         with_energy: bool,
         tangent_pressure: Option<&[[f64; 4]]>,
+        project: bool,
     ) -> Result<AssemblyInfo, ElementError> {
         r_full.iter_mut().for_each(|v| *v = 0.0);
         if let Some(k) = k_values.as_deref_mut() {
@@ -123,6 +146,9 @@ impl FeModel {
                 let extra = self.extra_terms.iter().map(|t| &**t);
                 for term in ELEMENT_TERMS.iter().copied().chain(extra) {
                     term.add(self, &cx, local)?;
+                }
+                if project && with_k {
+                    project_psd::<DOFS>(&mut local.work.k);
                 }
                 Ok((local.energy, local.plane_forces, local.plane_gaps))
             },

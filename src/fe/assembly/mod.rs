@@ -11,6 +11,7 @@ pub mod assemble;
 pub mod dofs;
 pub mod load;
 pub mod model;
+pub mod projection;
 pub mod scatter;
 pub mod terms;
 

@@ -11,6 +11,7 @@ use rayon::prelude::*;
 
 use super::dofs::{DofMap, Pattern};
 use super::load::LoadLevel;
+use super::terms::barrier::IpcBarrier;
 use super::terms::term::{ElementTerm, MAX_PLANES};
 use crate::fe::assembly::dofs::Constraint;
 use crate::fe::contact::{self, ContactError, FacePair, PairSettings, RigidPlane, PAIR_DOFS};
@@ -66,6 +67,9 @@ pub struct FeModel {
     pub(super) pair_shifts: Vec<[AtomicU64; 9]>,
     /// Element terms added to this model after [`ELEMENT_TERMS`](super::ELEMENT_TERMS).
     pub(super) extra_terms: Vec<Box<dyn ElementTerm<FeModel>>>,
+    /// The contact law of planes and face pairs: the log barrier if set (the minimisation
+    /// solver's, no gap shifts), otherwise each obstacle's penalty.
+    pub barrier: Option<IpcBarrier>,
 }
 
 pub(super) fn load_shifts(a: &[AtomicU64; 9]) -> [f64; 9] {
@@ -154,6 +158,7 @@ impl FeModel {
             },
             pair_maps: Vec::new(),
             extra_terms: Vec::new(),
+            barrier: None,
             mesh,
         })
     }
@@ -344,6 +349,14 @@ impl FeModel {
             dmax = dmax.max(d);
         });
         (gmin, dmax)
+    }
+
+    /// The gap of every contact quadrature point at the displacement `u` (all dofs), in the
+    /// order of [`Self::contact_shifts`], into `out` (cleared first); a failed closest-point
+    /// projection gives `+∞`.
+    pub fn contact_gaps(&self, u: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+        self.visit_contact_points(u, |_, _, g, _| out.push(g));
     }
 
     /// Calls `f(ε, δ, g, c)` for every contact quadrature point (plane faces by element, then

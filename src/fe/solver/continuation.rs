@@ -5,7 +5,7 @@
 //! ([`super::stabilization`]).
 
 use super::problem::NonlinearProblem;
-use super::settings::{SolverError, SolverSettings, StepReport};
+use super::settings::{SolverError, SolverKind, SolverSettings, StepReport};
 use super::state::{PathState, STABILIZED_INCREMENT};
 use super::Solver;
 use crate::fe::assembly::LoadLevel;
@@ -189,7 +189,8 @@ pub fn solve_path<P: NonlinearProblem>(
 }
 
 /// As [`solve_path`], continuing from a converged `state` (e.g. after a change of the
-/// model's obstacles between two phases of a load path).
+/// model's obstacles between two phases of a load path). With [`SolverKind::Minimise`] the
+/// minimisation solver ([`super::minimise`]) drives the path instead.
 ///
 /// # Errors
 /// [`SolverError::NotConverged`] carrying the reports of the steps that converged.
@@ -200,6 +201,9 @@ pub fn solve_path_from<P: NonlinearProblem>(
     levels: &[LoadLevel],
     mut observe: impl FnMut(usize, &PathState, &StepReport),
 ) -> Result<Vec<StepReport>, SolverError> {
+    if let SolverKind::Minimise(_) = settings.kind {
+        return super::minimise::solve_path_from(model, settings, state, levels, observe);
+    }
     let augmented = settings.augmented_updates > 0;
     let mut solver = Solver::new(model, settings)?;
     let mut reports = Vec::with_capacity(levels.len());

@@ -1,15 +1,19 @@
 //! The sparse direct solver: supernodal LDLᵀ (faer) with its symbolic analysis done once per
-//! model, on the better of two fill-reducing orderings.
+//! model, on the better of two fill-reducing orderings; and supernodal LLᵀ on the same
+//! analysis for the minimisation solver, whose tangents are meant to be positive definite
+//! ([`LinearSolver::solve_llt`] says when one is not).
 //!
 //! The fill-reducing ordering is the one of AMD and METIS nested dissection
 //! ([`crate::fe::ordering`]) that gives the smaller factor: nested dissection on the standard
 //! mesh, AMD on the coarse one (measurements in `docs/SOLVER_MEASUREMENTS.md`).
 
+use faer::dyn_stack::StackReq;
 use faer::dyn_stack::{MemBuffer, MemStack};
 use faer::linalg::cholesky::ldlt::factor::LdltRegularization;
+use faer::linalg::cholesky::llt::factor::{LltError, LltRegularization};
 use faer::perm::PermRef;
 use faer::sparse::linalg::cholesky::{
-    factorize_symbolic_cholesky, LdltRef, SymbolicCholesky, SymmetricOrdering,
+    factorize_symbolic_cholesky, LdltRef, LltRef, SymbolicCholesky, SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
 use faer::{Conj, Mat, Side};
@@ -44,6 +48,8 @@ pub struct LinearSolver {
     pub factorizations: usize,
     /// Whether `l_values` holds a complete factor (of the last matrix passed to `solve`).
     factored: bool,
+    /// Whether that factor is an LLᵀ ([`Self::solve_llt`]) rather than an LDLᵀ.
+    factored_llt: bool,
 }
 
 impl LinearSolver {
@@ -109,8 +115,10 @@ impl LinearSolver {
             }
         };
         let par = faer::get_global_parallelism();
-        let factor_buf =
-            MemBuffer::new(symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()));
+        let factor_buf = MemBuffer::new(StackReq::or(
+            symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
+            symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
+        ));
         let solve_buf = MemBuffer::new(symbolic.solve_in_place_scratch::<f64>(1, par));
         Ok(Self {
             n,
@@ -124,6 +132,7 @@ impl LinearSolver {
             rhs: Mat::zeros(n, 1),
             factorizations: 0,
             factored: false,
+            factored_llt: false,
         })
     }
 
@@ -160,7 +169,44 @@ impl LinearSolver {
             )
             .map_err(|e| SolverError::Factorization(format!("{e:?}")))?;
         self.factored = true;
+        self.factored_llt = false;
         self.solve_factored(b)
+    }
+
+    /// Solves `K x = b` in place with a Cholesky factorisation `K = LLᵀ` (K given by its lower
+    /// triangle); returns `Ok(false)`, leaving `b` unchanged, if K is not numerically positive
+    /// definite (a pivot ≤ 0), so that the caller can fall back to a modified matrix.
+    ///
+    /// # Errors
+    /// [`SolverError::Factorization`] on a non-finite result.
+    pub fn solve_llt(&mut self, values: &[f64], b: &mut [f64]) -> Result<bool, SolverError> {
+        let sym = SymbolicSparseColMatRef::new_checked(
+            self.n,
+            self.n,
+            &self.col_ptr,
+            None,
+            &self.row_idx,
+        );
+        let mat = SparseColMatRef::new(sym, values);
+        let par = faer::get_global_parallelism();
+        self.factorizations += 1;
+        self.factored = false;
+        match self.symbolic.factorize_numeric_llt(
+            &mut self.l_values,
+            mat,
+            Side::Lower,
+            LltRegularization::default(),
+            par,
+            MemStack::new(&mut self.factor_buf),
+            Default::default(),
+        ) {
+            Ok(_) => {}
+            Err(LltError::NonPositivePivot { .. }) => return Ok(false),
+        }
+        self.factored = true;
+        self.factored_llt = true;
+        self.solve_factored(b)?;
+        Ok(true)
     }
 
     /// Whether a factor is available to [`Self::solve_factored`].
@@ -183,12 +229,22 @@ impl LinearSolver {
         for (i, v) in b.iter().enumerate() {
             self.rhs[(i, 0)] = *v;
         }
-        LdltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
-            Conj::No,
-            self.rhs.as_mut(),
-            par,
-            MemStack::new(&mut self.solve_buf),
-        );
+        let stack = MemStack::new(&mut self.solve_buf);
+        if self.factored_llt {
+            LltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
+                Conj::No,
+                self.rhs.as_mut(),
+                par,
+                stack,
+            );
+        } else {
+            LdltRef::new(&self.symbolic, &self.l_values).solve_in_place_with_conj(
+                Conj::No,
+                self.rhs.as_mut(),
+                par,
+                stack,
+            );
+        }
         for (i, v) in b.iter_mut().enumerate() {
             *v = self.rhs[(i, 0)];
             if !v.is_finite() {

@@ -13,7 +13,8 @@
 //! | [`newton`] | Newton iterations, admissibility guard, line search, early give-up |
 //! | [`augmented`] | Uzawa updates of the contact gap shifts after each output step |
 //! | [`stabilization`] | viscous pseudo-time stepping where load control stops |
-//! | [`linear`] | the sparse LDLᵀ factorisation and its fill-reducing ordering |
+//! | [`linear`] | the sparse LDLᵀ (and LLᵀ) factorisation and its fill-reducing ordering |
+//! | [`minimise`] | the other solver ([`SolverKind::Minimise`]): minimisation of the total potential with barrier contact |
 //! | [`settings`] | settings, step reports, errors |
 //! | [`state`] | the path state and the stabilisation's viscous term |
 //!
@@ -43,6 +44,7 @@
 pub mod augmented;
 pub mod continuation;
 pub mod linear;
+pub mod minimise;
 pub mod newton;
 pub mod predictor;
 pub mod problem;
@@ -54,8 +56,8 @@ pub use continuation::{solve_path, solve_path_from};
 pub use linear::{LinearSolver, Ordering};
 pub use problem::NonlinearProblem;
 pub use settings::{
-    SolverError, SolverSettings, StepReport, AUGMENTED_GAP_TOL, DEFAULT_STABILIZATION,
-    REUSE_CONTRACTION,
+    MinimiseSettings, SolverError, SolverKind, SolverSettings, StepReport, AUGMENTED_GAP_TOL,
+    DEFAULT_STABILIZATION, REUSE_CONTRACTION,
 };
 pub use state::PathState;
 

@@ -96,6 +96,32 @@ pub trait NonlinearProblem: Sync {
     fn describe_unknown(&self, eq: usize) -> String {
         format!("unknown {eq}")
     }
+
+    /// The total potential Π at the full displacement `u` and `level`, with the residual (its
+    /// gradient) and the tangent as in [`Self::residual`]; `project` makes the tangent the sum
+    /// of element tangents projected onto the positive semi-definite cone. Returns
+    /// `(Π, norm of the external forces)`, or `None` for a problem without a potential
+    /// (the default), which the minimisation solver refuses.
+    ///
+    /// # Errors
+    /// [`ElementError`] if an element is inverted or degenerate at `u`.
+    fn potential(
+        &self,
+        _u: &[f64],
+        _level: &LoadLevel,
+        _r_full: &mut [f64],
+        _tangent: Option<&mut [f64]>,
+        _mixed: Option<&[[f64; 4]]>,
+        _project: bool,
+    ) -> Result<Option<(f64, f64)>, ElementError> {
+        Ok(None)
+    }
+
+    /// The gap (mm) of every contact point at the full displacement `u`, in a fixed order,
+    /// into `out` (cleared first; empty without contact).
+    fn contact_gaps(&self, _u: &[f64], out: &mut Vec<f64>) {
+        out.clear();
+    }
 }
 
 impl NonlinearProblem for FeModel {
@@ -188,6 +214,23 @@ impl NonlinearProblem for FeModel {
 
     fn min_shifted_gap(&self, u: &[f64]) -> (f64, f64) {
         FeModel::min_shifted_gap(self, u)
+    }
+
+    fn potential(
+        &self,
+        u: &[f64],
+        level: &LoadLevel,
+        r_full: &mut [f64],
+        tangent: Option<&mut [f64]>,
+        mixed: Option<&[[f64; 4]]>,
+        project: bool,
+    ) -> Result<Option<(f64, f64)>, ElementError> {
+        self.assemble_potential(u, level, r_full, tangent, mixed, project)
+            .map(|info| Some((info.energy, info.external_norm)))
+    }
+
+    fn contact_gaps(&self, u: &[f64], out: &mut Vec<f64>) {
+        FeModel::contact_gaps(self, u, out);
     }
 
     fn describe_unknown(&self, eq: usize) -> String {

@@ -72,6 +72,55 @@ pub struct SolverSettings {
         skip_serializing_if = "is_default_stabilization"
     )]
     pub stabilization: f64,
+    /// Which nonlinear solver: the residual Newton of this module (the reference) or the
+    /// minimisation of the total potential with the log-barrier contact
+    /// ([`super::minimise`]). Written only when it is not the default, so that results
+    /// computed before it keep their keys.
+    #[serde(default, skip_serializing_if = "SolverKind::is_newton")]
+    pub kind: SolverKind,
+}
+
+/// The nonlinear solver of a case ([`SolverSettings::kind`]).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case")]
+pub enum SolverKind {
+    /// Load control, residual Newton and augmented-Lagrangian penalty contact.
+    #[default]
+    Newton,
+    /// Minimisation of the total potential: barrier contact, descent Newton with a line
+    /// search on the potential ([`super::minimise`]).
+    Minimise(MinimiseSettings),
+}
+
+impl SolverKind {
+    /// Whether this is the default residual Newton.
+    pub fn is_newton(&self) -> bool {
+        *self == Self::Newton
+    }
+}
+
+/// Settings of the minimisation solver ([`SolverKind::Minimise`]).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct MinimiseSettings {
+    /// Activation distance d̂ of the log-barrier contact (mm): the contact surface is exact to
+    /// within it ([`crate::fe::assembly::terms::barrier`]).
+    pub dhat_mm: f64,
+    /// Pressure scale p̂ of the barrier (MPa).
+    pub barrier_pressure: f64,
+    /// Target Newton iterations per load increment: an increment that took at most this many
+    /// is followed by one twice as large, one that took more than twice as many by one half
+    /// as large.
+    pub target_iterations: usize,
+}
+
+impl Default for MinimiseSettings {
+    fn default() -> Self {
+        Self {
+            dhat_mm: crate::fe::assembly::terms::barrier::DEFAULT_DHAT,
+            barrier_pressure: crate::fe::assembly::terms::barrier::DEFAULT_BARRIER_PRESSURE,
+            target_iterations: 4,
+        }
+    }
 }
 
 /// Default of [`SolverSettings::stabilization`].
@@ -123,6 +172,7 @@ impl Default for SolverSettings {
             augmented_updates: 6,
             reuse_factor: false,
             stabilization: DEFAULT_STABILIZATION,
+            kind: SolverKind::Newton,
         }
     }
 }
@@ -185,6 +235,29 @@ impl SolverSettings {
                 self.augmented_updates as f64,
                 "at most 100 Uzawa updates per output step (2–4 are used)",
             ));
+        }
+        if let SolverKind::Minimise(m) = &self.kind {
+            if !(m.dhat_mm.is_finite() && (1e-6..=0.5).contains(&m.dhat_mm)) {
+                return Err(InvalidSetting::new(
+                    "kind.dhat_mm",
+                    m.dhat_mm,
+                    "a barrier activation distance d̂ in [1e-6, 0.5] mm",
+                ));
+            }
+            if !(m.barrier_pressure.is_finite() && (1e-4..=1e3).contains(&m.barrier_pressure)) {
+                return Err(InvalidSetting::new(
+                    "kind.barrier_pressure",
+                    m.barrier_pressure,
+                    "a barrier pressure scale p̂ in [1e-4, 1e3] MPa",
+                ));
+            }
+            if !(1..=20).contains(&m.target_iterations) {
+                return Err(InvalidSetting::new(
+                    "kind.target_iterations",
+                    m.target_iterations as f64,
+                    "a target of 1 to 20 Newton iterations per increment",
+                ));
+            }
         }
         Ok(())
     }
@@ -256,6 +329,13 @@ pub enum SolverError {
     /// An element is degenerate or inverted at a converged state.
     #[error(transparent)]
     Element(#[from] ElementError),
+    /// The minimisation solver was asked to drive a problem without a total potential.
+    #[error("the minimisation solver needs a problem with a total potential; this one has none")]
+    NoPotential,
+    /// The starting state of the minimisation is not admissible (a contact gap ≤ 0 under the
+    /// barrier, or an inverted element).
+    #[error("the minimisation solver cannot start: {0}")]
+    Inadmissible(String),
 }
 
 #[cfg(test)]
@@ -284,6 +364,41 @@ mod tests {
         bad(|s| s.max_pressure_increment = 0.0, "max_pressure_increment");
         bad(|s| s.stabilization = -1.0, "stabilization");
         bad(|s| s.augmented_updates = 1000, "augmented_updates");
+        let minimise = |m: MinimiseSettings| SolverSettings {
+            kind: SolverKind::Minimise(m),
+            ..SolverSettings::default()
+        };
+        minimise(MinimiseSettings::default())
+            .validate()
+            .expect("minimise defaults");
+        for (m, field) in [
+            (
+                MinimiseSettings {
+                    dhat_mm: 0.0,
+                    ..MinimiseSettings::default()
+                },
+                "kind.dhat_mm",
+            ),
+            (
+                MinimiseSettings {
+                    barrier_pressure: f64::NAN,
+                    ..MinimiseSettings::default()
+                },
+                "kind.barrier_pressure",
+            ),
+            (
+                MinimiseSettings {
+                    target_iterations: 0,
+                    ..MinimiseSettings::default()
+                },
+                "kind.target_iterations",
+            ),
+        ] {
+            assert_eq!(minimise(m).validate().unwrap_err().field, field);
+        }
+        // the default kind is not written, so that settings keep their keys
+        let json = serde_json::to_string(&SolverSettings::default()).unwrap();
+        assert!(!json.contains("kind"), "{json}");
         let e = SolverSettings {
             rtol: 1.0,
             ..SolverSettings::default()

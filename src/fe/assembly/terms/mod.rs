@@ -8,6 +8,7 @@
 //! | deformable–deformable contact between facing bellow walls | [`pair_contact`] | face pair |
 //! | gravity and dead tractions | [`dead_load`] | load vector |
 //! | elastic foundation of a compliant clamp (added by a case's effects) | [`foundation`] | element, added |
+//! | log-barrier contact law of the minimisation solver (replaces the penalty of both contacts) | [`barrier`] | law |
 //!
 //! An element term adds its contribution of one element to that element's local system
 //! ([`term::LocalSystem`]); the assembly evaluates [`ELEMENT_TERMS`] and then the model's added terms
@@ -15,6 +16,7 @@
 //! A new physical term is one new file implementing [`term::ElementTerm`] and one entry in that list
 //! (or one call to `add_element_term` where a case builds its model).
 
+pub mod barrier;
 pub mod dead_load;
 pub mod foundation;
 pub mod pair_contact;

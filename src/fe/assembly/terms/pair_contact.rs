@@ -1,6 +1,7 @@
 //! Deformable–deformable contact between facing bellow walls: a smoothed penalty on the gap
 //! between the two faces of each pair ([`crate::fe::contact::pair_face`]), with
-//! augmented-Lagrangian shifts. A pair couples 18 nodes of two elements that may share a
+//! augmented-Lagrangian shifts, or the log barrier of [`super::barrier`] where the model
+//! carries one ([`FeModel::barrier`]). A pair couples 18 nodes of two elements that may share a
 //! colour, so pairs are evaluated in parallel and added serially, in pair order.
 
 use rayon::prelude::*;
@@ -49,16 +50,31 @@ pub fn add(
             let xf = p.front.map(pos);
             let mut r = [0.0; PAIR_DOFS];
             let mut k = with_k.then(|| Box::new([0.0; PAIR_DOFS * PAIR_DOFS]));
-            let (e, f, g) = contact::pair_face(
-                &model.pair_settings,
-                p.orientation,
-                &x0b,
-                &xb,
-                &xf,
-                &load_shifts(shift),
-                &mut r,
-                k.as_deref_mut(),
-            );
+            let set = &model.pair_settings;
+            let (e, f, g) = match &model.barrier {
+                // the log barrier: no gap shifts
+                Some(b) => contact::pair_face_with(
+                    |g| b.eval(g),
+                    set,
+                    p.orientation,
+                    &x0b,
+                    &xb,
+                    &xf,
+                    &[0.0; 9],
+                    &mut r,
+                    k.as_deref_mut(),
+                ),
+                None => contact::pair_face(
+                    set,
+                    p.orientation,
+                    &x0b,
+                    &xb,
+                    &xf,
+                    &load_shifts(shift),
+                    &mut r,
+                    k.as_deref_mut(),
+                ),
+            };
             let active = r.iter().any(|v| *v != 0.0)
                 || k.as_ref().is_some_and(|k| k.iter().any(|v| *v != 0.0));
             let local = active.then(|| Box::new((r, k.map_or(Vec::new(), |k| k.to_vec()))));

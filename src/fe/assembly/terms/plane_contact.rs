@@ -1,7 +1,8 @@
 //! Contact of element faces with rigid planes (the clamp block, the force plate): a smoothed
 //! penalty on the gap at each face quadrature point, shifted by the augmented-Lagrangian
-//! multipliers ([`crate::fe::contact::plane_face`]). Reports each plane's normal force and
-//! smallest gap.
+//! multipliers ([`crate::fe::contact::plane_face`]), or the log barrier of
+//! [`super::barrier`] where the model carries one ([`FeModel::barrier`]). Reports each plane's
+//! normal force and smallest gap.
 
 use super::term::{ElementContext, ElementTerm, LocalSystem};
 use crate::fe::assembly::model::{load_shifts, FeModel};
@@ -35,14 +36,21 @@ impl ElementTerm<FeModel> for PlaneContact {
             });
             let mut rf = [0.0; 27];
             let mut kf = [0.0; 729];
-            let (ce, cf, cg) = contact::plane_face(
-                &model.planes[*pi],
-                &x0,
-                &xf,
-                &load_shifts(shift),
-                &mut rf,
-                cx.with_tangent.then_some(&mut kf),
-            );
+            let kf_out = cx.with_tangent.then_some(&mut kf);
+            let plane = &model.planes[*pi];
+            let (ce, cf, cg) = match &model.barrier {
+                // the log barrier: no gap shifts
+                Some(b) => contact::plane_face_with(
+                    |g| b.eval(g),
+                    plane,
+                    &x0,
+                    &xf,
+                    &[0.0; 9],
+                    &mut rf,
+                    kf_out,
+                ),
+                None => contact::plane_face(plane, &x0, &xf, &load_shifts(shift), &mut rf, kf_out),
+            };
             if cx.with_energy {
                 local.energy += ce;
             }
