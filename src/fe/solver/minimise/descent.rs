@@ -7,7 +7,7 @@
 //! (the Maratos effect of a penalised constraint); an Armijo search on Π then cuts such
 //! steps to a few percent and needs tens of iterations per increment. So full admissible
 //! steps are taken (gaps positive, no inverted element, Π finite) as long as, within
-//! [`WATCHDOG_STEPS`] steps, Π falls below its value where the watch began by the Armijo
+//! `WATCHDOG_STEPS` (8) steps, Π falls below its value where the watch began by the Armijo
 //! decrease of the first step; otherwise the increment returns to that state and continues
 //! with a backtracking Armijo line search on Π (monotone, hence convergent).
 
@@ -17,38 +17,9 @@ use super::super::problem::NonlinearProblem;
 use super::super::settings::SolverError;
 use super::super::state::PathState;
 use super::super::{dot, norm};
+use super::outcome::{Outcome, Stop};
 use super::Minimiser;
 use crate::fe::assembly::LoadLevel;
-
-/// How the minimisation of one increment stopped.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub enum Stop {
-    /// ‖r‖ ≤ rtol · force scale.
-    Converged,
-    /// [`super::super::SolverSettings::max_iterations`] reached.
-    MaxIterations,
-    /// No step length gave a sufficient decrease of Π.
-    LineSearch,
-    /// No descent direction (every fallback of the tangent failed).
-    NoDescent,
-    /// The starting state is inadmissible (an inverted element, a gap ≤ 0 under the barrier).
-    Inadmissible,
-    /// A non-finite residual.
-    NotFinite,
-}
-
-/// The outcome of one increment.
-#[derive(Clone, Copy, Debug)]
-pub struct Outcome {
-    /// Why it stopped.
-    pub stop: Stop,
-    /// Newton iterations (factorised directions).
-    pub iterations: usize,
-    /// Last normalised residual ‖r‖ / force scale.
-    pub residual: f64,
-    /// Last normalised update α‖Δu‖ / ‖u‖.
-    pub update: f64,
-}
 
 /// Armijo constant of the sufficient decrease `Π(u + αd) ≤ Π(u) + c α ∇Π·d`.
 const ARMIJO: f64 = 1e-4;

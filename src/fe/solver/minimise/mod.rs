@@ -36,6 +36,7 @@
 //! against the augmented-Lagrangian penalty's.
 
 pub mod descent;
+pub mod outcome;
 
 use std::time::Instant;
 
@@ -204,7 +205,7 @@ impl<'m, P: NonlinearProblem> Minimiser<'m, P> {
             report.newton_iterations += out.iterations;
             report.residual = out.residual;
             report.update = out.update;
-            if out.stop == descent::Stop::Converged {
+            if out.stop == outcome::Stop::Converged {
                 if state.history.len() == 2 {
                     state.history.remove(0);
                 }
