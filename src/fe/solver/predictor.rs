@@ -11,61 +11,11 @@ impl<P: NonlinearProblem> Solver<'_, P> {
     /// Predictor: moves `state.u_free` to the extrapolated path at `level` and returns
     /// whether it did ([`SolverSettings::predictor`]).
     pub(super) fn predict(&mut self, state: &mut PathState, level: &LoadLevel) -> bool {
-        // extrapolate along a path on which one load component varies (the one that differs
-        // between the last level and this one): quadratic through the last three converged
-        // states, linear through two
-        let parts = |l: &LoadLevel| [l.pressure, l.gravity, l.traction, l.prescribed];
-        let (now, target) = (parts(&state.level), parts(level));
-        let varying: Vec<usize> = (0..4).filter(|&c| now[c] != target[c]).collect();
-        let [c] = varying[..] else {
-            return false;
-        };
-        let same_path = |l: &LoadLevel| {
-            let p = parts(l);
-            (0..4).all(|i| i == c || p[i] == target[i])
-        };
-        let param = |l: &LoadLevel| parts(l)[c];
-        let k = state.history.len();
-        let usable = state
-            .history
-            .iter()
-            .rev()
-            .take_while(|(_, l)| same_path(l))
-            .count();
-        if usable == 0 {
-            return false;
-        }
-        let t = param(level);
-        let t2 = param(&state.level);
         let mut u_pred = std::mem::take(&mut self.u_pred);
-        u_pred.clear();
-        if usable >= 2 {
-            let (u0, l0) = &state.history[k - 2];
-            let (u1, l1) = &state.history[k - 1];
-            let (t0, t1) = (param(l0), param(l1));
-            if t0 == t1 || t1 == t2 || t0 == t2 {
-                self.u_pred = u_pred;
-                return false;
-            }
-            let w0 = (t - t1) * (t - t2) / ((t0 - t1) * (t0 - t2));
-            let w1 = (t - t0) * (t - t2) / ((t1 - t0) * (t1 - t2));
-            let w2 = (t - t0) * (t - t1) / ((t2 - t0) * (t2 - t1));
-            u_pred.extend(
-                u0.iter()
-                    .zip(u1)
-                    .zip(&state.u_free)
-                    .map(|((a, b), c)| w0 * a + w1 * b + w2 * c),
-            );
-        } else {
-            let (u1, l1) = &state.history[k - 1];
-            let t1 = param(l1);
-            if t1 == t2 {
-                self.u_pred = u_pred;
-                return false;
-            }
-            let w = (t - t2) / (t2 - t1);
-            u_pred.extend(u1.iter().zip(&state.u_free).map(|(a, c)| c + w * (c - a)));
-        }
+        let Some(points) = extrapolate(state, level, &mut u_pred) else {
+            self.u_pred = u_pred;
+            return false;
+        };
         // reject a prediction that pushes a contact point deeper than the smoothing zone
         // below where the last state had it (a contact that the extrapolation does not know
         // about: Newton would start from a deep penetration); one that inverts an element
@@ -79,7 +29,7 @@ impl<P: NonlinearProblem> Solver<'_, P> {
         if self.settings.trace {
             eprintln!(
                 "  predictor ({} points): smallest gap {g_pred:.3e} mm (last {g_last:.3e}): {}",
-                usable.min(2) + 1,
+                points,
                 if accept { "used" } else { "rejected" }
             );
         }
@@ -89,5 +39,64 @@ impl<P: NonlinearProblem> Solver<'_, P> {
         state.u_full = u_full;
         self.u_pred = u_pred;
         accept
+    }
+}
+
+/// The free unknowns extrapolated along the path to `level` into `out`: quadratic through the
+/// last three converged states, linear through two, in the one load component that varies;
+/// the number of states used (3 or 2), `None` if the history does not allow it.
+pub(super) fn extrapolate(
+    state: &PathState,
+    level: &LoadLevel,
+    out: &mut Vec<f64>,
+) -> Option<usize> {
+    let parts = |l: &LoadLevel| [l.pressure, l.gravity, l.traction, l.prescribed];
+    let (now, target) = (parts(&state.level), parts(level));
+    let varying: Vec<usize> = (0..4).filter(|&c| now[c] != target[c]).collect();
+    let [c] = varying[..] else {
+        return None;
+    };
+    let same_path = |l: &LoadLevel| {
+        let p = parts(l);
+        (0..4).all(|i| i == c || p[i] == target[i])
+    };
+    let param = |l: &LoadLevel| parts(l)[c];
+    let k = state.history.len();
+    let usable = state
+        .history
+        .iter()
+        .rev()
+        .take_while(|(_, l)| same_path(l))
+        .count();
+    let (t, t2) = (param(level), param(&state.level));
+    out.clear();
+    if usable >= 2 {
+        let (u0, l0) = &state.history[k - 2];
+        let (u1, l1) = &state.history[k - 1];
+        let (t0, t1) = (param(l0), param(l1));
+        if t0 == t1 || t1 == t2 || t0 == t2 {
+            return None;
+        }
+        let w0 = (t - t1) * (t - t2) / ((t0 - t1) * (t0 - t2));
+        let w1 = (t - t0) * (t - t2) / ((t1 - t0) * (t1 - t2));
+        let w2 = (t - t0) * (t - t1) / ((t2 - t0) * (t2 - t1));
+        out.extend(
+            u0.iter()
+                .zip(u1)
+                .zip(&state.u_free)
+                .map(|((a, b), c)| w0 * a + w1 * b + w2 * c),
+        );
+        Some(3)
+    } else if usable == 1 {
+        let (u1, l1) = &state.history[k - 1];
+        let t1 = param(l1);
+        if t1 == t2 {
+            return None;
+        }
+        let w = (t - t2) / (t2 - t1);
+        out.extend(u1.iter().zip(&state.u_free).map(|(a, c)| c + w * (c - a)));
+        Some(2)
+    } else {
+        None
     }
 }

@@ -261,7 +261,7 @@ impl<'m, P: NonlinearProblem> Minimiser<'m, P> {
     /// lower Π at `level` than the last converged state; returns whether it did.
     fn predict(&mut self, state: &mut PathState, level: &LoadLevel) -> Result<bool, SolverError> {
         let mut pred = std::mem::take(&mut self.trial);
-        let ok = extrapolate(state, level, &mut pred);
+        let ok = super::predictor::extrapolate(state, level, &mut pred).is_some();
         if !ok {
             // the scratch keeps its length
             pred.resize(self.model.n_free(), 0.0);
@@ -286,61 +286,6 @@ impl<'m, P: NonlinearProblem> Minimiser<'m, P> {
         }
         self.trial = pred;
         Ok(accept)
-    }
-}
-
-/// The free unknowns extrapolated along the path to `level` into `out`: quadratic through the
-/// last three converged states, linear through two, in the one load component that varies;
-/// `false` if the history does not allow it.
-fn extrapolate(state: &PathState, level: &LoadLevel, out: &mut Vec<f64>) -> bool {
-    let parts = |l: &LoadLevel| [l.pressure, l.gravity, l.traction, l.prescribed];
-    let (now, target) = (parts(&state.level), parts(level));
-    let varying: Vec<usize> = (0..4).filter(|&c| now[c] != target[c]).collect();
-    let [c] = varying[..] else {
-        return false;
-    };
-    let same_path = |l: &LoadLevel| {
-        let p = parts(l);
-        (0..4).all(|i| i == c || p[i] == target[i])
-    };
-    let param = |l: &LoadLevel| parts(l)[c];
-    let k = state.history.len();
-    let usable = state
-        .history
-        .iter()
-        .rev()
-        .take_while(|(_, l)| same_path(l))
-        .count();
-    let (t, t2) = (param(level), param(&state.level));
-    out.clear();
-    if usable >= 2 {
-        let (u0, l0) = &state.history[k - 2];
-        let (u1, l1) = &state.history[k - 1];
-        let (t0, t1) = (param(l0), param(l1));
-        if t0 == t1 || t1 == t2 || t0 == t2 {
-            return false;
-        }
-        let w0 = (t - t1) * (t - t2) / ((t0 - t1) * (t0 - t2));
-        let w1 = (t - t0) * (t - t2) / ((t1 - t0) * (t1 - t2));
-        let w2 = (t - t0) * (t - t1) / ((t2 - t0) * (t2 - t1));
-        out.extend(
-            u0.iter()
-                .zip(u1)
-                .zip(&state.u_free)
-                .map(|((a, b), c)| w0 * a + w1 * b + w2 * c),
-        );
-        true
-    } else if usable == 1 {
-        let (u1, l1) = &state.history[k - 1];
-        let t1 = param(l1);
-        if t1 == t2 {
-            return false;
-        }
-        let w = (t - t2) / (t2 - t1);
-        out.extend(u1.iter().zip(&state.u_free).map(|(a, c)| c + w * (c - a)));
-        true
-    } else {
-        false
     }
 }
 
