@@ -141,9 +141,11 @@ fn force_rig_effects_move_the_blocked_force_the_way_their_physics_says() {
     // a closer plate is reached earlier: more force at the same pressure
     let closer = force(&run(Mode::Force, &[(Effect::PlateOffset, -1.5)]));
     assert!(closer > f0, "{closer} vs {f0}");
-    // the load cell's scale multiplies the reading
+    // the load cell's scale multiplies the reading (to the ramp's round-off: the parallel
+    // assembly sums in an order that depends on the threads, and the force at 0.5 bar is a
+    // small difference of contact forces, so two runs agree to about 1e-10, not bit for bit)
     let scaled = force(&run(Mode::Force, &[(Effect::ForceScale, 1.2)]));
-    assert!((scaled / f0 - 1.2).abs() < 1e-12, "{scaled} vs {f0}");
+    assert!((scaled / f0 - 1.2).abs() < 1e-6, "{scaled} vs {f0}");
     // a pressure loss lowers the force
     let lost = force(&run(Mode::Force, &[(Effect::PressureLoss, 0.2)]));
     assert!(lost < f0, "{lost} vs {f0}");
