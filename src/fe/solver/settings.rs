@@ -338,6 +338,30 @@ pub enum SolverError {
     Inadmissible(String),
 }
 
+impl SolverError {
+    /// A [`SolverError::NotConverged`] of a path, carrying the `reports` of the output steps
+    /// that converged before it (`completed` is their number); other errors unchanged.
+    pub fn after(self, reports: Vec<StepReport>) -> Self {
+        match self {
+            SolverError::NotConverged {
+                target,
+                reached,
+                cutbacks,
+                residual,
+                ..
+            } => SolverError::NotConverged {
+                target,
+                reached,
+                cutbacks,
+                residual,
+                completed: reports.len(),
+                reports,
+            },
+            e => e,
+        }
+    }
+}
+
 #[cfg(test)]
 mod tests {
     use super::*;

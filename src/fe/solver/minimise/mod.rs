@@ -310,23 +310,7 @@ pub fn solve_path_from<P: NonlinearProblem>(
                 observe(i, state, &rep);
                 reports.push(rep);
             }
-            Err(SolverError::NotConverged {
-                target,
-                reached,
-                cutbacks,
-                residual,
-                ..
-            }) => {
-                return Err(SolverError::NotConverged {
-                    target,
-                    reached,
-                    cutbacks,
-                    residual,
-                    completed: reports.len(),
-                    reports,
-                })
-            }
-            Err(e) => return Err(e),
+            Err(e) => return Err(e.after(reports)),
         }
     }
     Ok(reports)
