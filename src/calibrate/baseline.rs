@@ -28,6 +28,9 @@ use crate::fe::effects::Effects;
 use crate::fe::geometry::DesignParams;
 use crate::fe::material::Material;
 use crate::fe::mesh::MeshOptions;
+use crate::fe::sensitivity::{
+    sensitivities_with, Parameter, Sensitivities, SENSITIVITY_FORMAT_VERSION,
+};
 use crate::fe::simulate::{
     simulate_with, Case, ContactSettings, Mode, SimulateError, StepResult, FORCE_MODEL_REVISION,
 };
@@ -171,13 +174,125 @@ impl BaselineError {
     }
 }
 
+/// Format name of a sweep's sensitivities file ([`SweepSensitivities`]).
+pub const SWEEP_SENSITIVITY_FORMAT: &str = "surrogate-sweep-sensitivities";
+
+/// Version of that file.
+pub const SWEEP_SENSITIVITY_VERSION: u32 = 1;
+
+/// The sensitivities of one ramp of a sweep.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DesignSensitivities {
+    /// Number of bellows.
+    pub n_bellows: usize,
+    /// Wall thickness (mm).
+    pub wall_thickness_mm: f64,
+    /// Bending or blocked force.
+    pub mode: Mode,
+    /// Every reported step's outputs and their derivatives.
+    pub sensitivities: Sensitivities,
+}
+
+/// The sensitivities of a sweep's ramps: what the discrepancy diagnoser reads (its
+/// signatures of the effects, at the material of the sweep). Written by
+/// `surrogate validate --sensitivities`, versioned and checked on load.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct SweepSensitivities {
+    /// [`SWEEP_SENSITIVITY_FORMAT`].
+    pub format: String,
+    /// [`SWEEP_SENSITIVITY_VERSION`].
+    pub version: u32,
+    /// The material of every ramp.
+    pub material: Material,
+    /// The mesh.
+    pub mesh: MeshOptions,
+    /// The effects of every ramp (neutral: none).
+    pub effects: Effects,
+    /// One per ramp that finished.
+    pub designs: Vec<DesignSensitivities>,
+    /// Ramps without sensitivities, and why (not in the cache, stopped early).
+    pub missing: Vec<String>,
+}
+
+impl SweepSensitivities {
+    /// The sensitivities of `ramps`, run with `settings`.
+    pub fn of(settings: &SweepSettings, ramps: &[SweepRamp]) -> Self {
+        let mut designs = Vec::new();
+        let mut missing = Vec::new();
+        for r in ramps {
+            match &r.sensitivities {
+                Some(s) => designs.push(DesignSensitivities {
+                    n_bellows: r.n_bellows,
+                    wall_thickness_mm: r.wall_thickness_mm,
+                    mode: r.mode,
+                    sensitivities: s.clone(),
+                }),
+                None => missing.push(format!(
+                    "N = {}, T = {} mm, {:?}: {}",
+                    r.n_bellows,
+                    r.wall_thickness_mm,
+                    r.mode,
+                    if r.error.is_empty() {
+                        "no sensitivities"
+                    } else {
+                        &r.error
+                    }
+                )),
+            }
+        }
+        Self {
+            format: SWEEP_SENSITIVITY_FORMAT.into(),
+            version: SWEEP_SENSITIVITY_VERSION,
+            material: settings.material.clone(),
+            mesh: settings.mesh,
+            effects: settings.effects.clone(),
+            designs,
+            missing,
+        }
+    }
+
+    /// Reads a file written from [`Self::of`].
+    ///
+    /// # Errors
+    /// [`BaselineError::Cache`] naming the file if it cannot be read or parsed, or is not
+    /// this format and version.
+    pub fn read(path: &Path) -> Result<Self, BaselineError> {
+        let text = std::fs::read_to_string(path).map_err(|e| BaselineError::cache(path, e))?;
+        let s: Self = serde_json::from_str(&text).map_err(|e| BaselineError::cache(path, e))?;
+        if s.format != SWEEP_SENSITIVITY_FORMAT || s.version != SWEEP_SENSITIVITY_VERSION {
+            return Err(BaselineError::cache(
+                path,
+                format!(
+                    "format {} version {}: expected {SWEEP_SENSITIVITY_FORMAT} version                      {SWEEP_SENSITIVITY_VERSION}",
+                    s.format, s.version
+                ),
+            ));
+        }
+        Ok(s)
+    }
+
+    /// The sensitivities of design `(n, t)` in `mode`, if there.
+    pub fn design(&self, n: usize, t: f64, mode: Mode) -> Option<&Sensitivities> {
+        self.designs
+            .iter()
+            .find(|d| d.n_bellows == n && d.wall_thickness_mm == t && d.mode == mode)
+            .map(|d| &d.sensitivities)
+    }
+}
+
 /// A cached ramp: the key (everything that defines it) and its outcome.
 #[derive(Serialize, Deserialize)]
 struct CachedRamp {
     key: String,
     steps: Vec<StepResult>,
     error: String,
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    sensitivities: Option<Sensitivities>,
 }
+
+/// What a cached ramp holds: its steps, the solver's message if it stopped, its
+/// sensitivities if asked for.
+type RampOutcome = (Vec<StepResult>, String, Option<Sensitivities>);
 
 /// Where one ramp of the baseline is cached, and its key.
 struct RampCache {
@@ -186,7 +301,7 @@ struct RampCache {
 }
 
 impl RampCache {
-    fn at(dir: &Path, case: &Case) -> Self {
+    fn at(dir: &Path, case: &Case, sensitivities: &[Parameter]) -> Self {
         let mode = match case.mode {
             Mode::Bending => "bending",
             Mode::Force => "force",
@@ -210,10 +325,18 @@ impl RampCache {
         if !case.effects.is_neutral() {
             key["effects"] = serde_json::to_value(&case.effects).unwrap_or_default();
         }
+        // a ramp with sensitivities has its own file and key (a plain one keeps its own)
+        let suffix = if sensitivities.is_empty() {
+            String::new()
+        } else {
+            key["sensitivities"] = serde_json::to_value(sensitivities).unwrap_or_default();
+            key["sensitivity_version"] = SENSITIVITY_FORMAT_VERSION.into();
+            "_sensitivities".into()
+        };
         let key = key.to_string();
         RampCache {
             path: dir.join(format!(
-                "n{}_t{}_{mode}.json",
+                "n{}_t{}_{mode}{suffix}.json",
                 p.n_bellows, p.wall_thickness
             )),
             key,
@@ -221,17 +344,18 @@ impl RampCache {
     }
 
     /// The cached outcome if the file exists, parses and carries the same key.
-    fn load(&self) -> Option<(Vec<StepResult>, String)> {
+    fn load(&self) -> Option<RampOutcome> {
         let text = std::fs::read_to_string(&self.path).ok()?;
         let c: CachedRamp = serde_json::from_str(&text).ok()?;
-        (c.key == self.key).then_some((c.steps, c.error))
+        (c.key == self.key).then_some((c.steps, c.error, c.sensitivities))
     }
 
-    fn store(&self, r: &(Vec<StepResult>, String)) -> Result<(), BaselineError> {
+    fn store(&self, r: &RampOutcome) -> Result<(), BaselineError> {
         let c = CachedRamp {
             key: self.key.clone(),
             steps: r.0.clone(),
             error: r.1.clone(),
+            sensitivities: r.2.clone(),
         };
         let text = serde_json::to_string(&c).map_err(|e| BaselineError::cache(&self.path, e))?;
         crate::io::write_atomic(&self.path, text.as_bytes())
@@ -258,6 +382,10 @@ pub struct SweepSettings {
     pub solver: SolverSettings,
     /// Self-weight on/off.
     pub gravity: bool,
+    /// Differentiate every ramp's outputs with respect to these parameters
+    /// ([`crate::fe::sensitivity`]; none by default). Such ramps are cached apart from the
+    /// plain ones (their key names the parameters).
+    pub sensitivities: Vec<Parameter>,
 }
 
 impl SweepSettings {
@@ -271,6 +399,7 @@ impl SweepSettings {
             effects: Effects::default(),
             solver: SolverSettings::default(),
             gravity: true,
+            sensitivities: Vec::new(),
         }
     }
 
@@ -366,6 +495,8 @@ pub struct SweepRamp {
     pub error: String,
     /// Run now or read from the cache.
     pub source: RampSource,
+    /// The sensitivities of the steps, if the sweep asked for them and the ramp finished.
+    pub sensitivities: Option<Sensitivities>,
 }
 
 impl SweepRamp {
@@ -464,27 +595,24 @@ fn sweep(
                 d.pressures_bar.clone(),
                 mode,
             )?;
-            let cached = cache.map(|dir| RampCache::at(dir, &case));
-            let (steps, error, source) = match cached.as_ref().and_then(RampCache::load) {
-                Some((steps, error)) => (steps, error, RampSource::Cache),
-                None if !compute => (
-                    Vec::new(),
-                    "not in the cache".to_string(),
-                    RampSource::Missing,
-                ),
-                None => {
-                    let mut steps = Vec::new();
-                    let outcome = simulate_with(&case, |_, _| {}, |_, r, _| steps.push(r.clone()));
-                    let r = (
-                        steps,
-                        outcome.err().map_or(String::new(), |e| e.to_string()),
-                    );
-                    if let Some(c) = &cached {
-                        c.store(&r)?;
+            let cached = cache.map(|dir| RampCache::at(dir, &case, &settings.sensitivities));
+            let (steps, error, sensitivities, source) =
+                match cached.as_ref().and_then(RampCache::load) {
+                    Some((steps, error, sens)) => (steps, error, sens, RampSource::Cache),
+                    None if !compute => (
+                        Vec::new(),
+                        "not in the cache".to_string(),
+                        None,
+                        RampSource::Missing,
+                    ),
+                    None => {
+                        let r = run_ramp(&case, &settings.sensitivities);
+                        if let Some(c) = &cached {
+                            c.store(&r)?;
+                        }
+                        (r.0, r.1, r.2, RampSource::Run)
                     }
-                    (r.0, r.1, RampSource::Run)
-                }
-            };
+                };
             let k = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
             progress(k, jobs.len());
             Ok(SweepRamp {
@@ -494,10 +622,29 @@ fn sweep(
                 steps,
                 error,
                 source,
+                sensitivities,
             })
         })
         .collect();
     results.into_iter().collect()
+}
+
+/// One ramp of a sweep: the steps it reached and why it stopped, with the sensitivities to
+/// `parameters` if any are asked for (and the ramp finished).
+fn run_ramp(case: &Case, parameters: &[Parameter]) -> RampOutcome {
+    let mut steps = Vec::new();
+    if parameters.is_empty() {
+        let outcome = simulate_with(case, |_, _| {}, |_, r, _| steps.push(r.clone()));
+        return (
+            steps,
+            outcome.err().map_or(String::new(), |e| e.to_string()),
+            None,
+        );
+    }
+    match sensitivities_with(case, parameters, |_, _| {}, |_, r, _| steps.push(r.clone())) {
+        Ok((_, sens)) => (steps, String::new(), Some(sens)),
+        Err(e) => (steps, e.to_string(), None),
+    }
 }
 
 /// The baseline table: one row per bending record, from the ramps of its design.
@@ -692,20 +839,24 @@ mod tests {
     fn cached_ramps_are_reused_only_for_the_same_settings() {
         let dir = std::env::temp_dir().join(format!("surrogate_ramps_{}", std::process::id()));
         std::fs::create_dir_all(&dir).unwrap();
-        let c = RampCache::at(&dir, &case(20.0));
+        let c = RampCache::at(&dir, &case(20.0), &[]);
         assert!(
             c.path.ends_with("n11_t2_force.json"),
             "{}",
             c.path.display()
         );
         assert!(c.load().is_none(), "nothing cached yet");
-        let ramp = (Vec::new(), "stopped at 1.5 bar".to_string());
+        let ramp = (Vec::new(), "stopped at 1.5 bar".to_string(), None);
         c.store(&ramp).unwrap();
         assert_eq!(c.load(), Some(ramp));
         // another setting: same file name, other key, not reused
-        let other = RampCache::at(&dir, &case(40.0));
+        let other = RampCache::at(&dir, &case(40.0), &[]);
         assert_eq!(other.path, c.path);
         assert!(other.load().is_none());
+        // a ramp with sensitivities: its own file and key
+        let sens = RampCache::at(&dir, &case(20.0), &Parameter::all());
+        assert!(sens.path.ends_with("n11_t2_force_sensitivities.json"));
+        assert!(sens.load().is_none());
         // a damaged file is recomputed, not trusted
         std::fs::write(&c.path, "{\"key\": ").unwrap();
         assert!(c.load().is_none());

@@ -661,6 +661,19 @@ impl ActuatorMesh {
     pub fn mesh(&self) -> &Mesh {
         &self.grid.mesh
     }
+
+    /// The clamped face: the outer faces in the plane z = 0 (where the support nodes are),
+    /// on which a compliant clamp's springs act.
+    pub fn clamped_faces(&self) -> Vec<Face> {
+        let nodes = &self.mesh().nodes;
+        self.grid
+            .boundary_faces(|k| matches!(k, None | Some(Region::Exterior)))
+            .into_iter()
+            .map(|(f, _)| f)
+            .filter(|f| f.axis == 2 && !f.positive)
+            .filter(|f| f.nodes.iter().all(|&n| nodes[n][2] == 0.0))
+            .collect()
+    }
 }
 
 #[cfg(test)]

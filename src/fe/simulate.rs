@@ -403,8 +403,52 @@ impl ActuatorModel {
         contact: &ContactSettings,
         effects: &Effects,
     ) -> Result<Self, SimulateError> {
-        contact.validate()?;
         let mesh = ActuatorMesh::new(design, options);
+        Self::on_mesh(mesh, design, material, mode, contact, effects, None)
+    }
+
+    /// The model of a nearby design on a moved copy of this model's mesh
+    /// ([`ActuatorMesh::moved`]) or on this mesh with other effects or material: the same
+    /// node numbering, constraints (for the same clamp), face pairs and obstacles, so that a
+    /// displacement of this model is one of the variant's. The contact gap shifts start at
+    /// zero and the plate where [`ActuatorModel::with_effects`] puts it: the caller copies
+    /// both from this model's state.
+    ///
+    /// # Errors
+    /// See [`ActuatorModel::new`].
+    pub fn variant(
+        &self,
+        mesh: ActuatorMesh,
+        design: &Design,
+        material: &Material,
+        (mode, contact): (Mode, &ContactSettings),
+        effects: &Effects,
+    ) -> Result<Self, SimulateError> {
+        let mut model = Self::on_mesh(
+            mesh,
+            design,
+            material,
+            mode,
+            contact,
+            effects,
+            Some(self.fe.pairs.clone()),
+        )?;
+        model.fe.barrier = self.fe.barrier;
+        Ok(model)
+    }
+
+    /// Constraints, loads and obstacles on a given mesh of `design`; the face pairs found
+    /// from the mesh unless given.
+    fn on_mesh(
+        mesh: ActuatorMesh,
+        design: &Design,
+        material: &Material,
+        mode: Mode,
+        contact: &ContactSettings,
+        effects: &Effects,
+        pairs: Option<Vec<FacePair>>,
+    ) -> Result<Self, SimulateError> {
+        contact.validate()?;
         let springs = effects.clamp_springs();
         let mut constraints = Vec::new();
         for &n in &mesh.support {
@@ -431,10 +475,10 @@ impl ActuatorModel {
             .values()
             .flat_map(|fs| fs.iter().map(|f| (*f, 1.0)))
             .collect();
-        let pairs = if contact.enabled {
-            face_pairs(&mesh)
-        } else {
-            Vec::new()
+        let pairs = match pairs {
+            Some(p) => p,
+            None if contact.enabled => face_pairs(&mesh),
+            None => Vec::new(),
         };
         let mut fe = FeModel::new(
             mesh.mesh().clone(),
@@ -493,14 +537,7 @@ impl ActuatorModel {
             plate = Some(fe.add_plane_contact(far, &faces)?);
         }
         if springs.iter().any(Option::is_some) {
-            let faces: Vec<_> = mesh
-                .grid
-                .boundary_faces(|k| matches!(k, None | Some(Region::Exterior)))
-                .into_iter()
-                .map(|(f, _)| f)
-                .filter(|f| f.axis == 2 && !f.positive)
-                .filter(|f| f.nodes.iter().all(|&n| mesh.mesh().nodes[n][2] == 0.0))
-                .collect();
+            let faces = mesh.clamped_faces();
             let k = springs.map(|k| k.unwrap_or(0.0));
             fe.add_element_term(Box::new(Foundation::new(
                 mesh.mesh().n_elements(),
@@ -763,9 +800,54 @@ pub fn simulate_with_progress(
 /// See [`simulate_with_progress`].
 pub fn simulate_with(
     case: &Case,
+    progress: impl FnMut(usize, usize),
+    on_result: impl FnMut(&ActuatorModel, &StepResult, &[f64]),
+) -> Result<Response, SimulateError> {
+    Ok(run(case, progress, on_result, false)?.response)
+}
+
+/// A converged state of a ramp, kept for what is computed after it (the sensitivities,
+/// [`super::sensitivity`]): the displacement with everything it was in equilibrium with.
+#[derive(Clone, Debug)]
+pub struct ConvergedState {
+    /// Gauge pressure (bar) as requested (0 for the self-weight state).
+    pub pressure_bar: f64,
+    /// The load level it is in equilibrium at (the effective pressure, MPa).
+    pub level: LoadLevel,
+    /// Full displacement vector.
+    pub u: Vec<f64>,
+    /// The contact gap shifts it was solved with ([`FeModel::contact_shifts`]).
+    pub shifts: Vec<f64>,
+    /// The force plate's height (mm), in [`Mode::Force`].
+    pub plate_y: Option<f64>,
+    /// Whether it is one of the reported steps ([`Response::steps`]); the self-weight state
+    /// of a ramp that does not start at 0 bar is kept but not reported.
+    pub reported: bool,
+}
+
+/// A finished ramp with its model and converged states ([`run`]).
+pub struct Ran {
+    /// The results.
+    pub response: Response,
+    /// The model, as the ramp left it (the plate placed, the last contact shifts).
+    pub model: ActuatorModel,
+    /// The design as printed.
+    pub design: Design,
+    /// The self-weight state first, then one per pressure level of the ramp (empty unless
+    /// asked for).
+    pub states: Vec<ConvergedState>,
+}
+
+/// [`simulate_with`], returning the model and, if `keep_states`, every converged state.
+///
+/// # Errors
+/// See [`simulate_with_progress`].
+pub fn run(
+    case: &Case,
     mut progress: impl FnMut(usize, usize),
     mut on_result: impl FnMut(&ActuatorModel, &StepResult, &[f64]),
-) -> Result<Response, SimulateError> {
+    keep_states: bool,
+) -> Result<Ran, SimulateError> {
     let start = Instant::now();
     case.validate()?;
     let design = case.printed_design()?;
@@ -813,6 +895,20 @@ pub fn simulate_with(
             }
         },
     )?;
+    let mut states = Vec::new();
+    let keep = |pressure_bar: f64, model: &ActuatorModel, state: &PathState, reported: bool| {
+        ConvergedState {
+            pressure_bar,
+            level: state.level,
+            u: state.u_full.clone(),
+            shifts: model.fe.contact_shifts(),
+            plate_y: model.plate.map(|p| model.fe.planes[p].point[1]),
+            reported,
+        }
+    };
+    if keep_states {
+        states.push(keep(0.0, &model, &state, first_is_zero));
+    }
     // Stage 2 (blocked force): the plate goes 5 mm below the hanging tip.
     if let Some(plate) = model.plate {
         let tip = model.marker_displacement(8, &state.u_full);
@@ -830,6 +926,9 @@ pub fn simulate_with(
             }
         }
         on_result(model, &result, &state.u_full);
+        if keep_states {
+            states.push(keep(result.pressure_bar, model, state, true));
+        }
         steps.push(result);
     };
     let compliance = case.effects.plate_compliance_mm_per_n();
@@ -878,7 +977,7 @@ pub fn simulate_with(
     let factor_time_s = reports.iter().map(|r| r.factor_seconds).sum();
     let assembly_time_s = reports.iter().map(|r| r.assembly_seconds).sum();
     let factorizations = reports.iter().map(|r| r.factorizations).sum();
-    Ok(Response {
+    let response = Response {
         steps,
         nodes: model.fe.mesh.n_nodes(),
         elements: model.fe.mesh.n_elements(),
@@ -887,6 +986,12 @@ pub fn simulate_with(
         factor_time_s,
         assembly_time_s,
         factorizations,
+    };
+    Ok(Ran {
+        response,
+        model,
+        design,
+        states,
     })
 }
 

@@ -40,6 +40,23 @@ fn bad_input_is_a_named_error_with_nonzero_exit() {
         (&["--contact-stiffness", "0"], "contact stiffness = 0"),
         (&["--contact-smoothing", "2"], "contact smoothing = 2"),
         (&["--mode", "push"], "push"),
+        (&["--sensitivities", "mu1,wal_bias"], "unknown parameter 'wal_bias'"),
+        (&["--sensitivities", "mu1,mu1"], "'mu1' is listed twice"),
+        (
+            &["--material", "neo_hookean:0.3", "--sensitivities", "mu1"],
+            "mu1: the material is not a second-order Ogden law",
+        ),
+        (
+            &[
+                "--mode",
+                "force",
+                "--effect",
+                "plate_compliance=0.1",
+                "--sensitivities",
+                "all",
+            ],
+            "derivatives at a compliant plate",
+        ),
     ];
     for (args, needle) in cases {
         let (ok, _, err) = simulate(args);
@@ -217,6 +234,8 @@ fn force_mode_reports_the_plate_reaction() {
         "force",
         "--out",
         json.to_str().unwrap(),
+        "--sensitivities",
+        "plate_offset,force_scale",
     ]);
     assert!(ok, "{err}");
     let v: serde_json::Value =
@@ -227,5 +246,24 @@ fn force_mode_reports_the_plate_reaction() {
     assert_eq!(steps[0]["force_n"].as_f64().unwrap(), 0.0);
     let force = steps[1]["force_n"].as_f64().unwrap();
     assert!(force > 0.0, "blocked force {force} N at 1 bar");
+    // --sensitivities: beside --out, one entry per step and parameter; the load cell's scale
+    // changes the force by the force itself, a plate further down lowers it
+    let sens: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(dir.join("f_sensitivities.json")).unwrap())
+            .unwrap();
+    assert_eq!(sens["format"], "surrogate-sensitivities");
+    assert_eq!(sens["parameters"][0]["parameter"], "plate_offset");
+    let last = &sens["steps"][1];
+    // the same force, summed over the plate's faces in another order
+    let f = last["values"]["force_n"].as_f64().unwrap();
+    assert!((f - force).abs() <= 1e-9 * force, "{f} vs {force}");
+    let d = |k: usize| last["derivatives"][k]["force_n"].as_f64().unwrap();
+    assert!(d(0) < 0.0, "dF/d plate_offset = {} N/mm", d(0));
+    assert!(
+        (d(1) - force).abs() <= 1e-12 * force,
+        "dF/d scale {} vs F {force}",
+        d(1)
+    );
+    assert!(err.contains("derivatives at 1 bar"), "{err}");
     std::fs::remove_dir_all(&dir).ok();
 }

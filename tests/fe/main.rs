@@ -16,6 +16,7 @@ mod force_plate_faces;
 mod materials;
 mod minimise;
 mod model_doc;
+mod sensitivities;
 mod solver_stabilization;
 mod verification_cantilever;
 mod verification_cook;

@@ -335,6 +335,15 @@ pub struct SimulateArgs {
     /// --effect clamp_compliance=0.2; `surrogate effects` lists the names, units and ranges.
     #[arg(long, value_name = "NAME=VALUE", allow_hyphen_values = true)]
     pub effect: Vec<String>,
+    /// Also differentiate every output of every step with respect to these parameters
+    /// (`all`, or a comma-separated list of mu1, alpha1, mu2, alpha2 and effect names), by
+    /// direct differentiation of each converged state (see `docs/MODEL.md`).
+    #[arg(long, value_name = "NAME,...|all")]
+    pub sensitivities: Option<String>,
+    /// Where the sensitivities go (JSON); default: beside --out as <stem>_sensitivities.json,
+    /// or sensitivities.json.
+    #[arg(long, requires = "sensitivities")]
+    pub sensitivities_out: Option<PathBuf>,
     /// Largest pressure increment of one load substep (bar).
     #[arg(long, default_value_t = 0.5)]
     pub max_increment: f64,
@@ -411,6 +420,11 @@ pub struct ValidateArgs {
     /// ramps are keyed by the effects too.
     #[arg(long, value_name = "NAME=VALUE", allow_hyphen_values = true)]
     pub effect: Vec<String>,
+    /// Also differentiate every ramp with respect to these parameters (`all`, or a list of
+    /// mu1, alpha1, mu2, alpha2 and effect names; see `simulate --sensitivities`) and write
+    /// them to <out stem>_sensitivities.json (what `diagnose` reads).
+    #[arg(long, value_name = "NAME,...|all")]
+    pub sensitivities: Option<String>,
     /// Output CSV (one row per configuration); an SVG plot is written beside it.
     #[arg(long)]
     pub out: PathBuf,

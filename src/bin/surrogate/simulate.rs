@@ -8,7 +8,10 @@ use serde::Serialize;
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
-use surrogate::fe::simulate::{simulate_with, Case, ContactSettings, Mode, Response};
+use surrogate::fe::sensitivity::{sensitivities_with, Parameter, Sensitivities};
+use surrogate::fe::simulate::{
+    simulate_with, ActuatorModel, Case, ContactSettings, Mode, Response, StepResult,
+};
 use surrogate::fe::solver::{MinimiseSettings, SolverKind, SolverSettings};
 use surrogate::fe::vtk;
 
@@ -83,6 +86,17 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
 }
 
 fn run_case(case: &Case, vtk_dir: Option<&PathBuf>, label: &str) -> Result<Response> {
+    Ok(run_case_with(case, vtk_dir, label, None)?.0)
+}
+
+/// A ramp with a progress bar and VTK output, and the sensitivities to `parameters` if
+/// given.
+fn run_case_with(
+    case: &Case,
+    vtk_dir: Option<&PathBuf>,
+    label: &str,
+    parameters: Option<&[Parameter]>,
+) -> Result<(Response, Option<Sensitivities>)> {
     let bar = ProgressBar::new(case.pressures_bar.len() as u64 + 1);
     bar.set_style(ProgressStyle::with_template(
         "{spinner} {msg} [{bar:30}] {pos}/{len} load steps, {elapsed_precise}",
@@ -92,26 +106,30 @@ fn run_case(case: &Case, vtk_dir: Option<&PathBuf>, label: &str) -> Result<Respo
     let mut vtk_error = None;
     let total = case.pressures_bar.len();
     let mut done = 0usize;
-    let response = simulate_with(
-        case,
-        |i, _| bar.set_position(i as u64),
-        |model, result, u| {
-            done += 1;
-            // a line per converged step where the bar is not drawn (a log file, a pipe)
-            if bar.is_hidden() {
-                eprintln!(
+    let on_result = |model: &ActuatorModel, result: &StepResult, u: &[f64]| {
+        done += 1;
+        // a line per converged step where the bar is not drawn (a log file, a pipe)
+        if bar.is_hidden() {
+            eprintln!(
                     "{label}: step {done}/{total}: {} bar, tip Uz {:.3} mm, Uy {:.3} mm, {} Newton iterations",
                     result.pressure_bar, result.tip_uz_mm, result.tip_uy_mm, result.newton_iterations
                 );
+        }
+        if let Some(dir) = vtk_dir {
+            match vtk::write_step(dir, written.len(), model, u) {
+                Ok(p) => written.push((result.pressure_bar, p)),
+                Err(e) => vtk_error = Some(e),
             }
-            if let Some(dir) = vtk_dir {
-                match vtk::write_step(dir, written.len(), model, u) {
-                    Ok(p) => written.push((result.pressure_bar, p)),
-                    Err(e) => vtk_error = Some(e),
-                }
-            }
-        },
-    )?;
+        }
+    };
+    let progress = |i, _| bar.set_position(i as u64);
+    let (response, sens) = match parameters {
+        Some(p) => {
+            let (r, s) = sensitivities_with(case, p, progress, on_result)?;
+            (r, Some(s))
+        }
+        None => (simulate_with(case, progress, on_result)?, None),
+    };
     bar.finish_and_clear();
     if let Some(e) = vtk_error {
         return Err(e).context("writing VTK output");
@@ -125,7 +143,7 @@ fn run_case(case: &Case, vtk_dir: Option<&PathBuf>, label: &str) -> Result<Respo
             dir.display()
         );
     }
-    Ok(response)
+    Ok((response, sens))
 }
 
 /// Newton iterations and substeps to reach one output level of a benchmark ramp.
@@ -180,7 +198,24 @@ pub fn run(a: SimulateArgs) -> Result<()> {
     let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
     let pressures = surrogate::fe::simulate::parse_pressures(&a.pressures)?;
     let case = build_case(&a, level, pressures)?;
-    let response = run_case(&case, a.vtk.as_ref(), "simulate")?;
+    let parameters = match &a.sensitivities {
+        Some(list) => Some(Parameter::parse_list(list).context("--sensitivities")?),
+        None => None,
+    };
+    let (response, sens) = run_case_with(&case, a.vtk.as_ref(), "simulate", parameters.as_deref())?;
+    if let Some(sens) = sens {
+        let path = sensitivity_path(&a);
+        crate::files::write_file(&path, serde_json::to_string_pretty(&sens)?.as_bytes())
+            .with_context(|| format!("writing {}", path.display()))?;
+        print_sensitivities(&sens);
+        eprintln!(
+            "wrote the sensitivities to {} (ramp {:.1} s, sensitivities {:.1} s: {:.0} % more)",
+            path.display(),
+            sens.cost.ramp_s,
+            sens.cost.sensitivity_s,
+            100.0 * sens.cost.overhead
+        );
+    }
     let what = format!(
         "{} steps ({:.1} s, {} dofs)",
         response.steps.len(),
@@ -192,6 +227,53 @@ pub fn run(a: SimulateArgs) -> Result<()> {
         &serde_json::to_string_pretty(&response)?,
         &what,
     )
+}
+
+/// Where `--sensitivities` writes: `--sensitivities-out`, or beside `--out` as
+/// `<stem>_sensitivities.json`, or `sensitivities.json`.
+fn sensitivity_path(a: &SimulateArgs) -> PathBuf {
+    if let Some(p) = &a.sensitivities_out {
+        return p.clone();
+    }
+    match a.out.as_ref().filter(|p| p.as_os_str() != "-") {
+        Some(out) => {
+            let stem = out
+                .file_stem()
+                .map_or("simulate".into(), |s| s.to_string_lossy());
+            out.with_file_name(format!("{stem}_sensitivities.json"))
+        }
+        None => PathBuf::from("sensitivities.json"),
+    }
+}
+
+/// The last step's derivatives of the tip, the angle and the force, one line per parameter.
+fn print_sensitivities(s: &Sensitivities) {
+    let Some(last) = s.steps.last() else { return };
+    eprintln!(
+        "derivatives at {} bar (per unit of the parameter):\n  {:<24} {:>8} {:>12} {:>12} {:>12}{}",
+        last.pressure_bar,
+        "parameter",
+        "unit",
+        "tip Uz mm",
+        "tip Uy mm",
+        "angle deg",
+        if last.values.force_n.is_some() {
+            "      force N"
+        } else {
+            ""
+        }
+    );
+    for (p, d) in s.parameters.iter().zip(&last.derivatives) {
+        eprintln!(
+            "  {:<24} {:>8} {:>12.4e} {:>12.4e} {:>12.4e}{}",
+            p.parameter.name(),
+            p.unit,
+            d.tip_uz_mm,
+            d.tip_uy_mm,
+            d.angle_deg,
+            d.force_n.map_or(String::new(), |f| format!(" {f:>12.4e}"))
+        );
+    }
 }
 
 /// `--bench`: the full ramp 0 → 3 bar on each mesh level (or the one given with --mesh if it

@@ -5,11 +5,15 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use plotters::prelude::*;
-use surrogate::calibrate::baseline::{run_baseline, summarize, BaselineRow, SweepSettings};
+use surrogate::calibrate::baseline::{
+    cached_ramps, recorded_designs, run_baseline, summarize, BaselineRow, SweepSensitivities,
+    SweepSettings,
+};
 use surrogate::calibrate::experiments::{shipped_bending, shipped_force};
 use surrogate::fe::effects::Effects;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::fe::sensitivity::Parameter;
 use surrogate::fe::simulate::ContactSettings;
 
 use crate::args::ValidateArgs;
@@ -49,6 +53,10 @@ pub fn run(a: ValidateArgs) -> Result<()> {
     let settings = SweepSettings {
         contact,
         effects: Effects::parse(a.effect.iter().map(String::as_str))?,
+        sensitivities: match &a.sensitivities {
+            Some(list) => Parameter::parse_list(list).context("--sensitivities")?,
+            None => Vec::new(),
+        },
         ..SweepSettings::new(
             material,
             MeshOptions {
@@ -69,6 +77,27 @@ pub fn run(a: ValidateArgs) -> Result<()> {
         bar.set_position(k as u64);
     })?;
     bar.finish_and_clear();
+    if !settings.sensitivities.is_empty() {
+        // read back from the cache the sweep just filled: no FE
+        let ramps = cached_ramps(&settings, &recorded_designs(&bending), &cache)?;
+        let sens = SweepSensitivities::of(&settings, &ramps);
+        let stem = a
+            .out
+            .file_stem()
+            .map_or("baseline".into(), |s| s.to_string_lossy().into_owned());
+        let path = a.out.with_file_name(format!("{stem}_sensitivities.json"));
+        crate::files::write_file(&path, serde_json::to_string(&sens)?.as_bytes())?;
+        eprintln!(
+            "wrote the sensitivities of {} ramps to {}{}",
+            sens.designs.len(),
+            path.display(),
+            if sens.missing.is_empty() {
+                String::new()
+            } else {
+                format!(" (missing: {})", sens.missing.join("; "))
+            }
+        );
+    }
     let mut w = csv::Writer::from_writer(Vec::new());
     for r in &rows {
         w.serialize(r)?;

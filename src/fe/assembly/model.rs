@@ -359,6 +359,84 @@ impl FeModel {
         self.visit_contact_points(u, |_, _, g, _| out.push(g));
     }
 
+    /// Every contact law `factor` times stiffer and sharper: stiffness `ε → factor·ε`,
+    /// smoothing `δ → δ/factor`. With the gap shifts of [`Self::stiffened_shifts`] the
+    /// contact forces at a state are unchanged and their slopes `factor` times larger: the
+    /// linearisation about an augmented-Lagrangian solution then holds every touching point
+    /// at its gap (the limit the multiplier updates converge to) instead of letting it sit on
+    /// a penalty spring. A log-barrier model ([`FeModel::barrier`]) is left unchanged.
+    pub fn scale_contact(&mut self, factor: f64) {
+        if self.barrier.is_some() {
+            return;
+        }
+        for p in &mut self.planes {
+            p.stiffness *= factor;
+            p.smoothing /= factor;
+        }
+        self.pair_settings.stiffness *= factor;
+        self.pair_settings.smoothing /= factor;
+    }
+
+    /// The gap shifts that keep the contact forces of the state `(u, shifts)` (shifts of the
+    /// unscaled law, in the order of [`Self::contact_shifts`]) once the law is scaled by
+    /// `factor` ([`Self::scale_contact`]): `c → g − (g − c)/factor`, `g` each point's gap at
+    /// `u` (the barrier `ψ'_{fε, δ/f}((g − c)/f) = ψ'_{ε, δ}(g − c)` exactly).
+    pub fn stiffened_shifts(&self, u: &[f64], shifts: &[f64], factor: f64) -> Vec<f64> {
+        let mut gaps = Vec::new();
+        self.contact_gaps(u, &mut gaps);
+        shifts
+            .iter()
+            .zip(&gaps)
+            .map(|(&c, &g)| {
+                if g.is_finite() {
+                    g - (g - c) / factor
+                } else {
+                    c
+                }
+            })
+            .collect()
+    }
+
+    /// The normal force of rigid plane `plane` on the body at the displacement `u` (all
+    /// dofs), with the contact law and gap shifts the assembly uses: the plane's entry of
+    /// [`AssemblyInfo::plane_forces`] from its contact faces alone (no other term assembled).
+    pub fn plane_force(&self, u: &[f64], plane: usize) -> f64 {
+        let mut force = 0.0;
+        let mut rf = [0.0; 27];
+        for (e, faces) in self.contact_faces.iter().enumerate() {
+            let conn = &self.mesh.elements[e];
+            for ((pi, local), shift) in faces.iter().zip(&self.plane_shifts[e]) {
+                if *pi != plane {
+                    continue;
+                }
+                let p = &self.planes[*pi];
+                let x0: [[f64; 3]; 9] = local.map(|l| self.mesh.nodes[conn[l]]);
+                let x: [[f64; 3]; 9] = std::array::from_fn(|a| {
+                    let n = conn[local[a]];
+                    [
+                        x0[a][0] + u[3 * n],
+                        x0[a][1] + u[3 * n + 1],
+                        x0[a][2] + u[3 * n + 2],
+                    ]
+                });
+                let (_, f, _) = match &self.barrier {
+                    Some(b) => contact::plane_face_with(
+                        |g| b.eval(g),
+                        p,
+                        &x0,
+                        &x,
+                        &[0.0; 9],
+                        &mut rf,
+                        None,
+                    ),
+                    None => contact::plane_face(p, &x0, &x, &load_shifts(shift), &mut rf, None),
+                };
+                force += f;
+            }
+        }
+        force
+    }
+
     /// Calls `f(ε, δ, g, c)` for every contact quadrature point (plane faces by element, then
     /// pairs: the order of [`Self::contact_shifts`]).
     fn visit_contact_points(&self, u: &[f64], mut f: impl FnMut(f64, f64, f64, f64)) {

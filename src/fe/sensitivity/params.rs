@@ -1,0 +1,153 @@
+//! The parameters outputs are differentiated with respect to: the four Ogden parameters of the
+//! material and every effect of the library ([`crate::fe::effects`]).
+
+use serde::{Deserialize, Deserializer, Serialize, Serializer};
+
+use super::SensitivityError;
+use crate::fe::effects::Effect;
+
+/// A parameter of the second-order Ogden law (ANSYS convention).
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum OgdenParameter {
+    /// `μ₁` (MPa).
+    Mu1,
+    /// `α₁`.
+    Alpha1,
+    /// `μ₂` (MPa).
+    Mu2,
+    /// `α₂`.
+    Alpha2,
+}
+
+impl OgdenParameter {
+    /// All four, in the law's order `[μ₁, α₁, μ₂, α₂]`.
+    pub const ALL: [OgdenParameter; 4] = [Self::Mu1, Self::Alpha1, Self::Mu2, Self::Alpha2];
+
+    /// Position in `[μ₁, α₁, μ₂, α₂]`.
+    pub fn index(self) -> usize {
+        self as usize
+    }
+}
+
+/// What an output is differentiated with respect to.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
+pub enum Parameter {
+    /// An Ogden parameter of the material (the bulk modulus follows `μ0` at the material's
+    /// bulk ratio, as every material the crate builds does).
+    Material(OgdenParameter),
+    /// The value of an effect.
+    Effect(Effect),
+}
+
+impl Serialize for Parameter {
+    fn serialize<S: Serializer>(&self, s: S) -> Result<S::Ok, S::Error> {
+        s.serialize_str(self.name())
+    }
+}
+
+impl<'de> Deserialize<'de> for Parameter {
+    fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
+        let name = String::deserialize(d)?;
+        Parameter::from_name(&name).map_err(serde::de::Error::custom)
+    }
+}
+
+impl Parameter {
+    /// Name on the command line and in files: `mu1`, `alpha1`, `mu2`, `alpha2`, or the
+    /// effect's name.
+    pub fn name(self) -> &'static str {
+        match self {
+            Parameter::Material(OgdenParameter::Mu1) => "mu1",
+            Parameter::Material(OgdenParameter::Alpha1) => "alpha1",
+            Parameter::Material(OgdenParameter::Mu2) => "mu2",
+            Parameter::Material(OgdenParameter::Alpha2) => "alpha2",
+            Parameter::Effect(e) => e.name(),
+        }
+    }
+
+    /// Unit of the parameter.
+    pub fn unit(self) -> &'static str {
+        match self {
+            Parameter::Material(OgdenParameter::Mu1 | OgdenParameter::Mu2) => "MPa",
+            Parameter::Material(_) => "1",
+            Parameter::Effect(e) => e.info().unit,
+        }
+    }
+
+    /// Every parameter: the four material ones, then the effects in the library's order.
+    pub fn all() -> Vec<Parameter> {
+        OgdenParameter::ALL
+            .into_iter()
+            .map(Parameter::Material)
+            .chain(Effect::all().map(Parameter::Effect))
+            .collect()
+    }
+
+    /// The parameter called `name`.
+    ///
+    /// # Errors
+    /// [`SensitivityError::Unknown`] listing the names.
+    pub fn from_name(name: &str) -> Result<Parameter, SensitivityError> {
+        Parameter::all()
+            .into_iter()
+            .find(|p| p.name() == name)
+            .ok_or_else(|| SensitivityError::Unknown {
+                name: name.to_string(),
+                known: Parameter::all()
+                    .iter()
+                    .map(|p| p.name())
+                    .collect::<Vec<_>>()
+                    .join(", "),
+            })
+    }
+
+    /// A list `NAME,NAME,…` or `all`.
+    ///
+    /// # Errors
+    /// [`SensitivityError::Unknown`] for a name that is not a parameter (or an empty list),
+    /// [`SensitivityError::Duplicate`] for one given twice.
+    pub fn parse_list(text: &str) -> Result<Vec<Parameter>, SensitivityError> {
+        if text.trim() == "all" {
+            return Ok(Parameter::all());
+        }
+        let mut out: Vec<Parameter> = Vec::new();
+        for name in text.split(',').map(str::trim) {
+            let p = Parameter::from_name(name)?;
+            if out.contains(&p) {
+                return Err(SensitivityError::Duplicate {
+                    name: name.to_string(),
+                });
+            }
+            out.push(p);
+        }
+        Ok(out)
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn names_round_trip_and_lists_parse() {
+        for p in Parameter::all() {
+            assert_eq!(Parameter::from_name(p.name()).unwrap(), p);
+        }
+        assert_eq!(Parameter::all().len(), 4 + Effect::all().count());
+        let l = Parameter::parse_list("mu1, wall_bias").unwrap();
+        assert_eq!(
+            l,
+            vec![
+                Parameter::Material(OgdenParameter::Mu1),
+                Parameter::Effect(Effect::WallBias)
+            ]
+        );
+        let e = Parameter::parse_list("mu1,wal_bias")
+            .unwrap_err()
+            .to_string();
+        assert!(e.contains("wal_bias") && e.contains("alpha2"), "{e}");
+        let e = Parameter::parse_list("mu1,mu1").unwrap_err().to_string();
+        assert!(e.contains("mu1"), "{e}");
+        assert!(Parameter::parse_list("").is_err());
+    }
+}
