@@ -68,7 +68,7 @@ pub fn missing(rec: &Recordings, cal: &Calibration, outside: &[String]) -> Vec<M
         &force,
         ("no blocked-force recordings", "blocked force"),
         (
-            "the blocked force is not diagnosed: a misfit that moves force and bending \
+            "the blocked force is not diagnosed, so a misfit that moves force and bending \
              differently cannot be seen",
             "the force's structure rests on the configurations recorded",
         ),
@@ -79,8 +79,8 @@ pub fn missing(rec: &Recordings, cal: &Calibration, outside: &[String]) -> Vec<M
         &markers,
         ("no marker recordings along the actuator", "markers"),
         (
-            "the residual cannot be located along the actuator: only the tip (and the angle \
-             it implies) is compared",
+            "the residual cannot be located along the actuator; only the tip and the angle it \
+             implies are compared",
             "the residual along the actuator rests on the configurations recorded",
         ),
     ));
@@ -89,7 +89,7 @@ pub fn missing(rec: &Recordings, cal: &Calibration, outside: &[String]) -> Vec<M
         out.push(Missing {
             kind: MissingKind::OutsideDomain,
             what: o.clone(),
-            consequence: "not diagnosed (the surrogate does not predict there)".into(),
+            consequence: "not diagnosed: the surrogate does not predict there".into(),
         });
     }
     for e in describe_exclusions(&cal.excluded) {

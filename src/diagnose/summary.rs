@@ -35,7 +35,7 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
         );
     }
     for m in &l.missing {
-        let _ = writeln!(s, "- {}: {}", m.what, m.consequence);
+        let _ = writeln!(s, "- {} ({})", m.what, m.consequence);
     }
     let _ = writeln!(s, "\n## Stages\n");
     let _ = writeln!(s, "- **Locate**: run (this report).");
@@ -150,30 +150,42 @@ fn residual_map(s: &mut String, l: &Localisation) {
     }
 }
 
+/// A table of shares; the mean z only for whole outputs (a group mixes outputs whose signs
+/// mean different things).
 fn share_table(s: &mut String, title: &str, rows: &[Share]) {
     if rows.is_empty() {
         return;
     }
+    let by_output = rows.iter().all(|r| r.family.is_some());
     let _ = writeln!(s, "\n{title}\n");
     let _ = writeln!(
         s,
-        "| | cells | χ² | share of χ² | share of cells | mean z | rms z |"
+        "| | cells | χ² | share of χ² | share of cells |{} rms z |",
+        if by_output { " mean z |" } else { "" }
     );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+    let _ = writeln!(
+        s,
+        "|---|---|---|---|---|{}---|",
+        if by_output { "---|" } else { "" }
+    );
     for r in rows {
         let name = match (r.family, r.group) {
             (Some(f), _) => f.label().to_string(),
             (None, Some(g)) => g.label(),
             (None, None) => "all".into(),
         };
+        let mean = if by_output {
+            format!(" {:+.2} |", r.mean_z)
+        } else {
+            String::new()
+        };
         let _ = writeln!(
             s,
-            "| {name} | {} | {:.1} | {:.1} % | {:.1} % | {:+.2} | {:.2} |",
+            "| {name} | {} | {:.1} | {:.1} % | {:.1} % |{mean} {:.2} |",
             r.cells,
             r.chi2,
             100.0 * r.share,
             100.0 * r.cell_fraction,
-            r.mean_z,
             r.rms_z
         );
     }
