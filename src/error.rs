@@ -54,6 +54,9 @@ pub enum Error {
     /// Twin recordings.
     #[error(transparent)]
     Twin(#[from] crate::calibrate::twin::TwinError),
+    /// The discrepancy diagnosis.
+    #[error(transparent)]
+    Diagnose(#[from] crate::diagnose::DiagnoseError),
 }
 
 /// Result alias for callers of the library ([`enum@Error`]).

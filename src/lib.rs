@@ -14,6 +14,10 @@
 //!                         │
 //!                         ▼
 //!   calibrate (fit the material to recordings, identifiability, FE verification)
+//!                         │
+//!                         ▼
+//!   diagnose: locate the residual over N, T, P and along the actuator
+//!             (→ name the missing physics → model it and show the gain: not built yet)
 //! ```
 //!
 //! The embedded predictor is a crate of its own, `surrogate-predict` (`predict/` in the
@@ -34,6 +38,7 @@
 #![warn(missing_docs)]
 
 pub mod calibrate;
+pub mod diagnose;
 pub mod error;
 pub mod fe;
 pub mod io;

@@ -111,4 +111,40 @@ fn committed_figures_have_legends_and_units() {
     }
     let cal = std::fs::read_to_string(root.join("fe_reference/calibration/README.md")).unwrap();
     assert!(cal.contains("calibrate --per-configuration --out fe_reference/calibration/surrogate"));
+    // the diagnosis' figures
+    for (name, wants) in [
+        (
+            "residual_map",
+            &[
+                "P = 1 bar",
+                "P = 3 bar",
+                "N = 9, T = 1.6 mm",
+                "N = 13, T = 2.4 mm",
+            ][..],
+        ),
+        (
+            "residual_trends",
+            &[
+                "wall thickness T (mm), points offset by N",
+                "z = (predicted − recorded)/σ (1)",
+                "N = 9",
+                "P = 3 bar",
+                "significant structure (N, P at their mean)",
+            ][..],
+        ),
+    ] {
+        let svg = std::fs::read_to_string(
+            root.join(format!("fe_reference/diagnosis/experiments/{name}.svg")),
+        )
+        .unwrap();
+        let t = texts(&svg);
+        for want in wants {
+            assert!(t.iter().any(|s| s == want), "{name}: no {want:?} in {t:?}");
+        }
+    }
+    let diag = std::fs::read_to_string(root.join("fe_reference/diagnosis/README.md")).unwrap();
+    assert!(diag.contains(
+        "diagnose --model models/actuator.json --recordings training_data --out \
+         fe_reference/diagnosis/experiments"
+    ));
 }

@@ -1,6 +1,6 @@
 //! The `surrogate` program: every test that runs the binary (`simulate`, `snapshots`, `train`,
-//! `predict`, `export`, `calibrate`, the README recipes) and the figures it draws. Built with the
-//! `cli` feature only.
+//! `predict`, `export`, `calibrate`, `diagnose`, the README recipes) and the figures it draws.
+//! Built with the `cli` feature only.
 //!
 //! One test binary; each module is one subject.
 
@@ -9,6 +9,7 @@ mod rom_common;
 mod snapshots_common;
 
 mod calibrate_cli;
+mod diagnose_cli;
 mod fe_cli;
 mod figures;
 mod readme_recipe;

@@ -37,6 +37,40 @@ pub enum Command {
     /// Twin recordings: the FE model with concealed effects, noise at the experiments'
     /// standard deviations, in the experiments' format; the settings to a key file only.
     Twin(TwinArgs),
+    /// Where the calibrated model misses the recordings: residuals over N, T, P (and along
+    /// the actuator), their structure and sign patterns in words, what the recordings lack.
+    Diagnose(DiagnoseArgs),
+}
+
+/// `surrogate diagnose`.
+#[derive(Debug, Args)]
+pub struct DiagnoseArgs {
+    /// Surrogate model file (the calibration and the predictions go through it).
+    #[arg(long, default_value = "models/actuator.json")]
+    pub model: PathBuf,
+    /// Directory of recordings in the shipped experiments' format: bending_experiments.csv
+    /// (required), blocked_force_experiments.csv and marker_experiments.csv (where they
+    /// exist; what is missing is said in the report).
+    #[arg(long, default_value = "training_data")]
+    pub recordings: PathBuf,
+    /// Objective of the calibration: tip, angle, force, markers, all, or weights such as
+    /// tip=1,force=0.5; the recorded outputs it leaves out are diagnosed too.
+    #[arg(long, default_value = "tip")]
+    pub objective: String,
+    /// Leave out a configuration: N,T,P (both recordings), bending:N,T,P or force:N,T,P
+    /// (repeatable; listed in the report).
+    #[arg(long, allow_hyphen_values = true)]
+    pub exclude: Vec<String>,
+    /// Also leave out every row the data checks flag.
+    #[arg(long)]
+    pub exclude_flagged: bool,
+    /// Family-wise significance level of all the report's tests together (Holm), in (0, 0.5].
+    #[arg(long, default_value_t = surrogate::diagnose::LocateSettings::default().alpha)]
+    pub alpha: f64,
+    /// Output directory: diagnosis.json, summary.md, residual_map.svg, residual_trends.svg
+    /// (and along_actuator.svg with marker recordings).
+    #[arg(long, default_value = "diagnosis")]
+    pub out: PathBuf,
 }
 
 /// `surrogate twin`.

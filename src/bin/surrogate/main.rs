@@ -4,6 +4,8 @@ mod args;
 mod calibrate;
 mod calibrate_plots;
 mod demo;
+mod diagnose;
+mod diagnose_plots;
 mod effects;
 mod export;
 mod figure;
@@ -33,6 +35,7 @@ fn main() -> ExitCode {
         args::Command::Snapshots(a) => snapshots::run(*a),
         args::Command::Effects(a) => effects::run(a),
         args::Command::Twin(a) => twin::run(a),
+        args::Command::Diagnose(a) => diagnose::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,190 @@
+//! The diagnosis report: calibrate → locate, and the stages not run yet, in one versioned
+//! JSON document.
+
+use serde::{Deserialize, Serialize};
+
+use super::locate::{locate, Localisation, LocateSettings};
+use super::DiagnoseError;
+use crate::calibrate::fit::describe_exclusions;
+use crate::calibrate::{calibrate, Calibration, CalibrationSettings, OgdenSet, Recordings};
+use crate::rom::Surrogate;
+
+/// The `format` field of a diagnosis report.
+pub const FORMAT: &str = "surrogate.diagnosis";
+/// The `version` field this code writes and reads.
+pub const VERSION: u32 = 1;
+
+/// Where the recordings came from (empty: none of that kind).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Sources {
+    /// Bending rows.
+    pub bending: String,
+    /// Blocked-force rows.
+    pub force: String,
+    /// Marker rows.
+    pub markers: String,
+}
+
+/// The calibration the diagnosis starts from, in brief.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct CalibrationSummary {
+    /// Model file checksum and provenance.
+    pub model: String,
+    /// The objective (`tip=1`).
+    pub objective: String,
+    /// The calibrated set.
+    pub best: OgdenSet,
+    /// The calibration's `χ²` (its objective, weights included).
+    pub chi2: f64,
+    /// Its `χ²` per degree of freedom.
+    pub chi2_per_dof: f64,
+    /// Observations fitted.
+    pub n_observations: usize,
+    /// Configurations fitted.
+    pub n_configurations: usize,
+    /// Mean tip bending error at the calibrated set (mm, surrogate).
+    pub mean_be_mm: f64,
+    /// Mean force error (predicted − measured, N; none without force recordings).
+    pub mean_force_error_n: Option<f64>,
+    /// Bounds of the training domain active at the optimum.
+    pub active_bounds: Vec<String>,
+    /// Data-check flags, in words.
+    pub flags: Vec<String>,
+    /// Rows excluded from the fit, and why.
+    pub excluded: Vec<String>,
+}
+
+impl CalibrationSummary {
+    /// The summary of a calibration.
+    pub fn of(cal: &Calibration) -> Self {
+        CalibrationSummary {
+            model: cal.model.clone(),
+            objective: cal.objective.clone(),
+            best: cal.best,
+            chi2: cal.chi2,
+            chi2_per_dof: cal.chi2 / cal.identifiability.dof.max(1) as f64,
+            n_observations: cal.n_observations,
+            n_configurations: cal.n_configurations,
+            mean_be_mm: cal.calibrated.mean_be_mm,
+            mean_force_error_n: Some(cal.calibrated.mean_force_error_n).filter(|v| v.is_finite()),
+            active_bounds: cal.active_bounds.clone(),
+            flags: cal
+                .flags
+                .iter()
+                .map(|f| format!("{} ({}): {}", f.config.label(), f.source, f.message))
+                .collect(),
+            excluded: describe_exclusions(&cal.excluded),
+        }
+    }
+}
+
+/// A stage of the diagnoser that did not run, and why.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(rename_all = "snake_case", tag = "status")]
+pub enum Stage {
+    /// Not run.
+    NotRun {
+        /// Why.
+        reason: String,
+    },
+}
+
+/// The diagnosis report.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Diagnosis {
+    /// [`FORMAT`].
+    pub format: String,
+    /// [`VERSION`].
+    pub version: u32,
+    /// The recordings.
+    pub recordings: Sources,
+    /// The calibration diagnosed.
+    pub calibration: CalibrationSummary,
+    /// Where the residual is.
+    pub locate: Localisation,
+    /// Candidate effects ranked by their signatures.
+    pub name: Stage,
+    /// Refit with the chosen effect(s), held-out gain, FE confirmation.
+    pub model_and_show: Stage,
+}
+
+impl Diagnosis {
+    /// The report of a calibration and its localisation.
+    pub fn new(cal: &Calibration, rec: &Recordings, locate: Localisation) -> Self {
+        Diagnosis {
+            format: FORMAT.into(),
+            version: VERSION,
+            recordings: Sources {
+                bending: rec.bending_source.clone(),
+                force: rec.force_source.clone(),
+                markers: rec.markers_source.clone(),
+            },
+            calibration: CalibrationSummary::of(cal),
+            locate,
+            name: Stage::NotRun {
+                reason: "needs the FE sensitivities of the effect library at the calibrated \
+                         state, which do not exist yet: no candidate is named or ranked"
+                    .into(),
+            },
+            model_and_show: Stage::NotRun {
+                reason: "needs a named effect".into(),
+            },
+        }
+    }
+
+    /// The report as pretty JSON.
+    ///
+    /// # Errors
+    /// A serialisation error.
+    pub fn to_json(&self) -> Result<String, DiagnoseError> {
+        Ok(serde_json::to_string_pretty(self)?)
+    }
+
+    /// Reads a report written by [`Self::to_json`].
+    ///
+    /// # Errors
+    /// Text that is not a report, or a report of another format or version.
+    pub fn from_json(text: &str) -> Result<Self, DiagnoseError> {
+        let v: serde_json::Value = serde_json::from_str(text)?;
+        let format = v.get("format").and_then(|f| f.as_str()).unwrap_or("");
+        if format != FORMAT {
+            return Err(DiagnoseError::input("format", format, FORMAT));
+        }
+        let version = v.get("version").and_then(|f| f.as_u64()).unwrap_or(0);
+        if version != u64::from(VERSION) {
+            return Err(DiagnoseError::input(
+                "version",
+                version,
+                &format!("{VERSION} (the version this program reads)"),
+            ));
+        }
+        Ok(serde_json::from_value(v)?)
+    }
+}
+
+/// Settings of [`diagnose`].
+#[derive(Clone, Debug, Default)]
+pub struct DiagnoseSettings {
+    /// The calibration the diagnosis starts from.
+    pub calibration: CalibrationSettings,
+    /// Locate.
+    pub locate: LocateSettings,
+}
+
+/// Calibrates the material to `rec` through `model`, then locates the residual; `progress`
+/// gets a line per stage.
+///
+/// # Errors
+/// A calibration error ([`calibrate`]) or a locate error ([`locate`]).
+pub fn diagnose(
+    model: &Surrogate,
+    rec: &Recordings,
+    s: &DiagnoseSettings,
+    progress: &dyn Fn(&str),
+) -> Result<Diagnosis, DiagnoseError> {
+    s.locate.validate()?;
+    let cal = calibrate(model, rec, &s.calibration, progress)?;
+    progress("locate: residual table, shares, structure over N, T, P, sign patterns");
+    let loc = locate(&cal, model, rec, &s.locate)?;
+    Ok(Diagnosis::new(&cal, rec, loc))
+}

@@ -1,0 +1,159 @@
+//! `surrogate diagnose` from the command line: the report on the shipped experiments, marker
+//! recordings (the figure along the actuator), and bad input named before anything runs.
+use std::path::{Path, PathBuf};
+use std::process::Command;
+
+fn run(args: &[&str]) -> (bool, String, String) {
+    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
+        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .args(args)
+        .output()
+        .unwrap();
+    (
+        out.status.success(),
+        String::from_utf8_lossy(&out.stdout).into_owned(),
+        String::from_utf8_lossy(&out.stderr).into_owned(),
+    )
+}
+
+fn tmp(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("surrogate_diag_{}_{name}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn report(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("diagnosis.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn diagnoses_the_shipped_experiments() {
+    let dir = tmp("shipped");
+    let out = dir.join("report");
+    let (ok, stdout, stderr) = run(&["diagnose", "--out", out.to_str().unwrap()]);
+    assert!(ok, "{stderr}");
+    for f in [
+        "diagnosis.json",
+        "summary.md",
+        "residual_map.svg",
+        "residual_trends.svg",
+    ] {
+        assert!(out.join(f).exists(), "{f}");
+    }
+    // no markers in the shipped recordings: no figure along the actuator, and it is said
+    assert!(!out.join("along_actuator.svg").exists());
+    let r = report(&out);
+    assert_eq!(r["format"], "surrogate.diagnosis");
+    assert_eq!(r["version"], 1);
+    assert_eq!(
+        r["recordings"]["bending"],
+        "training_data/bending_experiments.csv"
+    );
+    assert_eq!(r["name"]["status"], "not_run");
+    assert_eq!(r["locate"]["cells"].as_array().unwrap().len(), 27 * 4);
+    let missing = r["locate"]["missing"].as_array().unwrap();
+    assert!(
+        missing.iter().any(|m| m["kind"] == "markers"),
+        "{missing:?}"
+    );
+    assert!(stdout.starts_with("Findings:\n- "), "{stdout}");
+    assert!(stdout.contains("no marker recordings along the actuator"));
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(md.starts_with("# Diagnosis") && md.contains("## Findings"));
+    assert!(md.contains("- **Name**: not run: needs the FE sensitivities"));
+    // --objective and --exclude reach the calibration
+    let out2 = dir.join("force");
+    let (ok, _, stderr) = run(&[
+        "diagnose",
+        "--objective",
+        "tip,force",
+        "--exclude",
+        "bending:11,1.6,1",
+        "--out",
+        out2.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let r = report(&out2);
+    assert_eq!(r["calibration"]["objective"], "tip=1,force=1");
+    assert_eq!(r["locate"]["cells"].as_array().unwrap().len(), 27 * 4 - 3);
+    assert!(r["locate"]["missing"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|m| m["kind"] == "excluded"));
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn marker_recordings_are_drawn_along_the_actuator() {
+    let dir = tmp("markers");
+    let rec = dir.join("rec");
+    std::fs::create_dir_all(&rec).unwrap();
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let bending =
+        std::fs::read_to_string(root.join("training_data/bending_experiments.csv")).unwrap();
+    std::fs::write(rec.join("bending_experiments.csv"), &bending).unwrap();
+    // marker 9 = the recorded tip, std 3 mm; no force file
+    let mut m =
+        String::from("n_bellows,wall_thickness_mm,pressure_bar,marker,uz_mm,uy_mm,std_mm\n");
+    for line in bending.lines().skip(1) {
+        let v: Vec<&str> = line.split(',').collect();
+        m.push_str(&format!(
+            "{},{},{},9,{},{},3\n",
+            v[0], v[1], v[2], v[3], v[4]
+        ));
+    }
+    std::fs::write(rec.join("marker_experiments.csv"), m).unwrap();
+    let out = dir.join("out");
+    let (ok, stdout, stderr) = run(&[
+        "diagnose",
+        "--recordings",
+        rec.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(out.join("along_actuator.svg").exists());
+    assert!(stdout.contains("no blocked-force recordings"), "{stdout}");
+    let r = report(&out);
+    assert_eq!(r["locate"]["along_actuator"], true);
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn bad_input_is_named_before_anything_runs() {
+    let dir = tmp("bad");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let empty = dir.join("empty");
+    std::fs::create_dir_all(&empty).unwrap();
+    let empty_s = empty.to_str().unwrap();
+    let cases: [(&[&str], String); 5] = [
+        (
+            &["--recordings", "no_such_recordings"],
+            "--recordings no_such_recordings: not a directory".into(),
+        ),
+        (
+            &["--recordings", empty_s],
+            format!("{empty_s}/bending_experiments.csv"),
+        ),
+        (&["--objective", "tipp"], "objective = tipp".into()),
+        (&["--exclude", "11,1.6"], "--exclude = 11,1.6".into()),
+        (
+            &["--alpha", "0.7"],
+            "alpha = 0.7: expected a significance level in (0, 0.5]".into(),
+        ),
+    ];
+    for (extra, want) in cases {
+        let args: Vec<&str> = ["diagnose", "--out", o]
+            .iter()
+            .chain(extra)
+            .copied()
+            .collect();
+        let (ok, _, stderr) = run(&args);
+        assert!(!ok && stderr.contains(&want), "{extra:?}: {stderr}");
+        assert!(!out.exists(), "{extra:?}: nothing written");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}
