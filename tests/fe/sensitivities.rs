@@ -2,6 +2,12 @@
 //! differences of full runs, on the coarse actuator (N = 9, T = 2; bending 0 → 0.3 bar, blocked
 //! force 0 → 1 bar, the tip pressed on the plate).
 //!
+//! In the force rig the contact is the plain penalty (`augmented_updates = 0`), whose
+//! linearisation is exact; the augmented-Lagrangian one (contact held, [`CONTACT_STIFFENING`])
+//! is checked by its convergence in the stiffening factor (`fe_reference/sensitivities/`).
+//!
+//! [`CONTACT_STIFFENING`]: surrogate::fe::sensitivity::CONTACT_STIFFENING
+//!
 //! The finite differences are central, `(y(θ + δ) − y(θ − δ)) / 2δ`, or one-sided of second
 //! order, `(−3y(θ) + 4y(θ + δ) − y(θ + 2δ)) / 2δ`, where the neutral value sits on the bottom
 //! of the range (clamp and plate compliances, pressure loss and offset); `δ` is 1 % of the
@@ -11,10 +17,12 @@
 //! [`TOLERANCE`] of the largest finite difference of the same kind (displacements, angle,
 //! force) at that step.
 //!
-//! The default tests take one parameter for each way a parameter enters the model (material,
-//! moved mesh, rigid-clamp limit, level, plate). Every parameter in both rigs is
-//! `every_parameter_matches_finite_differences` (ignored by default: about 80 full runs,
-//! 25 min on one core; its last output is committed in `fe_reference/sensitivities/`).
+//! The default tests take a parameter for each of the harder ways a parameter enters the
+//! model: the material, a moved mesh, the rigid clamp's limit, and the plate that follows the
+//! sagged tip with the tip held on it. Every parameter is checked by the two ignored tests
+//! `every_parameter_matches_finite_differences_in_bending` (about 6 min on one core) and
+//! `…_in_the_force_rig` (about 20 min); their output is committed in
+//! `fe_reference/sensitivities/`.
 
 use surrogate::fe::effects::{Effect, Effects};
 use surrogate::fe::geometry::DesignParams;
@@ -39,8 +47,15 @@ fn case(mode: Mode) -> Case {
         },
         gravity: true,
         mesh: MeshOptions::level(MeshLevel::Coarse),
+        // the force rig on the plain penalty: the augmented-Lagrangian updates stop once a
+        // touching point is within 1e-3 mm of its contact (AUGMENTED_GAP_TOL), which moves the
+        // force by more than the finite differences' own change (7 % off on d F/d mu1)
         solver: SolverSettings {
             rtol: 1e-10,
+            augmented_updates: match mode {
+                Mode::Bending => SolverSettings::default().augmented_updates,
+                Mode::Force => 0,
+            },
             ..SolverSettings::default()
         },
         mode,
@@ -198,23 +213,29 @@ fn check(mode: Mode, parameters: &[Parameter]) -> Vec<String> {
 fn bending_sensitivities_match_finite_differences() {
     check(
         Mode::Bending,
-        &Parameter::parse_list("wall_bias_bellows,clamp_shear_compliance,pressure_loss").unwrap(),
+        &Parameter::parse_list("alpha1,wall_bias_bellows,clamp_shear_compliance").unwrap(),
     );
 }
 
 #[test]
 fn force_sensitivities_follow_the_plate_and_match_finite_differences() {
-    check(
-        Mode::Force,
-        &Parameter::parse_list("plate_offset,alpha1").unwrap(),
+    check(Mode::Force, &Parameter::parse_list("plate_offset").unwrap());
+}
+
+#[test]
+#[ignore = "about 40 full runs, 6 min on one core; its output is in fe_reference/sensitivities/"]
+fn every_parameter_matches_finite_differences_in_bending() {
+    println!(
+        "{}",
+        check(Mode::Bending, &Parameter::parse_list("all").unwrap()).join("\n")
     );
 }
 
 #[test]
-#[ignore = "about 80 full runs, 25 min on one core; its output is in fe_reference/sensitivities/"]
-fn every_parameter_matches_finite_differences() {
-    let all = Parameter::all();
-    let mut lines = check(Mode::Bending, &all);
-    lines.extend(check(Mode::Force, &all));
-    println!("{}", lines.join("\n"));
+#[ignore = "about 40 full runs at 1 bar, 20 min on one core"]
+fn every_parameter_matches_finite_differences_in_the_force_rig() {
+    println!(
+        "{}",
+        check(Mode::Force, &Parameter::parse_list("all").unwrap()).join("\n")
+    );
 }

@@ -15,12 +15,20 @@
 
 use std::collections::HashMap;
 
-use super::SensitivityError;
 use crate::fe::assembly::terms::foundation::Foundation;
 use crate::fe::simulate::ActuatorModel;
 
 /// Largest conjugate-gradient iterations for the face's mass matrix.
 const CG_ITERATIONS: usize = 2000;
+
+/// The face's mass matrix did not solve: its size and the iterations spent.
+#[derive(Debug)]
+pub(super) struct NotSolved {
+    /// Nodes of the face.
+    pub(super) nodes: usize,
+    /// Conjugate-gradient iterations spent.
+    pub(super) iterations: usize,
+}
 
 /// The clamped face's mass matrix on its nodes.
 pub(super) struct ClampFace {
@@ -78,14 +86,14 @@ impl ClampFace {
     /// Only dofs the rigid model holds move (`x` stays held on the symmetry plane).
     ///
     /// # Errors
-    /// [`SensitivityError::Unsupported`] if the conjugate gradients do not converge.
+    /// [`NotSolved`] if the conjugate gradients do not converge.
     pub(super) fn face_motion(
         &self,
         model: &ActuatorModel,
         r_full: &[f64],
         comps: [bool; 3],
         out: &mut [f64],
-    ) -> Result<(), SensitivityError> {
+    ) -> Result<(), NotSolved> {
         out.iter_mut().for_each(|v| *v = 0.0);
         for (c, _) in comps.iter().enumerate().filter(|(_, on)| **on) {
             let active: Vec<bool> = self
@@ -111,7 +119,7 @@ impl ClampFace {
     }
 
     /// `M_aa w = b` on the active nodes (Jacobi-preconditioned conjugate gradients).
-    fn solve(&self, active: &[bool], b: &[f64]) -> Result<Vec<f64>, SensitivityError> {
+    fn solve(&self, active: &[bool], b: &[f64]) -> Result<Vec<f64>, NotSolved> {
         let n = self.nodes.len();
         let apply = |x: &[f64], y: &mut [f64]| {
             for i in 0..n {
@@ -173,12 +181,9 @@ impl ClampFace {
                 p[i] = z[i] + beta * p[i];
             }
         }
-        Err(SensitivityError::Unsupported {
-            parameter: "clamp_compliance",
-            why: format!(
-                "the clamped face's mass matrix ({n} nodes) did not solve in {CG_ITERATIONS} \
-                 conjugate-gradient iterations"
-            ),
+        Err(NotSolved {
+            nodes: n,
+            iterations: CG_ITERATIONS,
         })
     }
 }

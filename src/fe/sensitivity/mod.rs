@@ -30,7 +30,7 @@
 //! | `pressure_loss`, `pressure_offset` | the effective pressure of the level |
 //! | `density` | the gravity factor of the level |
 //! | `anisotropy` | the fibre term of the material |
-//! | `clamp_compliance`, `clamp_shear_compliance` | at `c > 0` the springs' stiffness `1/c`; at `c = 0` (rigid, the neutral value) the limit of [`clamp`]: the clamped face moves by `−M⁻¹R_s` per unit `c` |
+//! | `clamp_compliance`, `clamp_shear_compliance` | at `c > 0` the springs' stiffness `1/c`; at `c = 0` (rigid, the neutral value) the rigid-clamp limit (module `clamp`): the clamped face moves by `−M⁻¹R_s` per unit `c` |
 //! | `plate_offset`, `plate_compliance` | the plate's height only |
 //! | `force_scale` | the reported force only: `dF/ds = F/s` |
 //!
@@ -666,7 +666,15 @@ fn differentiate(
                     if let (Some(How::RigidClamp(dirs)), Some(face)) =
                         (p.points.first().map(|q| &q.how), &clamp)
                     {
-                        face.face_motion(&base, &r0, *dirs, &mut du_s)?;
+                        face.face_motion(&base, &r0, *dirs, &mut du_s)
+                            .map_err(|e| SensitivityError::Unsupported {
+                                parameter: p.parameter.name(),
+                                why: format!(
+                                    "the clamped face's mass matrix ({} nodes) did not solve in \
+                                     {} conjugate-gradient iterations",
+                                    e.nodes, e.iterations
+                                ),
+                            })?;
                     } else {
                         du_s.iter_mut().for_each(|v| *v = 0.0);
                     }
