@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::locate::{locate, Localisation, LocateSettings};
+use super::name::{name, NameSettings, Naming};
 use super::DiagnoseError;
 use crate::calibrate::fit::describe_exclusions;
 use crate::calibrate::{calibrate, Calibration, CalibrationSettings, OgdenSet, Recordings};
@@ -78,7 +79,7 @@ impl CalibrationSummary {
     }
 }
 
-/// A stage of the diagnoser that did not run, and why.
+/// A stage of the diagnoser: not run (and why), or its result.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case", tag = "status")]
 pub enum Stage {
@@ -87,6 +88,8 @@ pub enum Stage {
         /// Why.
         reason: String,
     },
+    /// The Name stage's result ([`super::name`]).
+    Named(Box<Naming>),
 }
 
 /// The diagnosis report.
@@ -129,6 +132,28 @@ impl Diagnosis {
             model_and_show: Stage::NotRun {
                 reason: "needs a named effect".into(),
             },
+        }
+    }
+
+    /// Runs the Name stage on this report's residual table with the FE sensitivities
+    /// `sens` (see [`super::name`]) and records it.
+    ///
+    /// # Errors
+    /// See [`name`].
+    pub fn name_with(
+        &mut self,
+        sens: &crate::calibrate::baseline::SweepSensitivities,
+        settings: &NameSettings,
+    ) -> Result<&Naming, DiagnoseError> {
+        let naming = name(&self.locate.cells, sens, settings)?;
+        self.name = Stage::Named(Box::new(naming));
+        self.model_and_show = Stage::NotRun {
+            reason: "the refit with the named effect and its held-out gain are not built yet"
+                .into(),
+        };
+        match &self.name {
+            Stage::Named(n) => Ok(n),
+            Stage::NotRun { .. } => unreachable!("just set"),
         }
     }
 

@@ -44,7 +44,13 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
             Stage::NotRun { reason } => {
                 let _ = writeln!(s, "- **{name}**: not run: {reason}.");
             }
+            Stage::Named(n) => {
+                let _ = writeln!(s, "- **{name}**: {}", n.verdict);
+            }
         }
+    }
+    if let Stage::Named(n) = &d.name {
+        naming(&mut s, n);
     }
     residual_map(&mut s, l);
     shares(&mut s, l);
@@ -346,5 +352,53 @@ fn along(s: &mut String, l: &Localisation) {
                 yes(g.significant)
             );
         }
+    }
+}
+
+/// The Name stage's table: every candidate, the pairs the recordings cannot separate, and
+/// what could not be tested.
+fn naming(s: &mut String, n: &crate::diagnose::name::Naming) {
+    let _ = writeln!(
+        s,
+        "\n## Name: candidate effects\n\n{} cells with FE sensitivities; χ² {:.1} at the \
+         calibrated set, {:.1} after a linearised material re-fit on every cell.\n",
+        n.n_cells, n.chi2, n.chi2_material
+    );
+    let _ = writeln!(
+        s,
+        "| effect | size | ± | unit | material absorbs | explains | F | p | Holm | ΔAIC | ΔBIC | plausible |\n|---|---|---|---|---|---|---|---|---|---|---|---|"
+    );
+    for c in &n.candidates {
+        let _ = writeln!(
+            s,
+            "| {} | {:+.4} | {:.4} | {} | {:.0} % | {:.1} % | {:.2} | {:.2e} | {} | {:+.1} | {:+.1} | {} |",
+            c.effect,
+            c.estimate,
+            c.std_error,
+            c.unit,
+            100.0 * c.absorbed_by_material,
+            100.0 * c.explained,
+            c.f,
+            c.p_value,
+            if c.significant { "significant" } else { "-" },
+            c.delta_aic,
+            c.delta_bic,
+            if c.plausible { "yes" } else { "no" }
+        );
+    }
+    for p in &n.indistinguishable {
+        let _ = writeln!(
+            s,
+            "\n{} and {} cannot be told apart on these recordings (cos {:.3}){}.",
+            p.a,
+            p.b,
+            p.cosine,
+            p.separated_by.as_ref().map_or(String::new(), |w| format!(
+                "; what would separate them: {w}"
+            ))
+        );
+    }
+    for u in &n.untestable {
+        let _ = writeln!(s, "\n{} not testable: {}.", u.effect, u.reason);
     }
 }

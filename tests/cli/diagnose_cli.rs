@@ -50,7 +50,10 @@ fn diagnoses_the_shipped_experiments() {
         r["recordings"]["bending"],
         "training_data/bending_experiments.csv"
     );
-    assert_eq!(r["name"]["status"], "not_run");
+    // the Name stage on the committed FE sensitivities
+    assert_eq!(r["name"]["status"], "named");
+    assert!(!r["name"]["candidates"].as_array().unwrap().is_empty());
+    assert!(stdout.contains("Name (candidate physics): "), "{stdout}");
     assert_eq!(r["locate"]["cells"].as_array().unwrap().len(), 27 * 4);
     let missing = r["locate"]["missing"].as_array().unwrap();
     assert!(
@@ -61,7 +64,7 @@ fn diagnoses_the_shipped_experiments() {
     assert!(stdout.contains("no marker recordings along the actuator"));
     let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
     assert!(md.starts_with("# Diagnosis") && md.contains("## Findings"));
-    assert!(md.contains("- **Name**: not run: needs the FE sensitivities"));
+    assert!(md.contains("- **Name**: ") && md.contains("## Name: candidate effects"));
     // --objective and --exclude reach the calibration
     let out2 = dir.join("force");
     let (ok, _, stderr) = run(&[
@@ -129,7 +132,7 @@ fn bad_input_is_named_before_anything_runs() {
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     let empty_s = empty.to_str().unwrap();
-    let cases: [(&[&str], String); 5] = [
+    let cases: [(&[&str], String); 6] = [
         (
             &["--recordings", "no_such_recordings"],
             "--recordings no_such_recordings: not a directory".into(),
@@ -143,6 +146,10 @@ fn bad_input_is_named_before_anything_runs() {
         (
             &["--alpha", "0.7"],
             "alpha = 0.7: expected a significance level in (0, 0.5]".into(),
+        ),
+        (
+            &["--sensitivities", "no_such_sensitivities.json"],
+            "--sensitivities no_such_sensitivities.json: expected the file".into(),
         ),
     ];
     for (extra, want) in cases {

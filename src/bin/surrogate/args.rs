@@ -71,6 +71,14 @@ pub struct DiagnoseArgs {
     /// (and along_actuator.svg with marker recordings).
     #[arg(long, default_value = "diagnosis")]
     pub out: PathBuf,
+    /// FE sensitivities of the effect library at the calibrated material (written by
+    /// `validate --sensitivities all`); the Name stage ranks the effects with them. `none`
+    /// skips it.
+    #[arg(
+        long,
+        default_value = "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json"
+    )]
+    pub sensitivities: PathBuf,
 }
 
 /// `surrogate twin`.

@@ -9,16 +9,20 @@
 //! 4. One design re-verified live by the full FE model on a mesh that finishes in a couple of
 //!    minutes, beside the experiments and the surrogate of that mesh.
 //! 5. Where the calibrated model still misses the experiments: the diagnoser's located
-//!    residual, in words (report and plots in `<out>/diagnosis/`).
+//!    residual, in words, and the effects of the library ranked by how much of it each
+//!    explains, from the committed FE sensitivities at the calibrated material (report and
+//!    plots in `<out>/diagnosis/`).
 use std::path::Path;
 
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use plotters::prelude::*;
+use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::experiments::{bending_error, shipped_bending, BendingRecord};
 use surrogate::calibrate::verify::{cached_verification, fe_material, FeVerification};
 use surrogate::calibrate::{calibrate, Calibration, CalibrationSettings, Recordings};
 use surrogate::diagnose::locate::{locate, LocateSettings};
+use surrogate::diagnose::name::NameSettings;
 use surrogate::diagnose::Diagnosis;
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
@@ -30,6 +34,10 @@ use surrogate::schema;
 
 use crate::args::DemoArgs;
 use crate::calibrate::{summary_text, write_outputs};
+
+/// The committed FE sensitivities of the effect library at the calibrated material.
+const SENSITIVITIES: &str =
+    "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json";
 
 /// Runs the subcommand.
 pub fn run(a: DemoArgs) -> Result<()> {
@@ -81,14 +89,37 @@ pub fn run(a: DemoArgs) -> Result<()> {
     // 5. where the calibrated model and the experiments still disagree
     println!("\n# 5. Where the calibrated model and the experiments disagree (diagnose: locate)\n");
     let loc = locate(&cal, &model, &rec, &LocateSettings::default())?;
-    let diagnosis = Diagnosis::new(&cal, &rec, loc);
+    let mut diagnosis = Diagnosis::new(&cal, &rec, loc);
     for f in &diagnosis.locate.findings {
         println!("- {}", f.text);
     }
-    println!(
-        "\nNaming the physics behind this residual (candidate effects ranked by their FE \
-         sensitivities) is not part of the diagnosis yet."
-    );
+    // the Name stage on the committed FE sensitivities (coarse mesh, calibrated material)
+    let sens_path = Path::new(SENSITIVITIES);
+    match SweepSensitivities::read(sens_path) {
+        Ok(sens) => {
+            println!(
+                "\nWhich effect of the library explains it (FE sensitivities of {} ramps at the \
+                 calibrated material, {} mesh, precomputed in {SENSITIVITIES}):\n",
+                sens.designs.len(),
+                sens.mesh.level.name()
+            );
+            let n = diagnosis.name_with(&sens, &NameSettings::default())?;
+            println!("{}", n.verdict);
+            for c in n.candidates.iter().take(5) {
+                println!(
+                    "- {:<24} {:+.4} ± {:.4} {:<7} explains {:>5.1} % (p = {:.2e}{})",
+                    c.effect,
+                    c.estimate,
+                    c.std_error,
+                    c.unit,
+                    100.0 * c.explained,
+                    c.p_value,
+                    if c.significant { ", significant" } else { "" }
+                );
+            }
+        }
+        Err(e) => println!("\nThe Name stage is skipped: {e}"),
+    }
     let diag_dir = a.out_dir.join("diagnosis");
     std::fs::create_dir_all(&diag_dir)?;
     let mut written = written;

@@ -3,9 +3,11 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
+use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::experiments::{BENDING_FILE, FORCE_FILE, MARKERS_FILE};
 use surrogate::calibrate::objective::Exclusion;
 use surrogate::calibrate::{CalibrationSettings, Recordings, Selection, Weights};
+use surrogate::diagnose::name::NameSettings;
 use surrogate::diagnose::summary::summary_markdown;
 use surrogate::diagnose::{diagnose, DiagnoseSettings, Diagnosis, LocateSettings};
 
@@ -54,7 +56,32 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
     let s = settings(&a)?;
     let rec = recordings(&a.recordings)?;
     let model = load_model(&a.model)?;
-    let d = diagnose(&model, &rec, &s, &|stage| eprintln!("{stage}"))?;
+    // read before any work: a bad file is named at once
+    let sens = if a.sensitivities.as_os_str() == "none" {
+        None
+    } else {
+        Some(SweepSensitivities::read(&a.sensitivities).with_context(|| {
+            format!(
+                "--sensitivities {}: expected the file `validate --sensitivities all` writes \
+                 (or none)",
+                a.sensitivities.display()
+            )
+        })?)
+    };
+    let mut d = diagnose(&model, &rec, &s, &|stage| eprintln!("{stage}"))?;
+    let naming = if let Some(sens) = sens {
+        eprintln!(
+            "name: {} effects against the FE sensitivities of {} ramps ({} mesh)",
+            sens.designs
+                .first()
+                .map_or(0, |d| d.sensitivities.parameters.len().saturating_sub(4)),
+            sens.designs.len(),
+            sens.mesh.level.name()
+        );
+        Some(d.name_with(&sens, &NameSettings::default())?.clone())
+    } else {
+        None
+    };
     let written = write_outputs(&a.out, &d)?;
     println!("Findings:");
     for f in &d.locate.findings {
@@ -66,7 +93,35 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
             println!("- {}", m.what);
         }
     }
-    println!("Name (candidate physics): not run in this version.");
+    match &naming {
+        None => println!("Name (candidate physics): not run (--sensitivities none)."),
+        Some(n) => {
+            println!("Name (candidate physics): {}", n.verdict);
+            for c in n.candidates.iter().take(5) {
+                println!(
+                    "- {:<24} {:+.4} ± {:.4} {:<7} explains {:>5.1} % (p = {:.2e}{})",
+                    c.effect,
+                    c.estimate,
+                    c.std_error,
+                    c.unit,
+                    100.0 * c.explained,
+                    c.p_value,
+                    if c.significant { ", significant" } else { "" }
+                );
+            }
+            for p in &n.indistinguishable {
+                println!(
+                    "- {} and {} cannot be told apart here (cos {:.3}){}",
+                    p.a,
+                    p.b,
+                    p.cosine,
+                    p.separated_by
+                        .as_ref()
+                        .map_or(String::new(), |s| format!("; {s}"))
+                );
+            }
+        }
+    }
     for p in written {
         println!("wrote {}", p.display());
     }

@@ -1,0 +1,715 @@
+//! Name: which effect of the library explains the located residual, once the material has
+//! taken what it can.
+//!
+//! For every cell `i` of the residual table ([`super::locate`]) and every parameter `j`, the
+//! FE sensitivities of the sweep at (about) the calibrated material give the signature
+//!
+//! ```text
+//!   S_ij = (∂ŷᵢ/∂θⱼ) / σᵢ          (the cell's change per unit of θⱼ, in its own σ)
+//! ```
+//!
+//! The material's four columns `S_m` span what a material re-fit absorbs. With `Q` an
+//! orthonormal basis of that span (thin SVD, directions below 10⁻¹⁰ of the largest dropped)
+//! and `P⊥ = I − QQᵀ`, the residual after a linearised material re-fit on every cell is
+//! `r = P⊥ z`, and an effect's signature seen past the material is `s̃ = P⊥ s`. Adding one
+//! effect to the re-fit (nested, one more parameter):
+//!
+//! ```text
+//!   θ̂ = −s̃ᵀr / s̃ᵀs̃,     Δχ² = (s̃ᵀr)² / s̃ᵀs̃,     χ²₁ = rᵀr − Δχ²
+//!   F = Δχ² / (χ²₁ / (n − 5)) ~ F(1, n − 5),     se(θ̂) = √(χ²₁ / (n − 5)) / |s̃|
+//! ```
+//!
+//! The scale is estimated from what the effect leaves (the recordings' σ is too small for a
+//! model that misses them by several σ, so a test against it would call every candidate
+//! significant). The candidates' p-values are corrected together by Holm's step-down
+//! procedure at level `α`; `ΔAIC = 2 − Δχ²/ŝ²` and `ΔBIC = ln n − Δχ²/ŝ²` (`ŝ²` the
+//! material-only scale) rank them too. An effect whose signature the material absorbs
+//! (`|s̃| ≤ 10⁻³ |s|`) or that moves nothing these recordings hold (a force-rig effect without
+//! force recordings) is listed as not testable, with the reason.
+//!
+//! Two candidates whose projected signatures are nearly collinear (`|cos| ≥ 0.95`) explain
+//! the residual the same way on these recordings and are reported as indistinguishable,
+//! with the output the sweep computes but the recordings lack (markers, force, other
+//! pressures) where their two explanations (`θ̂_a ∂y/∂θ_a` against `θ̂_b ∂y/∂θ_b`) differ
+//! most: the extra measurement that would separate them. When no candidate is significant the
+//! verdict says so and names nothing.
+
+use nalgebra::{DMatrix, DVector};
+use serde::{Deserialize, Serialize};
+use statrs::distribution::{ContinuousCDF, FisherSnedecor};
+
+use super::cells::Cell;
+use super::DiagnoseError;
+use crate::calibrate::baseline::SweepSensitivities;
+use crate::calibrate::objective::Output;
+use crate::fe::sensitivity::{OgdenParameter, Outputs, Parameter, Sensitivities};
+use crate::fe::simulate::Mode;
+
+/// Settings of [`name`].
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct NameSettings {
+    /// Family-wise significance level of the candidates' tests (Holm).
+    pub alpha: f64,
+    /// `|cos|` between two projected signatures above which the two are indistinguishable.
+    pub collinear: f64,
+}
+
+impl Default for NameSettings {
+    fn default() -> Self {
+        Self {
+            alpha: 0.05,
+            collinear: 0.95,
+        }
+    }
+}
+
+/// One candidate effect, tested.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Candidate {
+    /// The effect's name.
+    pub effect: String,
+    /// Its unit.
+    pub unit: String,
+    /// `|s|`: how strongly the recordings see it (σ per unit).
+    pub signature_norm: f64,
+    /// Share of `|s|²` the material absorbs.
+    pub absorbed_by_material: f64,
+    /// Its estimated size `θ̂` (unit of the effect, from its neutral value).
+    pub estimate: f64,
+    /// Standard error of `θ̂`.
+    pub std_error: f64,
+    /// Whether `θ̂` lies in the library's plausible range.
+    pub plausible: bool,
+    /// `Δχ²` of adding it to the material re-fit.
+    pub delta_chi2: f64,
+    /// `Δχ²` over the material-only `χ²`.
+    pub explained: f64,
+    /// The F statistic.
+    pub f: f64,
+    /// Its p-value.
+    pub p_value: f64,
+    /// Whether it is significant after Holm's correction.
+    pub significant: bool,
+    /// `ΔAIC` against the material-only re-fit (negative: better).
+    pub delta_aic: f64,
+    /// `ΔBIC` against the material-only re-fit.
+    pub delta_bic: f64,
+}
+
+/// Two candidates the recordings cannot tell apart.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Indistinguishable {
+    /// First effect.
+    pub a: String,
+    /// Second effect.
+    pub b: String,
+    /// `cos` between their projected signatures.
+    pub cosine: f64,
+    /// Where their two explanations differ most among outputs the recordings lack.
+    pub separated_by: Option<String>,
+}
+
+/// An effect that could not be tested, and why.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Untestable {
+    /// The effect.
+    pub effect: String,
+    /// Why.
+    pub reason: String,
+}
+
+/// What the Name stage found.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct Naming {
+    /// Cells used (those with sensitivities).
+    pub n_cells: usize,
+    /// Cells without sensitivities in the sweep, in words.
+    pub unmatched: Vec<String>,
+    /// `χ²` of the used cells at the calibrated set.
+    pub chi2: f64,
+    /// `χ²` after the linearised material re-fit on every used cell.
+    pub chi2_material: f64,
+    /// The candidates, largest `Δχ²` first.
+    pub candidates: Vec<Candidate>,
+    /// Pairs the recordings cannot separate.
+    pub indistinguishable: Vec<Indistinguishable>,
+    /// Effects not testable on these recordings.
+    pub untestable: Vec<Untestable>,
+    /// The verdict in words.
+    pub verdict: String,
+}
+
+/// The derivative (or value) of `output` in `o`.
+fn output_of(o: &Outputs, output: Output) -> Option<f64> {
+    match output {
+        Output::TipUz => Some(o.tip_uz_mm),
+        Output::TipUy => Some(o.tip_uy_mm),
+        Output::Angle => Some(o.angle_deg),
+        Output::Force => o.force_n,
+        Output::MarkerUz(k) => o.markers.get(usize::from(k).wrapping_sub(1)).map(|m| m[0]),
+        Output::MarkerUy(k) => o.markers.get(usize::from(k).wrapping_sub(1)).map(|m| m[1]),
+    }
+}
+
+/// The sensitivities of a cell's ramp and the index of its step.
+fn step_of<'a>(sens: &'a SweepSensitivities, c: &Cell) -> Option<(&'a Sensitivities, usize)> {
+    let mode = if c.output == Output::Force {
+        Mode::Force
+    } else {
+        Mode::Bending
+    };
+    let s = sens.design(c.n_bellows as usize, c.wall_thickness_mm, mode)?;
+    let i = s
+        .steps
+        .iter()
+        .position(|st| (st.pressure_bar - c.pressure_bar).abs() < 1e-9)?;
+    Some((s, i))
+}
+
+/// Names the effect behind the residual of `cells` (see the [module docs](self)).
+///
+/// # Errors
+/// [`DiagnoseError::Input`] if the sweep lacks the material parameters (they are projected
+/// out) or no cell has sensitivities, or a bad setting.
+pub fn name(
+    cells: &[Cell],
+    sens: &SweepSensitivities,
+    s: &NameSettings,
+) -> Result<Naming, DiagnoseError> {
+    if !(s.alpha > 0.0 && s.alpha < 1.0) {
+        return Err(DiagnoseError::input("alpha", s.alpha, "a level in (0, 1)"));
+    }
+    if !(s.collinear > 0.0 && s.collinear < 1.0) {
+        return Err(DiagnoseError::input(
+            "collinear",
+            s.collinear,
+            "a cosine in (0, 1)",
+        ));
+    }
+    let params: Vec<Parameter> = sens
+        .designs
+        .first()
+        .map(|d| {
+            d.sensitivities
+                .parameters
+                .iter()
+                .map(|p| p.parameter)
+                .collect()
+        })
+        .unwrap_or_default();
+    let material: Vec<usize> = OgdenParameter::ALL
+        .iter()
+        .filter_map(|k| params.iter().position(|p| *p == Parameter::Material(*k)))
+        .collect();
+    if material.len() != 4 {
+        return Err(DiagnoseError::input(
+            "sensitivities",
+            "without mu1, alpha1, mu2, alpha2",
+            "a sweep with the four material parameters (validate --sensitivities all)",
+        ));
+    }
+    // rows: cells with sensitivities; columns: every parameter (σ-scaled)
+    let mut rows: Vec<(&Cell, Vec<f64>)> = Vec::new();
+    let mut unmatched = Vec::new();
+    for c in cells {
+        let derivs = step_of(sens, c).and_then(|(se, i)| {
+            se.steps[i]
+                .derivatives
+                .iter()
+                .map(|d| output_of(d, c.output).map(|v| v / c.sigma))
+                .collect::<Option<Vec<f64>>>()
+        });
+        match derivs {
+            Some(d) => rows.push((c, d)),
+            None => unmatched.push(format!(
+                "N = {}, T = {} mm, {} bar, {}",
+                c.n_bellows,
+                c.wall_thickness_mm,
+                c.pressure_bar,
+                c.output.name()
+            )),
+        }
+    }
+    let n = rows.len();
+    if n <= 6 {
+        return Err(DiagnoseError::input(
+            "cells with sensitivities",
+            n,
+            "more than 6 (the sweep must cover the recorded designs and pressures)",
+        ));
+    }
+    let z = DVector::from_iterator(n, rows.iter().map(|(c, _)| c.standardised));
+    let column = |j: usize| DVector::from_iterator(n, rows.iter().map(|(_, d)| d[j]));
+    let sm = DMatrix::from_columns(&material.iter().map(|&j| column(j)).collect::<Vec<_>>());
+    let q = orthonormal_basis(&sm);
+    let project = |v: &DVector<f64>| -> DVector<f64> { v - &q * (q.transpose() * v) };
+    let r = project(&z);
+    let chi2 = z.norm_squared();
+    let chi2_material = r.norm_squared();
+    let dof = n as f64 - 5.0;
+    let scale0 = chi2_material / (n as f64 - 4.0);
+    let mut candidates = Vec::new();
+    let mut untestable = Vec::new();
+    let mut projected: Vec<(String, f64, DVector<f64>, Parameter)> = Vec::new();
+    for (j, p) in params.iter().enumerate() {
+        let Parameter::Effect(e) = *p else { continue };
+        let sj = column(j);
+        let norm = sj.norm();
+        if norm == 0.0 {
+            untestable.push(Untestable {
+                effect: e.name().into(),
+                reason: "moves nothing these recordings hold".into(),
+            });
+            continue;
+        }
+        let st = project(&sj);
+        let kept = st.norm();
+        if kept <= 1e-3 * norm {
+            untestable.push(Untestable {
+                effect: e.name().into(),
+                reason: format!(
+                    "the material absorbs its signature ({:.4} % left)",
+                    100.0 * kept / norm
+                ),
+            });
+            continue;
+        }
+        let proj = st.dot(&r);
+        let delta = proj * proj / (kept * kept);
+        let chi2_1 = (chi2_material - delta).max(0.0);
+        let scale = chi2_1 / dof;
+        let f = if scale > 0.0 {
+            delta / scale
+        } else {
+            f64::INFINITY
+        };
+        let p_value = FisherSnedecor::new(1.0, dof)
+            .map(|d| 1.0 - d.cdf(f))
+            .unwrap_or(f64::NAN);
+        let estimate = -proj / (kept * kept);
+        let info = e.info();
+        let size = info.neutral + estimate;
+        candidates.push(Candidate {
+            effect: e.name().into(),
+            unit: info.unit.into(),
+            signature_norm: norm,
+            absorbed_by_material: 1.0 - (kept / norm).powi(2),
+            estimate,
+            std_error: scale.sqrt() / kept,
+            plausible: (info.range.0..=info.range.1).contains(&size),
+            delta_chi2: delta,
+            explained: delta / chi2_material.max(f64::MIN_POSITIVE),
+            f,
+            p_value,
+            significant: false,
+            delta_aic: 2.0 - delta / scale0,
+            delta_bic: (n as f64).ln() - delta / scale0,
+        });
+        projected.push((e.name().into(), estimate, st, *p));
+    }
+    holm(&mut candidates, s.alpha);
+    candidates.sort_by(|a, b| b.delta_chi2.total_cmp(&a.delta_chi2));
+    let indistinguishable = pairs(&projected, &candidates, sens, s.collinear);
+    let verdict = verdict(&candidates, &indistinguishable, chi2_material);
+    Ok(Naming {
+        n_cells: n,
+        unmatched,
+        chi2,
+        chi2_material,
+        candidates,
+        indistinguishable,
+        untestable,
+        verdict,
+    })
+}
+
+/// Orthonormal basis of the column span of `a` (thin SVD, directions below 10⁻¹⁰ of the
+/// largest singular value dropped).
+fn orthonormal_basis(a: &DMatrix<f64>) -> DMatrix<f64> {
+    let svd = a.clone().svd(true, false);
+    let u = svd.u.expect("u was asked for");
+    let smax = svd.singular_values.max();
+    let keep: Vec<usize> = (0..svd.singular_values.len())
+        .filter(|&i| svd.singular_values[i] > 1e-10 * smax)
+        .collect();
+    DMatrix::from_columns(
+        &keep
+            .iter()
+            .map(|&i| u.column(i).into_owned())
+            .collect::<Vec<_>>(),
+    )
+}
+
+/// Holm's step-down correction at level `alpha` over every candidate.
+fn holm(c: &mut [Candidate], alpha: f64) {
+    let mut order: Vec<usize> = (0..c.len()).collect();
+    order.sort_by(|&a, &b| c[a].p_value.total_cmp(&c[b].p_value));
+    let m = c.len();
+    for (k, &i) in order.iter().enumerate() {
+        if c[i].p_value <= alpha / (m - k) as f64 {
+            c[i].significant = true;
+        } else {
+            break;
+        }
+    }
+}
+
+/// Nearly collinear pairs among the significant candidates (or the two best when none is),
+/// with the unrecorded output that separates them.
+fn pairs(
+    projected: &[(String, f64, DVector<f64>, Parameter)],
+    ranked: &[Candidate],
+    sens: &SweepSensitivities,
+    collinear: f64,
+) -> Vec<Indistinguishable> {
+    let mut interesting: Vec<&str> = ranked
+        .iter()
+        .filter(|c| c.significant)
+        .map(|c| c.effect.as_str())
+        .collect();
+    if interesting.is_empty() {
+        interesting = ranked.iter().take(2).map(|c| c.effect.as_str()).collect();
+    }
+    let mut out = Vec::new();
+    for (a, (na, ta, sa, pa)) in projected.iter().enumerate() {
+        for (nb, tb, sb, pb) in projected.iter().skip(a + 1) {
+            if !interesting.contains(&na.as_str()) && !interesting.contains(&nb.as_str()) {
+                continue;
+            }
+            let cos = sa.dot(sb) / (sa.norm() * sb.norm());
+            if cos.abs() < collinear {
+                continue;
+            }
+            out.push(Indistinguishable {
+                a: na.clone(),
+                b: nb.clone(),
+                cosine: cos,
+                separated_by: separation(sens, (*pa, *ta), (*pb, *tb)),
+            });
+        }
+    }
+    out
+}
+
+/// Where `θ̂_a ∂y/∂θ_a` and `θ̂_b ∂y/∂θ_b` differ most over every output of the sweep
+/// (markers, force, tip, angle at every design and pressure), in words.
+fn separation(
+    sens: &SweepSensitivities,
+    a: (Parameter, f64),
+    b: (Parameter, f64),
+) -> Option<String> {
+    let mut best: Option<(f64, String)> = None;
+    for d in &sens.designs {
+        let params = &d.sensitivities.parameters;
+        let ia = params.iter().position(|p| p.parameter == a.0)?;
+        let ib = params.iter().position(|p| p.parameter == b.0)?;
+        for st in &d.sensitivities.steps {
+            let (da, db) = (st.derivatives[ia].named(), st.derivatives[ib].named());
+            for ((name, va), (_, vb)) in da.iter().zip(&db) {
+                let diff = (a.1 * va - b.1 * vb).abs();
+                if best.as_ref().is_none_or(|(v, _)| diff > *v) {
+                    best = Some((
+                        diff,
+                        format!(
+                            "{name} at N = {}, T = {} mm, {} bar ({:?}): the two explanations \
+                             differ by {diff:.3}",
+                            d.n_bellows, d.wall_thickness_mm, st.pressure_bar, d.mode
+                        ),
+                    ));
+                }
+            }
+        }
+    }
+    best.map(|(_, s)| s)
+}
+
+/// The verdict in words.
+fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_material: f64) -> String {
+    let Some(top) = c.first().filter(|t| t.significant) else {
+        return format!(
+            "No effect of the library explains the residual left after the material re-fit \
+             (χ² = {chi2_material:.1}) significantly: nothing is named."
+        );
+    };
+    let mut s = format!(
+        "{} explains {:.0} % of the residual left after the material re-fit (size {:+.3} ± \
+         {:.3} {}, F = {:.1}, p = {:.2e}{})",
+        top.effect,
+        100.0 * top.explained,
+        top.estimate,
+        top.std_error,
+        top.unit,
+        top.f,
+        top.p_value,
+        if top.plausible {
+            ""
+        } else {
+            "; outside the library's plausible range"
+        }
+    );
+    let twins: Vec<&str> = pairs
+        .iter()
+        .filter_map(|p| {
+            if p.a == top.effect {
+                Some(p.b.as_str())
+            } else if p.b == top.effect {
+                Some(p.a.as_str())
+            } else {
+                None
+            }
+        })
+        .collect();
+    if !twins.is_empty() {
+        s.push_str(&format!(
+            "; on these recordings it cannot be told apart from {}",
+            twins.join(", ")
+        ));
+    }
+    s.push('.');
+    s
+}
+
+#[cfg(test)]
+mod tests {
+    use rand::{Rng, SeedableRng};
+    use rand_xoshiro::Xoshiro256PlusPlus;
+
+    use super::*;
+    use crate::calibrate::baseline::{DesignSensitivities, SWEEP_SENSITIVITY_FORMAT};
+    use crate::diagnose::cells::Family;
+    use crate::fe::effects::{Effect, Effects};
+    use crate::fe::material::Material;
+    use crate::fe::mesh::{MeshLevel, MeshOptions};
+    use crate::fe::sensitivity::{ParameterInfo, SensitivityCost, StepSensitivities};
+
+    const DESIGNS: [(usize, f64); 9] = [
+        (9, 1.6),
+        (9, 2.0),
+        (9, 2.4),
+        (11, 1.6),
+        (11, 2.0),
+        (11, 2.4),
+        (13, 1.6),
+        (13, 2.0),
+        (13, 2.4),
+    ];
+
+    fn random_outputs(rng: &mut Xoshiro256PlusPlus) -> Outputs {
+        let mut g = || rng.gen_range(-1.0..1.0);
+        Outputs {
+            tip_uz_mm: g(),
+            tip_uy_mm: g(),
+            angle_deg: g(),
+            markers: (0..9).map(|_| [g(), g()]).collect(),
+            force_n: None,
+        }
+    }
+
+    /// A bending sweep with random signatures for every parameter.
+    fn sweep(seed: u64) -> SweepSensitivities {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        let parameters: Vec<ParameterInfo> = Parameter::all()
+            .into_iter()
+            .map(|p| ParameterInfo {
+                parameter: p,
+                unit: p.unit().into(),
+                value: 0.0,
+                step: 1e-6,
+                how: String::new(),
+            })
+            .collect();
+        let designs = DESIGNS
+            .iter()
+            .map(|&(n, t)| DesignSensitivities {
+                n_bellows: n,
+                wall_thickness_mm: t,
+                mode: Mode::Bending,
+                sensitivities: Sensitivities {
+                    format: String::new(),
+                    version: 1,
+                    mode: Mode::Bending,
+                    parameters: parameters.clone(),
+                    steps: [0.0, 1.0, 2.0, 3.0]
+                        .iter()
+                        .map(|&p| StepSensitivities {
+                            pressure_bar: p,
+                            values: random_outputs(&mut rng),
+                            // the force rig's own effects move nothing in bending
+                            derivatives: parameters
+                                .iter()
+                                .map(|i| {
+                                    let mut o = random_outputs(&mut rng);
+                                    if let Parameter::Effect(
+                                        Effect::PlateOffset
+                                        | Effect::PlateCompliance
+                                        | Effect::ForceScale,
+                                    ) = i.parameter
+                                    {
+                                        o = Outputs {
+                                            tip_uz_mm: 0.0,
+                                            tip_uy_mm: 0.0,
+                                            angle_deg: 0.0,
+                                            markers: vec![[0.0; 2]; 9],
+                                            force_n: None,
+                                        };
+                                    }
+                                    o
+                                })
+                                .collect(),
+                        })
+                        .collect(),
+                    cost: SensitivityCost::default(),
+                },
+            })
+            .collect();
+        SweepSensitivities {
+            format: SWEEP_SENSITIVITY_FORMAT.into(),
+            version: 1,
+            material: Material::from_spec("ogden_002", 1000.0).unwrap(),
+            mesh: MeshOptions::level(MeshLevel::Coarse),
+            effects: Effects::neutral(),
+            designs,
+            missing: Vec::new(),
+        }
+    }
+
+    /// Cells (tip Uz, tip Uy, angle at 1, 2, 3 bar, σ = 1) of recordings made by the sweep's
+    /// linear model with the material off by `material` and `planted` effects, plus noise.
+    fn cells(sens: &SweepSensitivities, planted: &[(Effect, f64)], seed: u64) -> Vec<Cell> {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        let params = &sens.designs[0].sensitivities.parameters;
+        let at = |p: Parameter| params.iter().position(|i| i.parameter == p).unwrap();
+        let material = [0.3, -0.2, 0.1, 0.25];
+        let mut out = Vec::new();
+        for d in &sens.designs {
+            for st in &d.sensitivities.steps[1..] {
+                for output in [Output::TipUz, Output::TipUy, Output::Angle] {
+                    let mut delta = 0.0;
+                    for (k, m) in OgdenParameter::ALL.iter().zip(material) {
+                        delta +=
+                            m * output_of(&st.derivatives[at(Parameter::Material(*k))], output)
+                                .unwrap();
+                    }
+                    for &(e, v) in planted {
+                        delta += v * output_of(&st.derivatives[at(Parameter::Effect(e))], output)
+                            .unwrap();
+                    }
+                    // the actuator has the offsets the model lacks: z = (model − actuator)/σ
+                    let z = -delta + 0.05 * rng.gen_range(-1.0..1.0);
+                    out.push(Cell {
+                        n_bellows: d.n_bellows as u32,
+                        wall_thickness_mm: d.wall_thickness_mm,
+                        pressure_bar: st.pressure_bar,
+                        output,
+                        family: Family::of(output),
+                        marker: None,
+                        recorded: 0.0,
+                        predicted: z,
+                        sigma: 1.0,
+                        standardised: z,
+                        chi2_share: 0.0,
+                        fitted: true,
+                        fit_chi2_share: None,
+                    });
+                }
+            }
+        }
+        out
+    }
+
+    #[test]
+    fn a_planted_effect_is_named_with_its_size() {
+        let sens = sweep(1);
+        let n = name(
+            &cells(&sens, &[(Effect::WallBias, 0.12)], 2),
+            &sens,
+            &NameSettings::default(),
+        )
+        .unwrap();
+        let top = &n.candidates[0];
+        assert_eq!(top.effect, "wall_bias", "{:#?}", n.candidates[..3].to_vec());
+        assert!(top.significant && top.plausible);
+        assert!(
+            (top.estimate - 0.12).abs() < 3.0 * top.std_error && top.std_error < 0.02,
+            "{} ± {}",
+            top.estimate,
+            top.std_error
+        );
+        assert!(n.verdict.starts_with("wall_bias explains"), "{}", n.verdict);
+        // the material's offsets were projected out, not blamed on an effect
+        assert!(n.candidates[1..].iter().all(|c| !c.significant));
+        // force-rig effects move nothing a bending recording holds
+        assert!(n.untestable.iter().any(|u| u.effect == "plate_offset"));
+    }
+
+    #[test]
+    fn material_offsets_and_noise_alone_name_nothing() {
+        let sens = sweep(3);
+        let n = name(&cells(&sens, &[], 4), &sens, &NameSettings::default()).unwrap();
+        assert!(n.candidates.iter().all(|c| !c.significant), "{}", n.verdict);
+        assert!(n.verdict.starts_with("No effect"), "{}", n.verdict);
+        // the material took its offsets: what is left is the noise (σ_noise² = 0.05²/3)
+        assert!(
+            n.chi2_material < 0.05 * n.chi2,
+            "{} of {}",
+            n.chi2_material,
+            n.chi2
+        );
+    }
+
+    #[test]
+    fn collinear_candidates_are_reported_as_indistinguishable() {
+        let mut sens = sweep(5);
+        // gap_bias moves every output as wall_bias does, twice as much, plus a trace
+        let params = sens.designs[0].sensitivities.parameters.clone();
+        let at = |p: Effect| {
+            params
+                .iter()
+                .position(|i| i.parameter == Parameter::Effect(p))
+                .unwrap()
+        };
+        let (w, g) = (at(Effect::WallBias), at(Effect::GapBias));
+        for d in &mut sens.designs {
+            for st in &mut d.sensitivities.steps {
+                let mut copy = st.derivatives[w].clone();
+                copy.tip_uz_mm = 2.0 * copy.tip_uz_mm + 1e-3;
+                copy.tip_uy_mm *= 2.0;
+                copy.angle_deg *= 2.0;
+                // the markers (not recorded) tell them apart
+                copy.markers.iter_mut().for_each(|m| m[1] += 1.0);
+                st.derivatives[g] = copy;
+            }
+        }
+        let n = name(
+            &cells(&sens, &[(Effect::WallBias, 0.12)], 6),
+            &sens,
+            &NameSettings::default(),
+        )
+        .unwrap();
+        let pair = n
+            .indistinguishable
+            .iter()
+            .find(|p| [&p.a, &p.b].contains(&&"gap_bias".to_string()))
+            .unwrap_or_else(|| panic!("{:#?}", n.indistinguishable));
+        assert!(pair.cosine > 0.99);
+        assert!(
+            pair.separated_by
+                .as_deref()
+                .is_some_and(|s| s.starts_with("marker")),
+            "{pair:?}"
+        );
+        assert!(n.verdict.contains("cannot be told apart"), "{}", n.verdict);
+    }
+
+    #[test]
+    fn a_sweep_without_the_material_is_refused() {
+        let mut sens = sweep(7);
+        for d in &mut sens.designs {
+            d.sensitivities
+                .parameters
+                .retain(|p| matches!(p.parameter, Parameter::Effect(_)));
+        }
+        let e = name(&cells(&sweep(7), &[], 1), &sens, &NameSettings::default()).unwrap_err();
+        assert!(e.to_string().contains("mu1"), "{e}");
+    }
+}
