@@ -31,8 +31,11 @@
 //! the residual the same way on these recordings and are reported as indistinguishable,
 //! with the output the sweep computes but the recordings lack (markers, force, other
 //! pressures) where their two explanations (`θ̂_a ∂y/∂θ_a` against `θ̂_b ∂y/∂θ_b`) differ
-//! most: the extra measurement that would separate them. When no candidate is significant the
-//! verdict says so and names nothing.
+//! most: the extra measurement that would separate them. The verdict names the best
+//! significant candidate whose size lies in the library's plausible range; a significant one
+//! that needs an implausible size (a negative compliance, a wall 0.8 mm thinner than printed)
+//! is reported, not named. When no candidate is significant the verdict says so and names
+//! nothing.
 
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
@@ -148,6 +151,18 @@ fn output_of(o: &Outputs, output: Output) -> Option<f64> {
         Output::Force => o.force_n,
         Output::MarkerUz(k) => o.markers.get(usize::from(k).wrapping_sub(1)).map(|m| m[0]),
         Output::MarkerUy(k) => o.markers.get(usize::from(k).wrapping_sub(1)).map(|m| m[1]),
+    }
+}
+
+/// The name of an output as [`Outputs::named`] writes it.
+fn output_name(o: Output) -> String {
+    match o {
+        Output::TipUz => "tip_uz_mm".into(),
+        Output::TipUy => "tip_uy_mm".into(),
+        Output::Angle => "angle_deg".into(),
+        Output::Force => "force_n".into(),
+        Output::MarkerUz(k) => format!("marker{k}_uz_mm"),
+        Output::MarkerUy(k) => format!("marker{k}_uy_mm"),
     }
 }
 
@@ -309,7 +324,18 @@ pub fn name(
     }
     holm(&mut candidates, s.alpha);
     candidates.sort_by(|a, b| b.delta_chi2.total_cmp(&a.delta_chi2));
-    let indistinguishable = pairs(&projected, &candidates, sens, s.collinear);
+    let recorded: Vec<(u32, f64, f64, String)> = rows
+        .iter()
+        .map(|(c, _)| {
+            (
+                c.n_bellows,
+                c.wall_thickness_mm,
+                c.pressure_bar,
+                output_name(c.output),
+            )
+        })
+        .collect();
+    let indistinguishable = pairs(&projected, &candidates, sens, &recorded, s.collinear);
     let verdict = verdict(&candidates, &indistinguishable, chi2_material);
     Ok(Naming {
         n_cells: n,
@@ -360,6 +386,7 @@ fn pairs(
     projected: &[(String, f64, DVector<f64>, Parameter)],
     ranked: &[Candidate],
     sens: &SweepSensitivities,
+    recorded: &[(u32, f64, f64, String)],
     collinear: f64,
 ) -> Vec<Indistinguishable> {
     let mut interesting: Vec<&str> = ranked
@@ -384,17 +411,18 @@ fn pairs(
                 a: na.clone(),
                 b: nb.clone(),
                 cosine: cos,
-                separated_by: separation(sens, (*pa, *ta), (*pb, *tb)),
+                separated_by: separation(sens, recorded, (*pa, *ta), (*pb, *tb)),
             });
         }
     }
     out
 }
 
-/// Where `θ̂_a ∂y/∂θ_a` and `θ̂_b ∂y/∂θ_b` differ most over every output of the sweep
-/// (markers, force, tip, angle at every design and pressure), in words.
+/// Where `θ̂_a ∂y/∂θ_a` and `θ̂_b ∂y/∂θ_b` differ most over the outputs of the sweep that
+/// are not `recorded` (markers, force, tip, angle at other designs and pressures), in words.
 fn separation(
     sens: &SweepSensitivities,
+    recorded: &[(u32, f64, f64, String)],
     a: (Parameter, f64),
     b: (Parameter, f64),
 ) -> Option<String> {
@@ -406,8 +434,28 @@ fn separation(
         for st in &d.sensitivities.steps {
             let (da, db) = (st.derivatives[ia].named(), st.derivatives[ib].named());
             for ((name, va), (_, vb)) in da.iter().zip(&db) {
+                // marker 9 is the tip
+                let same = |o: &str| {
+                    o == name
+                        || (o == "tip_uz_mm" && name == "marker9_uz_mm")
+                        || (o == "tip_uy_mm" && name == "marker9_uy_mm")
+                };
+                let is_recorded = recorded.iter().any(|(n, t, p, o)| {
+                    *n as usize == d.n_bellows
+                        && *t == d.wall_thickness_mm
+                        && (*p - st.pressure_bar).abs() < 1e-9
+                        && same(o)
+                });
+                // the force of a bending ramp and the bending of a force ramp are not outputs
+                let foreign = match d.mode {
+                    Mode::Bending => name == "force_n",
+                    Mode::Force => name != "force_n",
+                };
+                if is_recorded || foreign {
+                    continue;
+                }
                 let diff = (a.1 * va - b.1 * vb).abs();
-                if best.as_ref().is_none_or(|(v, _)| diff > *v) {
+                if diff > 0.0 && best.as_ref().is_none_or(|(v, _)| diff > *v) {
                     best = Some((
                         diff,
                         format!(
@@ -423,17 +471,34 @@ fn separation(
     best.map(|(_, s)| s)
 }
 
-/// The verdict in words.
+/// The verdict in words: the best significant candidate at a plausible size is named; a
+/// significant one whose size is outside the library's plausible range is reported as such,
+/// not named.
 fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_material: f64) -> String {
-    let Some(top) = c.first().filter(|t| t.significant) else {
+    let implausible: Vec<String> = c
+        .iter()
+        .filter(|t| t.significant && !t.plausible)
+        .take(3)
+        .map(|t| format!("{} ({:+.3} {})", t.effect, t.estimate, t.unit))
+        .collect();
+    let Some(top) = c.iter().find(|t| t.significant && t.plausible) else {
+        if implausible.is_empty() {
+            return format!(
+                "No effect of the library explains the residual left after the material \
+                 re-fit (χ² = {chi2_material:.1}) significantly: nothing is named."
+            );
+        }
         return format!(
-            "No effect of the library explains the residual left after the material re-fit \
-             (χ² = {chi2_material:.1}) significantly: nothing is named."
+            "No effect of the library explains the residual at a plausible size: the \
+             significant ones would need sizes outside their ranges ({}), so nothing is \
+             named (the residual left after the material re-fit, χ² = {chi2_material:.1}, \
+             is larger than one effect of the library can make).",
+            implausible.join(", ")
         );
     };
     let mut s = format!(
         "{} explains {:.0} % of the residual left after the material re-fit (size {:+.3} ± \
-         {:.3} {}, F = {:.1}, p = {:.2e}{})",
+         {:.3} {}, F = {:.1}, p = {:.2e})",
         top.effect,
         100.0 * top.explained,
         top.estimate,
@@ -441,11 +506,6 @@ fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_material: f64) -> 
         top.unit,
         top.f,
         top.p_value,
-        if top.plausible {
-            ""
-        } else {
-            "; outside the library's plausible range"
-        }
     );
     let twins: Vec<&str> = pairs
         .iter()
@@ -463,6 +523,12 @@ fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_material: f64) -> 
         s.push_str(&format!(
             "; on these recordings it cannot be told apart from {}",
             twins.join(", ")
+        ));
+    }
+    if !implausible.is_empty() {
+        s.push_str(&format!(
+            "; significant but at implausible sizes: {}",
+            implausible.join(", ")
         ));
     }
     s.push('.');
