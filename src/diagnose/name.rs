@@ -1,7 +1,7 @@
 //! Name: which effect of the library explains the located residual, once the material has
 //! taken what it can.
 //!
-//! For every cell `i` of the residual table ([`super::locate`]) and every parameter `j`, the
+//! For every cell `i` of the residual table ([`locate`](mod@super::locate)) and every parameter `j`, the
 //! FE sensitivities of the sweep at (about) the calibrated material give the signature
 //!
 //! ```text
