@@ -105,18 +105,7 @@ pub fn run(a: DemoArgs) -> Result<()> {
             );
             let n = diagnosis.name_with(&sens, &NameSettings::default())?;
             println!("{}", n.verdict);
-            for c in n.candidates.iter().take(5) {
-                println!(
-                    "- {:<24} {:+.4} ± {:.4} {:<7} explains {:>5.1} % (p = {:.2e}{})",
-                    c.effect,
-                    c.estimate,
-                    c.std_error,
-                    c.unit,
-                    100.0 * c.explained,
-                    c.p_value,
-                    if c.significant { ", significant" } else { "" }
-                );
-            }
+            crate::diagnose::print_candidates(n, 5);
         }
         Err(e) => println!("\nThe Name stage is skipped: {e}"),
     }

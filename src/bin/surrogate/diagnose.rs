@@ -97,18 +97,7 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
         None => println!("Name (candidate physics): not run (--sensitivities none)."),
         Some(n) => {
             println!("Name (candidate physics): {}", n.verdict);
-            for c in n.candidates.iter().take(5) {
-                println!(
-                    "- {:<24} {:+.4} ± {:.4} {:<7} explains {:>5.1} % (p = {:.2e}{})",
-                    c.effect,
-                    c.estimate,
-                    c.std_error,
-                    c.unit,
-                    100.0 * c.explained,
-                    c.p_value,
-                    if c.significant { ", significant" } else { "" }
-                );
-            }
+            print_candidates(n, 5);
             for p in &n.indistinguishable {
                 println!(
                     "- {} and {} cannot be told apart here (cos {:.3}){}",
@@ -140,4 +129,20 @@ pub fn write_outputs(dir: &Path, d: &Diagnosis) -> Result<Vec<PathBuf>> {
     written.push(p);
     written.extend(write_plots(&d.locate, dir)?);
     Ok(written)
+}
+
+/// The `top` candidates of the Name stage, a line each.
+pub fn print_candidates(n: &surrogate::diagnose::name::Naming, top: usize) {
+    for c in n.candidates.iter().take(top) {
+        println!(
+            "- {:<24} {:+.4} ± {:.4} {:<7} explains {:>5.1} % (p = {:.2e}{})",
+            c.effect,
+            c.estimate,
+            c.std_error,
+            c.unit,
+            100.0 * c.explained,
+            c.p_value,
+            if c.significant { ", significant" } else { "" }
+        );
+    }
 }
