@@ -542,7 +542,6 @@ mod tests {
 
     use super::*;
     use crate::calibrate::baseline::{DesignSensitivities, SWEEP_SENSITIVITY_FORMAT};
-    use crate::diagnose::cells::Family;
     use crate::fe::effects::{Effect, Effects};
     use crate::fe::material::Material;
     use crate::fe::mesh::{MeshLevel, MeshOptions};
@@ -662,21 +661,13 @@ mod tests {
                     }
                     // the actuator has the offsets the model lacks: z = (model − actuator)/σ
                     let z = -delta + 0.05 * rng.gen_range(-1.0..1.0);
-                    out.push(Cell {
-                        n_bellows: d.n_bellows as u32,
-                        wall_thickness_mm: d.wall_thickness_mm,
-                        pressure_bar: st.pressure_bar,
+                    out.push(Cell::unit(
+                        d.n_bellows as u32,
+                        d.wall_thickness_mm,
+                        st.pressure_bar,
                         output,
-                        family: Family::of(output),
-                        marker: None,
-                        recorded: 0.0,
-                        predicted: z,
-                        sigma: 1.0,
-                        standardised: z,
-                        chi2_share: 0.0,
-                        fitted: true,
-                        fit_chi2_share: None,
-                    });
+                        z,
+                    ));
                 }
             }
         }

@@ -363,21 +363,7 @@ mod tests {
     use crate::calibrate::objective::Output;
 
     fn cell(n: u32, t: f64, p: f64, z: f64) -> Cell {
-        Cell {
-            n_bellows: n,
-            wall_thickness_mm: t,
-            pressure_bar: p,
-            output: Output::TipUz,
-            family: Family::TipUz,
-            marker: None,
-            recorded: 0.0,
-            predicted: z,
-            sigma: 1.0,
-            standardised: z,
-            chi2_share: 0.0,
-            fitted: true,
-            fit_chi2_share: None,
-        }
+        Cell::unit(n, t, p, Output::TipUz, z)
     }
 
     #[test]
