@@ -92,6 +92,7 @@ pub mod groups;
 pub mod locate;
 pub mod name;
 pub mod patterns;
+pub mod refit;
 pub mod report;
 pub mod structure;
 pub mod summary;

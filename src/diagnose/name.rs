@@ -142,8 +142,18 @@ pub struct Naming {
     pub verdict: String,
 }
 
+impl Naming {
+    /// The named candidate: the best significant one at a plausible size (none when the
+    /// verdict names nothing).
+    pub fn named(&self) -> Option<&Candidate> {
+        self.candidates
+            .iter()
+            .find(|c| c.significant && c.plausible)
+    }
+}
+
 /// The derivative (or value) of `output` in `o`.
-fn output_of(o: &Outputs, output: Output) -> Option<f64> {
+pub(crate) fn derivative_of(o: &Outputs, output: Output) -> Option<f64> {
     match output {
         Output::TipUz => Some(o.tip_uz_mm),
         Output::TipUy => Some(o.tip_uy_mm),
@@ -167,7 +177,10 @@ fn output_name(o: Output) -> String {
 }
 
 /// The sensitivities of a cell's ramp and the index of its step.
-fn step_of<'a>(sens: &'a SweepSensitivities, c: &Cell) -> Option<(&'a Sensitivities, usize)> {
+pub(crate) fn sensitivity_step<'a>(
+    sens: &'a SweepSensitivities,
+    c: &Cell,
+) -> Option<(&'a Sensitivities, usize)> {
     let mode = if c.output == Output::Force {
         Mode::Force
     } else {
@@ -227,11 +240,11 @@ pub fn name(
     let mut rows: Vec<(&Cell, Vec<f64>)> = Vec::new();
     let mut unmatched = Vec::new();
     for c in cells {
-        let derivs = step_of(sens, c).and_then(|(se, i)| {
+        let derivs = sensitivity_step(sens, c).and_then(|(se, i)| {
             se.steps[i]
                 .derivatives
                 .iter()
-                .map(|d| output_of(d, c.output).map(|v| v / c.sigma))
+                .map(|d| derivative_of(d, c.output).map(|v| v / c.sigma))
                 .collect::<Option<Vec<f64>>>()
         });
         match derivs {
@@ -652,12 +665,13 @@ mod tests {
                     let mut delta = 0.0;
                     for (k, m) in OgdenParameter::ALL.iter().zip(material) {
                         delta +=
-                            m * output_of(&st.derivatives[at(Parameter::Material(*k))], output)
+                            m * derivative_of(&st.derivatives[at(Parameter::Material(*k))], output)
                                 .unwrap();
                     }
                     for &(e, v) in planted {
-                        delta += v * output_of(&st.derivatives[at(Parameter::Effect(e))], output)
-                            .unwrap();
+                        delta +=
+                            v * derivative_of(&st.derivatives[at(Parameter::Effect(e))], output)
+                                .unwrap();
                     }
                     // the actuator has the offsets the model lacks: z = (model − actuator)/σ
                     let z = -delta + 0.05 * rng.gen_range(-1.0..1.0);

@@ -5,6 +5,7 @@ use serde::{Deserialize, Serialize};
 
 use super::locate::{locate, Localisation, LocateSettings};
 use super::name::{name, NameSettings, Naming};
+use super::refit::{refit, Refit, RefitSettings};
 use super::DiagnoseError;
 use crate::calibrate::fit::describe_exclusions;
 use crate::calibrate::{calibrate, Calibration, CalibrationSettings, OgdenSet, Recordings};
@@ -90,6 +91,15 @@ pub enum Stage {
     },
     /// The Name stage's result ([`super::name`]).
     Named(Box<Naming>),
+    /// The Model-and-show stage's result ([`super::refit`]).
+    Modelled(Box<Refit>),
+}
+
+fn naming_of(s: &Stage) -> Option<&Naming> {
+    match s {
+        Stage::Named(n) => Some(n),
+        _ => None,
+    }
 }
 
 /// The diagnosis report.
@@ -148,13 +158,54 @@ impl Diagnosis {
         let naming = name(&self.locate.cells, sens, settings)?;
         self.name = Stage::Named(Box::new(naming));
         self.model_and_show = Stage::NotRun {
-            reason: "the refit with the named effect and its held-out gain are not built yet"
-                .into(),
+            reason: match naming_of(&self.name).and_then(Naming::named) {
+                Some(c) => format!("{} was named; the refit was not asked for", c.effect),
+                None => "no effect was named (a refit can still be asked for by name)".into(),
+            },
         };
-        match &self.name {
-            Stage::Named(n) => Ok(n),
-            Stage::NotRun { .. } => unreachable!("just set"),
+        Ok(naming_of(&self.name).expect("just set"))
+    }
+
+    /// The Name stage's result, if it ran.
+    pub fn naming(&self) -> Option<&Naming> {
+        naming_of(&self.name)
+    }
+
+    /// The Model-and-show stage's result, if it ran.
+    pub fn refitted(&self) -> Option<&Refit> {
+        match &self.model_and_show {
+            Stage::Modelled(r) => Some(r),
+            _ => None,
         }
+    }
+
+    /// Runs the Model-and-show stage ([`super::refit`]): the material refitted from the
+    /// calibrated set together with `settings.effects`, linearised with `sens`, through
+    /// `model` (the surrogate the calibration used), and records it.
+    ///
+    /// # Errors
+    /// See [`refit`].
+    pub fn refit_with(
+        &mut self,
+        sens: &crate::calibrate::baseline::SweepSensitivities,
+        model: &Surrogate,
+        settings: &RefitSettings,
+    ) -> Result<&Refit, DiagnoseError> {
+        let r = refit(
+            &self.locate.cells,
+            sens,
+            model,
+            &self.calibration.best,
+            settings,
+        )?;
+        self.set_refit(r);
+        Ok(self.refitted().expect("just set"))
+    }
+
+    /// Records a refit made elsewhere (for example confirmed by the FE model,
+    /// [`super::refit::confirm_with_fe`]).
+    pub fn set_refit(&mut self, r: Refit) {
+        self.model_and_show = Stage::Modelled(Box::new(r));
     }
 
     /// The report as pretty JSON.

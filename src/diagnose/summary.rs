@@ -47,10 +47,16 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
             Stage::Named(n) => {
                 let _ = writeln!(s, "- **{name}**: {}", n.verdict);
             }
+            Stage::Modelled(r) => {
+                let _ = writeln!(s, "- **{name}**: {}", r.verdict);
+            }
         }
     }
     if let Stage::Named(n) = &d.name {
         naming(&mut s, n);
+    }
+    if let Some(r) = d.refitted() {
+        refit_section(&mut s, r);
     }
     residual_map(&mut s, l);
     shares(&mut s, l);
@@ -60,6 +66,124 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
         along(&mut s, l);
     }
     s
+}
+
+fn opt(v: Option<f64>, digits: usize) -> String {
+    v.map_or("—".to_string(), |x| format!("{x:.digits$}"))
+}
+
+/// The refit: sizes, fit before and after, held-out designs, FE rounds.
+fn refit_section(s: &mut String, r: &super::refit::Refit) {
+    let _ = writeln!(s, "\n## Model and show: the refit with the effect\n");
+    let _ = writeln!(
+        s,
+        "{} cells; the effect linearised with the {}.\n",
+        r.n_cells, r.linearised_at
+    );
+    let _ = writeln!(s, "| effect | value | std. error | interval | note |");
+    let _ = writeln!(s, "|---|---|---|---|---|");
+    for e in &r.effects {
+        let _ = writeln!(
+            s,
+            "| {} | {:.4} {} | {:.4} | [{:.4}, {:.4}] | {} |",
+            e.effect,
+            e.value,
+            e.unit,
+            e.std_error,
+            e.interval.0,
+            e.interval.1,
+            e.at_bound.as_deref().unwrap_or("")
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\n| fit | μ1 | α1 | μ2 | α2 | χ² | mean tip BE (mm) | mean force error (N) |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|");
+    for (what, f) in [
+        ("material only", &r.before),
+        ("material + effect", &r.after),
+    ] {
+        let m = &f.material;
+        let _ = writeln!(
+            s,
+            "| {what} | {:.4} | {:.3} | {:.4} | {:.3} | {:.1} | {} | {} |",
+            m.mu1_mpa,
+            m.alpha1,
+            m.mu2_mpa,
+            m.alpha2,
+            f.quality.chi2,
+            opt(f.quality.mean_be_mm, 2),
+            opt(f.quality.mean_force_error_n, 3)
+        );
+    }
+    let _ = writeln!(
+        s,
+        "\nF = {:.2}, p = {}; a perfect model would show a mean tip BE of {} mm under the \
+         recordings' noise.",
+        r.f,
+        fmt_p(r.p_value),
+        opt(r.noise_be_mm, 2)
+    );
+    if let Some(h) = &r.held_out {
+        let _ = writeln!(
+            s,
+            "\n### Held out: each design left out of both fits in turn\n\n| N | T (mm) | tip BE \
+             before (mm) | after (mm) | χ² before | after | effect fitted without it |"
+        );
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+        for d in &h.designs {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {:.1} | {:.1} | {} |",
+                d.n_bellows,
+                d.wall_thickness_mm,
+                opt(d.before.mean_be_mm, 2),
+                opt(d.after.mean_be_mm, 2),
+                d.before.chi2,
+                d.after.chi2,
+                d.effects
+                    .iter()
+                    .map(|v| format!("{v:.4}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            );
+        }
+        let _ = writeln!(
+            s,
+            "| all | | {} | {} | {:.1} | {:.1} | |",
+            opt(h.mean_be_before_mm, 2),
+            opt(h.mean_be_after_mm, 2),
+            h.chi2_before,
+            h.chi2_after
+        );
+    }
+    if !r.fe.is_empty() {
+        let _ = writeln!(
+            s,
+            "\n### FE confirmation\n\n| round | effect(s) | mean tip BE (mm) | mean force error \
+             (N) | rms (FE − linearised)/σ | worst | ramps run |"
+        );
+        let _ = writeln!(s, "|---|---|---|---|---|---|---|");
+        for (i, f) in r.fe.iter().enumerate() {
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {:.2} | {:.2} σ ({}) | {} |",
+                i + 1,
+                f.effects
+                    .iter()
+                    .map(|v| format!("{v:.4}"))
+                    .collect::<Vec<_>>()
+                    .join(", "),
+                opt(f.quality.mean_be_mm, 2),
+                opt(f.quality.mean_force_error_n, 3),
+                f.rms_fe_minus_linear,
+                f.worst.0,
+                f.worst.1,
+                f.ramps_run
+            );
+        }
+    }
 }
 
 /// Title, recordings, model and the calibration diagnosed.

@@ -79,6 +79,19 @@ pub struct DiagnoseArgs {
         default_value = "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json"
     )]
     pub sensitivities: PathBuf,
+    /// Model and show: `auto` refits the material with the effect the Name stage names (and
+    /// nothing when it names none), `none` skips the refit, or a comma list of effects to
+    /// refit with whatever the Name stage says (`force_scale`, `gap_bias,pressure_loss`).
+    #[arg(long, default_value = "auto")]
+    pub refit: String,
+    /// Confirm the refit with the FE model on this mesh (coarse | standard; `none` skips):
+    /// the recorded designs run with the effect on at its refitted values, the refit redone
+    /// around the FE where the two differ (18 ramps per round, cached).
+    #[arg(long, default_value = "none")]
+    pub confirm_fe: String,
+    /// FE cache of the confirmation (default: `<out>/fe_ramps`).
+    #[arg(long)]
+    pub fe_cache: Option<PathBuf>,
 }
 
 /// `surrogate twin`.
@@ -94,6 +107,12 @@ pub struct TwinArgs {
     /// Mesh level: coarse | standard | fine.
     #[arg(long, default_value = "standard")]
     pub mesh: String,
+    /// Element size override in mm (a discretisation other than the diagnosing model's).
+    #[arg(long)]
+    pub element_size: Option<f64>,
+    /// Minimum number of elements through a wall (overrides the level's).
+    #[arg(long)]
+    pub wall_elements: Option<usize>,
     /// Directory with the recordings whose designs, pressures and standard deviations the
     /// twin takes (bending_experiments.csv, blocked_force_experiments.csv).
     #[arg(long, default_value = "training_data")]

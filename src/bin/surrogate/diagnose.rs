@@ -11,6 +11,12 @@ use surrogate::diagnose::name::NameSettings;
 use surrogate::diagnose::summary::summary_markdown;
 use surrogate::diagnose::{diagnose, DiagnoseSettings, Diagnosis, LocateSettings};
 
+use surrogate::calibrate::baseline::SweepSettings;
+use surrogate::diagnose::name::Naming;
+use surrogate::diagnose::refit::{confirm_with_fe, FeConfirmSettings, RefitSettings};
+use surrogate::fe::effects::Effect;
+use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+
 use crate::args::DiagnoseArgs;
 use crate::diagnose_plots::write_plots;
 use crate::files::{load_model, write_file};
@@ -69,7 +75,7 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
         })?)
     };
     let mut d = diagnose(&model, &rec, &s, &|stage| eprintln!("{stage}"))?;
-    let naming = if let Some(sens) = sens {
+    let naming = if let Some(sens) = &sens {
         eprintln!(
             "name: {} effects against the FE sensitivities of {} ramps ({} mesh)",
             sens.designs
@@ -78,10 +84,46 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
             sens.designs.len(),
             sens.mesh.level.name()
         );
-        Some(d.name_with(&sens, &NameSettings::default())?.clone())
+        Some(d.name_with(sens, &NameSettings::default())?.clone())
     } else {
         None
     };
+    if let Some(sens) = &sens {
+        if let Some(effects) = refit_effects(&a.refit, d.naming())? {
+            let rs = RefitSettings::new(effects);
+            eprintln!(
+                "model and show: material + {} through the surrogate, each design left out in turn",
+                names(&rs.effects)
+            );
+            d.refit_with(sens, &model, &rs)?;
+            if a.confirm_fe != "none" {
+                let level: MeshLevel = a.confirm_fe.parse().map_err(|e: String| {
+                    anyhow::anyhow!("--confirm-fe {}: {e} (or none)", a.confirm_fe)
+                })?;
+                let cache = a.fe_cache.clone().unwrap_or_else(|| a.out.join("fe_ramps"));
+                let fe = FeConfirmSettings::new(
+                    SweepSettings::new(sens.material.clone(), MeshOptions::level(level)),
+                    &cache,
+                );
+                eprintln!(
+                    "FE confirmation on the {} mesh, ramps cached in {} (a rerun resumes)",
+                    level.name(),
+                    cache.display()
+                );
+                let first = d.refitted().expect("just refitted").clone();
+                let confirmed =
+                    confirm_with_fe(&d.locate.cells, sens, &model, first, &rs, &fe, &|k, n| {
+                        eprintln!("FE ramp {k} of {n} done")
+                    })?;
+                d.set_refit(confirmed);
+            }
+        }
+    } else if a.refit != "none" && a.refit != "auto" {
+        anyhow::bail!(
+            "--refit {}: needs the FE sensitivities (--sensitivities FILE, not none)",
+            a.refit
+        );
+    }
     let written = write_outputs(&a.out, &d)?;
     println!("Findings:");
     for f in &d.locate.findings {
@@ -108,6 +150,14 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
                         .as_ref()
                         .map_or(String::new(), |s| format!("; {s}"))
                 );
+            }
+        }
+    }
+    match d.refitted() {
+        Some(r) => println!("Model and show: {}", r.verdict),
+        None => {
+            if let surrogate::diagnose::report::Stage::NotRun { reason } = &d.model_and_show {
+                println!("Model and show: not run ({reason}).");
             }
         }
     }
@@ -145,4 +195,32 @@ pub fn print_candidates(n: &surrogate::diagnose::name::Naming, top: usize) {
             if c.significant { ", significant" } else { "" }
         );
     }
+}
+
+/// The effects `--refit` asks for: the named one (`auto`), none, or a list.
+fn refit_effects(arg: &str, naming: Option<&Naming>) -> Result<Option<Vec<Effect>>> {
+    match arg.trim() {
+        "none" => Ok(None),
+        "auto" => Ok(naming
+            .and_then(Naming::named)
+            .map(|c| Effect::from_name(&c.effect))
+            .transpose()?
+            .map(|e| vec![e])),
+        list => {
+            let effects = list
+                .split(',')
+                .map(|n| Effect::from_name(n.trim()))
+                .collect::<Result<Vec<_>, _>>()
+                .map_err(|e| anyhow::anyhow!("--refit {list}: {e} (or auto, none)"))?;
+            Ok(Some(effects))
+        }
+    }
+}
+
+fn names(effects: &[Effect]) -> String {
+    effects
+        .iter()
+        .map(|e| e.name())
+        .collect::<Vec<_>>()
+        .join(" + ")
 }

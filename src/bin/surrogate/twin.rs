@@ -37,20 +37,26 @@ pub fn run(a: TwinArgs) -> Result<()> {
     let effects = Effects::parse(a.effect.iter().map(String::as_str))?;
     let material = Material::from_spec(&a.material, DEFAULT_BULK_RATIO)?;
     let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
+    let mesh = MeshOptions {
+        level,
+        element_size: a.element_size,
+        wall_elements: a.wall_elements,
+    };
+    mesh.validate().map_err(|e| {
+        anyhow::anyhow!(
+            "--{} {}: expected {}",
+            e.field.replace('_', "-"),
+            e.value,
+            e.expected
+        )
+    })?;
     let noise_from = Recordings::read_dir(&a.noise_from)
         .with_context(|| format!("reading the noise source {}", a.noise_from.display()))?;
     let cache = a.cache.clone().unwrap_or_else(|| default_cache(&a.out));
     let settings = TwinSettings {
         key: a.key.clone(),
         commit: source_commit(),
-        ..TwinSettings::new(
-            material,
-            &a.material,
-            MeshOptions::level(level),
-            effects,
-            a.seed,
-            &cache,
-        )
+        ..TwinSettings::new(material, &a.material, mesh, effects, a.seed, &cache)
     };
     eprintln!(
         "twin of {} recorded configurations, FE ramps cached in {} (a rerun resumes; another \
