@@ -95,6 +95,7 @@ pub mod patterns;
 pub mod refit;
 pub mod report;
 pub mod structure;
+pub mod study;
 pub mod summary;
 pub mod wording;
 

@@ -40,6 +40,43 @@ pub enum Command {
     /// Where the calibrated model misses the recordings: residuals over N, T, P (and along
     /// the actuator), their structure and sign patterns in words, what the recordings lack.
     Diagnose(DiagnoseArgs),
+    /// The diagnoser's blind study: twins with concealed effects and null twins, each
+    /// diagnosed without its key, scored against the keys.
+    TwinStudy(TwinStudyArgs),
+}
+
+/// `surrogate twin-study`.
+#[derive(Debug, Args)]
+pub struct TwinStudyArgs {
+    /// Output directory: plan.json, fe_cache/, twins/, keys/, diagnoses/, results.json,
+    /// results.md.
+    #[arg(long, default_value = "fe_reference/diagnosis/blind")]
+    pub out: PathBuf,
+    /// The plan (default `<out>/plan.json`; the standard plan is written there if absent).
+    #[arg(long)]
+    pub plan: Option<PathBuf>,
+    /// Seed of the standard plan's material draws (when it is written).
+    #[arg(long, default_value_t = 2026)]
+    pub draw_seed: u64,
+    /// What to run: twins (the FE, resumable), diagnose (the twins made so far), or all.
+    #[arg(long, default_value = "all")]
+    pub stage: String,
+    /// The diagnosing surrogate.
+    #[arg(long, default_value = "models/actuator_coarse.json")]
+    pub model: PathBuf,
+    /// The FE sensitivities the Name and Model stages use.
+    #[arg(
+        long,
+        default_value = "fe_reference/sensitivities/ogden002_coarse/baseline_sensitivities.json"
+    )]
+    pub sensitivities: PathBuf,
+    /// Recordings whose designs, pressures and standard deviations the twins take.
+    #[arg(long, default_value = "training_data")]
+    pub noise_from: PathBuf,
+    /// Only these groups of the plan (comma list of ids, e.g. `null_1,gap_bias_2`; default
+    /// all): two processes with disjoint groups keep two cores busy.
+    #[arg(long, value_delimiter = ',')]
+    pub groups: Vec<String>,
 }
 
 /// `surrogate diagnose`.

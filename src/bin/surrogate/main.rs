@@ -16,6 +16,7 @@ mod snapshots;
 mod speedup;
 mod train;
 mod twin;
+mod twin_study;
 mod validate;
 
 use std::process::ExitCode;
@@ -36,6 +37,7 @@ fn main() -> ExitCode {
         args::Command::Effects(a) => effects::run(a),
         args::Command::Twin(a) => twin::run(a),
         args::Command::Diagnose(a) => diagnose::run(a),
+        args::Command::TwinStudy(a) => twin_study::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

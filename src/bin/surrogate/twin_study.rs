@@ -1,0 +1,73 @@
+//! `surrogate twin-study`: the diagnoser's blind study ([`surrogate::diagnose::study`]).
+use anyhow::{Context, Result};
+use surrogate::calibrate::baseline::SweepSensitivities;
+use surrogate::calibrate::{ParamSpace, Recordings};
+use surrogate::diagnose::study::{make_twins, run_diagnoses, study_markdown, StudyDirs, StudyPlan};
+
+use crate::args::TwinStudyArgs;
+use crate::files::{load_model, write_file};
+
+/// Runs the subcommand.
+pub fn run(a: TwinStudyArgs) -> Result<()> {
+    let (twins, diagnoses) = match a.stage.as_str() {
+        "twins" => (true, false),
+        "diagnose" => (false, true),
+        "all" => (true, true),
+        other => anyhow::bail!("--stage {other}: expected twins, diagnose or all"),
+    };
+    let model = load_model(&a.model)?;
+    let noise_from = Recordings::read_dir(&a.noise_from)
+        .with_context(|| format!("reading the noise source {}", a.noise_from.display()))?;
+    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    let plan_path = a.plan.clone().unwrap_or_else(|| a.out.join("plan.json"));
+    let mut plan = if plan_path.exists() {
+        StudyPlan::read(&plan_path)?
+    } else {
+        let p = StudyPlan::standard(&ParamSpace::training_domain(&model)?, a.draw_seed)?;
+        p.write(&plan_path)?;
+        eprintln!("wrote the standard plan to {}", plan_path.display());
+        p
+    };
+    if !a.groups.is_empty() {
+        for g in &a.groups {
+            if !plan.groups.iter().any(|x| &x.id == g) {
+                anyhow::bail!(
+                    "--groups {g}: not a group of {} (its groups: {})",
+                    plan_path.display(),
+                    plan.groups
+                        .iter()
+                        .map(|x| x.id.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", ")
+                );
+            }
+        }
+        plan.groups.retain(|x| a.groups.contains(&x.id));
+    }
+    let dirs = StudyDirs::under(&a.out);
+    eprintln!(
+        "{} groups × {} seeds = {} twins; FE cached in {} (a rerun resumes)",
+        plan.groups.len(),
+        plan.seeds.len(),
+        plan.twins().len(),
+        dirs.cache.display()
+    );
+    if twins {
+        make_twins(&plan, &noise_from, &dirs, &|line| eprintln!("{line}"))?;
+    }
+    if diagnoses {
+        let sens = SweepSensitivities::read(&a.sensitivities)
+            .with_context(|| format!("--sensitivities {}", a.sensitivities.display()))?;
+        let results = run_diagnoses(&plan, &noise_from, &dirs, &model, &sens, &|line| {
+            eprintln!("{line}")
+        })?;
+        let p = a.out.join("results.json");
+        write_file(&p, serde_json::to_string_pretty(&results)?.as_bytes())?;
+        let md = study_markdown(&plan, &results);
+        let q = a.out.join("results.md");
+        write_file(&q, md.as_bytes())?;
+        print!("{md}");
+        eprintln!("wrote {} and {}", p.display(), q.display());
+    }
+    Ok(())
+}

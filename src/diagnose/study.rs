@@ -1,0 +1,745 @@
+//! The blind study of the diagnoser: twins with concealed effects (and null twins without),
+//! each diagnosed without its key, then scored against the keys.
+//!
+//! ```text
+//!   StudyPlan (groups: effects + material; seeds; the twins' mesh)
+//!     │  per group: one FE sweep (cached), a twin per seed      ──► twins/<id>_s<seed>/
+//!     │                                    the keys, apart      ──► keys/<id>_s<seed>.json
+//!     ▼
+//!   diagnose each twin directory (calibrate, locate, name, refit the named effect),
+//!   seeing only its recordings                                  ──► diagnoses/<id>_s<seed>.json
+//!     ▼
+//!   score against the keys: confusion matrix, rank of the concealed effect, recovered
+//!   sizes, false alarms, held-out tip error                     ──► results.json, results.md
+//! ```
+//!
+//! **The standard plan** ([`StudyPlan::standard`]): six effects of the library at two sizes
+//! each, each group with its own material drawn uniformly in the ±10 % box around Ogden 002
+//! (the reference study's box), and six null groups (no effect) with materials drawn by a
+//! Latin hypercube over the central 80 % of the surrogate's training domain; three noise
+//! seeds per group; the twins on elements of 5 mm (one through a wall), which is not the
+//! discretisation of the coarse mesh (6 mm) that the diagnosing surrogate and the
+//! sensitivities come from.
+//!
+//! **Scoring** ([`score`]): a twin's effect *moves the tip* by `max |(ΔUz, ΔUy)| / σ_tip`
+//! over its configurations, the difference between its noise-free FE tip and the
+//! diagnosing surrogate's prediction at the twin's true material (what the effect adds, up
+//! to the two discretisations and the surrogate's own error, which the null twins measure).
+//! The targets count the twins whose effect moves the tip by more than 2 σ.
+
+use std::path::{Path, PathBuf};
+
+use rand::{Rng, SeedableRng};
+use rand_xoshiro::Xoshiro256PlusPlus;
+use serde::{Deserialize, Serialize};
+
+use super::refit::RefitSettings;
+use super::report::{diagnose, DiagnoseSettings, Diagnosis};
+use super::DiagnoseError;
+use crate::calibrate::baseline::{cached_ramps, recorded_designs, SweepSensitivities};
+use crate::calibrate::experiments::MARKERS_FILE;
+use crate::calibrate::objective::Output;
+use crate::calibrate::twin::{write_twin, TwinKey, TwinSettings};
+use crate::calibrate::{OgdenSet, ParamSpace, Recordings};
+use crate::fe::effects::{Effect, Effects};
+use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
+use crate::fe::mesh::{MeshLevel, MeshOptions};
+use crate::fe::simulate::Mode;
+use crate::rom::{Query, Surrogate};
+
+/// The `format` field of a study plan.
+pub const PLAN_FORMAT: &str = "surrogate.twin-study-plan";
+/// The `format` field of the study's results.
+pub const RESULTS_FORMAT: &str = "surrogate.twin-study-results";
+/// The version this code writes and reads.
+pub const VERSION: u32 = 1;
+
+/// The effects and sizes of the standard plan (value of the effect, not offset).
+pub const STANDARD_EFFECTS: [(&str, [f64; 2]); 6] = [
+    ("wall_bias_bellows", [0.1, 0.25]),
+    ("gap_bias", [-0.1, -0.3]),
+    ("clamp_compliance", [0.02, 0.08]),
+    ("pressure_loss", [0.05, 0.15]),
+    ("anisotropy", [0.15, 0.4]),
+    ("plate_offset", [-0.6, -1.5]),
+];
+
+/// One FE twin: its concealed effects and material (every seed shares its FE runs).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TwinGroup {
+    /// Name of the group (`gap_bias_2`, `null_4`).
+    pub id: String,
+    /// The concealed effects, `NAME=VALUE` (empty: a null twin).
+    pub effects: Vec<String>,
+    /// The material, `mu1,alpha1,mu2,alpha2`.
+    pub material: String,
+}
+
+/// The plan of a study.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StudyPlan {
+    /// [`PLAN_FORMAT`].
+    pub format: String,
+    /// [`VERSION`].
+    pub version: u32,
+    /// The twins' discretisation.
+    pub mesh: MeshOptions,
+    /// Noise seeds of every group.
+    pub seeds: Vec<u64>,
+    /// Whether the twins keep their marker recordings (the shipped experiments have none).
+    pub markers: bool,
+    /// The groups.
+    pub groups: Vec<TwinGroup>,
+    /// The seed the materials were drawn with.
+    pub draw_seed: u64,
+}
+
+fn lhs(rng: &mut Xoshiro256PlusPlus, n: usize, dims: usize) -> Vec<Vec<f64>> {
+    let mut cols: Vec<Vec<f64>> = Vec::with_capacity(dims);
+    for _ in 0..dims {
+        let mut c: Vec<f64> = (0..n)
+            .map(|i| (i as f64 + rng.gen::<f64>()) / n as f64)
+            .collect();
+        for i in (1..n).rev() {
+            let j = rng.gen_range(0..=i);
+            c.swap(i, j);
+        }
+        cols.push(c);
+    }
+    (0..n)
+        .map(|i| cols.iter().map(|c| c[i]).collect())
+        .collect()
+}
+
+impl StudyPlan {
+    /// The standard plan (see the [module docs](self)) for the training domain `domain`,
+    /// materials drawn with `seed`.
+    ///
+    /// # Errors
+    /// A ±10 % box around Ogden 002 that leaves `domain`.
+    pub fn standard(domain: &ParamSpace, seed: u64) -> Result<Self, DiagnoseError> {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        let reference = OgdenSet::literature("ogden_002")?;
+        let near = ParamSpace::raw_box(&reference, 0.1, domain)?;
+        let mut groups = Vec::new();
+        for (name, sizes) in STANDARD_EFFECTS {
+            for (k, v) in sizes.iter().enumerate() {
+                let u: [f64; 4] = std::array::from_fn(|_| rng.gen::<f64>());
+                groups.push(TwinGroup {
+                    id: format!("{name}_{}", k + 1),
+                    effects: vec![format!("{name}={v}")],
+                    material: near.ogden(&u)?.rounded(4).spec(),
+                });
+            }
+        }
+        for (k, u) in lhs(&mut rng, 6, 4).into_iter().enumerate() {
+            let u: [f64; 4] = std::array::from_fn(|i| 0.1 + 0.8 * u[i]);
+            groups.push(TwinGroup {
+                id: format!("null_{}", k + 1),
+                effects: Vec::new(),
+                material: domain.ogden(&u)?.rounded(4).spec(),
+            });
+        }
+        Ok(StudyPlan {
+            format: PLAN_FORMAT.into(),
+            version: VERSION,
+            mesh: MeshOptions {
+                level: MeshLevel::Coarse,
+                element_size: Some(5.0),
+                wall_elements: None,
+            },
+            seeds: vec![1, 2, 3],
+            markers: false,
+            groups,
+            draw_seed: seed,
+        })
+    }
+
+    /// Reads a plan written by [`Self::write`], checking its format and version.
+    ///
+    /// # Errors
+    /// An unreadable file, another format or version, or a plan that does not parse.
+    pub fn read(path: &Path) -> Result<Self, DiagnoseError> {
+        let text = std::fs::read_to_string(path)
+            .map_err(|e| DiagnoseError::input("plan", path.display(), &e.to_string()))?;
+        let v: serde_json::Value = serde_json::from_str(&text)?;
+        let format = v.get("format").and_then(|f| f.as_str()).unwrap_or("");
+        if format != PLAN_FORMAT {
+            return Err(DiagnoseError::input(
+                &format!("{}: format", path.display()),
+                format,
+                PLAN_FORMAT,
+            ));
+        }
+        let version = v.get("version").and_then(|f| f.as_u64()).unwrap_or(0);
+        if version != u64::from(VERSION) {
+            return Err(DiagnoseError::input(
+                &format!("{}: version", path.display()),
+                version,
+                &VERSION.to_string(),
+            ));
+        }
+        let plan: StudyPlan = serde_json::from_value(v)?;
+        for g in &plan.groups {
+            g.settings(&plan, 0, Path::new("."))?;
+        }
+        Ok(plan)
+    }
+
+    /// Writes the plan (pretty JSON, atomically).
+    ///
+    /// # Errors
+    /// A file that cannot be written.
+    pub fn write(&self, path: &Path) -> Result<(), DiagnoseError> {
+        let text = serde_json::to_string_pretty(self)?;
+        crate::io::write_atomic(path, text.as_bytes())
+            .map_err(|e| DiagnoseError::input("plan", path.display(), &e.to_string()))
+    }
+
+    /// The twins' names, `<id>_s<seed>`, in plan order.
+    pub fn twins(&self) -> Vec<(usize, u64, String)> {
+        self.groups
+            .iter()
+            .enumerate()
+            .flat_map(|(g, grp)| {
+                self.seeds
+                    .iter()
+                    .map(move |&s| (g, s, format!("{}_s{s}", grp.id)))
+            })
+            .collect()
+    }
+}
+
+impl TwinGroup {
+    /// The twin settings of seed `seed`, FE cache under `cache`.
+    ///
+    /// # Errors
+    /// An effect or material that does not parse.
+    pub fn settings(
+        &self,
+        plan: &StudyPlan,
+        seed: u64,
+        cache: &Path,
+    ) -> Result<TwinSettings, DiagnoseError> {
+        let effects = Effects::parse(self.effects.iter().map(String::as_str)).map_err(|e| {
+            DiagnoseError::input(&format!("group {} effects", self.id), "", &e.to_string())
+        })?;
+        let material = Material::from_spec(&self.material, DEFAULT_BULK_RATIO).map_err(|e| {
+            DiagnoseError::input(
+                &format!("group {} material", self.id),
+                &self.material,
+                &e.to_string(),
+            )
+        })?;
+        Ok(TwinSettings::new(
+            material,
+            &self.material,
+            plan.mesh,
+            effects,
+            seed,
+            cache,
+        ))
+    }
+}
+
+/// Directories of a study under its output directory.
+#[derive(Clone, Debug)]
+pub struct StudyDirs {
+    /// FE ramps of every group.
+    pub cache: PathBuf,
+    /// The twins' recordings (one directory each).
+    pub twins: PathBuf,
+    /// The keys.
+    pub keys: PathBuf,
+    /// The diagnoses.
+    pub diagnoses: PathBuf,
+}
+
+impl StudyDirs {
+    /// The directories under `out`.
+    pub fn under(out: &Path) -> Self {
+        StudyDirs {
+            cache: out.join("fe_cache"),
+            twins: out.join("twins"),
+            keys: out.join("keys"),
+            diagnoses: out.join("diagnoses"),
+        }
+    }
+}
+
+/// Makes every twin of `plan` (FE runs cached and resumable; a group's seeds share them);
+/// `progress` gets a line per twin.
+///
+/// # Errors
+/// A twin error (a design out of range, an unwritable cache).
+pub fn make_twins(
+    plan: &StudyPlan,
+    noise_from: &Recordings,
+    dirs: &StudyDirs,
+    progress: &(dyn Fn(&str) + Sync),
+) -> Result<(), DiagnoseError> {
+    let all = plan.twins();
+    for (k, (g, seed, name)) in all.iter().enumerate() {
+        let group = &plan.groups[*g];
+        let mut s = group.settings(plan, *seed, &dirs.cache)?;
+        s.key = Some(dirs.keys.join(format!("{name}.json")));
+        let out = dirs.twins.join(name);
+        let o = write_twin(&s, noise_from, &out, |done, total| {
+            progress(&format!("{name}: FE ramp {done} of {total}"))
+        })
+        .map_err(|e| DiagnoseError::input(&format!("twin {name}"), "", &e.to_string()))?;
+        if !plan.markers {
+            let m = out.join(MARKERS_FILE);
+            if m.exists() {
+                std::fs::remove_file(&m).map_err(|e| {
+                    DiagnoseError::input("twin markers", m.display(), &e.to_string())
+                })?;
+            }
+        }
+        progress(&format!(
+            "twin {} of {}: {name} ({} FE ramps run, {} cached)",
+            k + 1,
+            all.len(),
+            o.ramps_run,
+            o.ramps_cached
+        ));
+    }
+    Ok(())
+}
+
+/// Diagnoses one twin directory as a user would: calibrate through `model`, locate, name
+/// with `sens`, refit the named effect.
+///
+/// # Errors
+/// As [`diagnose`] and the stages.
+pub fn diagnose_twin(
+    dir: &Path,
+    model: &Surrogate,
+    sens: &SweepSensitivities,
+) -> Result<Diagnosis, DiagnoseError> {
+    let rec = Recordings::read_dir(dir)?;
+    let mut d = diagnose(model, &rec, &DiagnoseSettings::default(), &|_| {})?;
+    d.name_with(sens, &super::name::NameSettings::default())?;
+    let named = d
+        .naming()
+        .and_then(super::name::Naming::named)
+        .map(|c| c.effect.clone());
+    if let Some(e) = named {
+        let effect = Effect::from_name(&e)
+            .map_err(|err| DiagnoseError::input("named effect", &e, &err.to_string()))?;
+        d.refit_with(sens, model, &RefitSettings::new(vec![effect]))?;
+    }
+    Ok(d)
+}
+
+/// One twin, scored.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct TwinScore {
+    /// `<id>_s<seed>`.
+    pub twin: String,
+    /// The concealed effect (none: a null twin).
+    pub truth: Option<String>,
+    /// Its value.
+    pub true_value: Option<f64>,
+    /// The true material.
+    pub material: String,
+    /// `max |(ΔUz, ΔUy)| / σ_tip` of the noise-free twin against the surrogate at the true
+    /// material (what the effect moves the tip by, in noise units).
+    pub tip_move_sigma: f64,
+    /// The effect named (none: nothing named).
+    pub named: Option<String>,
+    /// The first candidate of the ranking.
+    pub first: Option<String>,
+    /// Rank of the concealed effect among the candidates (1 = first).
+    pub rank: Option<usize>,
+    /// Whether the concealed effect is reported indistinguishable from the first candidate.
+    pub indistinguishable_from_first: bool,
+    /// The Name stage's estimate of the concealed effect's value and its standard error.
+    pub name_estimate: Option<(f64, f64)>,
+    /// The refit's value of the named effect and its interval.
+    pub refit_value: Option<(f64, f64, f64)>,
+    /// Held-out tip BE before and after the refit (mm), and the noise level (mm).
+    pub held_out_be: Option<(f64, f64, f64)>,
+    /// The Name stage's verdict.
+    pub verdict: String,
+}
+
+/// Scores a diagnosis against its key; `model` gives the tip at the true material and
+/// `truth_tip(n, t, p)` the twin's noise-free tip.
+pub fn score_twin(
+    twin: &str,
+    d: &Diagnosis,
+    key: &TwinKey,
+    model: &Surrogate,
+    truth_tip: &dyn Fn(u32, f64, f64) -> Option<(f64, f64)>,
+) -> Result<TwinScore, DiagnoseError> {
+    let truth = key
+        .effects
+        .iter()
+        .next()
+        .map(|(e, v)| (e.name().to_string(), v));
+    let m = key
+        .material_parameters
+        .ogden_params()
+        .ok_or_else(|| DiagnoseError::input("key material", &key.material, "an Ogden material"))?;
+    let mut tip_move: f64 = 0.0;
+    let mut pred = model.new_prediction();
+    for c in d.locate.cells.iter().filter(|c| c.output == Output::TipUz) {
+        let Some((uz, uy)) = truth_tip(c.n_bellows, c.wall_thickness_mm, c.pressure_bar) else {
+            continue;
+        };
+        let q = Query::new(c.n_bellows, c.wall_thickness_mm, c.pressure_bar, m);
+        model
+            .predict_scalars_into(&q, &mut pred)
+            .map_err(crate::calibrate::CalibrateError::from)?;
+        let (sz, sy) = (
+            pred.values[crate::rom::Q_TIP_UZ],
+            pred.values[crate::rom::Q_TIP_UY],
+        );
+        tip_move = tip_move.max((uz - sz).hypot(uy - sy) / c.sigma);
+    }
+    let naming = d.naming();
+    let first = naming.and_then(|n| n.candidates.first().map(|c| c.effect.clone()));
+    let (mut rank, mut name_estimate, mut indistinguishable) = (None, None, false);
+    if let (Some(n), Some((t, _))) = (naming, &truth) {
+        if let Some(i) = n.candidates.iter().position(|c| &c.effect == t) {
+            rank = Some(i + 1);
+            let c = &n.candidates[i];
+            let info = Effect::from_name(t)
+                .map_err(|e| DiagnoseError::input("key effect", t, &e.to_string()))?
+                .info();
+            name_estimate = Some((info.neutral + c.estimate, c.std_error));
+        }
+        if let Some(f) = &first {
+            indistinguishable = n
+                .indistinguishable
+                .iter()
+                .any(|p| (&p.a == f && &p.b == t) || (&p.b == f && &p.a == t));
+        }
+    }
+    let refit = d.refitted();
+    Ok(TwinScore {
+        twin: twin.to_string(),
+        truth: truth.as_ref().map(|t| t.0.clone()),
+        true_value: truth.as_ref().map(|t| t.1),
+        material: key.material.clone(),
+        tip_move_sigma: tip_move,
+        named: naming.and_then(|n| n.named().map(|c| c.effect.clone())),
+        first,
+        rank,
+        indistinguishable_from_first: indistinguishable,
+        name_estimate,
+        refit_value: refit
+            .and_then(|r| r.effects.first())
+            .map(|e| (e.value, e.interval.0, e.interval.1)),
+        held_out_be: refit.and_then(|r| {
+            let h = r.held_out.as_ref()?;
+            Some((h.mean_be_before_mm?, h.mean_be_after_mm?, r.noise_be_mm?))
+        }),
+        verdict: naming.map_or(String::new(), |n| n.verdict.clone()),
+    })
+}
+
+/// The noise-free tip of a twin group: its cached FE ramps (none run here).
+///
+/// # Errors
+/// A group that does not parse, an invalid design.
+pub fn truth_tips(
+    plan: &StudyPlan,
+    group: &TwinGroup,
+    noise_from: &Recordings,
+    dirs: &StudyDirs,
+) -> Result<Vec<(u32, f64, f64, f64, f64)>, DiagnoseError> {
+    let s = group.settings(plan, 0, &dirs.cache)?;
+    let ramps = cached_ramps(
+        &s.sweep,
+        &recorded_designs(&noise_from.bending),
+        &s.ramp_dir(),
+    )
+    .map_err(crate::calibrate::CalibrateError::from)?;
+    let mut out = Vec::new();
+    for r in ramps.iter().filter(|r| r.mode == Mode::Bending) {
+        for st in &r.steps {
+            out.push((
+                r.n_bellows as u32,
+                r.wall_thickness_mm,
+                st.pressure_bar,
+                st.tip_uz_mm,
+                st.tip_uy_mm,
+            ));
+        }
+    }
+    Ok(out)
+}
+
+/// The study's scores and their summary.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StudyResults {
+    /// [`RESULTS_FORMAT`].
+    pub format: String,
+    /// [`VERSION`].
+    pub version: u32,
+    /// Every twin diagnosed.
+    pub twins: Vec<TwinScore>,
+    /// Twins of the plan not diagnosed yet (their FE is not in the cache).
+    pub pending: Vec<String>,
+    /// The summary.
+    pub summary: StudySummary,
+}
+
+/// The study's numbers against its targets.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct StudySummary {
+    /// Effect twins whose effect moves the tip by more than 2 σ.
+    pub visible: usize,
+    /// … of which the concealed effect is ranked first.
+    pub visible_first: usize,
+    /// … ranked first or reported indistinguishable from the first.
+    pub visible_first_or_indistinguishable: usize,
+    /// … named (the verdict's effect is the concealed one).
+    pub visible_named: usize,
+    /// Every effect twin: ranked first.
+    pub effect_twins: usize,
+    /// Every effect twin: ranked first (count).
+    pub effect_first: usize,
+    /// Null twins.
+    pub nulls: usize,
+    /// Null twins where an effect was named (false alarms).
+    pub false_alarms: usize,
+    /// Correctly named twins whose refitted value is within 25 % of the truth or whose
+    /// interval covers it, of the correctly named.
+    pub sizes_recovered: (usize, usize),
+    /// Correctly named twins whose held-out tip BE after the refit is within 1.2 × the
+    /// noise level, of the correctly named with a held-out BE.
+    pub held_out_within: (usize, usize),
+    /// Confusion matrix: rows the concealed effect (`none`), columns the named one
+    /// (`nothing`), counts.
+    pub confusion: Vec<(String, String, usize)>,
+}
+
+/// The summary of `twins`.
+pub fn summarise(twins: &[TwinScore]) -> StudySummary {
+    let effect: Vec<&TwinScore> = twins.iter().filter(|t| t.truth.is_some()).collect();
+    let visible: Vec<&&TwinScore> = effect.iter().filter(|t| t.tip_move_sigma > 2.0).collect();
+    let first = |t: &TwinScore| t.rank == Some(1);
+    let named_right = |t: &TwinScore| t.named.is_some() && t.named == t.truth;
+    let nulls: Vec<&TwinScore> = twins.iter().filter(|t| t.truth.is_none()).collect();
+    let right: Vec<&&TwinScore> = effect.iter().filter(|t| named_right(t)).collect();
+    let recovered = right
+        .iter()
+        .filter(|t| match (t.refit_value, t.true_value) {
+            (Some((v, lo, hi)), Some(truth)) => {
+                (v - truth).abs() <= 0.25 * truth.abs() || (lo <= truth && truth <= hi)
+            }
+            _ => false,
+        })
+        .count();
+    let with_be: Vec<(f64, f64)> = right
+        .iter()
+        .filter_map(|t| t.held_out_be.map(|(_, after, noise)| (after, noise)))
+        .collect();
+    let mut confusion: Vec<(String, String, usize)> = Vec::new();
+    for t in twins {
+        let row = t.truth.clone().unwrap_or_else(|| "none".into());
+        let col = t.named.clone().unwrap_or_else(|| "nothing".into());
+        match confusion.iter_mut().find(|c| c.0 == row && c.1 == col) {
+            Some(c) => c.2 += 1,
+            None => confusion.push((row, col, 1)),
+        }
+    }
+    StudySummary {
+        visible: visible.len(),
+        visible_first: visible.iter().filter(|t| first(t)).count(),
+        visible_first_or_indistinguishable: visible
+            .iter()
+            .filter(|t| first(t) || t.indistinguishable_from_first)
+            .count(),
+        visible_named: visible.iter().filter(|t| named_right(t)).count(),
+        effect_twins: effect.len(),
+        effect_first: effect.iter().filter(|t| first(t)).count(),
+        nulls: nulls.len(),
+        false_alarms: nulls.iter().filter(|t| t.named.is_some()).count(),
+        sizes_recovered: (recovered, right.len()),
+        held_out_within: (
+            with_be.iter().filter(|(a, n)| *a <= 1.2 * n).count(),
+            with_be.len(),
+        ),
+        confusion,
+    }
+}
+
+/// Diagnoses every twin whose FE is complete and scores it; the others are listed as
+/// pending. `progress` gets a line per twin.
+///
+/// # Errors
+/// A diagnosis error, an unreadable key.
+pub fn run_diagnoses(
+    plan: &StudyPlan,
+    noise_from: &Recordings,
+    dirs: &StudyDirs,
+    model: &Surrogate,
+    sens: &SweepSensitivities,
+    progress: &dyn Fn(&str),
+) -> Result<StudyResults, DiagnoseError> {
+    let mut twins = Vec::new();
+    let mut pending = Vec::new();
+    for (g, _seed, name) in plan.twins() {
+        let dir = dirs.twins.join(&name);
+        let key_path = dirs.keys.join(format!("{name}.json"));
+        if !dir.is_dir() || !key_path.exists() {
+            pending.push(name);
+            continue;
+        }
+        let d = diagnose_twin(&dir, model, sens)?;
+        let text = d.to_json()?;
+        std::fs::create_dir_all(&dirs.diagnoses).map_err(|e| {
+            DiagnoseError::input("diagnoses", dirs.diagnoses.display(), &e.to_string())
+        })?;
+        let out = dirs.diagnoses.join(format!("{name}.json"));
+        crate::io::write_atomic(&out, text.as_bytes())
+            .map_err(|e| DiagnoseError::input("diagnosis", out.display(), &e.to_string()))?;
+        let key: TwinKey = serde_json::from_str(
+            &std::fs::read_to_string(&key_path)
+                .map_err(|e| DiagnoseError::input("key", key_path.display(), &e.to_string()))?,
+        )?;
+        let tips = truth_tips(plan, &plan.groups[g], noise_from, dirs)?;
+        let lookup = |n: u32, t: f64, p: f64| {
+            tips.iter()
+                .find(|r| r.0 == n && (r.1 - t).abs() < 1e-9 && (r.2 - p).abs() < 1e-9)
+                .map(|r| (r.3, r.4))
+        };
+        let s = score_twin(&name, &d, &key, model, &lookup)?;
+        progress(&format!(
+            "{name}: concealed {}, named {}, first {}",
+            s.truth.as_deref().unwrap_or("nothing"),
+            s.named.as_deref().unwrap_or("nothing"),
+            s.first.as_deref().unwrap_or("—")
+        ));
+        twins.push(s);
+    }
+    let summary = summarise(&twins);
+    Ok(StudyResults {
+        format: RESULTS_FORMAT.into(),
+        version: VERSION,
+        twins,
+        pending,
+        summary,
+    })
+}
+
+/// The results in Markdown: the targets, the confusion matrix, every twin.
+pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
+    use std::fmt::Write;
+    let s = &r.summary;
+    let mut o = String::new();
+    let pct = |a: usize, b: usize| {
+        if b == 0 {
+            "—".to_string()
+        } else {
+            format!("{a} of {b} ({:.0} %)", 100.0 * a as f64 / b as f64)
+        }
+    };
+    let _ = writeln!(o, "# Blind twin study: results\n");
+    let _ = writeln!(
+        o,
+        "{} twins diagnosed ({} effect, {} null), {} pending. Twins on {} elements{}; seeds {:?}; markers {}.\n",
+        r.twins.len(),
+        s.effect_twins,
+        s.nulls,
+        r.pending.len(),
+        plan.mesh.element_size.map_or(plan.mesh.level.name().to_string(), |h| format!("{h} mm")),
+        plan.mesh.wall_elements.map_or(String::new(), |k| format!(", {k} through a wall")),
+        plan.seeds,
+        if plan.markers { "kept" } else { "dropped (as in the shipped experiments)" }
+    );
+    let _ = writeln!(o, "| target | result |\n|---|---|");
+    let _ = writeln!(
+        o,
+        "| concealed effect ranked first, twins whose effect moves the tip > 2σ (≥ 90 %) | {} |",
+        pct(s.visible_first, s.visible)
+    );
+    let _ = writeln!(
+        o,
+        "| … first or reported indistinguishable from the first | {} |",
+        pct(s.visible_first_or_indistinguishable, s.visible)
+    );
+    let _ = writeln!(
+        o,
+        "| … named by the verdict | {} |",
+        pct(s.visible_named, s.visible)
+    );
+    let _ = writeln!(
+        o,
+        "| concealed effect ranked first, every effect twin | {} |",
+        pct(s.effect_first, s.effect_twins)
+    );
+    let _ = writeln!(
+        o,
+        "| false alarms on null twins (≤ 10 %) | {} |",
+        pct(s.false_alarms, s.nulls)
+    );
+    let _ = writeln!(
+        o,
+        "| recovered size within 25 % or interval covering the truth (correctly named) | {} |",
+        pct(s.sizes_recovered.0, s.sizes_recovered.1)
+    );
+    let _ = writeln!(
+        o,
+        "| held-out tip BE with the named effect ≤ 1.2 × noise (correctly named) | {} |",
+        pct(s.held_out_within.0, s.held_out_within.1)
+    );
+    let _ = writeln!(
+        o,
+        "\n## Confusion matrix (rows: concealed, columns: named)\n"
+    );
+    let mut rows: Vec<String> = s.confusion.iter().map(|c| c.0.clone()).collect();
+    rows.sort();
+    rows.dedup();
+    let mut cols: Vec<String> = s.confusion.iter().map(|c| c.1.clone()).collect();
+    cols.sort();
+    cols.dedup();
+    let _ = writeln!(o, "| concealed \\ named | {} |", cols.join(" | "));
+    let _ = writeln!(o, "|---|{}", "---|".repeat(cols.len()));
+    for row in &rows {
+        let cells: Vec<String> = cols
+            .iter()
+            .map(|c| {
+                s.confusion
+                    .iter()
+                    .find(|x| &x.0 == row && &x.1 == c)
+                    .map_or(String::new(), |x| x.2.to_string())
+            })
+            .collect();
+        let _ = writeln!(o, "| {row} | {} |", cells.join(" | "));
+    }
+    let _ = writeln!(
+        o,
+        "\n## Every twin\n\n| twin | concealed | true value | tip move (σ) | named | first | rank | Name estimate | refit value [interval] | held-out BE before → after (noise) mm |"
+    );
+    let _ = writeln!(o, "|---|---|---|---|---|---|---|---|---|---|");
+    for t in &r.twins {
+        let _ = writeln!(
+            o,
+            "| {} | {} | {} | {:.1} | {} | {} | {} | {} | {} | {} |",
+            t.twin,
+            t.truth.as_deref().unwrap_or("none"),
+            t.true_value.map_or(String::new(), |v| format!("{v}")),
+            t.tip_move_sigma,
+            t.named.as_deref().unwrap_or("nothing"),
+            t.first.as_deref().unwrap_or("—"),
+            t.rank.map_or(String::new(), |k| k.to_string()),
+            t.name_estimate
+                .map_or(String::new(), |(v, se)| format!("{v:.4} ± {se:.4}")),
+            t.refit_value.map_or(String::new(), |(v, lo, hi)| format!(
+                "{v:.4} [{lo:.4}, {hi:.4}]"
+            )),
+            t.held_out_be.map_or(String::new(), |(b, a, n)| format!(
+                "{b:.2} → {a:.2} ({n:.2})"
+            ))
+        );
+    }
+    if !r.pending.is_empty() {
+        let _ = writeln!(o, "\nPending (FE not run yet): {}.", r.pending.join(", "));
+    }
+    o
+}
