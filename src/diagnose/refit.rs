@@ -820,10 +820,14 @@ fn verdict(r: &Refit, level: f64) -> String {
         .iter()
         .map(|e| {
             format!(
-                "{} = {:.4} {} ({:.0} % interval [{:.4}, {:.4}]{})",
+                "{} = {:.4}{} ({:.0} % interval [{:.4}, {:.4}]{})",
                 e.effect,
                 e.value,
-                e.unit,
+                if e.unit == "1" {
+                    String::new()
+                } else {
+                    format!(" {}", e.unit)
+                },
                 100.0 * level,
                 e.interval.0,
                 e.interval.1,

@@ -4,4 +4,5 @@
 
 mod calibrate;
 mod diagnose;
+mod refit;
 mod twin;

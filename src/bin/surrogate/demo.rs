@@ -23,6 +23,7 @@ use surrogate::calibrate::verify::{cached_verification, fe_material, FeVerificat
 use surrogate::calibrate::{calibrate, Calibration, CalibrationSettings, Recordings};
 use surrogate::diagnose::locate::{locate, LocateSettings};
 use surrogate::diagnose::name::NameSettings;
+use surrogate::diagnose::refit::RefitSettings;
 use surrogate::diagnose::Diagnosis;
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
@@ -106,6 +107,29 @@ pub fn run(a: DemoArgs) -> Result<()> {
             let n = diagnosis.name_with(&sens, &NameSettings::default())?;
             println!("{}", n.verdict);
             crate::diagnose::print_candidates(n, 5);
+            // Model and show: the named effect, or else the strongest plausible lead, refitted
+            // with the material and tried on designs the fit did not see
+            let named = n.named().map(|c| c.effect.clone());
+            let lead = named.clone().or_else(|| {
+                n.candidates
+                    .iter()
+                    .find(|c| c.plausible)
+                    .map(|c| c.effect.clone())
+            });
+            if let Some(e) = lead {
+                println!(
+                    "\n{} {e}: material + {e} refitted through the surrogate (the effect \
+                     linearised), each design left out in turn:\n",
+                    if named.is_some() {
+                        "The named effect"
+                    } else {
+                        "Nothing is named; the strongest plausible lead, tried anyway:"
+                    }
+                );
+                let effect = surrogate::fe::effects::Effect::from_name(&e)?;
+                let r = diagnosis.refit_with(&sens, &model, &RefitSettings::new(vec![effect]))?;
+                println!("{}", r.verdict);
+            }
         }
         Err(e) => println!("\nThe Name stage is skipped: {e}"),
     }
