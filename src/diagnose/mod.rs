@@ -97,6 +97,7 @@ pub mod report;
 pub mod structure;
 pub mod study;
 pub mod summary;
+pub mod sweep;
 pub mod wording;
 
 pub use locate::{locate, Localisation, LocateSettings};

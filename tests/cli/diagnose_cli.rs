@@ -65,6 +65,66 @@ fn diagnoses_the_shipped_experiments() {
     let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
     assert!(md.starts_with("# Diagnosis") && md.contains("## Findings"));
     assert!(md.contains("- **Name**: ") && md.contains("## Name: candidate effects"));
+    // the named effect is refitted (`--refit auto`): its size, the fit before and after,
+    // every design held out
+    let named = r["name"]["candidates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .find(|c| c["significant"] == true && c["plausible"] == true)
+        .map(|c| c["effect"].clone());
+    match named {
+        Some(e) => {
+            assert_eq!(r["model_and_show"]["status"], "modelled");
+            assert_eq!(r["model_and_show"]["effects"][0]["effect"], e);
+            assert_eq!(
+                r["model_and_show"]["held_out"]["designs"]
+                    .as_array()
+                    .unwrap()
+                    .len(),
+                9
+            );
+            assert!(
+                stdout.contains("Model and show: Refitted with "),
+                "{stdout}"
+            );
+            assert!(
+                md.contains("## Model and show: the refit with the effect"),
+                "{md}"
+            );
+            assert!(md.contains("### Held out: each design left out of both fits in turn"));
+        }
+        None => assert_eq!(r["model_and_show"]["status"], "not_run"),
+    }
+    // two effects asked for by name; `none` skips the stage and says why
+    let out3 = dir.join("refit");
+    let (ok, stdout, stderr) = run(&[
+        "diagnose",
+        "--refit",
+        "pressure_loss,force_scale",
+        "--out",
+        out3.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let r3 = report(&out3);
+    let effects = r3["model_and_show"]["effects"].as_array().unwrap();
+    assert_eq!(effects.len(), 2);
+    assert_eq!(effects[1]["effect"], "force_scale");
+    assert!(
+        stdout.contains("Model and show: Refitted with pressure_loss = "),
+        "{stdout}"
+    );
+    let out4 = dir.join("none");
+    let (ok, stdout, stderr) = run(&[
+        "diagnose",
+        "--refit",
+        "none",
+        "--out",
+        out4.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert_eq!(report(&out4)["model_and_show"]["status"], "not_run");
+    assert!(stdout.contains("Model and show: not run ("), "{stdout}");
     // --objective and --exclude reach the calibration
     let out2 = dir.join("force");
     let (ok, _, stderr) = run(&[
@@ -132,7 +192,7 @@ fn bad_input_is_named_before_anything_runs() {
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     let empty_s = empty.to_str().unwrap();
-    let cases: [(&[&str], String); 6] = [
+    let cases: [(&[&str], String); 9] = [
         (
             &["--recordings", "no_such_recordings"],
             "--recordings no_such_recordings: not a directory".into(),
@@ -150,6 +210,18 @@ fn bad_input_is_named_before_anything_runs() {
         (
             &["--sensitivities", "no_such_sensitivities.json"],
             "--sensitivities no_such_sensitivities.json: expected the file".into(),
+        ),
+        (
+            &["--refit", "force_scale,nope"],
+            "--refit force_scale,nope: unknown effect \"nope\"".into(),
+        ),
+        (
+            &["--confirm-fe", "coarsest"],
+            "--confirm-fe coarsest: unknown mesh level".into(),
+        ),
+        (
+            &["--sweep-mesh", "fines"],
+            "--sweep-mesh fines: unknown mesh level".into(),
         ),
     ];
     for (extra, want) in cases {

@@ -32,7 +32,7 @@ fn twin_refuses_bad_flags_before_running_anything() {
         "--out",
         out_s,
     ];
-    let cases: [(&[&str], &str); 6] = [
+    let cases: [(&[&str], &str); 7] = [
         (&["--effect", "wal_bias=0.1"], "unknown effect \"wal_bias\""),
         (
             &["--effect", "wall_bias=0.9"],
@@ -53,6 +53,10 @@ fn twin_refuses_bad_flags_before_running_anything() {
         (
             &["--noise-from", "no_such_dir"],
             "no_such_dir/bending_experiments.csv",
+        ),
+        (
+            &["--element-size", "0.1"],
+            "--element-size 0.1: expected an element size in (0.2, 50] mm",
         ),
     ];
     for (extra, want) in cases {
@@ -96,4 +100,53 @@ fn validate_refuses_a_bad_effect_before_running_anything() {
         "{stderr}"
     );
     assert!(!dir.join("baseline_ramps").exists());
+}
+
+#[test]
+fn twin_study_refuses_bad_flags_and_plans() {
+    let dir = std::env::temp_dir().join(format!("surrogate_twin_study_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&dir);
+    let out = dir.join("study");
+    let out_s = out.to_str().unwrap();
+    let (ok, stderr) = run(&["twin-study", "--out", out_s, "--stage", "fe"]);
+    assert!(
+        !ok && stderr.contains("--stage fe: expected twins, diagnose or all"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    // the standard plan is written where none is, and a group it lacks is named
+    let (ok, stderr) = run(&[
+        "twin-study",
+        "--out",
+        out_s,
+        "--stage",
+        "twins",
+        "--groups",
+        "null_9",
+    ]);
+    assert!(
+        !ok && stderr.contains("--groups null_9: not a group of") && stderr.contains("null_6"),
+        "{stderr}"
+    );
+    let plan = std::fs::read_to_string(out.join("plan.json")).unwrap();
+    assert!(plan.contains("\"format\": \"surrogate.twin-study-plan\""));
+    // the committed plan is that plan: same draws, same groups
+    let committed = std::fs::read_to_string(
+        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("fe_reference/diagnosis/blind/plan.json"),
+    )
+    .unwrap();
+    assert_eq!(plan, committed);
+    // a plan of another format or version is refused, naming the file
+    std::fs::write(
+        out.join("plan.json"),
+        plan.replace("\"version\": 1", "\"version\": 4"),
+    )
+    .unwrap();
+    let (ok, stderr) = run(&["twin-study", "--out", out_s, "--stage", "diagnose"]);
+    assert!(
+        !ok && stderr.contains("plan.json: version = 4: expected 1"),
+        "{stderr}"
+    );
+    std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -109,8 +109,9 @@ pub struct DiagnoseArgs {
     #[arg(long, default_value = "diagnosis")]
     pub out: PathBuf,
     /// FE sensitivities of the effect library at the calibrated material (written by
-    /// `validate --sensitivities all`); the Name stage ranks the effects with them. `none`
-    /// skips it.
+    /// `validate --sensitivities all`); the Name stage ranks the effects with them.
+    /// `calibrated` runs that sweep now, at the material just calibrated (18 ramps on
+    /// --sweep-mesh, cached in `<out>/fe_sensitivities`); `none` skips Name and Model.
     #[arg(
         long,
         default_value = "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json"
@@ -129,6 +130,9 @@ pub struct DiagnoseArgs {
     /// FE cache of the confirmation (default: `<out>/fe_ramps`).
     #[arg(long)]
     pub fe_cache: Option<PathBuf>,
+    /// Mesh of the sweep `--sensitivities calibrated` runs (coarse | standard).
+    #[arg(long, default_value = "coarse")]
+    pub sweep_mesh: String,
 }
 
 /// `surrogate twin`.

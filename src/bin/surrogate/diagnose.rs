@@ -14,6 +14,7 @@ use surrogate::diagnose::{diagnose, DiagnoseSettings, Diagnosis, LocateSettings}
 use surrogate::calibrate::baseline::SweepSettings;
 use surrogate::diagnose::name::Naming;
 use surrogate::diagnose::refit::{confirm_with_fe, FeConfirmSettings, RefitSettings};
+use surrogate::diagnose::sweep::sweep_at;
 use surrogate::fe::effects::Effect;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 
@@ -62,19 +63,52 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
     let s = settings(&a)?;
     let rec = recordings(&a.recordings)?;
     let model = load_model(&a.model)?;
-    // read before any work: a bad file is named at once
-    let sens = if a.sensitivities.as_os_str() == "none" {
+    // checked before any work: a bad value is named at once
+    refit_effects(&a.refit, None)?;
+    let confirm: Option<MeshLevel> = match a.confirm_fe.as_str() {
+        "none" => None,
+        other => Some(
+            other
+                .parse()
+                .map_err(|e: String| anyhow::anyhow!("--confirm-fe {other}: {e} (or none)"))?,
+        ),
+    };
+    let at_calibrated = a.sensitivities.as_os_str() == "calibrated";
+    let sweep_mesh: MeshLevel = a
+        .sweep_mesh
+        .parse()
+        .map_err(|e: String| anyhow::anyhow!("--sweep-mesh {}: {e}", a.sweep_mesh))?;
+    let sens = if a.sensitivities.as_os_str() == "none" || at_calibrated {
         None
     } else {
         Some(SweepSensitivities::read(&a.sensitivities).with_context(|| {
             format!(
                 "--sensitivities {}: expected the file `validate --sensitivities all` writes \
-                 (or none)",
+                 (or calibrated, none)",
                 a.sensitivities.display()
             )
         })?)
     };
     let mut d = diagnose(&model, &rec, &s, &|stage| eprintln!("{stage}"))?;
+    let sens = if at_calibrated {
+        let cache = a.out.join("fe_sensitivities");
+        eprintln!(
+            "FE sensitivities at the calibrated material ({}), {} mesh, ramps cached in {} (a \
+             rerun resumes)",
+            d.calibration.best.spec(),
+            sweep_mesh.name(),
+            cache.display()
+        );
+        Some(sweep_at(
+            &d.calibration.best,
+            &rec,
+            MeshOptions::level(sweep_mesh),
+            &cache,
+            |k, n| eprintln!("FE ramp {k} of {n} done"),
+        )?)
+    } else {
+        sens
+    };
     let naming = if let Some(sens) = &sens {
         eprintln!(
             "name: {} effects against the FE sensitivities of {} ramps ({} mesh)",
@@ -96,10 +130,7 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
                 names(&rs.effects)
             );
             d.refit_with(sens, &model, &rs)?;
-            if a.confirm_fe != "none" {
-                let level: MeshLevel = a.confirm_fe.parse().map_err(|e: String| {
-                    anyhow::anyhow!("--confirm-fe {}: {e} (or none)", a.confirm_fe)
-                })?;
+            if let Some(level) = confirm {
                 let cache = a.fe_cache.clone().unwrap_or_else(|| a.out.join("fe_ramps"));
                 let fe = FeConfirmSettings::new(
                     SweepSettings::new(sens.material.clone(), MeshOptions::level(level)),
