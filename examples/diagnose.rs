@@ -1,15 +1,21 @@
-//! Locate where the calibrated model misses the shipped experiments: calibrate one Ogden set
-//! through the shipped surrogate, then the residual's structure over N, T and P in words.
+//! The diagnoser on the shipped experiments, stage by stage: calibrate one Ogden set through
+//! the shipped surrogate, locate the residual (its structure over N, T and P in words), name
+//! the effect of the library that explains it (the committed FE sensitivities at the
+//! calibrated material), and refit the material with it, each design held out in turn.
 //!
 //! ```sh
 //! cargo run --release --example diagnose
 //! ```
 use std::path::Path;
 
+use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::{calibrate, CalibrationSettings, Recordings};
 use surrogate::diagnose::cells::Family;
+use surrogate::diagnose::name::NameSettings;
+use surrogate::diagnose::refit::RefitSettings;
 use surrogate::diagnose::structure::Term;
-use surrogate::diagnose::{locate, LocateSettings};
+use surrogate::diagnose::{locate, Diagnosis, LocateSettings};
+use surrogate::fe::effects::Effect;
 use surrogate::rom::Surrogate;
 
 fn main() -> surrogate::Result<()> {
@@ -52,6 +58,23 @@ fn main() -> surrogate::Result<()> {
     println!("what the recordings lack:");
     for m in &loc.missing {
         println!("- {}", m.what);
+    }
+
+    // Name: every effect's FE signature, the material's directions projected out
+    let sens = SweepSensitivities::read(Path::new(
+        "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json",
+    ))?;
+    let mut d = Diagnosis::new(&cal, &recordings, loc);
+    let naming = d.name_with(&sens, &NameSettings::default())?.clone();
+    println!("name: {}", naming.verdict);
+    // Model and show: the named effect (or, when none is, the best plausible candidate)
+    let lead = naming
+        .named()
+        .or_else(|| naming.candidates.iter().find(|c| c.plausible));
+    if let Some(c) = lead {
+        let effect = Effect::from_name(&c.effect)?;
+        let r = d.refit_with(&sens, &model, &RefitSettings::new(vec![effect]))?;
+        println!("model and show: {}", r.verdict);
     }
     Ok(())
 }

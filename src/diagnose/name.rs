@@ -492,7 +492,14 @@ fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_material: f64) -> 
         .iter()
         .filter(|t| t.significant && !t.plausible)
         .take(3)
-        .map(|t| format!("{} ({:+.3} {})", t.effect, t.estimate, t.unit))
+        .map(|t| {
+            format!(
+                "{} ({:+.3}{})",
+                t.effect,
+                t.estimate,
+                super::wording::unit_suffix(&t.unit)
+            )
+        })
         .collect();
     let Some(top) = c.iter().find(|t| t.significant && t.plausible) else {
         if implausible.is_empty() {
@@ -511,12 +518,12 @@ fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_material: f64) -> 
     };
     let mut s = format!(
         "{} explains {:.0} % of the residual left after the material re-fit (size {:+.3} ± \
-         {:.3} {}, F = {:.1}, p = {:.2e})",
+         {:.3}{}, F = {:.1}, p = {:.2e})",
         top.effect,
         100.0 * top.explained,
         top.estimate,
         top.std_error,
-        top.unit,
+        super::wording::unit_suffix(&top.unit),
         top.f,
         top.p_value,
     );

@@ -823,11 +823,7 @@ fn verdict(r: &Refit, level: f64) -> String {
                 "{} = {:.4}{} ({:.0} % interval [{:.4}, {:.4}]{})",
                 e.effect,
                 e.value,
-                if e.unit == "1" {
-                    String::new()
-                } else {
-                    format!(" {}", e.unit)
-                },
+                super::wording::unit_suffix(&e.unit),
                 100.0 * level,
                 e.interval.0,
                 e.interval.1,

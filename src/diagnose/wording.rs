@@ -59,3 +59,12 @@ pub fn and_list(v: Vec<String>) -> String {
         _ => v.join(""),
     }
 }
+
+/// ` mm` after a number, nothing for a dimensionless `1`.
+pub fn unit_suffix(unit: &str) -> String {
+    if unit == "1" || unit.is_empty() {
+        String::new()
+    } else {
+        format!(" {unit}")
+    }
+}
