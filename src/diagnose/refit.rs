@@ -919,6 +919,10 @@ fn fe_value(ramps: &[SweepRamp], c: &Cell) -> Option<f64> {
     }
 }
 
+/// What one FE evaluation returns for the used cells: each cell's value (none where its
+/// ramp stopped before), the ramps run now, and the ramps that stopped, in words.
+pub type FeEvaluation = (Vec<Option<f64>>, usize, Vec<String>);
+
 /// Confirms `refit` with the FE model: the recorded designs run with the refitted material
 /// and the effect(s) switched on at their refitted values; where FE and the linearised
 /// prediction differ by more than `fe.tolerance` (rms over the cells, in σ), the difference
@@ -938,10 +942,7 @@ pub fn confirm_with_fe(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Refit, DiagnoseError> {
     s.validate()?;
-    let mut rows = Rows::of(cells, sens, &s.effects)?;
-    let space = ParamSpace::training_domain(model)?;
-    let mut current = first;
-    let mut rounds: Vec<FeRound> = Vec::new();
+    let rows = Rows::of(cells, sens, &s.effects)?;
     let mut designs: Vec<SweepDesign> = Vec::new();
     for c in &rows.cells {
         let n = c.n_bellows as usize;
@@ -965,10 +966,9 @@ pub fn confirm_with_fe(
         d.pressures_bar.sort_by(f64::total_cmp);
         d.pressures_bar.dedup();
     }
-    for _ in 0..fe.rounds.max(1) {
-        let material = current.after.material;
+    let mut run_fe = |material: &OgdenSet, values: &[f64]| -> Result<FeEvaluation, DiagnoseError> {
         let mut effects = Effects::default();
-        for (e, v) in s.effects.iter().zip(&current.after.effects) {
+        for (e, v) in s.effects.iter().zip(values) {
             effects
                 .set(*e, *v)
                 .map_err(|err| DiagnoseError::input(e.name(), v, &err.to_string()))?;
@@ -983,7 +983,7 @@ pub fn confirm_with_fe(
         };
         let ramps = run_ramps(&settings, &designs, Some(&fe.cache), progress)
             .map_err(crate::calibrate::CalibrateError::from)?;
-        let ramps_run = ramps.iter().filter(|r| r.source == RampSource::Run).count();
+        let run = ramps.iter().filter(|r| r.source == RampSource::Run).count();
         let failed: Vec<String> = ramps
             .iter()
             .filter(|r| !r.error.is_empty())
@@ -994,6 +994,41 @@ pub fn confirm_with_fe(
                 )
             })
             .collect();
+        Ok((
+            rows.cells.iter().map(|c| fe_value(&ramps, c)).collect(),
+            run,
+            failed,
+        ))
+    };
+    let mut out = confirm_with(&rows, model, first, s, fe.rounds, fe.tolerance, &mut run_fe)?;
+    out.verdict = out.verdict.replace(
+        " FE (",
+        &format!(" FE ({} mesh, ", fe.sweep.mesh.level.name()),
+    );
+    Ok(out)
+}
+
+/// The rounds of [`confirm_with_fe`] with any FE model: `fe(material, effect values)` gives
+/// the used cells' values.
+///
+/// # Errors
+/// As [`refit`], and whatever `fe` returns.
+pub(crate) fn confirm_with(
+    rows: &Rows,
+    model: &Surrogate,
+    first: Refit,
+    s: &RefitSettings,
+    max_rounds: usize,
+    tolerance: f64,
+    fe: &mut dyn FnMut(&OgdenSet, &[f64]) -> Result<FeEvaluation, DiagnoseError>,
+) -> Result<Refit, DiagnoseError> {
+    let mut rows = rows.clone();
+    let space = ParamSpace::training_domain(model)?;
+    let mut current = first;
+    let mut rounds: Vec<FeRound> = Vec::new();
+    loop {
+        let material = current.after.material;
+        let (values, ramps_run, failed) = fe(&material, &current.after.effects)?;
         let mut x: Vec<f64> = space.unit(&material).to_vec();
         x.extend(
             s.effects
@@ -1007,7 +1042,7 @@ pub fn confirm_with_fe(
         let mut diffs = vec![0.0; rows.cells.len()];
         let mut worst = (0.0, String::new());
         for (i, c) in rows.cells.iter().enumerate() {
-            if let Some(v) = fe_value(&ramps, c) {
+            if let Some(v) = values[i] {
                 fe_pred[i] = v;
                 diffs[i] = v - lin[i];
                 let z = diffs[i].abs() / c.sigma;
@@ -1041,25 +1076,26 @@ pub fn confirm_with_fe(
             ramps_run,
             failed,
         });
-        if rms <= fe.tolerance || rounds.len() >= fe.rounds.max(1) {
+        if rms <= tolerance || rounds.len() >= max_rounds.max(1) {
             break;
         }
         for (o, d) in rows.offset.iter_mut().zip(&diffs) {
             *o += d;
         }
         let linearised_at = current.linearised_at.clone();
+        let base = linearised_at
+            .split(", corrected by the FE")
+            .next()
+            .unwrap_or_default()
+            .to_string();
         current = fit_rows(&rows, model, &material, s)?;
-        current.linearised_at = format!(
-            "{linearised_at}, corrected by the FE round {}",
-            rounds.len()
-        );
+        current.linearised_at = format!("{base}, corrected by the FE of round {}", rounds.len());
     }
     let last = rounds.last().expect("at least one round");
-    let confirmed = last.rms_fe_minus_linear <= fe.tolerance;
+    let confirmed = last.rms_fe_minus_linear <= tolerance;
     current.verdict.push_str(&format!(
-        " FE ({} mesh, {} round(s)): {}; the FE model with the effect on at {} misses the \
-         recordings by a mean tip BE of {} (linearised − FE: rms {:.2} σ, worst {:.2} σ at {}).",
-        fe.sweep.mesh.level.name(),
+        " FE ({} round(s)): {}; with the effect on at {} the FE misses the recordings by a \
+         mean tip BE of {} (FE − linearised: rms {:.2} σ, worst {:.2} σ at {}).",
         rounds.len(),
         if confirmed {
             "confirmed"
@@ -1081,4 +1117,112 @@ pub fn confirm_with_fe(
     ));
     current.fe = rounds;
     Ok(current)
+}
+
+#[cfg(test)]
+mod tests {
+    use std::path::Path;
+
+    use super::*;
+    use crate::rom::Query;
+
+    const DESIGNS: [(u32, f64); 9] = [
+        (9, 1.6),
+        (9, 2.0),
+        (9, 2.4),
+        (11, 1.6),
+        (11, 2.0),
+        (11, 2.4),
+        (13, 1.6),
+        (13, 2.0),
+        (13, 2.4),
+    ];
+
+    fn value(model: &Surrogate, m: &OgdenSet, n: u32, t: f64, p: f64, o: Output) -> f64 {
+        let mut pred = model.new_prediction();
+        model
+            .predict_scalars_into(&Query::new(n, t, p, m.as_array()), &mut pred)
+            .unwrap();
+        match o {
+            Output::TipUz => pred.tip_uz_mm(),
+            Output::TipUy => pred.tip_uy_mm(),
+            _ => pred.angle_deg(),
+        }
+    }
+
+    /// The effect's "true" response: `g(θ) = θ + 2θ²` times a fixed pattern over the cells.
+    fn g(theta: f64) -> f64 {
+        theta + 2.0 * theta * theta
+    }
+
+    #[test]
+    fn fe_rounds_correct_a_nonlinear_effect_that_the_linearisation_misjudges() {
+        let model = Surrogate::load(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator_coarse.json"),
+        )
+        .unwrap();
+        let m = OgdenSet::literature("ogden_002").unwrap();
+        let truth = 0.1;
+        let mut rows = Rows {
+            cells: Vec::new(),
+            d: Vec::new(),
+            offset: Vec::new(),
+        };
+        for (n, t) in DESIGNS {
+            for p in [1.0, 2.0, 3.0] {
+                for o in [Output::TipUz, Output::TipUy, Output::Angle] {
+                    let d = match o {
+                        Output::TipUz => 8.0 * p * (2.7 - t),
+                        Output::TipUy => -3.0 * p,
+                        _ => 1.5 * p * f64::from(n) / 11.0,
+                    };
+                    let mut c = Cell::unit(n, t, p, o, 0.0);
+                    c.recorded = value(&model, &m, n, t, p, o) + g(truth) * d;
+                    rows.cells.push(c);
+                    rows.d.push(vec![d]);
+                    rows.offset.push(0.0);
+                }
+            }
+        }
+        let mut s = RefitSettings::new(vec![Effect::PressureLoss]);
+        s.held_out = false;
+        let first = fit_rows(&rows, &model, &m, &s).unwrap();
+        // the linearisation (slope 1 at 0) reads g(0.1) = 0.12 as the size
+        let linear = first.effects[0].value;
+        assert!((linear - g(truth)).abs() < 2e-3, "{}", first.verdict);
+        let mut calls = 0;
+        let mut fe = |mat: &OgdenSet, v: &[f64]| -> Result<FeEvaluation, DiagnoseError> {
+            calls += 1;
+            Ok((
+                rows.cells
+                    .iter()
+                    .zip(&rows.d)
+                    .map(|(c, d)| {
+                        Some(
+                            value(
+                                &model,
+                                mat,
+                                c.n_bellows,
+                                c.wall_thickness_mm,
+                                c.pressure_bar,
+                                c.output,
+                            ) + g(v[0]) * d[0],
+                        )
+                    })
+                    .collect(),
+                2,
+                Vec::new(),
+            ))
+        };
+        let r = confirm_with(&rows, &model, first, &s, 8, 0.01, &mut fe).unwrap();
+        let last = r.fe.last().unwrap();
+        assert!(r.fe.len() >= 3 && r.fe.len() <= 8, "{} rounds", r.fe.len());
+        assert_eq!(calls, r.fe.len());
+        // the first round sees the linearisation's error; the last one agrees with the FE
+        assert!(r.fe[0].rms_fe_minus_linear > 0.05, "{:?}", r.fe[0]);
+        assert!(last.rms_fe_minus_linear <= 0.01, "{last:?}");
+        assert!((last.effects[0] - truth).abs() < 2e-3, "{:?}", last.effects);
+        assert!(r.verdict.contains("round(s)): confirmed;"), "{}", r.verdict);
+        assert!(r.linearised_at.contains("corrected by the FE of round"));
+    }
 }
