@@ -124,6 +124,10 @@ pub struct Untestable {
 /// What the Name stage found.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct Naming {
+    /// The material of the nonlinear re-fit on every used cell ([`name_refitted`]; none:
+    /// the re-fit was linearised with the sweep's material sensitivities).
+    #[serde(default)]
+    pub refitted_material: Option<crate::calibrate::OgdenSet>,
     /// Cells used (those with sensitivities).
     pub n_cells: usize,
     /// Cells without sensitivities in the sweep, in words.
@@ -150,6 +154,17 @@ impl Naming {
             .iter()
             .find(|c| c.significant && c.plausible)
     }
+}
+
+/// Every parameter's derivative of `c`'s output in the sweep, σ-scaled.
+fn derivs_of(sens: &SweepSensitivities, c: &Cell) -> Option<Vec<f64>> {
+    sensitivity_step(sens, c).and_then(|(se, i)| {
+        se.steps[i]
+            .derivatives
+            .iter()
+            .map(|d| derivative_of(d, c.output).map(|v| v / c.sigma))
+            .collect::<Option<Vec<f64>>>()
+    })
 }
 
 /// The derivative (or value) of `output` in `o`.
@@ -204,6 +219,42 @@ pub fn name(
     sens: &SweepSensitivities,
     s: &NameSettings,
 ) -> Result<Naming, DiagnoseError> {
+    name_inner(cells, sens, None, s)
+}
+
+/// [`name`] after a nonlinear material re-fit through the surrogate: the material alone is
+/// refitted from `start` on every cell with sensitivities (bounded Levenberg–Marquardt, as
+/// [`super::refit`] does), and the residual and the material directions projected out are
+/// those of that fit, the directions from the surrogate's analytic Jacobian there. The
+/// calibration's objective may leave outputs out (the force under `tip`), and a material
+/// the recordings hardly determine may sit far from the sweep's: the linearised re-fit of
+/// [`name`] around the calibrated set is then poor, this one is exact for the material.
+///
+/// # Errors
+/// As [`name`], and a surrogate error.
+pub fn name_refitted(
+    cells: &[Cell],
+    sens: &SweepSensitivities,
+    model: &crate::rom::Surrogate,
+    start: &crate::calibrate::OgdenSet,
+    s: &NameSettings,
+) -> Result<Naming, DiagnoseError> {
+    let (local, material) = super::refit::material_refit(cells, sens, model, start)?;
+    let mut n = name_inner(cells, sens, Some(&local), s)?;
+    n.refitted_material = Some(material);
+    Ok(n)
+}
+
+/// Per cell: the residual `z` after the material re-fit and its row of the material
+/// Jacobian (σ-scaled), for the cells with sensitivities.
+pub(crate) type LocalMaterial = Vec<Option<(f64, [f64; 4])>>;
+
+fn name_inner(
+    cells: &[Cell],
+    sens: &SweepSensitivities,
+    local: Option<&LocalMaterial>,
+    s: &NameSettings,
+) -> Result<Naming, DiagnoseError> {
     if !(s.alpha > 0.0 && s.alpha < 1.0) {
         return Err(DiagnoseError::input("alpha", s.alpha, "a level in (0, 1)"));
     }
@@ -229,7 +280,7 @@ pub fn name(
         .iter()
         .filter_map(|k| params.iter().position(|p| *p == Parameter::Material(*k)))
         .collect();
-    if material.len() != 4 {
+    if material.len() != 4 && local.is_none() {
         return Err(DiagnoseError::input(
             "sensitivities",
             "without mu1, alpha1, mu2, alpha2",
@@ -238,24 +289,33 @@ pub fn name(
     }
     // rows: cells with sensitivities; columns: every parameter (σ-scaled)
     let mut rows: Vec<(&Cell, Vec<f64>)> = Vec::new();
+    let mut refitted: Vec<(f64, [f64; 4])> = Vec::new();
     let mut unmatched = Vec::new();
-    for c in cells {
-        let derivs = sensitivity_step(sens, c).and_then(|(se, i)| {
-            se.steps[i]
-                .derivatives
-                .iter()
-                .map(|d| derivative_of(d, c.output).map(|v| v / c.sigma))
-                .collect::<Option<Vec<f64>>>()
-        });
+    for (ci, c) in cells.iter().enumerate() {
+        let derivs = match local {
+            Some(l) => match l.get(ci).copied().flatten() {
+                Some(v) => {
+                    refitted.push(v);
+                    derivs_of(sens, c)
+                }
+                None => None,
+            },
+            None => derivs_of(sens, c),
+        };
         match derivs {
             Some(d) => rows.push((c, d)),
-            None => unmatched.push(format!(
-                "N = {}, T = {} mm, {} bar, {}",
-                c.n_bellows,
-                c.wall_thickness_mm,
-                c.pressure_bar,
-                c.output.name()
-            )),
+            None => {
+                if local.is_some() && refitted.len() > rows.len() {
+                    refitted.pop();
+                }
+                unmatched.push(format!(
+                    "N = {}, T = {} mm, {} bar, {}",
+                    c.n_bellows,
+                    c.wall_thickness_mm,
+                    c.pressure_bar,
+                    c.output.name()
+                ))
+            }
         }
     }
     let n = rows.len();
@@ -268,10 +328,19 @@ pub fn name(
     }
     let z = DVector::from_iterator(n, rows.iter().map(|(c, _)| c.standardised));
     let column = |j: usize| DVector::from_iterator(n, rows.iter().map(|(_, d)| d[j]));
-    let sm = DMatrix::from_columns(&material.iter().map(|&j| column(j)).collect::<Vec<_>>());
+    let (sm, z_fit) = match local {
+        Some(_) => (
+            DMatrix::from_fn(n, 4, |i, k| refitted[i].1[k]),
+            DVector::from_iterator(n, refitted.iter().map(|v| v.0)),
+        ),
+        None => (
+            DMatrix::from_columns(&material.iter().map(|&j| column(j)).collect::<Vec<_>>()),
+            z.clone(),
+        ),
+    };
     let q = orthonormal_basis(&sm);
     let project = |v: &DVector<f64>| -> DVector<f64> { v - &q * (q.transpose() * v) };
-    let r = project(&z);
+    let r = project(&z_fit);
     let chi2 = z.norm_squared();
     let chi2_material = r.norm_squared();
     let dof = n as f64 - 5.0;
@@ -351,6 +420,7 @@ pub fn name(
     let indistinguishable = pairs(&projected, &candidates, sens, &recorded, s.collinear);
     let verdict = verdict(&candidates, &indistinguishable, chi2_material);
     Ok(Naming {
+        refitted_material: None,
         n_cells: n,
         unmatched,
         chi2,

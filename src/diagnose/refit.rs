@@ -607,6 +607,53 @@ fn summary(pb: &Problem<'_>, f: &Fitted, effects: &[Effect]) -> Result<FitSummar
     })
 }
 
+/// The material alone refitted from `start` on the cells of `cells` that `sens` covers; per
+/// cell of `cells`, its residual `z` there and its row of the material Jacobian (unit-box
+/// coordinates, σ-scaled), and the material.
+///
+/// # Errors
+/// Too few cells, a surrogate error.
+pub(crate) fn material_refit(
+    cells: &[Cell],
+    sens: &SweepSensitivities,
+    model: &Surrogate,
+    start: &OgdenSet,
+) -> Result<(super::name::LocalMaterial, OgdenSet), DiagnoseError> {
+    let idx: Vec<usize> = (0..cells.len())
+        .filter(|&i| sensitivity_step(sens, &cells[i]).is_some())
+        .collect();
+    let n = idx.len();
+    if n < 6 {
+        return Err(DiagnoseError::input(
+            "cells with sensitivities",
+            n,
+            "at least 6 (the sweep must cover the recorded designs and pressures)",
+        ));
+    }
+    let rows = Rows {
+        cells: idx.iter().map(|&i| cells[i].clone()).collect(),
+        d: vec![Vec::new(); n],
+        offset: vec![0.0; n],
+    };
+    let space = ParamSpace::training_domain(model)?;
+    let pb = Problem::new(&rows, model, space.clone(), &[], 0);
+    let u0: Vec<f64> = space
+        .unit(start)
+        .iter()
+        .map(|v| v.clamp(0.0, 1.0))
+        .collect();
+    let f = pb.fit(&u0)?;
+    let mut ev = Evaluator::new(model, &pb.set, space.clone());
+    let mut r = vec![0.0; n];
+    let mut j = DMatrix::zeros(n, 4);
+    pb.eval(&mut ev, &f.x, &mut r, Some(&mut j))?;
+    let mut out = vec![None; cells.len()];
+    for (k, &i) in idx.iter().enumerate() {
+        out[i] = Some((r[k], [j[(k, 0)], j[(k, 1)], j[(k, 2)], j[(k, 3)]]));
+    }
+    Ok((out, space.ogden(&[f.x[0], f.x[1], f.x[2], f.x[3]])?))
+}
+
 /// Refits the material with `s.effects` on the cells of `cells` that `sens` covers, starting
 /// from the calibrated set `start` (see the [module docs](self)).
 ///

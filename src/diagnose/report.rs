@@ -4,7 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::locate::{locate, Localisation, LocateSettings};
-use super::name::{name, NameSettings, Naming};
+use super::name::{name_refitted, NameSettings, Naming};
 use super::refit::{refit, Refit, RefitSettings};
 use super::DiagnoseError;
 use crate::calibrate::fit::describe_exclusions;
@@ -146,16 +146,24 @@ impl Diagnosis {
     }
 
     /// Runs the Name stage on this report's residual table with the FE sensitivities
-    /// `sens` (see [`super::name`]) and records it.
+    /// `sens`, after the material's nonlinear re-fit through `model` (the surrogate the
+    /// calibration used; see [`super::name::name_refitted`]), and records it.
     ///
     /// # Errors
     /// See [`name`].
     pub fn name_with(
         &mut self,
         sens: &crate::calibrate::baseline::SweepSensitivities,
+        model: &Surrogate,
         settings: &NameSettings,
     ) -> Result<&Naming, DiagnoseError> {
-        let naming = name(&self.locate.cells, sens, settings)?;
+        let naming = name_refitted(
+            &self.locate.cells,
+            sens,
+            model,
+            &self.calibration.best,
+            settings,
+        )?;
         self.name = Stage::Named(Box::new(naming));
         self.model_and_show = Stage::NotRun {
             reason: match naming_of(&self.name).and_then(Naming::named) {

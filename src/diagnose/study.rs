@@ -37,7 +37,6 @@ use super::refit::RefitSettings;
 use super::report::{diagnose, DiagnoseSettings, Diagnosis};
 use super::DiagnoseError;
 use crate::calibrate::baseline::{cached_ramps, recorded_designs, SweepSensitivities};
-use crate::calibrate::experiments::MARKERS_FILE;
 use crate::calibrate::objective::Output;
 use crate::calibrate::twin::{write_twin, TwinKey, TwinSettings};
 use crate::calibrate::{OgdenSet, ParamSpace, Recordings};
@@ -86,7 +85,8 @@ pub struct StudyPlan {
     pub mesh: MeshOptions,
     /// Noise seeds of every group.
     pub seeds: Vec<u64>,
-    /// Whether the twins keep their marker recordings (the shipped experiments have none).
+    /// Whether the diagnoses use the twins' marker recordings (the shipped experiments have
+    /// none; the twins always hold them, so a study with markers needs no other FE).
     pub markers: bool,
     /// The groups.
     pub groups: Vec<TwinGroup>,
@@ -288,14 +288,6 @@ pub fn make_twins(
             progress(&format!("{name}: FE ramp {done} of {total}"))
         })
         .map_err(|e| DiagnoseError::input(&format!("twin {name}"), "", &e.to_string()))?;
-        if !plan.markers {
-            let m = out.join(MARKERS_FILE);
-            if m.exists() {
-                std::fs::remove_file(&m).map_err(|e| {
-                    DiagnoseError::input("twin markers", m.display(), &e.to_string())
-                })?;
-            }
-        }
         progress(&format!(
             "twin {} of {}: {name} ({} FE ramps run, {} cached)",
             k + 1,
@@ -308,7 +300,8 @@ pub fn make_twins(
 }
 
 /// Diagnoses one twin directory as a user would: calibrate through `model`, locate, name
-/// with `sens`, refit the named effect.
+/// with `sens`, refit the named effect; `markers: false` leaves the marker recordings out
+/// (the shipped experiments have none).
 ///
 /// # Errors
 /// As [`diagnose`] and the stages.
@@ -316,10 +309,15 @@ pub fn diagnose_twin(
     dir: &Path,
     model: &Surrogate,
     sens: &SweepSensitivities,
+    markers: bool,
 ) -> Result<Diagnosis, DiagnoseError> {
-    let rec = Recordings::read_dir(dir)?;
+    let mut rec = Recordings::read_dir(dir)?;
+    if !markers {
+        rec.markers.clear();
+        rec.markers_source.clear();
+    }
     let mut d = diagnose(model, &rec, &DiagnoseSettings::default(), &|_| {})?;
-    d.name_with(sens, &super::name::NameSettings::default())?;
+    d.name_with(sens, model, &super::name::NameSettings::default())?;
     let named = d
         .naming()
         .and_then(super::name::Naming::named)
@@ -483,6 +481,8 @@ pub struct StudyResults {
     pub twins: Vec<TwinScore>,
     /// Twins of the plan not diagnosed yet (their FE is not in the cache).
     pub pending: Vec<String>,
+    /// Whether the diagnoses used the twins' marker recordings.
+    pub markers: bool,
     /// The summary.
     pub summary: StudySummary,
 }
@@ -579,6 +579,7 @@ pub fn run_diagnoses(
     dirs: &StudyDirs,
     model: &Surrogate,
     sens: &SweepSensitivities,
+    markers: bool,
     progress: &dyn Fn(&str),
 ) -> Result<StudyResults, DiagnoseError> {
     let mut twins = Vec::new();
@@ -590,12 +591,17 @@ pub fn run_diagnoses(
             pending.push(name);
             continue;
         }
-        let d = diagnose_twin(&dir, model, sens)?;
+        let d = diagnose_twin(&dir, model, sens, markers)?;
         let text = d.to_json()?;
         std::fs::create_dir_all(&dirs.diagnoses).map_err(|e| {
             DiagnoseError::input("diagnoses", dirs.diagnoses.display(), &e.to_string())
         })?;
-        let out = dirs.diagnoses.join(format!("{name}.json"));
+        let suffix = match (markers == plan.markers, markers) {
+            (true, _) => "",
+            (false, true) => "_markers",
+            (false, false) => "_no_markers",
+        };
+        let out = dirs.diagnoses.join(format!("{name}{suffix}.json"));
         crate::io::write_atomic(&out, text.as_bytes())
             .map_err(|e| DiagnoseError::input("diagnosis", out.display(), &e.to_string()))?;
         let key: TwinKey = serde_json::from_str(
@@ -623,6 +629,7 @@ pub fn run_diagnoses(
         version: VERSION,
         twins,
         pending,
+        markers,
         summary,
     })
 }
@@ -650,7 +657,7 @@ pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
         plan.mesh.element_size.map_or(plan.mesh.level.name().to_string(), |h| format!("{h} mm")),
         plan.mesh.wall_elements.map_or(String::new(), |k| format!(", {k} through a wall")),
         plan.seeds,
-        if plan.markers { "kept" } else { "dropped (as in the shipped experiments)" }
+        if r.markers { "used" } else { "left out (as the shipped experiments have none)" }
     );
     let _ = writeln!(o, "| target | result |\n|---|---|");
     let _ = writeln!(

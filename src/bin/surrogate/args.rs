@@ -73,6 +73,11 @@ pub struct TwinStudyArgs {
     /// Recordings whose designs, pressures and standard deviations the twins take.
     #[arg(long, default_value = "training_data")]
     pub noise_from: PathBuf,
+    /// Diagnose with the twins' marker recordings (`yes`/`no`; default: the plan's
+    /// `markers`); results with another setting than the plan's go to results_markers.* /
+    /// results_no_markers.*.
+    #[arg(long)]
+    pub markers: Option<String>,
     /// Only these groups of the plan (comma list of ids, e.g. `null_1,gap_bias_2`; default
     /// all): two processes with disjoint groups keep two cores busy.
     #[arg(long, value_delimiter = ',')]

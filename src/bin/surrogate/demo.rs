@@ -104,7 +104,7 @@ pub fn run(a: DemoArgs) -> Result<()> {
                 sens.designs.len(),
                 sens.mesh.level.name()
             );
-            let n = diagnosis.name_with(&sens, &NameSettings::default())?;
+            let n = diagnosis.name_with(&sens, &model, &NameSettings::default())?;
             println!("{}", n.verdict);
             crate::diagnose::print_candidates(n, 5);
             // Model and show: the named effect, or else the strongest plausible lead, refitted

@@ -118,7 +118,7 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
             sens.designs.len(),
             sens.mesh.level.name()
         );
-        Some(d.name_with(sens, &NameSettings::default())?.clone())
+        Some(d.name_with(sens, &model, &NameSettings::default())?.clone())
     } else {
         None
     };

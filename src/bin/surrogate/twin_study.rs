@@ -44,6 +44,12 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
         }
         plan.groups.retain(|x| a.groups.contains(&x.id));
     }
+    let markers = match a.markers.as_deref() {
+        None => plan.markers,
+        Some("yes") => true,
+        Some("no") => false,
+        Some(other) => anyhow::bail!("--markers {other}: expected yes or no"),
+    };
     let dirs = StudyDirs::under(&a.out);
     eprintln!(
         "{} groups × {} seeds = {} twins; FE cached in {} (a rerun resumes)",
@@ -58,13 +64,18 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
     if diagnoses {
         let sens = SweepSensitivities::read(&a.sensitivities)
             .with_context(|| format!("--sensitivities {}", a.sensitivities.display()))?;
-        let results = run_diagnoses(&plan, &noise_from, &dirs, &model, &sens, &|line| {
+        let results = run_diagnoses(&plan, &noise_from, &dirs, &model, &sens, markers, &|line| {
             eprintln!("{line}")
         })?;
-        let p = a.out.join("results.json");
+        let stem = match (markers == plan.markers, markers) {
+            (true, _) => "results",
+            (false, true) => "results_markers",
+            (false, false) => "results_no_markers",
+        };
+        let p = a.out.join(format!("{stem}.json"));
         write_file(&p, serde_json::to_string_pretty(&results)?.as_bytes())?;
         let md = study_markdown(&plan, &results);
-        let q = a.out.join("results.md");
+        let q = a.out.join(format!("{stem}.md"));
         write_file(&q, md.as_bytes())?;
         print!("{md}");
         eprintln!("wrote {} and {}", p.display(), q.display());
