@@ -85,10 +85,10 @@ fn refit_section(s: &mut String, r: &super::refit::Refit) {
     for e in &r.effects {
         let _ = writeln!(
             s,
-            "| {} | {:.4} {} | {:.4} | [{:.4}, {:.4}] | {} |",
+            "| {} | {:.4}{} | {:.4} | [{:.4}, {:.4}] | {} |",
             e.effect,
             e.value,
-            e.unit,
+            super::wording::unit_suffix(&e.unit),
             e.std_error,
             e.interval.0,
             e.interval.1,
@@ -119,7 +119,7 @@ fn refit_section(s: &mut String, r: &super::refit::Refit) {
     }
     let _ = writeln!(
         s,
-        "\nF = {:.2}, p = {}; a perfect model would show a mean tip BE of {} mm under the \
+        "\nF = {:.2}, {}; a perfect model would show a mean tip BE of {} mm under the \
          recordings' noise.",
         r.f,
         fmt_p(r.p_value),
