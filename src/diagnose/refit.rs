@@ -970,6 +970,9 @@ fn fe_value(ramps: &[SweepRamp], c: &Cell) -> Option<f64> {
 /// ramp stopped before), the ramps run now, and the ramps that stopped, in words.
 pub type FeEvaluation = (Vec<Option<f64>>, usize, Vec<String>);
 
+/// An FE model for the confirmation: `(material, effect values) → FeEvaluation`.
+pub type FeModel<'a> = dyn FnMut(&OgdenSet, &[f64]) -> Result<FeEvaluation, DiagnoseError> + 'a;
+
 /// Confirms `refit` with the FE model: the recorded designs run with the refitted material
 /// and the effect(s) switched on at their refitted values; where FE and the linearised
 /// prediction differ by more than `fe.tolerance` (rms over the cells, in σ), the difference
@@ -998,7 +1001,7 @@ pub fn confirm_with_fe(
             .find(|d| d.n_bellows == n && d.wall_thickness_mm == c.wall_thickness_mm)
         {
             Some(d) => {
-                if !d.pressures_bar.iter().any(|p| *p == c.pressure_bar) {
+                if !d.pressures_bar.contains(&c.pressure_bar) {
                     d.pressures_bar.push(c.pressure_bar);
                 }
             }
@@ -1067,7 +1070,7 @@ pub(crate) fn confirm_with(
     s: &RefitSettings,
     max_rounds: usize,
     tolerance: f64,
-    fe: &mut dyn FnMut(&OgdenSet, &[f64]) -> Result<FeEvaluation, DiagnoseError>,
+    fe: &mut FeModel<'_>,
 ) -> Result<Refit, DiagnoseError> {
     let mut rows = rows.clone();
     let space = ParamSpace::training_domain(model)?;

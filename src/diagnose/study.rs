@@ -438,6 +438,21 @@ pub fn score_twin(
     })
 }
 
+/// A twin's noise-free tip at one configuration.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct TrueTip {
+    /// Number of bellows.
+    pub n_bellows: u32,
+    /// Wall thickness (mm).
+    pub wall_thickness_mm: f64,
+    /// Pressure (bar).
+    pub pressure_bar: f64,
+    /// Tip Uz (mm).
+    pub tip_uz_mm: f64,
+    /// Tip Uy (mm).
+    pub tip_uy_mm: f64,
+}
+
 /// The noise-free tip of a twin group: its cached FE ramps (none run here).
 ///
 /// # Errors
@@ -447,7 +462,7 @@ pub fn truth_tips(
     group: &TwinGroup,
     noise_from: &Recordings,
     dirs: &StudyDirs,
-) -> Result<Vec<(u32, f64, f64, f64, f64)>, DiagnoseError> {
+) -> Result<Vec<TrueTip>, DiagnoseError> {
     let s = group.settings(plan, 0, &dirs.cache)?;
     let ramps = cached_ramps(
         &s.sweep,
@@ -458,13 +473,13 @@ pub fn truth_tips(
     let mut out = Vec::new();
     for r in ramps.iter().filter(|r| r.mode == Mode::Bending) {
         for st in &r.steps {
-            out.push((
-                r.n_bellows as u32,
-                r.wall_thickness_mm,
-                st.pressure_bar,
-                st.tip_uz_mm,
-                st.tip_uy_mm,
-            ));
+            out.push(TrueTip {
+                n_bellows: r.n_bellows as u32,
+                wall_thickness_mm: r.wall_thickness_mm,
+                pressure_bar: st.pressure_bar,
+                tip_uz_mm: st.tip_uz_mm,
+                tip_uy_mm: st.tip_uy_mm,
+            });
         }
     }
     Ok(out)
@@ -611,8 +626,12 @@ pub fn run_diagnoses(
         let tips = truth_tips(plan, &plan.groups[g], noise_from, dirs)?;
         let lookup = |n: u32, t: f64, p: f64| {
             tips.iter()
-                .find(|r| r.0 == n && (r.1 - t).abs() < 1e-9 && (r.2 - p).abs() < 1e-9)
-                .map(|r| (r.3, r.4))
+                .find(|r| {
+                    r.n_bellows == n
+                        && (r.wall_thickness_mm - t).abs() < 1e-9
+                        && (r.pressure_bar - p).abs() < 1e-9
+                })
+                .map(|r| (r.tip_uz_mm, r.tip_uy_mm))
         };
         let s = score_twin(&name, &d, &key, model, &lookup)?;
         progress(&format!(
