@@ -150,7 +150,7 @@ impl Diagnosis {
     /// calibration used; see [`super::name::name_refitted`]), and records it.
     ///
     /// # Errors
-    /// See [`name`].
+    /// See [`name_refitted`].
     pub fn name_with(
         &mut self,
         sens: &crate::calibrate::baseline::SweepSensitivities,

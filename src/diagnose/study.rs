@@ -21,7 +21,7 @@
 //! discretisation of the coarse mesh (6 mm) that the diagnosing surrogate and the
 //! sensitivities come from.
 //!
-//! **Scoring** ([`score`]): a twin's effect *moves the tip* by `max |(ΔUz, ΔUy)| / σ_tip`
+//! **Scoring** ([`score_twin`]): a twin's effect *moves the tip* by `max |(ΔUz, ΔUy)| / σ_tip`
 //! over its configurations, the difference between its noise-free FE tip and the
 //! diagnosing surrogate's prediction at the twin's true material (what the effect adds, up
 //! to the two discretisations and the surrogate's own error, which the null twins measure).
