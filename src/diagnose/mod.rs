@@ -94,6 +94,7 @@ pub mod name;
 pub mod patterns;
 pub mod refit;
 pub mod report;
+pub mod signature;
 pub mod structure;
 pub mod study;
 pub mod summary;

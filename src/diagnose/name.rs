@@ -42,10 +42,11 @@ use serde::{Deserialize, Serialize};
 use statrs::distribution::{ContinuousCDF, FisherSnedecor};
 
 use super::cells::Cell;
+use super::signature::{derivative_of, sensitivity_step, LocalMaterial};
 use super::DiagnoseError;
 use crate::calibrate::baseline::SweepSensitivities;
 use crate::calibrate::objective::Output;
-use crate::fe::sensitivity::{OgdenParameter, Outputs, Parameter, Sensitivities};
+use crate::fe::sensitivity::{OgdenParameter, Parameter};
 use crate::fe::simulate::Mode;
 
 /// Settings of [`name`].
@@ -134,7 +135,7 @@ pub struct Naming {
     pub unmatched: Vec<String>,
     /// `χ²` of the used cells at the calibrated set.
     pub chi2: f64,
-    /// `χ²` after the linearised material re-fit on every used cell.
+    /// `χ²` after the material re-fit on every used cell.
     pub chi2_material: f64,
     /// The candidates, largest `Δχ²` first.
     pub candidates: Vec<Candidate>,
@@ -167,18 +168,6 @@ fn derivs_of(sens: &SweepSensitivities, c: &Cell) -> Option<Vec<f64>> {
     })
 }
 
-/// The derivative (or value) of `output` in `o`.
-pub(crate) fn derivative_of(o: &Outputs, output: Output) -> Option<f64> {
-    match output {
-        Output::TipUz => Some(o.tip_uz_mm),
-        Output::TipUy => Some(o.tip_uy_mm),
-        Output::Angle => Some(o.angle_deg),
-        Output::Force => o.force_n,
-        Output::MarkerUz(k) => o.markers.get(usize::from(k).wrapping_sub(1)).map(|m| m[0]),
-        Output::MarkerUy(k) => o.markers.get(usize::from(k).wrapping_sub(1)).map(|m| m[1]),
-    }
-}
-
 /// The name of an output as [`Outputs::named`] writes it.
 fn output_name(o: Output) -> String {
     match o {
@@ -189,24 +178,6 @@ fn output_name(o: Output) -> String {
         Output::MarkerUz(k) => format!("marker{k}_uz_mm"),
         Output::MarkerUy(k) => format!("marker{k}_uy_mm"),
     }
-}
-
-/// The sensitivities of a cell's ramp and the index of its step.
-pub(crate) fn sensitivity_step<'a>(
-    sens: &'a SweepSensitivities,
-    c: &Cell,
-) -> Option<(&'a Sensitivities, usize)> {
-    let mode = if c.output == Output::Force {
-        Mode::Force
-    } else {
-        Mode::Bending
-    };
-    let s = sens.design(c.n_bellows as usize, c.wall_thickness_mm, mode)?;
-    let i = s
-        .steps
-        .iter()
-        .position(|st| (st.pressure_bar - c.pressure_bar).abs() < 1e-9)?;
-    Some((s, i))
 }
 
 /// Names the effect behind the residual of `cells` (see the [module docs](self)).
@@ -244,10 +215,6 @@ pub fn name_refitted(
     n.refitted_material = Some(material);
     Ok(n)
 }
-
-/// Per cell: the residual `z` after the material re-fit and its row of the material
-/// Jacobian (σ-scaled), for the cells with sensitivities.
-pub(crate) type LocalMaterial = Vec<Option<(f64, [f64; 4])>>;
 
 fn name_inner(
     cells: &[Cell],
@@ -635,7 +602,9 @@ mod tests {
     use crate::fe::effects::{Effect, Effects};
     use crate::fe::material::Material;
     use crate::fe::mesh::{MeshLevel, MeshOptions};
-    use crate::fe::sensitivity::{ParameterInfo, SensitivityCost, StepSensitivities};
+    use crate::fe::sensitivity::{
+        Outputs, ParameterInfo, Sensitivities, SensitivityCost, StepSensitivities,
+    };
 
     const DESIGNS: [(usize, f64); 9] = [
         (9, 1.6),

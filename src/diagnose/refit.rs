@@ -33,7 +33,7 @@ use serde::{Deserialize, Serialize};
 use statrs::distribution::{ContinuousCDF, FisherSnedecor, StudentsT};
 
 use super::cells::Cell;
-use super::name::{derivative_of, sensitivity_step};
+use super::signature::{derivative_of, sensitivity_step, LocalMaterial};
 use super::DiagnoseError;
 use crate::calibrate::baseline::{
     run_ramps, RampSource, SweepDesign, SweepRamp, SweepSensitivities, SweepSettings,
@@ -618,7 +618,7 @@ pub(crate) fn material_refit(
     sens: &SweepSensitivities,
     model: &Surrogate,
     start: &OgdenSet,
-) -> Result<(super::name::LocalMaterial, OgdenSet), DiagnoseError> {
+) -> Result<(LocalMaterial, OgdenSet), DiagnoseError> {
     let idx: Vec<usize> = (0..cells.len())
         .filter(|&i| sensitivity_step(sens, &cells[i]).is_some())
         .collect();
