@@ -88,7 +88,7 @@ pub fn run(a: DemoArgs) -> Result<()> {
     };
     live(&a, level, material, &cal)?;
     // 5. where the calibrated model and the experiments still disagree
-    println!("\n# 5. Where the calibrated model and the experiments disagree (diagnose: locate)\n");
+    println!("\n# 5. Where the calibrated model and the experiments disagree (diagnose: locate, name, refit)\n");
     let loc = locate(&cal, &model, &rec, &LocateSettings::default())?;
     let mut diagnosis = Diagnosis::new(&cal, &rec, loc);
     for f in &diagnosis.locate.findings {
