@@ -65,7 +65,9 @@ fn main() -> surrogate::Result<()> {
         "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json",
     ))?;
     let mut d = Diagnosis::new(&cal, &recordings, loc);
-    let naming = d.name_with(&sens, &NameSettings::default())?.clone();
+    let naming = d
+        .name_with(&sens, &model, &NameSettings::default())?
+        .clone();
     println!("name: {}", naming.verdict);
     // Model and show: the named effect (or, when none is, the best plausible candidate)
     let lead = naming
