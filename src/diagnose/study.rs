@@ -769,3 +769,115 @@ pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
     }
     o
 }
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn twin(
+        truth: Option<(&str, f64)>,
+        named: Option<&str>,
+        first: &str,
+        rank: Option<usize>,
+    ) -> TwinScore {
+        TwinScore {
+            twin: "t".into(),
+            truth: truth.map(|t| t.0.to_string()),
+            true_value: truth.map(|t| t.1),
+            material: String::new(),
+            tip_move_sigma: 3.0,
+            named: named.map(str::to_string),
+            first: Some(first.into()),
+            rank,
+            indistinguishable_from_first: false,
+            name_estimate: None,
+            refit_value: None,
+            held_out_be: None,
+            verdict: String::new(),
+        }
+    }
+
+    #[test]
+    fn the_summary_counts_what_each_target_asks() {
+        let mut a = twin(
+            Some(("gap_bias", -0.3)),
+            Some("gap_bias"),
+            "gap_bias",
+            Some(1),
+        );
+        a.refit_value = Some((-0.35, -0.4, -0.32)); // 17 % off: recovered
+        a.held_out_be = Some((4.0, 3.0, 3.0)); // within 1.2 × noise
+        let mut b = twin(
+            Some(("gap_bias", -0.1)),
+            Some("wall_bias"),
+            "wall_bias",
+            Some(2),
+        );
+        b.indistinguishable_from_first = true;
+        let mut c = twin(
+            Some(("pressure_loss", 0.05)),
+            Some("pressure_loss"),
+            "pressure_loss",
+            Some(1),
+        );
+        c.refit_value = Some((0.08, 0.07, 0.09)); // 60 % off, interval misses: not recovered
+        c.held_out_be = Some((4.0, 3.7, 3.0)); // 1.23 × noise: outside
+        let mut d = twin(Some(("plate_offset", -0.6)), None, "pressure_loss", Some(4));
+        d.tip_move_sigma = 0.5; // invisible in the tip: outside the visible subset
+        let nulls = [
+            twin(None, None, "anisotropy", None),
+            twin(None, Some("gap_bias"), "gap_bias", None),
+        ];
+        let mut all = vec![a, b, c, d];
+        all.extend(nulls);
+        let s = summarise(&all);
+        assert_eq!(s.visible, 3);
+        assert_eq!(s.visible_first, 2);
+        assert_eq!(s.visible_first_or_indistinguishable, 3);
+        assert_eq!(s.visible_named, 2);
+        assert_eq!((s.effect_twins, s.effect_first), (4, 2));
+        assert_eq!((s.nulls, s.false_alarms), (2, 1));
+        assert_eq!(s.sizes_recovered, (1, 2));
+        assert_eq!(s.held_out_within, (1, 2));
+        let count = |r: &str, c: &str| {
+            s.confusion
+                .iter()
+                .find(|x| x.0 == r && x.1 == c)
+                .map_or(0, |x| x.2)
+        };
+        assert_eq!(count("gap_bias", "gap_bias"), 1);
+        assert_eq!(count("gap_bias", "wall_bias"), 1);
+        assert_eq!(count("plate_offset", "nothing"), 1);
+        assert_eq!(count("none", "nothing"), 1);
+        assert_eq!(count("none", "gap_bias"), 1);
+    }
+
+    #[test]
+    fn the_standard_plan_is_reproducible_and_inside_the_domain() {
+        let model = Surrogate::load(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator_coarse.json"),
+        )
+        .unwrap();
+        let domain = ParamSpace::training_domain(&model).unwrap();
+        let a = StudyPlan::standard(&domain, 7).unwrap();
+        assert_eq!(a, StudyPlan::standard(&domain, 7).unwrap());
+        assert_ne!(a.groups, StudyPlan::standard(&domain, 8).unwrap().groups);
+        assert_eq!(a.groups.len(), 18);
+        assert_eq!(a.twins().len(), 54);
+        for g in &a.groups {
+            let m = g
+                .material
+                .split(',')
+                .map(|v| v.parse::<f64>().unwrap())
+                .collect::<Vec<_>>();
+            let set = OgdenSet::new(m[0], m[1], m[2], m[3]).unwrap();
+            assert!(
+                domain.contains(&set.rounded(3)) || domain.contains(&set),
+                "{}",
+                g.material
+            );
+            g.settings(&a, 1, Path::new("/tmp")).unwrap();
+        }
+        assert_eq!(a.groups.iter().filter(|g| g.effects.is_empty()).count(), 6);
+    }
+}
