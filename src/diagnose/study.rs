@@ -679,41 +679,36 @@ pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
         if r.markers { "used" } else { "left out (as the shipped experiments have none)" }
     );
     let _ = writeln!(o, "| target | result |\n|---|---|");
-    let _ = writeln!(
-        o,
-        "| concealed effect ranked first, twins whose effect moves the tip > 2σ (≥ 90 %) | {} |",
-        pct(s.visible_first, s.visible)
-    );
-    let _ = writeln!(
-        o,
-        "| … first or reported indistinguishable from the first | {} |",
-        pct(s.visible_first_or_indistinguishable, s.visible)
-    );
-    let _ = writeln!(
-        o,
-        "| … named by the verdict | {} |",
-        pct(s.visible_named, s.visible)
-    );
-    let _ = writeln!(
-        o,
-        "| concealed effect ranked first, every effect twin | {} |",
-        pct(s.effect_first, s.effect_twins)
-    );
-    let _ = writeln!(
-        o,
-        "| false alarms on null twins (≤ 10 %) | {} |",
-        pct(s.false_alarms, s.nulls)
-    );
-    let _ = writeln!(
-        o,
-        "| recovered size within 25 % or interval covering the truth (correctly named) | {} |",
-        pct(s.sizes_recovered.0, s.sizes_recovered.1)
-    );
-    let _ = writeln!(
-        o,
-        "| held-out tip BE with the named effect ≤ 1.2 × noise (correctly named) | {} |",
-        pct(s.held_out_within.0, s.held_out_within.1)
-    );
+    let rows = [
+        (
+            "concealed effect ranked first, twins whose effect moves the tip > 2σ (≥ 90 %)",
+            (s.visible_first, s.visible),
+        ),
+        (
+            "… first or reported indistinguishable from the first",
+            (s.visible_first_or_indistinguishable, s.visible),
+        ),
+        ("… named by the verdict", (s.visible_named, s.visible)),
+        (
+            "concealed effect ranked first, every effect twin",
+            (s.effect_first, s.effect_twins),
+        ),
+        (
+            "false alarms on null twins (≤ 10 %)",
+            (s.false_alarms, s.nulls),
+        ),
+        (
+            "recovered size within 25 % or interval covering the truth (correctly named)",
+            s.sizes_recovered,
+        ),
+        (
+            "held-out tip BE with the named effect ≤ 1.2 × noise (correctly named)",
+            s.held_out_within,
+        ),
+    ];
+    for (what, (a, b)) in rows {
+        let _ = writeln!(o, "| {what} | {} |", pct(a, b));
+    }
     let _ = writeln!(
         o,
         "\n## Confusion matrix (rows: concealed, columns: named)\n"
