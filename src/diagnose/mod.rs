@@ -90,6 +90,7 @@ pub mod coverage;
 pub mod findings;
 pub mod groups;
 pub mod locate;
+pub mod mesh_error;
 pub mod name;
 pub mod patterns;
 pub mod refit;

@@ -42,6 +42,7 @@ use serde::{Deserialize, Serialize};
 use statrs::distribution::{ContinuousCDF, FisherSnedecor};
 
 use super::cells::Cell;
+use super::mesh_error::{ErrorDirection, MODEL_ERROR_UNIT, PLAUSIBLE_MODEL_ERROR};
 use super::signature::{derivative_of, sensitivity_step, LocalMaterial};
 use super::DiagnoseError;
 use crate::calibrate::baseline::SweepSensitivities;
@@ -56,6 +57,11 @@ pub struct NameSettings {
     pub alpha: f64,
     /// `|cos|` between two projected signatures above which the two are indistinguishable.
     pub collinear: f64,
+    /// Errors of the diagnosing model itself (its mesh error, [`super::mesh_error`]),
+    /// tested beside the effects: when one explains the residual best, the verdict says so
+    /// and names no physics.
+    #[serde(default)]
+    pub model_errors: Vec<ErrorDirection>,
 }
 
 impl Default for NameSettings {
@@ -63,6 +69,7 @@ impl Default for NameSettings {
         Self {
             alpha: 0.05,
             collinear: 0.95,
+            model_errors: Vec::new(),
         }
     }
 }
@@ -74,6 +81,9 @@ pub struct Candidate {
     pub effect: String,
     /// Its unit.
     pub unit: String,
+    /// Whether it is an error of the diagnosing model itself (its mesh), not physics.
+    #[serde(default)]
+    pub model_error: bool,
     /// `|s|`: how strongly the recordings see it (σ per unit).
     pub signature_norm: f64,
     /// Share of `|s|²` the material absorbs.
@@ -148,12 +158,24 @@ pub struct Naming {
 }
 
 impl Naming {
-    /// The named candidate: the best significant one at a plausible size (none when the
-    /// verdict names nothing).
-    pub fn named(&self) -> Option<&Candidate> {
+    /// The best significant candidate at a plausible size (an effect or an error of the
+    /// model itself).
+    pub fn best(&self) -> Option<&Candidate> {
         self.candidates
             .iter()
             .find(|c| c.significant && c.plausible)
+    }
+
+    /// The named effect: the best significant candidate at a plausible size, when it is
+    /// physics (none when the verdict names nothing or the model's own error explains the
+    /// residual best).
+    pub fn named(&self) -> Option<&Candidate> {
+        self.best().filter(|c| !c.model_error)
+    }
+
+    /// The model's own error, when it explains the residual best.
+    pub fn model_error(&self) -> Option<&Candidate> {
+        self.best().filter(|c| c.model_error)
     }
 }
 
@@ -216,6 +238,18 @@ pub fn name_refitted(
     Ok(n)
 }
 
+/// A column tested against the residual: an effect of the sweep or an error of the model.
+struct Tested {
+    name: String,
+    unit: String,
+    neutral: f64,
+    range: (f64, f64),
+    /// `S_j` (σ-scaled), per used cell.
+    column: DVector<f64>,
+    /// The sweep's parameter (none: a model error).
+    parameter: Option<Parameter>,
+}
+
 fn name_inner(
     cells: &[Cell],
     sens: &SweepSensitivities,
@@ -256,6 +290,7 @@ fn name_inner(
     }
     // rows: cells with sensitivities; columns: every parameter (σ-scaled)
     let mut rows: Vec<(&Cell, Vec<f64>)> = Vec::new();
+    let mut row_cell: Vec<usize> = Vec::new();
     let mut refitted: Vec<(f64, [f64; 4])> = Vec::new();
     let mut unmatched = Vec::new();
     for (ci, c) in cells.iter().enumerate() {
@@ -270,7 +305,10 @@ fn name_inner(
             None => derivs_of(sens, c),
         };
         match derivs {
-            Some(d) => rows.push((c, d)),
+            Some(d) => {
+                rows.push((c, d));
+                row_cell.push(ci);
+            }
             None => {
                 if local.is_some() && refitted.len() > rows.len() {
                     refitted.pop();
@@ -314,14 +352,52 @@ fn name_inner(
     let scale0 = chi2_material / (n as f64 - 4.0);
     let mut candidates = Vec::new();
     let mut untestable = Vec::new();
-    let mut projected: Vec<(String, f64, DVector<f64>, Parameter)> = Vec::new();
+    let mut projected: Vec<(String, f64, DVector<f64>, Option<Parameter>)> = Vec::new();
+    for nu in &s.model_errors {
+        if nu.per_cell.len() != cells.len() {
+            return Err(DiagnoseError::input(
+                "model error",
+                format!("{} ({} values)", nu.name, nu.per_cell.len()),
+                &format!("one value per cell of the table ({})", cells.len()),
+            ));
+        }
+    }
+    // the effects of the sweep, then the model's own errors
+    let mut tested: Vec<Tested> = Vec::new();
     for (j, p) in params.iter().enumerate() {
         let Parameter::Effect(e) = *p else { continue };
-        let sj = column(j);
+        let info = e.info();
+        tested.push(Tested {
+            name: e.name().into(),
+            unit: info.unit.into(),
+            neutral: info.neutral,
+            range: info.range,
+            column: column(j),
+            parameter: Some(*p),
+        });
+    }
+    for nu in &s.model_errors {
+        tested.push(Tested {
+            name: nu.name.clone(),
+            unit: MODEL_ERROR_UNIT.into(),
+            neutral: 0.0,
+            range: PLAUSIBLE_MODEL_ERROR,
+            column: DVector::from_iterator(
+                n,
+                row_cell
+                    .iter()
+                    .zip(&rows)
+                    .map(|(&ci, (c, _))| nu.at(ci) / c.sigma),
+            ),
+            parameter: None,
+        });
+    }
+    for t in tested {
+        let sj = t.column;
         let norm = sj.norm();
         if norm == 0.0 {
             untestable.push(Untestable {
-                effect: e.name().into(),
+                effect: t.name,
                 reason: "moves nothing these recordings hold".into(),
             });
             continue;
@@ -330,7 +406,7 @@ fn name_inner(
         let kept = st.norm();
         if kept <= 1e-3 * norm {
             untestable.push(Untestable {
-                effect: e.name().into(),
+                effect: t.name,
                 reason: format!(
                     "the material absorbs its signature ({:.4} % left)",
                     100.0 * kept / norm
@@ -351,16 +427,16 @@ fn name_inner(
             .map(|d| 1.0 - d.cdf(f))
             .unwrap_or(f64::NAN);
         let estimate = -proj / (kept * kept);
-        let info = e.info();
-        let size = info.neutral + estimate;
+        let size = t.neutral + estimate;
         candidates.push(Candidate {
-            effect: e.name().into(),
-            unit: info.unit.into(),
+            effect: t.name.clone(),
+            unit: t.unit,
+            model_error: t.parameter.is_none(),
             signature_norm: norm,
             absorbed_by_material: 1.0 - (kept / norm).powi(2),
             estimate,
             std_error: scale.sqrt() / kept,
-            plausible: (info.range.0..=info.range.1).contains(&size),
+            plausible: (t.range.0..=t.range.1).contains(&size),
             delta_chi2: delta,
             explained: delta / chi2_material.max(f64::MIN_POSITIVE),
             f,
@@ -369,7 +445,7 @@ fn name_inner(
             delta_aic: 2.0 - delta / scale0,
             delta_bic: (n as f64).ln() - delta / scale0,
         });
-        projected.push((e.name().into(), estimate, st, *p));
+        projected.push((t.name, estimate, st, t.parameter));
     }
     holm(&mut candidates, s.alpha);
     candidates.sort_by(|a, b| b.delta_chi2.total_cmp(&a.delta_chi2));
@@ -433,7 +509,7 @@ fn holm(c: &mut [Candidate], alpha: f64) {
 /// Nearly collinear pairs among the significant candidates (or the two best when none is),
 /// with the unrecorded output that separates them.
 fn pairs(
-    projected: &[(String, f64, DVector<f64>, Parameter)],
+    projected: &[(String, f64, DVector<f64>, Option<Parameter>)],
     ranked: &[Candidate],
     sens: &SweepSensitivities,
     recorded: &[(u32, f64, f64, String)],
@@ -461,7 +537,10 @@ fn pairs(
                 a: na.clone(),
                 b: nb.clone(),
                 cosine: cos,
-                separated_by: separation(sens, recorded, (*pa, *ta), (*pb, *tb)),
+                separated_by: match (pa, pb) {
+                    (Some(pa), Some(pb)) => separation(sens, recorded, (*pa, *ta), (*pb, *tb)),
+                    _ => None,
+                },
             });
         }
     }
@@ -553,6 +632,33 @@ fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_material: f64) -> 
             implausible.join(", ")
         );
     };
+    if top.model_error {
+        let next = c
+            .iter()
+            .find(|t| t.significant && t.plausible && !t.model_error)
+            .map_or(String::new(), |t| {
+                format!(
+                    "; of the effects, {} would explain {:.0} % ({:+.3}{})",
+                    t.effect,
+                    100.0 * t.explained,
+                    t.estimate,
+                    super::wording::unit_suffix(&t.unit)
+                )
+            });
+        return format!(
+            "The residual left after the material re-fit looks most like the diagnosing \
+             model's own discretisation error ({} explains {:.0} %, size {:+.2} ± {:.2} {}, \
+             F = {:.1}, p = {:.2e}){next}: no physics is named. Refine the model's mesh (or \
+             diagnose with the finer model) before reading the residual as missing physics.",
+            top.effect,
+            100.0 * top.explained,
+            top.estimate,
+            top.std_error,
+            top.unit,
+            top.f,
+            top.p_value,
+        );
+    }
     let mut s = format!(
         "{} explains {:.0} % of the residual left after the material re-fit (size {:+.3} ± \
          {:.3}{}, F = {:.1}, p = {:.2e})",
@@ -757,6 +863,67 @@ mod tests {
         assert!(n.candidates[1..].iter().all(|c| !c.significant));
         // force-rig effects move nothing a bending recording holds
         assert!(n.untestable.iter().any(|u| u.effect == "plate_offset"));
+    }
+
+    /// A random model-error direction over `cells` (unit of each output).
+    fn direction(cells: &[Cell], seed: u64) -> ErrorDirection {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        ErrorDirection {
+            name: "model_mesh".into(),
+            per_cell: cells
+                .iter()
+                .map(|_| Some(rng.gen_range(-1.0..1.0)))
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn the_models_own_error_is_told_from_physics() {
+        let sens = sweep(11);
+        let clean = cells(&sens, &[], 12);
+        let d = direction(&clean, 13);
+        // the model misses the actuator by 0.8 of its mesh error: that, not physics, is said
+        let mut off = clean.clone();
+        for (i, c) in off.iter_mut().enumerate() {
+            c.standardised -= 0.8 * d.at(i);
+        }
+        let s = NameSettings {
+            model_errors: vec![d.clone()],
+            ..NameSettings::default()
+        };
+        let n = name(&off, &sens, &s).unwrap();
+        let me = n
+            .model_error()
+            .expect("the mesh error explains the residual");
+        assert_eq!(me.effect, "model_mesh");
+        assert!(me.model_error && n.named().is_none(), "{}", n.verdict);
+        assert!(
+            (me.estimate - 0.8).abs() < 3.0 * me.std_error,
+            "{}",
+            me.estimate
+        );
+        assert!(n.verdict.contains("discretisation error"), "{}", n.verdict);
+        // a planted effect still wins over the model's error when the error is not there
+        let planted = cells(&sens, &[(Effect::WallBias, 0.12)], 12);
+        let n = name(&planted, &sens, &s).unwrap();
+        assert_eq!(n.named().map(|c| c.effect.as_str()), Some("wall_bias"));
+        assert!(n.candidates.iter().any(|c| c.model_error && !c.significant));
+        // a direction of another table is refused, naming it
+        let short = ErrorDirection {
+            per_cell: vec![Some(1.0); 3],
+            ..d
+        };
+        let err = name(
+            &off,
+            &sens,
+            &NameSettings {
+                model_errors: vec![short],
+                ..NameSettings::default()
+            },
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("model_mesh (3 values)"), "{err}");
     }
 
     #[test]

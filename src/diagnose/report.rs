@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::locate::{locate, Localisation, LocateSettings};
+use super::mesh_error::{mesh_error, MeshError};
 use super::name::{name_refitted, NameSettings, Naming};
 use super::refit::{refit, Refit, RefitSettings};
 use super::DiagnoseError;
@@ -115,6 +116,10 @@ pub struct Diagnosis {
     pub calibration: CalibrationSummary,
     /// Where the residual is.
     pub locate: Localisation,
+    /// The diagnosing model's mesh error, tested by the Name stage beside the effects
+    /// (none: not measured, [`Self::mesh_error_with`]).
+    #[serde(default)]
+    pub mesh_error: Option<MeshError>,
     /// Candidate effects ranked by their signatures.
     pub name: Stage,
     /// Refit with the chosen effect(s), held-out gain, FE confirmation.
@@ -134,6 +139,7 @@ impl Diagnosis {
             },
             calibration: CalibrationSummary::of(cal),
             locate,
+            mesh_error: None,
             name: Stage::NotRun {
                 reason: "needs the FE sensitivities of the effect library at the calibrated \
                          state, which do not exist yet: no candidate is named or ranked"
@@ -157,12 +163,22 @@ impl Diagnosis {
         model: &Surrogate,
         settings: &NameSettings,
     ) -> Result<&Naming, DiagnoseError> {
+        let mut settings = settings.clone();
+        if let Some(me) = &self.mesh_error {
+            if !settings
+                .model_errors
+                .iter()
+                .any(|n| n.name == me.direction.name)
+            {
+                settings.model_errors.push(me.direction.clone());
+            }
+        }
         let naming = name_refitted(
             &self.locate.cells,
             sens,
             model,
             &self.calibration.best,
-            settings,
+            &settings,
         )?;
         self.name = Stage::Named(Box::new(naming));
         self.model_and_show = Stage::NotRun {
@@ -172,6 +188,29 @@ impl Diagnosis {
             },
         };
         Ok(naming_of(&self.name).expect("just set"))
+    }
+
+    /// Measures the diagnosing `model`'s mesh error against `reference` (a surrogate of the
+    /// same plan on a finer mesh, named `reference_name` in the report) at the calibrated
+    /// material ([`super::mesh_error`]); the Name stage run after it tests it beside the
+    /// effects.
+    ///
+    /// # Errors
+    /// As [`super::mesh_error::mesh_error`].
+    pub fn mesh_error_with(
+        &mut self,
+        model: &Surrogate,
+        reference: &Surrogate,
+        reference_name: &str,
+    ) -> Result<&MeshError, DiagnoseError> {
+        let me = mesh_error(
+            &self.locate.cells,
+            model,
+            reference,
+            reference_name,
+            &self.calibration.best,
+        )?;
+        Ok(self.mesh_error.insert(me))
     }
 
     /// The Name stage's result, if it ran.

@@ -92,6 +92,10 @@ pub struct StudyPlan {
     pub groups: Vec<TwinGroup>,
     /// The seed the materials were drawn with.
     pub draw_seed: u64,
+    /// Whether every twin draws its own noise ([`Self::noise_seed`]); otherwise the twins
+    /// of one seed share their standardised noise across the groups.
+    #[serde(default)]
+    pub independent_noise: bool,
 }
 
 fn lhs(rng: &mut Xoshiro256PlusPlus, n: usize, dims: usize) -> Vec<Vec<f64>> {
@@ -152,6 +156,7 @@ impl StudyPlan {
             markers: false,
             groups,
             draw_seed: seed,
+            independent_noise: true,
         })
     }
 
@@ -194,6 +199,22 @@ impl StudyPlan {
         let text = serde_json::to_string_pretty(self)?;
         crate::io::write_atomic(path, text.as_bytes())
             .map_err(|e| DiagnoseError::input("plan", path.display(), &e.to_string()))
+    }
+
+    /// The noise seed of the twin of group `group` (index) and seed `seed`: `seed` itself
+    /// when the noise is not independent, else a SplitMix64 mix of the draw seed, the group
+    /// and `seed`, so that no two twins of the study share their noise.
+    pub fn noise_seed(&self, group: usize, seed: u64) -> u64 {
+        if !self.independent_noise {
+            return seed;
+        }
+        let mix = |mut z: u64| {
+            z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+            z ^ (z >> 31)
+        };
+        mix(mix(self.draw_seed) ^ ((group as u64) << 32 | seed))
     }
 
     /// The twins' names, `<id>_s<seed>`, in plan order.
@@ -281,7 +302,7 @@ pub fn make_twins(
     let all = plan.twins();
     for (k, (g, seed, name)) in all.iter().enumerate() {
         let group = &plan.groups[*g];
-        let mut s = group.settings(plan, *seed, &dirs.cache)?;
+        let mut s = group.settings(plan, plan.noise_seed(*g, *seed), &dirs.cache)?;
         s.key = Some(dirs.keys.join(format!("{name}.json")));
         let out = dirs.twins.join(name);
         let o = write_twin(&s, noise_from, &out, |done, total| {
@@ -299,24 +320,38 @@ pub fn make_twins(
     Ok(())
 }
 
-/// Diagnoses one twin directory as a user would: calibrate through `model`, locate, name
-/// with `sens`, refit the named effect; `markers: false` leaves the marker recordings out
-/// (the shipped experiments have none).
+/// What diagnoses the twins: the surrogate the calibration uses, the FE sensitivities of
+/// the Name and Model stages, and optionally a finer-mesh surrogate whose difference to
+/// `model` is the mesh error projected out ([`super::mesh_error`]).
+#[derive(Clone, Copy, Debug)]
+pub struct Diagnoser<'a> {
+    /// The diagnosing surrogate.
+    pub model: &'a Surrogate,
+    /// The sensitivities.
+    pub sens: &'a SweepSensitivities,
+    /// The reference surrogate and its name in the reports.
+    pub mesh_reference: Option<(&'a Surrogate, &'a str)>,
+    /// Whether the twins' marker recordings are used (the shipped experiments have none).
+    pub markers: bool,
+}
+
+/// Diagnoses one twin directory as a user would: calibrate through `model`, locate,
+/// measure the mesh error against the reference (if any), name with `sens`, refit the
+/// named effect.
 ///
 /// # Errors
 /// As [`diagnose`] and the stages.
-pub fn diagnose_twin(
-    dir: &Path,
-    model: &Surrogate,
-    sens: &SweepSensitivities,
-    markers: bool,
-) -> Result<Diagnosis, DiagnoseError> {
+pub fn diagnose_twin(dir: &Path, by: &Diagnoser<'_>) -> Result<Diagnosis, DiagnoseError> {
+    let (model, sens) = (by.model, by.sens);
     let mut rec = Recordings::read_dir(dir)?;
-    if !markers {
+    if !by.markers {
         rec.markers.clear();
         rec.markers_source.clear();
     }
     let mut d = diagnose(model, &rec, &DiagnoseSettings::default(), &|_| {})?;
+    if let Some((reference, name)) = by.mesh_reference {
+        d.mesh_error_with(model, reference, name)?;
+    }
     d.name_with(sens, model, &super::name::NameSettings::default())?;
     let named = d
         .naming()
@@ -498,6 +533,9 @@ pub struct StudyResults {
     pub pending: Vec<String>,
     /// Whether the diagnoses used the twins' marker recordings.
     pub markers: bool,
+    /// The reference surrogate of the mesh error projected out (none: not projected).
+    #[serde(default)]
+    pub mesh_reference: Option<String>,
     /// The summary.
     pub summary: StudySummary,
 }
@@ -592,11 +630,10 @@ pub fn run_diagnoses(
     plan: &StudyPlan,
     noise_from: &Recordings,
     dirs: &StudyDirs,
-    model: &Surrogate,
-    sens: &SweepSensitivities,
-    markers: bool,
+    by: &Diagnoser<'_>,
     progress: &dyn Fn(&str),
 ) -> Result<StudyResults, DiagnoseError> {
+    let (model, markers) = (by.model, by.markers);
     let mut twins = Vec::new();
     let mut pending = Vec::new();
     for (g, _seed, name) in plan.twins() {
@@ -606,7 +643,7 @@ pub fn run_diagnoses(
             pending.push(name);
             continue;
         }
-        let d = diagnose_twin(&dir, model, sens, markers)?;
+        let d = diagnose_twin(&dir, by)?;
         let text = d.to_json()?;
         std::fs::create_dir_all(&dirs.diagnoses).map_err(|e| {
             DiagnoseError::input("diagnoses", dirs.diagnoses.display(), &e.to_string())
@@ -649,6 +686,7 @@ pub fn run_diagnoses(
         twins,
         pending,
         markers,
+        mesh_reference: by.mesh_reference.map(|(_, n)| n.to_string()),
         summary,
     })
 }
@@ -677,6 +715,17 @@ pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
         plan.mesh.wall_elements.map_or(String::new(), |k| format!(", {k} through a wall")),
         plan.seeds,
         if r.markers { "used" } else { "left out (as the shipped experiments have none)" }
+    );
+    let _ = writeln!(
+        o,
+        "{}\n",
+        match &r.mesh_reference {
+            Some(m) => format!(
+                "The diagnosing model's mesh error is projected out: its direction is the difference \
+                 to `{m}` at the calibrated material (`diagnose::mesh_error`)."
+            ),
+            None => "The diagnosing model's mesh error is not projected out.".to_string(),
+        }
     );
     let _ = writeln!(o, "| target | result |\n|---|---|");
     let rows = [
@@ -870,5 +919,19 @@ mod tests {
             g.settings(&a, 1, Path::new("/tmp")).unwrap();
         }
         assert_eq!(a.groups.iter().filter(|g| g.effects.is_empty()).count(), 6);
+        // every twin draws its own noise; an old plan keeps one noise per seed
+        let mut seeds: Vec<u64> = a
+            .twins()
+            .iter()
+            .map(|(g, s, _)| a.noise_seed(*g, *s))
+            .collect();
+        seeds.sort_unstable();
+        seeds.dedup();
+        assert_eq!(seeds.len(), 54);
+        let old = StudyPlan {
+            independent_noise: false,
+            ..a.clone()
+        };
+        assert_eq!(old.noise_seed(5, 2), 2);
     }
 }

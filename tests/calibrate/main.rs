@@ -4,5 +4,6 @@
 
 mod calibrate;
 mod diagnose;
+mod mesh_error;
 mod refit;
 mod twin;

@@ -78,6 +78,11 @@ pub struct TwinStudyArgs {
     /// results_no_markers.*.
     #[arg(long)]
     pub markers: Option<String>,
+    /// A surrogate of the same plan on another mesh (`models/actuator.json` beside the
+    /// coarse model): its difference to `--model` is tested as the model's own mesh error
+    /// beside the effects (`none`: not tested); results then go to results*_mesh.*.
+    #[arg(long, default_value = "none")]
+    pub mesh_reference: String,
     /// Only these groups of the plan (comma list of ids, e.g. `null_1,gap_bias_2`; default
     /// all): two processes with disjoint groups keep two cores busy.
     #[arg(long, value_delimiter = ',')]
@@ -138,6 +143,11 @@ pub struct DiagnoseArgs {
     /// Mesh of the sweep `--sensitivities calibrated` runs (coarse | standard).
     #[arg(long, default_value = "coarse")]
     pub sweep_mesh: String,
+    /// A surrogate of the same plan on another mesh (`models/actuator_coarse.json` beside
+    /// the standard-mesh model): its difference to `--model` at the calibrated material is
+    /// tested as the model's own mesh error beside the effects (`none`: not tested).
+    #[arg(long, default_value = "none")]
+    pub mesh_reference: String,
 }
 
 /// `surrogate twin`.

@@ -109,6 +109,19 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
     } else {
         sens
     };
+    if a.mesh_reference != "none" {
+        let reference = load_model(std::path::Path::new(&a.mesh_reference)).with_context(|| {
+            format!(
+                "--mesh-reference {}: expected a surrogate model file or none",
+                a.mesh_reference
+            )
+        })?;
+        let me = d.mesh_error_with(&model, &reference, &a.mesh_reference)?;
+        eprintln!(
+            "mesh error: {} differs from --model by {:.2} σ rms at the calibrated material",
+            a.mesh_reference, me.rms_sigma
+        );
+    }
     let naming = if let Some(sens) = &sens {
         eprintln!(
             "name: {} effects against the FE sensitivities of {} ramps ({} mesh)",

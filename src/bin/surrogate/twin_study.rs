@@ -2,7 +2,9 @@
 use anyhow::{Context, Result};
 use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::{ParamSpace, Recordings};
-use surrogate::diagnose::study::{make_twins, run_diagnoses, study_markdown, StudyDirs, StudyPlan};
+use surrogate::diagnose::study::{
+    make_twins, run_diagnoses, study_markdown, Diagnoser, StudyDirs, StudyPlan,
+};
 
 use crate::args::TwinStudyArgs;
 use crate::files::{load_model, write_file};
@@ -64,14 +66,28 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
     if diagnoses {
         let sens = SweepSensitivities::read(&a.sensitivities)
             .with_context(|| format!("--sensitivities {}", a.sensitivities.display()))?;
-        let results = run_diagnoses(&plan, &noise_from, &dirs, &model, &sens, markers, &|line| {
-            eprintln!("{line}")
-        })?;
-        let stem = match (markers == plan.markers, markers) {
-            (true, _) => "results",
-            (false, true) => "results_markers",
-            (false, false) => "results_no_markers",
+        let reference = match a.mesh_reference.as_str() {
+            "none" => None,
+            path => Some(load_model(std::path::Path::new(path)).with_context(|| {
+                format!("--mesh-reference {path}: expected a surrogate model file or none")
+            })?),
         };
+        let by = Diagnoser {
+            model: &model,
+            sens: &sens,
+            mesh_reference: reference.as_ref().map(|r| (r, a.mesh_reference.as_str())),
+            markers,
+        };
+        let results = run_diagnoses(&plan, &noise_from, &dirs, &by, &|line| eprintln!("{line}"))?;
+        let stem = format!(
+            "{}{}",
+            match (markers == plan.markers, markers) {
+                (true, _) => "results",
+                (false, true) => "results_markers",
+                (false, false) => "results_no_markers",
+            },
+            if reference.is_some() { "_mesh" } else { "" }
+        );
         let p = a.out.join(format!("{stem}.json"));
         write_file(&p, serde_json::to_string_pretty(&results)?.as_bytes())?;
         let md = study_markdown(&plan, &results);
