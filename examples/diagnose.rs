@@ -65,14 +65,21 @@ fn main() -> surrogate::Result<()> {
         "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json",
     ))?;
     let mut d = Diagnosis::new(&cal, &recordings, loc);
+    // the model's own mesh error (its difference to the coarse-mesh model) is a candidate too
+    let coarse = Surrogate::load(Path::new("models/actuator_coarse.json"))?;
+    let me = d.mesh_error_with(&model, &coarse, "models/actuator_coarse.json")?;
+    println!("mesh error of the model: {:.2} σ rms", me.rms_sigma);
     let naming = d
         .name_with(&sens, &model, &NameSettings::default())?
         .clone();
     println!("name: {}", naming.verdict);
     // Model and show: the named effect (or, when none is, the best plausible candidate)
-    let lead = naming
-        .named()
-        .or_else(|| naming.candidates.iter().find(|c| c.plausible));
+    let lead = naming.named().or_else(|| {
+        naming
+            .candidates
+            .iter()
+            .find(|c| c.plausible && !c.model_error)
+    });
     if let Some(c) = lead {
         let effect = Effect::from_name(&c.effect)?;
         let r = d.refit_with(&sens, &model, &RefitSettings::new(vec![effect]))?;

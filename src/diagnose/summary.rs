@@ -55,6 +55,22 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
     if let Stage::Named(n) = &d.name {
         naming(&mut s, n);
     }
+    if let Some(me) = &d.mesh_error {
+        let _ = writeln!(
+            s,
+            "\nThe model's own mesh error (candidate `{}`): `{}` differs from the diagnosing \
+             model by {:.2} σ rms at the calibrated material ({}); its size is in multiples of \
+             that difference.",
+            me.direction.name,
+            me.reference,
+            me.rms_sigma,
+            me.rms_sigma_by_output
+                .iter()
+                .map(|(o, v)| format!("{o} {v:.2} σ"))
+                .collect::<Vec<_>>()
+                .join(", ")
+        );
+    }
     if let Some(r) = d.refitted() {
         refit_section(&mut s, r);
     }

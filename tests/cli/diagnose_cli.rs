@@ -72,7 +72,19 @@ fn diagnoses_the_shipped_experiments() {
         .unwrap()
         .iter()
         .find(|c| c["significant"] == true && c["plausible"] == true)
+        .filter(|c| c["model_error"] != true)
         .map(|c| c["effect"].clone());
+    // the model's own mesh error (against the other shipped model) is a candidate too
+    assert_eq!(r["mesh_error"]["reference"], "models/actuator_coarse.json");
+    assert!(r["name"]["candidates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|c| c["effect"] == "model_mesh" && c["model_error"] == true));
+    assert!(
+        md.contains("The model's own mesh error (candidate `model_mesh`)"),
+        "{md}"
+    );
     match named {
         Some(e) => {
             assert_eq!(r["model_and_show"]["status"], "modelled");
@@ -192,7 +204,7 @@ fn bad_input_is_named_before_anything_runs() {
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     let empty_s = empty.to_str().unwrap();
-    let cases: [(&[&str], String); 9] = [
+    let cases: [(&[&str], String); 10] = [
         (
             &["--recordings", "no_such_recordings"],
             "--recordings no_such_recordings: not a directory".into(),
@@ -222,6 +234,11 @@ fn bad_input_is_named_before_anything_runs() {
         (
             &["--sweep-mesh", "fines"],
             "--sweep-mesh fines: unknown mesh level".into(),
+        ),
+        (
+            &["--mesh-reference", "no_such_model.json"],
+            "--mesh-reference no_such_model.json: expected auto, none or a surrogate model file"
+                .into(),
         ),
     ];
     for (extra, want) in cases {

@@ -78,9 +78,10 @@ pub struct TwinStudyArgs {
     /// results_no_markers.*.
     #[arg(long)]
     pub markers: Option<String>,
-    /// A surrogate of the same plan on another mesh (`models/actuator.json` beside the
-    /// coarse model): its difference to `--model` is tested as the model's own mesh error
-    /// beside the effects (`none`: not tested); results then go to results*_mesh.*.
+    /// A surrogate of the same plan on another mesh: its difference to `--model` is tested
+    /// as the model's own mesh error beside the effects (`auto`: the other shipped model,
+    /// `models/actuator.json` beside the coarse one; `none`: not tested); results then go to
+    /// results*_mesh.*.
     #[arg(long, default_value = "none")]
     pub mesh_reference: String,
     /// Only these groups of the plan (comma list of ids, e.g. `null_1,gap_bias_2`; default
@@ -143,10 +144,11 @@ pub struct DiagnoseArgs {
     /// Mesh of the sweep `--sensitivities calibrated` runs (coarse | standard).
     #[arg(long, default_value = "coarse")]
     pub sweep_mesh: String,
-    /// A surrogate of the same plan on another mesh (`models/actuator_coarse.json` beside
-    /// the standard-mesh model): its difference to `--model` at the calibrated material is
-    /// tested as the model's own mesh error beside the effects (`none`: not tested).
-    #[arg(long, default_value = "none")]
+    /// A surrogate of the same plan on another mesh: its difference to `--model` at the
+    /// calibrated material is tested as the model's own mesh error beside the effects
+    /// (`auto`: the other shipped model, `models/actuator_coarse.json` beside
+    /// `models/actuator.json` and the reverse; `none`: not tested; or a model file).
+    #[arg(long, default_value = "auto")]
     pub mesh_reference: String,
 }
 

@@ -104,6 +104,16 @@ pub fn run(a: DemoArgs) -> Result<()> {
                 sens.designs.len(),
                 sens.mesh.level.name()
             );
+            // the model's own mesh error, measured against the other shipped mesh, is a
+            // candidate too
+            if let Some((reference, name)) = crate::files::mesh_reference("auto", &a.model)? {
+                let me = diagnosis.mesh_error_with(&model, &reference, &name)?;
+                println!(
+                    "The model's own mesh error: {name} differs from it by {:.2} σ rms at the \
+                     calibrated material (candidate `{}`).\n",
+                    me.rms_sigma, me.direction.name
+                );
+            }
             let n = diagnosis.name_with(&sens, &model, &NameSettings::default())?;
             println!("{}", n.verdict);
             crate::diagnose::print_candidates(n, 5);
@@ -113,7 +123,7 @@ pub fn run(a: DemoArgs) -> Result<()> {
             let lead = named.clone().or_else(|| {
                 n.candidates
                     .iter()
-                    .find(|c| c.plausible)
+                    .find(|c| c.plausible && !c.model_error)
                     .map(|c| c.effect.clone())
             });
             if let Some(e) = lead {

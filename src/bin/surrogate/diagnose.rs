@@ -20,7 +20,7 @@ use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 
 use crate::args::DiagnoseArgs;
 use crate::diagnose_plots::write_plots;
-use crate::files::{load_model, write_file};
+use crate::files::{load_model, mesh_reference, write_file};
 
 /// The validated settings of the run.
 fn settings(a: &DiagnoseArgs) -> Result<DiagnoseSettings> {
@@ -64,6 +64,7 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
     let rec = recordings(&a.recordings)?;
     let model = load_model(&a.model)?;
     // checked before any work: a bad value is named at once
+    let reference = mesh_reference(&a.mesh_reference, &a.model)?;
     refit_effects(&a.refit, None)?;
     let confirm: Option<MeshLevel> = match a.confirm_fe.as_str() {
         "none" => None,
@@ -109,17 +110,11 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
     } else {
         sens
     };
-    if a.mesh_reference != "none" {
-        let reference = load_model(std::path::Path::new(&a.mesh_reference)).with_context(|| {
-            format!(
-                "--mesh-reference {}: expected a surrogate model file or none",
-                a.mesh_reference
-            )
-        })?;
-        let me = d.mesh_error_with(&model, &reference, &a.mesh_reference)?;
+    if let Some((reference, name)) = &reference {
+        let me = d.mesh_error_with(&model, reference, name)?;
         eprintln!(
-            "mesh error: {} differs from --model by {:.2} σ rms at the calibrated material",
-            a.mesh_reference, me.rms_sigma
+            "mesh error: {name} differs from --model by {:.2} σ rms at the calibrated material",
+            me.rms_sigma
         );
     }
     let naming = if let Some(sens) = &sens {

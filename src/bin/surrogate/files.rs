@@ -19,6 +19,36 @@ pub fn load_model(path: &Path) -> Result<Surrogate> {
     })
 }
 
+/// The mesh reference of `--mesh-reference ARG` for the diagnosing model `model`: `none`;
+/// `auto`, the other shipped model when `model` is one of `models/actuator.json` (standard
+/// mesh) and `models/actuator_coarse.json` (coarse), else none; or a model file. Returns the
+/// surrogate and its name for the report.
+pub fn mesh_reference(arg: &str, model: &Path) -> Result<Option<(Surrogate, String)>> {
+    let path = match arg {
+        "none" => return Ok(None),
+        "auto" => {
+            let other = match model.file_name().and_then(|f| f.to_str()) {
+                Some("actuator.json") => "actuator_coarse.json",
+                Some("actuator_coarse.json") => "actuator.json",
+                _ => return Ok(None),
+            };
+            let p = model.with_file_name(other);
+            if !p.exists() {
+                return Ok(None);
+            }
+            p
+        }
+        file => Path::new(file).to_path_buf(),
+    };
+    let m = load_model(&path).with_context(|| {
+        format!(
+            "--mesh-reference {arg}: expected auto, none or a surrogate model file ({})",
+            path.display()
+        )
+    })?;
+    Ok(Some((m, path.display().to_string())))
+}
+
 /// Writes `bytes` to a file atomically ([`surrogate::io::write_atomic`]), creating its
 /// directory.
 pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {

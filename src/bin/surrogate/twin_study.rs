@@ -7,7 +7,7 @@ use surrogate::diagnose::study::{
 };
 
 use crate::args::TwinStudyArgs;
-use crate::files::{load_model, write_file};
+use crate::files::{load_model, mesh_reference, write_file};
 
 /// Runs the subcommand.
 pub fn run(a: TwinStudyArgs) -> Result<()> {
@@ -66,16 +66,11 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
     if diagnoses {
         let sens = SweepSensitivities::read(&a.sensitivities)
             .with_context(|| format!("--sensitivities {}", a.sensitivities.display()))?;
-        let reference = match a.mesh_reference.as_str() {
-            "none" => None,
-            path => Some(load_model(std::path::Path::new(path)).with_context(|| {
-                format!("--mesh-reference {path}: expected a surrogate model file or none")
-            })?),
-        };
+        let reference = mesh_reference(&a.mesh_reference, &a.model)?;
         let by = Diagnoser {
             model: &model,
             sens: &sens,
-            mesh_reference: reference.as_ref().map(|r| (r, a.mesh_reference.as_str())),
+            mesh_reference: reference.as_ref().map(|(r, n)| (r, n.as_str())),
             markers,
         };
         let results = run_diagnoses(&plan, &noise_from, &dirs, &by, &|line| eprintln!("{line}"))?;
