@@ -1,5 +1,5 @@
-//! The discrepancy diagnoser: where the calibrated model misses the recordings, and (later)
-//! which physics it leaves out.
+//! The discrepancy diagnoser: where the calibrated model misses the recordings, which
+//! physics it leaves out, and what adding it gains on data the fit did not see.
 //!
 //! ```text
 //!   Recordings ──► calibrate (one material set) ──► Calibration (residuals at the optimum)
@@ -9,16 +9,21 @@
 //!            structure over N, T, P (and along the actuator), sign patterns,
 //!            findings in words, what the recordings lack          ──► Localisation
 //!                                                        │
+//!            (optional) the model's own mesh error, from a surrogate on another mesh
+//!                                                        │          ──► MeshError (mesh_error)
 //!                                                        ▼
-//!   name:    candidate effects ranked by their FE signatures       (not built yet)
+//!   name:    material re-fit, every effect's FE signature past it, nested F tests under
+//!            Holm, collinear pairs, the model's mesh error as a candidate ──► Naming (name)
 //!                                                        │
 //!                                                        ▼
-//!   model & show: refit material + effect, held-out gain, FE check  (not built yet)
+//!   model & show: material + effect(s) refitted, size and interval, every design held
+//!            out, FE confirmation rounds                          ──► Refit (refit)
 //! ```
 //!
 //! [`diagnose`] runs calibrate → locate and returns a [`Diagnosis`], the versioned report
-//! (`format` / `version` fields) whose `name` and `model_and_show` stages say that they were
-//! not run; [`locate()`] is the Locate stage on its own.
+//! (`format` / `version` fields); [`Diagnosis::mesh_error_with`], [`Diagnosis::name_with`] and
+//! [`Diagnosis::refit_with`] run the later stages on it; [`locate()`] is the Locate stage on
+//! its own. [`study`] is the blind study on twins.
 //!
 //! ## Locate: the residual table
 //!

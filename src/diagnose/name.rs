@@ -108,6 +108,10 @@ pub struct Candidate {
     pub delta_aic: f64,
     /// `ΔBIC` against the material-only re-fit.
     pub delta_bic: f64,
+    /// `|θ̂| maxᵢ |s̃ᵢ|`: the largest change its estimated size makes to one recorded number
+    /// past what the material can mimic, in that number's σ.
+    #[serde(default)]
+    pub max_move_sigma: f64,
 }
 
 /// Two candidates the recordings cannot tell apart.
@@ -444,6 +448,7 @@ fn name_inner(
             significant: false,
             delta_aic: 2.0 - delta / scale0,
             delta_bic: (n as f64).ln() - delta / scale0,
+            max_move_sigma: estimate.abs() * st.amax(),
         });
         projected.push((t.name, estimate, st, t.parameter));
     }
