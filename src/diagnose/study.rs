@@ -395,6 +395,10 @@ pub struct TwinScore {
     pub held_out_be: Option<(f64, f64, f64)>,
     /// The Name stage's verdict.
     pub verdict: String,
+    /// Whether the model's own mesh error explained the residual best (the verdict then
+    /// names no physics).
+    #[serde(default)]
+    pub model_error_best: bool,
 }
 
 /// Scores a diagnosis against its key; `model` gives the tip at the true material and
@@ -470,6 +474,7 @@ pub fn score_twin(
             Some((h.mean_be_before_mm?, h.mean_be_after_mm?, r.noise_be_mm?))
         }),
         verdict: naming.map_or(String::new(), |n| n.verdict.clone()),
+        model_error_best: naming.is_some_and(|n| n.model_error().is_some()),
     })
 }
 
@@ -559,6 +564,9 @@ pub struct StudySummary {
     pub nulls: usize,
     /// Null twins where an effect was named (false alarms).
     pub false_alarms: usize,
+    /// Twins (effect, null) where the model's own mesh error explained the residual best.
+    #[serde(default)]
+    pub model_error_best: (usize, usize),
     /// Correctly named twins whose refitted value is within 25 % of the truth or whose
     /// interval covers it, of the correctly named.
     pub sizes_recovered: (usize, usize),
@@ -566,7 +574,8 @@ pub struct StudySummary {
     /// noise level, of the correctly named with a held-out BE.
     pub held_out_within: (usize, usize),
     /// Confusion matrix: rows the concealed effect (`none`), columns the named one
-    /// (`nothing`), counts.
+    /// (`nothing`; `nothing (model's mesh)` when the model's own mesh error explained the
+    /// residual best), counts.
     pub confusion: Vec<(String, String, usize)>,
 }
 
@@ -594,7 +603,11 @@ pub fn summarise(twins: &[TwinScore]) -> StudySummary {
     let mut confusion: Vec<(String, String, usize)> = Vec::new();
     for t in twins {
         let row = t.truth.clone().unwrap_or_else(|| "none".into());
-        let col = t.named.clone().unwrap_or_else(|| "nothing".into());
+        let col = match (&t.named, t.model_error_best) {
+            (Some(n), _) => n.clone(),
+            (None, true) => "nothing (model's mesh)".into(),
+            (None, false) => "nothing".into(),
+        };
         match confusion.iter_mut().find(|c| c.0 == row && c.1 == col) {
             Some(c) => c.2 += 1,
             None => confusion.push((row, col, 1)),
@@ -612,6 +625,10 @@ pub fn summarise(twins: &[TwinScore]) -> StudySummary {
         effect_first: effect.iter().filter(|t| first(t)).count(),
         nulls: nulls.len(),
         false_alarms: nulls.iter().filter(|t| t.named.is_some()).count(),
+        model_error_best: (
+            effect.iter().filter(|t| t.model_error_best).count(),
+            nulls.iter().filter(|t| t.model_error_best).count(),
+        ),
         sizes_recovered: (recovered, right.len()),
         held_out_within: (
             with_be.iter().filter(|(a, n)| *a <= 1.2 * n).count(),
@@ -758,6 +775,14 @@ pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
     for (what, (a, b)) in rows {
         let _ = writeln!(o, "| {what} | {} |", pct(a, b));
     }
+    if r.mesh_reference.is_some() {
+        let _ = writeln!(
+            o,
+            "| the model's own mesh error explains the residual best (no physics named): effect twins, null twins | {}; {} |",
+            pct(s.model_error_best.0, s.effect_twins),
+            pct(s.model_error_best.1, s.nulls)
+        );
+    }
     let _ = writeln!(
         o,
         "\n## Confusion matrix (rows: concealed, columns: named)\n"
@@ -838,6 +863,7 @@ mod tests {
             refit_value: None,
             held_out_be: None,
             verdict: String::new(),
+            model_error_best: false,
         }
     }
 
@@ -868,9 +894,12 @@ mod tests {
         c.held_out_be = Some((4.0, 3.7, 3.0)); // 1.23 × noise: outside
         let mut d = twin(Some(("plate_offset", -0.6)), None, "pressure_loss", Some(4));
         d.tip_move_sigma = 0.5; // invisible in the tip: outside the visible subset
+        let mut mesh = twin(None, None, "model_mesh", None);
+        mesh.model_error_best = true; // the model's own error, not physics: no false alarm
         let nulls = [
             twin(None, None, "anisotropy", None),
             twin(None, Some("gap_bias"), "gap_bias", None),
+            mesh,
         ];
         let mut all = vec![a, b, c, d];
         all.extend(nulls);
@@ -880,7 +909,8 @@ mod tests {
         assert_eq!(s.visible_first_or_indistinguishable, 3);
         assert_eq!(s.visible_named, 2);
         assert_eq!((s.effect_twins, s.effect_first), (4, 2));
-        assert_eq!((s.nulls, s.false_alarms), (2, 1));
+        assert_eq!((s.nulls, s.false_alarms), (3, 1));
+        assert_eq!(s.model_error_best, (0, 1));
         assert_eq!(s.sizes_recovered, (1, 2));
         assert_eq!(s.held_out_within, (1, 2));
         let count = |r: &str, c: &str| {
@@ -893,6 +923,7 @@ mod tests {
         assert_eq!(count("gap_bias", "wall_bias"), 1);
         assert_eq!(count("plate_offset", "nothing"), 1);
         assert_eq!(count("none", "nothing"), 1);
+        assert_eq!(count("none", "nothing (model's mesh)"), 1);
         assert_eq!(count("none", "gap_bias"), 1);
     }
 
