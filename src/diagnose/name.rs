@@ -43,7 +43,7 @@ use statrs::distribution::{ContinuousCDF, FisherSnedecor};
 
 use super::cells::Cell;
 use super::mesh_error::{ErrorDirection, MODEL_ERROR_UNIT, PLAUSIBLE_MODEL_ERROR};
-use super::signature::{derivative_of, sensitivity_step, LocalMaterial};
+use super::signature::{cell_spike, derivative_of, sensitivity_step, LocalMaterial};
 use super::DiagnoseError;
 use crate::calibrate::baseline::SweepSensitivities;
 use crate::calibrate::objective::Output;
@@ -147,6 +147,11 @@ pub struct Naming {
     pub n_cells: usize,
     /// Cells without sensitivities in the sweep, in words.
     pub unmatched: Vec<String>,
+    /// Used cells whose FE sensitivities hold a derivative spike (more than 10 times the
+    /// same derivative at the ramp's other pressures, as at a contact switch): their
+    /// linearisation is doubtful, in words.
+    #[serde(default)]
+    pub spikes: Vec<String>,
     /// `χ²` of the used cells at the calibrated set.
     pub chi2: f64,
     /// `χ²` after the material re-fit on every used cell.
@@ -295,6 +300,7 @@ fn name_inner(
     // rows: cells with sensitivities; columns: every parameter (σ-scaled)
     let mut rows: Vec<(&Cell, Vec<f64>)> = Vec::new();
     let mut row_cell: Vec<usize> = Vec::new();
+    let mut spikes: Vec<String> = Vec::new();
     let mut refitted: Vec<(f64, [f64; 4])> = Vec::new();
     let mut unmatched = Vec::new();
     for (ci, c) in cells.iter().enumerate() {
@@ -310,6 +316,16 @@ fn name_inner(
         };
         match derivs {
             Some(d) => {
+                if let Some((p, ratio)) = cell_spike(sens, c) {
+                    spikes.push(format!(
+                        "N = {}, T = {} mm, {} bar, {}: its FE derivative by {p} is {ratio:.0} \
+                         times its largest at the ramp's other pressures",
+                        c.n_bellows,
+                        c.wall_thickness_mm,
+                        c.pressure_bar,
+                        c.output.name()
+                    ));
+                }
                 rows.push((c, d));
                 row_cell.push(ci);
             }
@@ -322,7 +338,7 @@ fn name_inner(
                     c.n_bellows,
                     c.wall_thickness_mm,
                     c.pressure_bar,
-                    c.output.name()
+                    c.output.name(),
                 ))
             }
         }
@@ -471,6 +487,7 @@ fn name_inner(
         refitted_material: None,
         n_cells: n,
         unmatched,
+        spikes,
         chi2,
         chi2_material,
         candidates,
@@ -929,6 +946,37 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(err.contains("model_mesh (3 values)"), "{err}");
+    }
+
+    #[test]
+    fn a_derivative_spike_is_reported() {
+        let mut sens = sweep(17);
+        // tip Uz at N = 9, T = 1.6, 2 bar: density's derivative 1000 times the others'
+        let j = sens.designs[0]
+            .sensitivities
+            .parameters
+            .iter()
+            .position(|p| p.parameter == Parameter::Effect(Effect::Density))
+            .unwrap();
+        let steps = &mut sens.designs[0].sensitivities.steps;
+        for st in steps.iter_mut() {
+            st.derivatives[j].tip_uz_mm = 0.01;
+        }
+        steps[2].derivatives[j].tip_uz_mm = 10.0;
+        let cells = cells(&sens, &[], 18);
+        let n = name(&cells, &sens, &NameSettings::default()).unwrap();
+        assert!(
+            n.spikes.iter().any(|s| s.starts_with(
+                "N = 9, T = 1.6 mm, 2 bar, tip_uz_mm: its FE derivative by density is 1000 times"
+            )),
+            "{:?}",
+            n.spikes
+        );
+        assert!(!n
+            .spikes
+            .iter()
+            .any(|s| s
+                .starts_with("N = 9, T = 1.6 mm, 1 bar, tip_uz_mm: its FE derivative by density")));
     }
 
     #[test]

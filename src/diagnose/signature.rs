@@ -23,11 +23,49 @@ pub(crate) fn derivative_of(o: &Outputs, output: Output) -> Option<f64> {
     }
 }
 
+/// A derivative larger than this many times the largest of the same derivative at the
+/// ramp's other (non-zero) pressures is a spike.
+pub(crate) const SPIKE_RATIO: f64 = 10.0;
+
+/// The first parameter whose derivative of `output` at step `i` of `s` is a spike: more than
+/// [`SPIKE_RATIO`] times its largest magnitude at the other non-zero pressures of the ramp.
+/// Such a derivative (seen in the force rig at a contact switch: a force of 0.6 N whose
+/// derivative by the gravity factor is −25 N while it is −0.16 N one bar later) predicts
+/// changes the effect cannot make: the Name stage lists such cells. Returns the parameter's
+/// name and the ratio.
+pub(crate) fn spike(s: &Sensitivities, i: usize, output: Output) -> Option<(String, f64)> {
+    for (j, p) in s.parameters.iter().enumerate() {
+        let d = derivative_of(&s.steps[i].derivatives[j], output)?.abs();
+        let others = s
+            .steps
+            .iter()
+            .enumerate()
+            .filter(|(k, st)| *k != i && st.pressure_bar > 0.0)
+            .filter_map(|(_, st)| derivative_of(&st.derivatives[j], output))
+            .map(f64::abs)
+            .fold(0.0, f64::max);
+        if others > 0.0 && d > SPIKE_RATIO * others {
+            return Some((p.parameter.name().to_string(), d / others));
+        }
+    }
+    None
+}
+
+/// The derivative spike of a cell, if its sensitivities have one ([`spike`]).
+pub(crate) fn cell_spike(sens: &SweepSensitivities, c: &Cell) -> Option<(String, f64)> {
+    let (s, i) = step_of(sens, c)?;
+    spike(s, i, c.output)
+}
+
 /// The sensitivities of a cell's ramp and the index of its step.
 pub(crate) fn sensitivity_step<'a>(
     sens: &'a SweepSensitivities,
     c: &Cell,
 ) -> Option<(&'a Sensitivities, usize)> {
+    step_of(sens, c)
+}
+
+fn step_of<'a>(sens: &'a SweepSensitivities, c: &Cell) -> Option<(&'a Sensitivities, usize)> {
     let mode = if c.output == Output::Force {
         Mode::Force
     } else {

@@ -541,4 +541,14 @@ fn naming(s: &mut String, n: &crate::diagnose::name::Naming) {
     for u in &n.untestable {
         let _ = writeln!(s, "\n{} not testable: {}.", u.effect, u.reason);
     }
+    if !n.spikes.is_empty() {
+        let _ = writeln!(
+            s,
+            "\nFE derivative spikes (a derivative more than 10 times its value at the ramp's \
+             other pressures, as at a contact switch; these cells' linearisation is doubtful):\n"
+        );
+        for sp in &n.spikes {
+            let _ = writeln!(s, "- {sp}");
+        }
+    }
 }

@@ -79,10 +79,10 @@ pub struct TwinStudyArgs {
     #[arg(long)]
     pub markers: Option<String>,
     /// A surrogate of the same plan on another mesh: its difference to `--model` is tested
-    /// as the model's own mesh error beside the effects (`auto`: the other shipped model,
-    /// `models/actuator.json` beside the coarse one; `none`: not tested); results then go to
-    /// results*_mesh.*.
-    #[arg(long, default_value = "none")]
+    /// as the model's own mesh error beside the effects, as `diagnose` does by default
+    /// (`auto`: the other shipped model, `models/actuator.json` beside the coarse one; `none`:
+    /// not tested, results then go to results*_no_mesh.*; or a model file).
+    #[arg(long, default_value = "auto")]
     pub mesh_reference: String,
     /// Only these groups of the plan (comma list of ids, e.g. `null_1,gap_bias_2`; default
     /// all): two processes with disjoint groups keep two cores busy.

@@ -81,7 +81,7 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
                 (false, true) => "results_markers",
                 (false, false) => "results_no_markers",
             },
-            if reference.is_some() { "_mesh" } else { "" }
+            if reference.is_some() { "" } else { "_no_mesh" }
         );
         let p = a.out.join(format!("{stem}.json"));
         write_file(&p, serde_json::to_string_pretty(&results)?.as_bytes())?;
