@@ -207,6 +207,26 @@ pub struct Cell {
     pub fit_chi2_share: Option<f64>,
 }
 
+/// The cells as calibration observations (recorded value and σ; each its own weight 1), in
+/// their order: what the surrogate evaluates for the later stages.
+pub(crate) fn observations(cells: &[Cell]) -> crate::calibrate::objective::ObservationSet {
+    use crate::calibrate::objective::{Config, Observation, ObservationSet};
+    ObservationSet::from_observations(
+        cells
+            .iter()
+            .map(|c| Observation {
+                config: Config::of(c.n_bellows as usize, c.wall_thickness_mm, c.pressure_bar),
+                output: c.output,
+                value: c.recorded,
+                sigma_meas: c.sigma,
+                sigma_model: 0.0,
+                weight: 1.0,
+                source: String::new(),
+            })
+            .collect(),
+    )
+}
+
 #[cfg(test)]
 impl Cell {
     /// A fitted cell of `σ = 1` whose prediction is its standardised residual `z` (tests).

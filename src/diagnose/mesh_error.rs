@@ -31,7 +31,7 @@ use serde::{Deserialize, Serialize};
 
 use super::cells::Cell;
 use super::DiagnoseError;
-use crate::calibrate::objective::{Config, Evaluator, Observation, ObservationSet};
+use crate::calibrate::objective::Evaluator;
 use crate::calibrate::params::ParamSpace;
 use crate::calibrate::OgdenSet;
 use crate::rom::Surrogate;
@@ -94,20 +94,7 @@ pub fn mesh_error(
             "a residual table with at least one cell",
         ));
     }
-    let set = ObservationSet::from_observations(
-        cells
-            .iter()
-            .map(|c| Observation {
-                config: Config::of(c.n_bellows as usize, c.wall_thickness_mm, c.pressure_bar),
-                output: c.output,
-                value: c.recorded,
-                sigma_meas: c.sigma,
-                sigma_model: 0.0,
-                weight: 1.0,
-                source: String::new(),
-            })
-            .collect(),
-    );
+    let set = super::cells::observations(cells);
     let predict = |m: &Surrogate, what: &str| -> Result<Vec<f64>, DiagnoseError> {
         let space = ParamSpace::training_domain(m)?;
         let u = space.unit(material);

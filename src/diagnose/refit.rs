@@ -38,7 +38,7 @@ use super::DiagnoseError;
 use crate::calibrate::baseline::{
     run_ramps, RampSource, SweepDesign, SweepRamp, SweepSensitivities, SweepSettings,
 };
-use crate::calibrate::objective::{Config, Evaluator, Observation, ObservationSet, Output};
+use crate::calibrate::objective::{Evaluator, ObservationSet, Output};
 use crate::calibrate::{OgdenSet, ParamSpace};
 use crate::fe::effects::{Effect, Effects};
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
@@ -293,20 +293,7 @@ impl Rows {
     }
 
     fn observations(&self) -> ObservationSet {
-        ObservationSet::from_observations(
-            self.cells
-                .iter()
-                .map(|c| Observation {
-                    config: Config::of(c.n_bellows as usize, c.wall_thickness_mm, c.pressure_bar),
-                    output: c.output,
-                    value: c.recorded,
-                    sigma_meas: c.sigma,
-                    sigma_model: 0.0,
-                    weight: 1.0,
-                    source: String::new(),
-                })
-                .collect(),
-        )
+        super::cells::observations(&self.cells)
     }
 }
 

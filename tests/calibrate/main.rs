@@ -7,3 +7,21 @@ mod diagnose;
 mod mesh_error;
 mod refit;
 mod twin;
+
+/// The diagnoser's settings of the Model-and-show and mesh-error tests: the `tip` objective,
+/// 6 starts, 4 profile points.
+pub fn quick_diagnose_settings() -> surrogate::diagnose::DiagnoseSettings {
+    let mut c = surrogate::calibrate::CalibrationSettings {
+        weights: surrogate::calibrate::Weights::parse("tip").unwrap(),
+        multistart: surrogate::calibrate::optimise::MultistartSettings {
+            starts: 6,
+            ..surrogate::calibrate::optimise::MultistartSettings::default()
+        },
+        ..surrogate::calibrate::CalibrationSettings::default()
+    };
+    c.identify.profile_points = 4;
+    surrogate::diagnose::DiagnoseSettings {
+        calibration: c,
+        ..surrogate::diagnose::DiagnoseSettings::default()
+    }
+}

@@ -9,9 +9,8 @@ use std::path::Path;
 
 use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::objective::Output;
-use surrogate::calibrate::optimise::MultistartSettings;
 use surrogate::calibrate::synthetic::{noisy_recordings, TrueOutputs};
-use surrogate::calibrate::{CalibrationSettings, OgdenSet, Recordings, Weights};
+use surrogate::calibrate::{OgdenSet, Recordings};
 use surrogate::diagnose::name::NameSettings;
 use surrogate::diagnose::{diagnose, DiagnoseSettings};
 use surrogate::rom::{Query, Surrogate};
@@ -45,19 +44,7 @@ fn truth(coarse: &Surrogate, standard: &Surrogate, share: f64) -> Vec<TrueOutput
 }
 
 fn settings() -> DiagnoseSettings {
-    let mut c = CalibrationSettings {
-        weights: Weights::parse("tip").unwrap(),
-        multistart: MultistartSettings {
-            starts: 6,
-            ..MultistartSettings::default()
-        },
-        ..CalibrationSettings::default()
-    };
-    c.identify.profile_points = 4;
-    DiagnoseSettings {
-        calibration: c,
-        ..DiagnoseSettings::default()
-    }
+    super::quick_diagnose_settings()
 }
 
 #[test]

@@ -7,9 +7,8 @@
 use std::path::Path;
 
 use surrogate::calibrate::baseline::SweepSensitivities;
-use surrogate::calibrate::optimise::MultistartSettings;
 use surrogate::calibrate::synthetic::{noisy_recordings, TrueOutputs};
-use surrogate::calibrate::{CalibrationSettings, OgdenSet, Recordings, Weights};
+use surrogate::calibrate::{OgdenSet, Recordings};
 use surrogate::diagnose::refit::{refit, RefitSettings};
 use surrogate::diagnose::{diagnose, DiagnoseSettings};
 use surrogate::fe::effects::Effect;
@@ -63,19 +62,7 @@ fn truth(
 }
 
 fn settings() -> DiagnoseSettings {
-    let mut c = CalibrationSettings {
-        weights: Weights::parse("tip").unwrap(),
-        multistart: MultistartSettings {
-            starts: 6,
-            ..MultistartSettings::default()
-        },
-        ..CalibrationSettings::default()
-    };
-    c.identify.profile_points = 4;
-    DiagnoseSettings {
-        calibration: c,
-        ..DiagnoseSettings::default()
-    }
+    super::quick_diagnose_settings()
 }
 
 #[test]
