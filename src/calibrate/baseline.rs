@@ -29,7 +29,7 @@ use crate::fe::geometry::DesignParams;
 use crate::fe::material::Material;
 use crate::fe::mesh::MeshOptions;
 use crate::fe::sensitivity::{
-    sensitivities_with, Parameter, Sensitivities, SENSITIVITY_FORMAT_VERSION,
+    sensitivities_with, Parameter, Sensitivities, SENSITIVITY_FORMAT_VERSION, SENSITIVITY_METHOD,
 };
 use crate::fe::simulate::{
     simulate_with, Case, ContactSettings, Mode, SimulateError, StepResult, FORCE_MODEL_REVISION,
@@ -331,6 +331,7 @@ impl RampCache {
         } else {
             key["sensitivities"] = serde_json::to_value(sensitivities).unwrap_or_default();
             key["sensitivity_version"] = SENSITIVITY_FORMAT_VERSION.into();
+            key["sensitivity_method"] = SENSITIVITY_METHOD.into();
             "_sensitivities".into()
         };
         let key = key.to_string();

@@ -437,6 +437,61 @@ impl FeModel {
         force
     }
 
+    /// The derivative of the residual (all dofs, added into `out`) with respect to the height
+    /// `y` of rigid plane `plane`'s point, at the displacement `u`, with the contact law and
+    /// gap shifts the assembly uses. Exact, from the face tangents: raising the plane by `dy`
+    /// changes every gap by `−n_y·dy`, as translating the face by `−dy` along `y` does, so
+    /// `∂r/∂y = −K_face·t` with `t` the unit translation along `y` of the face's nodes.
+    ///
+    /// The sensitivities use it for the plate that follows the sagged tip: a residual
+    /// difference across the contact law's C² joints is off by about `h·s²·ψ'''` (`s` the
+    /// plate's motion per unit parameter, about 10 mm for `density`), which with the
+    /// stiffened law (`ψ''' ∝ factor²`) outgrew the derivative itself.
+    pub fn plane_height_derivative(&self, u: &[f64], plane: usize, out: &mut [f64]) {
+        let mut rf = [0.0; 27];
+        let mut kf = [0.0; 729];
+        for (e, faces) in self.contact_faces.iter().enumerate() {
+            let conn = &self.mesh.elements[e];
+            for ((pi, local), shift) in faces.iter().zip(&self.plane_shifts[e]) {
+                if *pi != plane {
+                    continue;
+                }
+                let p = &self.planes[*pi];
+                let x0: [[f64; 3]; 9] = local.map(|l| self.mesh.nodes[conn[l]]);
+                let x: [[f64; 3]; 9] = std::array::from_fn(|a| {
+                    let n = conn[local[a]];
+                    [
+                        x0[a][0] + u[3 * n],
+                        x0[a][1] + u[3 * n + 1],
+                        x0[a][2] + u[3 * n + 2],
+                    ]
+                });
+                kf.iter_mut().for_each(|v| *v = 0.0);
+                match &self.barrier {
+                    Some(b) => contact::plane_face_with(
+                        |g| b.eval(g),
+                        p,
+                        &x0,
+                        &x,
+                        &[0.0; 9],
+                        &mut rf,
+                        Some(&mut kf),
+                    ),
+                    None => {
+                        contact::plane_face(p, &x0, &x, &load_shifts(shift), &mut rf, Some(&mut kf))
+                    }
+                };
+                for a in 0..9 {
+                    for c in 0..3 {
+                        let row = 3 * a + c;
+                        let d: f64 = (0..9).map(|b| kf[row * 27 + 3 * b + 1]).sum();
+                        out[3 * conn[local[a]] + c] -= d;
+                    }
+                }
+            }
+        }
+    }
+
     /// Calls `f(ε, δ, g, c)` for every contact quadrature point (plane faces by element, then
     /// pairs: the order of [`Self::contact_shifts`]).
     fn visit_contact_points(&self, u: &[f64], mut f: impl FnMut(f64, f64, f64, f64)) {

@@ -97,12 +97,25 @@ pub const SENSITIVITY_FORMAT_VERSION: u32 = 1;
 pub const RELATIVE_STEP: f64 = 1e-6;
 
 /// Factor on the contact stiffness of the linearisation about an augmented-Lagrangian state
-/// ([`FeModel::scale_contact`](crate::fe::assembly::FeModel::scale_contact)). On the coarse
-/// N = 7, T = 2.4 actuator at 1 bar against the plate, `d tip Uy/d plate_offset` is −0.9937
-/// with the plain penalty (factor 1), −1.0004 at 10 and −1.0010 at 100: converged. Beyond
-/// 10² the law's smoothing (`δ/factor`) becomes narrower than the residual differences can
-/// resolve (`dF/d plate_offset` goes wrong at 10³), so 10² it is.
-pub const CONTACT_STIFFENING: f64 = 1e2;
+/// ([`FeModel::scale_contact`](crate::fe::assembly::FeModel::scale_contact)).
+///
+/// Chosen against central finite differences of full augmented-Lagrangian runs on the coarse
+/// N = 11, T = 1.6 actuator in the force rig at 1, 2 and 3 bar (`density` ±0.1, `anisotropy`
+/// ±0.05, `clamp_compliance` 0.005/0.01; `fe_reference/sensitivities/README.md`): the blocked
+/// force's derivatives are within 2.2 % at 10, up to 19 % off at 10² (`d F/d density` −0.164
+/// against −0.138 at 3 bar) and up to 46 % off with the plain penalty (factor 1). The tip
+/// agrees within 0.5 % at every factor. Stiffer than 10 the law's smoothing `δ/factor`
+/// narrows and its slopes `∝ factor` hold the points at the rim of a contact patch, which the
+/// augmented Lagrangian lets lift off.
+pub const CONTACT_STIFFENING: f64 = 10.0;
+
+/// Revision of the differentiation method: part of the cache key of a ramp with
+/// sensitivities, so that cached sensitivities of an older method are recomputed.
+/// 2: the force plate's motion enters `∂R/∂θ` exactly
+/// ([`FeModel::plane_height_derivative`](crate::fe::assembly::FeModel::plane_height_derivative)),
+/// and [`CONTACT_STIFFENING`] 10 (was 10²): the old method's `d F/d density` at N = 11,
+/// T = 1.6, 1 bar was −24.6 N against −0.112 N from full runs.
+pub const SENSITIVITY_METHOD: u32 = 2;
 
 /// Errors of the sensitivities.
 #[derive(Debug, Error)]
@@ -613,10 +626,12 @@ fn differentiate(
     let (mut r0, mut rp, mut acc) = (vec![0.0; n_full], vec![0.0; n_full], vec![0.0; n_full]);
     let (mut du_s, mut du, mut u2) = (vec![0.0; n_full], vec![0.0; n_full], vec![0.0; n_full]);
     let mut rhs = vec![0.0; base.fe.n_free()];
+    let mut dr_plate = vec![0.0; n_full];
     let force_rig = case.mode == Mode::Force;
     // the augmented Lagrangian holds touching points at their gap: linearise with stiff
     // contact (the plain penalty, `augmented_updates = 0`, and the barrier stay as they are)
     let stiffen = case.solver.augmented_updates > 0 && base.fe.barrier.is_none();
+
     if stiffen {
         base.fe.scale_contact(CONTACT_STIFFENING);
         for q in perturbed.iter_mut().flat_map(|p| &mut p.points) {
@@ -644,6 +659,17 @@ fn differentiate(
         lin.solve(&k, &mut rhs)?;
         cost.factorizations += 1;
         cost.residual_evaluations += 1;
+        // ∂R/∂y_plate at the state, exact: the plate's motion enters −∂R/∂θ through it
+        // rather than through the residual differences (see
+        // `FeModel::plane_height_derivative`)
+        let plate_term = match base.plate {
+            Some(plate) if force_rig && !self_weight => {
+                dr_plate.iter_mut().for_each(|v| *v = 0.0);
+                base.fe.plane_height_derivative(&st.u, plate, &mut dr_plate);
+                true
+            }
+            _ => false,
+        };
         let y0 = outputs(&base, &st.u, lf, scale);
         let raw_force = y0.force_n.map_or(0.0, |f| f / scale);
         let mut derivatives = Vec::with_capacity(perturbed.len());
@@ -682,9 +708,14 @@ fn differentiate(
                     for (a, r) in acc.iter_mut().zip(&r0) {
                         *a = -p.weight0 * r;
                     }
+                    if plate_term {
+                        for (a, d) in acc.iter_mut().zip(&dr_plate) {
+                            *a -= shift * d;
+                        }
+                    }
                     for q in &mut p.points {
                         let (model, level, saved) =
-                            configure(&mut base, &mut q.how, st, &shifts, q.offset * shift);
+                            configure(&mut base, &mut q.how, st, &shifts, 0.0);
                         // the clamped face moved along its own motion (zero otherwise)
                         for ((a, &u), &s) in u2.iter_mut().zip(&st.u).zip(&du_s) {
                             *a = u + q.offset * s;
