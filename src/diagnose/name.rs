@@ -710,6 +710,28 @@ fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_material: f64) -> 
             twins.join(", ")
         ));
     }
+    let runners_up: Vec<String> = c
+        .iter()
+        .filter(|t| {
+            t.significant && t.plausible && !t.model_error && t.effect != top.effect
+        })
+        .take(2)
+        .map(|t| {
+            format!(
+                "{} ({:.0} %, {:+.3}{})",
+                t.effect,
+                100.0 * t.explained,
+                t.estimate,
+                super::wording::unit_suffix(&t.unit)
+            )
+        })
+        .collect();
+    if !runners_up.is_empty() {
+        s.push_str(&format!(
+            "; also significant at a plausible size, explaining less: {}",
+            runners_up.join(", ")
+        ));
+    }
     if !implausible.is_empty() {
         s.push_str(&format!(
             "; significant but at implausible sizes: {}",
