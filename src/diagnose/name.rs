@@ -712,9 +712,7 @@ fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_material: f64) -> 
     }
     let runners_up: Vec<String> = c
         .iter()
-        .filter(|t| {
-            t.significant && t.plausible && !t.model_error && t.effect != top.effect
-        })
+        .filter(|t| t.significant && t.plausible && !t.model_error && t.effect != top.effect)
         .take(2)
         .map(|t| {
             format!(
