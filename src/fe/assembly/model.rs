@@ -397,11 +397,17 @@ impl FeModel {
             .collect()
     }
 
-    /// The normal force of rigid plane `plane` on the body at the displacement `u` (all
-    /// dofs), with the contact law and gap shifts the assembly uses: the plane's entry of
-    /// [`AssemblyInfo::plane_forces`] from its contact faces alone (no other term assembled).
-    pub fn plane_force(&self, u: &[f64], plane: usize) -> f64 {
-        let mut force = 0.0;
+    /// Evaluates every contact face of rigid plane `plane` at the displacement `u` (all dofs)
+    /// with the contact law and gap shifts the assembly uses, the face's tangent into `kf`
+    /// when given (zeroed first), and calls `f(global nodes of the face, its normal force,
+    /// its tangent)`.
+    fn visit_plane_faces(
+        &self,
+        u: &[f64],
+        plane: usize,
+        mut kf: Option<&mut [f64; 729]>,
+        mut f: impl FnMut([usize; 9], f64, Option<&[f64; 729]>),
+    ) {
         let mut rf = [0.0; 27];
         for (e, faces) in self.contact_faces.iter().enumerate() {
             let conn = &self.mesh.elements[e];
@@ -410,16 +416,20 @@ impl FeModel {
                     continue;
                 }
                 let p = &self.planes[*pi];
-                let x0: [[f64; 3]; 9] = local.map(|l| self.mesh.nodes[conn[l]]);
+                let nodes = local.map(|l| conn[l]);
+                let x0: [[f64; 3]; 9] = nodes.map(|n| self.mesh.nodes[n]);
                 let x: [[f64; 3]; 9] = std::array::from_fn(|a| {
-                    let n = conn[local[a]];
+                    let n = nodes[a];
                     [
                         x0[a][0] + u[3 * n],
                         x0[a][1] + u[3 * n + 1],
                         x0[a][2] + u[3 * n + 2],
                     ]
                 });
-                let (_, f, _) = match &self.barrier {
+                if let Some(k) = kf.as_deref_mut() {
+                    k.iter_mut().for_each(|v| *v = 0.0);
+                }
+                let (_, force, _) = match &self.barrier {
                     Some(b) => contact::plane_face_with(
                         |g| b.eval(g),
                         p,
@@ -427,14 +437,29 @@ impl FeModel {
                         &x,
                         &[0.0; 9],
                         &mut rf,
-                        None,
+                        kf.as_deref_mut(),
                     ),
-                    None => contact::plane_face(p, &x0, &x, &load_shifts(shift), &mut rf, None),
+                    None => contact::plane_face(
+                        p,
+                        &x0,
+                        &x,
+                        &load_shifts(shift),
+                        &mut rf,
+                        kf.as_deref_mut(),
+                    ),
                 };
-                force += f;
+                f(nodes, force, kf.as_deref());
             }
         }
-        force
+    }
+
+    /// The normal force of rigid plane `plane` on the body at the displacement `u` (all
+    /// dofs), with the contact law and gap shifts the assembly uses: the plane's entry of
+    /// [`AssemblyInfo::plane_forces`] from its contact faces alone (no other term assembled).
+    pub fn plane_force(&self, u: &[f64], plane: usize) -> f64 {
+        let mut total = 0.0;
+        self.visit_plane_faces(u, plane, None, |_, force, _| total += force);
+        total
     }
 
     /// The derivative of the residual (all dofs, added into `out`) with respect to the height
@@ -448,48 +473,17 @@ impl FeModel {
     /// plate's motion per unit parameter, about 10 mm for `density`), which with the
     /// stiffened law (`ψ''' ∝ factor²`) outgrew the derivative itself.
     pub fn plane_height_derivative(&self, u: &[f64], plane: usize, out: &mut [f64]) {
-        let mut rf = [0.0; 27];
         let mut kf = [0.0; 729];
-        for (e, faces) in self.contact_faces.iter().enumerate() {
-            let conn = &self.mesh.elements[e];
-            for ((pi, local), shift) in faces.iter().zip(&self.plane_shifts[e]) {
-                if *pi != plane {
-                    continue;
-                }
-                let p = &self.planes[*pi];
-                let x0: [[f64; 3]; 9] = local.map(|l| self.mesh.nodes[conn[l]]);
-                let x: [[f64; 3]; 9] = std::array::from_fn(|a| {
-                    let n = conn[local[a]];
-                    [
-                        x0[a][0] + u[3 * n],
-                        x0[a][1] + u[3 * n + 1],
-                        x0[a][2] + u[3 * n + 2],
-                    ]
-                });
-                kf.iter_mut().for_each(|v| *v = 0.0);
-                match &self.barrier {
-                    Some(b) => contact::plane_face_with(
-                        |g| b.eval(g),
-                        p,
-                        &x0,
-                        &x,
-                        &[0.0; 9],
-                        &mut rf,
-                        Some(&mut kf),
-                    ),
-                    None => {
-                        contact::plane_face(p, &x0, &x, &load_shifts(shift), &mut rf, Some(&mut kf))
-                    }
-                };
-                for a in 0..9 {
-                    for c in 0..3 {
-                        let row = 3 * a + c;
-                        let d: f64 = (0..9).map(|b| kf[row * 27 + 3 * b + 1]).sum();
-                        out[3 * conn[local[a]] + c] -= d;
-                    }
+        self.visit_plane_faces(u, plane, Some(&mut kf), |nodes, _, k| {
+            let k = k.expect("the tangent was asked for");
+            for (a, &n) in nodes.iter().enumerate() {
+                for c in 0..3 {
+                    let row = 3 * a + c;
+                    let d: f64 = (0..9).map(|b| k[row * 27 + 3 * b + 1]).sum();
+                    out[3 * n + c] -= d;
                 }
             }
-        }
+        });
     }
 
     /// Calls `f(ε, δ, g, c)` for every contact quadrature point (plane faces by element, then
