@@ -907,6 +907,30 @@ mod tests {
         assert!(n.untestable.iter().any(|u| u.effect == "plate_offset"));
     }
 
+    #[test]
+    fn a_second_effect_is_reported_beside_the_named_one() {
+        let sens = sweep(1);
+        let planted = [(Effect::WallBias, 0.12), (Effect::Density, 0.25)];
+        let n = name(&cells(&sens, &planted, 2), &sens, &NameSettings::default()).unwrap();
+        let (first, second) = (&n.candidates[0], &n.candidates[1]);
+        let names = [first.effect.as_str(), second.effect.as_str()];
+        assert!(
+            names.contains(&"wall_bias") && names.contains(&"density"),
+            "{:#?}",
+            n.candidates[..3].to_vec()
+        );
+        assert!(second.significant && second.plausible, "{second:#?}");
+        assert!(
+            n.verdict.starts_with(&format!("{} explains", first.effect))
+                && n.verdict.contains(&format!(
+                    "also significant at a plausible size, explaining less: {} (",
+                    second.effect
+                )),
+            "{}",
+            n.verdict
+        );
+    }
+
     /// A random model-error direction over `cells` (unit of each output).
     fn direction(cells: &[Cell], seed: u64) -> ErrorDirection {
         let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
