@@ -40,6 +40,7 @@ pub mod identify;
 pub mod objective;
 pub mod optimise;
 pub mod params;
+pub mod refine;
 pub mod study;
 pub mod synthetic;
 pub mod twin;

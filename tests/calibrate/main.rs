@@ -5,6 +5,7 @@
 mod calibrate;
 mod diagnose;
 mod mesh_error;
+mod refine;
 mod refit;
 mod twin;
 

@@ -10,6 +10,7 @@ use surrogate::calibrate::fit::describe_exclusions;
 use surrogate::calibrate::identify::IdentifySettings;
 use surrogate::calibrate::objective::Exclusion;
 use surrogate::calibrate::optimise::MultistartSettings;
+use surrogate::calibrate::refine::{refine, RefineEvent, RefineSettings, TrainingSet};
 use surrogate::calibrate::verify::{verify_fe, FeVerification};
 use surrogate::calibrate::{
     calibrate, Calibration, CalibrationSettings, OgdenSet, Recordings, Selection, Weights,
@@ -69,6 +70,19 @@ pub struct CalibrateArgs {
     /// Cache of the FE ramps (default: `<out>/fe_<mesh>_ramps`); a rerun resumes from it.
     #[arg(long)]
     pub fe_cache: Option<PathBuf>,
+    /// Adaptive refinement: up to this many rounds of FE at the calibrated set (every recorded
+    /// design, on the training set's mesh), each added to the training set where surrogate and FE
+    /// disagree, the surrogate retrained and the material refitted (0: off). Needs a model
+    /// trained on one snapshot set (`--training`). FE cases are cached in `<out>/refine/`.
+    #[arg(long, default_value_t = 0)]
+    pub refine: usize,
+    /// The refined model's training snapshots (default: the source the model records, relative
+    /// to the working directory); its plan is read from `<stem>.plan.json` beside it.
+    #[arg(long)]
+    pub training: Option<PathBuf>,
+    /// FE cases run in parallel by the refinement (default: one per core).
+    #[arg(long)]
+    pub threads: Option<usize>,
     /// Output directory (report.json, configurations.csv, summary.md, SVG plots).
     #[arg(long, default_value = "calibration")]
     pub out: PathBuf,
@@ -137,6 +151,15 @@ pub fn run(a: CalibrateArgs) -> Result<()> {
         "none" => None,
         m => Some(m.parse::<MeshLevel>().map_err(anyhow::Error::msg)?),
     };
+    if a.refine > 0 {
+        anyhow::ensure!(
+            mesh.is_none(),
+            "--verify-fe {} with --refine {}: the refinement verifies on its training set's mesh; leave --verify-fe out",
+            a.verify_fe,
+            a.refine
+        );
+        return run_refine(&a, &model, &rec, s);
+    }
     let cal = calibrate(&model, &rec, &s, &|stage| eprintln!("{stage}"))?;
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let fe = match mesh {
@@ -152,6 +175,85 @@ pub fn run(a: CalibrateArgs) -> Result<()> {
     };
     let written = write_outputs(&a.out, &cal, fe.as_ref())?;
     print!("{}", summary_text(&cal, fe.as_ref()));
+    for p in written {
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+/// `--refine`: the rounds, then the usual outputs for the last calibration with its FE check,
+/// and `refinement.md`, `refinement.json`, `refinement.svg`.
+fn run_refine(
+    a: &CalibrateArgs,
+    model: &Surrogate,
+    rec: &Recordings,
+    calibration: CalibrationSettings,
+) -> Result<()> {
+    let training = match &a.training {
+        Some(csv) => TrainingSet::read(csv, &surrogate::snapshots::merge::sidecar_path(csv))?,
+        None => TrainingSet::of_model(model, Path::new("."))?,
+    };
+    let settings = RefineSettings {
+        max_rounds: a.refine,
+        calibration,
+        threads: a.threads,
+        ..RefineSettings::default()
+    };
+    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
+    let dir = a.out.join("refine");
+    eprintln!(
+        "adaptive refinement: up to {} rounds on the {} mesh of {} (FE cached in {}; a rerun resumes)",
+        a.refine,
+        training.plan.settings.mesh.level.name(),
+        training.snapshots.source,
+        dir.display()
+    );
+    let bar = ProgressBar::hidden();
+    bar.set_style(ProgressStyle::with_template(
+        "{spinner} round {msg} FE cases [{bar:30}] {pos}/{len}, {elapsed_precise}, eta {eta}",
+    )?);
+    let runner = surrogate::snapshots::fe_runner::fe_runner;
+    let r = refine(model, &training, rec, &settings, &runner, &dir, &|ev| {
+        match ev {
+            RefineEvent::Stage(s) => bar.suspend(|| eprintln!("{s}")),
+            RefineEvent::Fe { round, progress } => {
+                if progress.done == 0 {
+                    bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+                    bar.reset();
+                }
+                bar.set_message(round.to_string());
+                bar.set_length(progress.total as u64);
+                bar.set_position(progress.done as u64);
+                if progress.done == progress.total {
+                    bar.finish_and_clear();
+                }
+            }
+            RefineEvent::Round(r) => bar.suspend(|| {
+                eprintln!(
+                    "round {}: FE mean BE {:.2} mm; surrogate − FE max |Δ| {:.2}, {:.2} mm, {:.3} N; {} configurations beyond 2σ",
+                    r.round,
+                    r.verification.summary.mean_be_mm,
+                    r.verification.max_abs_sur_fe[0],
+                    r.verification.max_abs_sur_fe[1],
+                    r.verification.max_abs_sur_fe[2],
+                    r.verification.disagreements
+                )
+            }),
+        }
+    })?;
+    let mut written = write_outputs(&a.out, &r.last, Some(r.final_verification()))?;
+    let md = r.summary_markdown();
+    let p = a.out.join("refinement.md");
+    write_file(&p, md.as_bytes())?;
+    written.push(p);
+    let p = a.out.join("refinement.json");
+    write_file(&p, serde_json::to_string_pretty(&r)?.as_bytes())?;
+    written.push(p);
+    let p = a.out.join("refinement.svg");
+    crate::calibrate_plots::refinement(&r, &p)?;
+    written.push(p);
+    print!("{}", summary_text(&r.last, Some(r.final_verification())));
+    print!("\n{md}");
     for p in written {
         println!("wrote {}", p.display());
     }

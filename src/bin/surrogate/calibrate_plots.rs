@@ -5,6 +5,7 @@ use std::path::{Path, PathBuf};
 use anyhow::Result;
 use plotters::prelude::*;
 use surrogate::calibrate::objective::Output;
+use surrogate::calibrate::refine::Refinement;
 use surrogate::calibrate::verify::FeVerification;
 use surrogate::calibrate::Calibration;
 
@@ -391,6 +392,97 @@ fn profiles(cal: &Calibration, path: &Path) -> Result<()> {
             .background_style(WHITE)
             .border_style(BLACK)
             .draw()?;
+    }
+    root.present()?;
+    Ok(())
+}
+
+/// The refinement's rounds: `(FE − surrogate)/σ` of tip Uz, tip Uy and force per configuration,
+/// one colour per round, with the ±2σ band that decides a disagreement.
+pub fn refinement(r: &Refinement, path: &Path) -> Result<()> {
+    let mut sets: Vec<(String, &FeVerification)> = r
+        .rounds
+        .iter()
+        .map(|x| {
+            (
+                format!("round {} ({} training cases)", x.round, x.model_cases),
+                &x.verification,
+            )
+        })
+        .collect();
+    if let Some(c) = &r.final_check {
+        sets.push((
+            format!("retrained ({} cases), same set", r.last_model_cases),
+            c,
+        ));
+    }
+    let z = |v: &FeVerification| -> Vec<[f64; 3]> {
+        v.rows
+            .iter()
+            .map(|row| {
+                let fe = [row.fe.uz_sim_mm, row.fe.uy_sim_mm, row.fe.force_sim_n];
+                let su = [row.uz_sur_mm, row.uy_sur_mm, row.force_sur_n];
+                std::array::from_fn(|k| (fe[k] - su[k]) / row.sur_std[k])
+            })
+            .collect()
+    };
+    let all: Vec<f64> = sets
+        .iter()
+        .flat_map(|(_, v)| z(v).into_iter().flatten())
+        .filter(|x| x.is_finite())
+        .chain([-2.5, 2.5])
+        .collect();
+    let (y0, y1) = axis_range(all);
+    let n = sets.first().map_or(1, |(_, v)| v.rows.len()).max(1);
+    let root = SVGBackend::new(path, (1000, 900)).into_drawing_area();
+    root.fill(&WHITE)?;
+    let panels = root.split_evenly((3, 1));
+    let names = ["tip Uz", "tip Uy", "blocked force"];
+    for (k, area) in panels.iter().enumerate() {
+        let mut ch = ChartBuilder::on(area)
+            .caption(
+                format!(
+                    "{}: (FE − surrogate) / surrogate σ at each round's calibrated set",
+                    names[k]
+                ),
+                ("sans-serif", 15),
+            )
+            .margin(10)
+            .x_label_area_size(35)
+            .y_label_area_size(50)
+            .build_cartesian_2d(-0.5..(n as f64 - 0.5), y0..y1)?;
+        ch.configure_mesh()
+            .x_desc("configuration (N, then T, then P)")
+            .y_desc("(FE − surrogate) / σ")
+            .draw()?;
+        for b in [-2.0, 2.0] {
+            ch.draw_series(LineSeries::new(
+                [(-0.5, b), (n as f64 - 0.5, b)],
+                BLACK.stroke_width(1),
+            ))?;
+        }
+        for (i, (label, v)) in sets.iter().enumerate() {
+            let c = colour(i);
+            let pts: Vec<(f64, f64)> = z(v)
+                .iter()
+                .enumerate()
+                .map(|(j, q)| (j as f64 + 0.1 * i as f64, q[k]))
+                .filter(|p| p.1.is_finite())
+                .collect();
+            let s = ch.draw_series(pts.iter().map(|&p| Circle::new(p, 3, c.filled())))?;
+            if k == 0 {
+                let l = label.clone();
+                s.label(l)
+                    .legend(move |(x, y)| Circle::new((x + 8, y), 3, c.filled()));
+            }
+        }
+        if k == 0 {
+            ch.configure_series_labels()
+                .position(SeriesLabelPosition::UpperRight)
+                .background_style(WHITE)
+                .border_style(BLACK)
+                .draw()?;
+        }
     }
     root.present()?;
     Ok(())

@@ -1,0 +1,531 @@
+//! Adaptive refinement: where the surrogate and the FE model disagree at the calibrated set,
+//! the FE runs at that set become training cases, the surrogate is retrained and the material
+//! refitted, round after round, until the two agree.
+//!
+//! ```text
+//!   model M₀, its training set S₀ ──► calibrate ──► θ₀
+//!   round k = 1, 2, …:
+//!     FE ramps of every recorded design at θ_{k−1} (the training plan's settings and pressures,
+//!     run as a snapshot plan: cached per case, resumable) ──► compare with M_{k−1} at θ_{k−1}
+//!       agree (every |FE − surrogate| ≤ 2σ of the surrogate)      ──► stop: Agree
+//!       k = max_rounds                                             ──► stop: MaxRounds
+//!     S_k = S_{k−1} + the round's cases ──► retrain M_k ──► calibrate ──► θ_k
+//!       θ_k = θ_{k−1} (as reported, 4 significant digits)          ──► stop: OptimumUnchanged
+//! ```
+//!
+//! The FE cases of a round are a [`Plan`] with the training plan's settings (mesh, pressures,
+//! solver, contact, gravity, bulk ratio), so they are training cases of the same fidelity as the
+//! rest; their ids are `10000·k + j` (the recorded designs in (N, T) order), apart from the
+//! training plan's. Each round's directory is a snapshot shard directory
+//! ([`crate::snapshots::run::run_shard`]): an interrupted refinement resumes where it stopped.
+//!
+//! Only a surrogate trained on one snapshot set can be refined this way; a multi-fidelity model
+//! (a low-fidelity set corrected by a high-fidelity one) would need the FE on both meshes in every
+//! round, which [`refine`] refuses with an error naming the model.
+
+use std::path::{Path, PathBuf};
+
+use serde::{Deserialize, Serialize};
+
+use super::baseline::BaselineRow;
+use super::experiments::bending_error;
+use super::fit::{calibrate, Calibration, CalibrationSettings};
+use super::objective::Recordings;
+use super::params::OgdenSet;
+use super::verify::{compare_fe, FeVerification};
+use super::CalibrateError;
+use crate::fe::mesh::MeshOptions;
+use crate::rom::data::SnapshotSet;
+use crate::rom::{train, Surrogate, TrainConfig, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
+use crate::snapshots::merge::merge;
+use crate::snapshots::plan::{Plan, PlannedCase};
+use crate::snapshots::run::{run_shard, CaseRunner, Progress, RunOptions};
+use crate::snapshots::shard::Shard;
+
+/// Settings of [`refine`].
+#[derive(Clone, Debug)]
+pub struct RefineSettings {
+    /// Largest number of FE rounds (each: every recorded design at the current optimum).
+    pub max_rounds: usize,
+    /// How every retrained surrogate is trained (the shipped models: 5 folds, 3 fold
+    /// assignments).
+    pub train: TrainConfig,
+    /// The calibration of every round.
+    pub calibration: CalibrationSettings,
+    /// FE cases run in parallel (`None`: one per core).
+    pub threads: Option<usize>,
+}
+
+impl Default for RefineSettings {
+    fn default() -> Self {
+        RefineSettings {
+            max_rounds: 3,
+            train: TrainConfig {
+                repeats: 3,
+                ..TrainConfig::default()
+            },
+            calibration: CalibrationSettings::default(),
+            threads: None,
+        }
+    }
+}
+
+/// Why the refinement stopped.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub enum RefineStop {
+    /// Surrogate and FE agree at the last calibrated set (within 2σ of the surrogate).
+    Agree,
+    /// The retrained surrogate's optimum is the set the last round verified.
+    OptimumUnchanged,
+    /// `max_rounds` FE rounds were run and the two still disagree somewhere.
+    MaxRounds,
+}
+
+impl RefineStop {
+    /// In words.
+    pub fn describe(self) -> &'static str {
+        match self {
+            RefineStop::Agree => "surrogate and FE agree at the calibrated set",
+            RefineStop::OptimumUnchanged => {
+                "the retrained surrogate's optimum is the set already verified by FE"
+            }
+            RefineStop::MaxRounds => "the largest number of rounds was reached",
+        }
+    }
+}
+
+/// One round: the FE at the set calibrated through the round's surrogate.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct RefineRound {
+    /// Round (1-based).
+    pub round: usize,
+    /// Training cases of the surrogate that calibrated this round's set.
+    pub model_cases: usize,
+    /// Its checksum and provenance.
+    pub model: String,
+    /// The set, as reported and run (4 significant digits).
+    pub set: OgdenSet,
+    /// `χ²` of the calibration through the surrogate.
+    pub chi2: f64,
+    /// Bounds of the training domain active at the set.
+    pub active_bounds: Vec<String>,
+    /// Mean BE (mm) through the surrogate.
+    pub surrogate_mean_be_mm: f64,
+    /// The FE at the set against the experiments and the surrogate.
+    pub verification: FeVerification,
+    /// FE cases run now (the rest were read from the round's directory).
+    pub fe_cases_run: usize,
+    /// FE wall time of the round (s).
+    pub fe_wall_time_s: f64,
+    /// The round's FE directory.
+    pub fe_dir: PathBuf,
+}
+
+/// The whole refinement.
+#[derive(Clone, Debug, Serialize, Deserialize)]
+pub struct Refinement {
+    /// Every round, in order.
+    pub rounds: Vec<RefineRound>,
+    /// Why it stopped.
+    pub stop: RefineStop,
+    /// The calibration through the last surrogate (the one retrained on every round's cases
+    /// when the stop is [`RefineStop::OptimumUnchanged`]).
+    pub last: Calibration,
+    /// Training cases of the last surrogate.
+    pub last_model_cases: usize,
+    /// With [`RefineStop::OptimumUnchanged`]: the last round's FE against the last surrogate
+    /// (retrained on it), at the same set.
+    pub final_check: Option<FeVerification>,
+    /// Where the retrained surrogates are (`model_round_k.json`, trained after round k).
+    pub models: Vec<PathBuf>,
+}
+
+impl Refinement {
+    /// The round whose FE verifies the final set: the last one.
+    pub fn final_round(&self) -> &RefineRound {
+        self.rounds
+            .last()
+            .expect("a refinement has at least one round")
+    }
+}
+
+/// The training set of a surrogate and the plan it was run with (for the FE settings of the
+/// refinement cases).
+#[derive(Clone, Debug)]
+pub struct TrainingSet {
+    /// The snapshots (validated rows).
+    pub snapshots: SnapshotSet,
+    /// The plan of those snapshots (its settings are the refinement's).
+    pub plan: Plan,
+}
+
+impl TrainingSet {
+    /// Reads a snapshot CSV and its plan.
+    ///
+    /// # Errors
+    /// I/O, format and validation errors of either file.
+    pub fn read(snapshots: &Path, plan: &Path) -> Result<Self, CalibrateError> {
+        let snapshots = SnapshotSet::read(snapshots)?;
+        let plan = Plan::read(plan)
+            .map_err(|e| CalibrateError::input("training plan", plan.display(), &e.to_string()))?;
+        Ok(TrainingSet { snapshots, plan })
+    }
+
+    /// The set a model was trained on: its recorded source (relative to `root`) and the
+    /// plan beside it (`<stem>.plan.json`).
+    ///
+    /// # Errors
+    /// A multi-fidelity model, a source that is not a file, or the errors of [`Self::read`].
+    pub fn of_model(model: &Surrogate, root: &Path) -> Result<Self, CalibrateError> {
+        if model.training.correction.is_some() {
+            return Err(CalibrateError::input(
+                "model",
+                &model.training.source,
+                "a surrogate trained on one snapshot set: refining a multi-fidelity model needs \
+                 FE runs on both of its meshes in every round (refine its low-fidelity model, or \
+                 give the training set and plan explicitly)",
+            ));
+        }
+        let csv = root.join(&model.training.source);
+        if !csv.is_file() {
+            return Err(CalibrateError::input(
+                "model training source",
+                csv.display(),
+                "the snapshot CSV the model was trained on (give it explicitly)",
+            ));
+        }
+        let plan = crate::snapshots::merge::sidecar_path(&csv);
+        Self::read(&csv, &plan)
+    }
+}
+
+/// The FE cases of round `round` (1-based): every design of `designs` at `set`, with the
+/// training plan's settings.
+///
+/// # Errors
+/// A set or design the plan's validation refuses.
+pub fn round_plan(
+    training: &Plan,
+    designs: &[(usize, f64)],
+    set: &OgdenSet,
+    round: usize,
+) -> Result<Plan, CalibrateError> {
+    let cases = designs
+        .iter()
+        .enumerate()
+        .map(|(j, &(n, t))| PlannedCase {
+            id: 10_000 * round + j,
+            n_bellows: n,
+            wall_thickness_mm: t,
+            mu1_mpa: set.mu1_mpa,
+            alpha1: set.alpha1,
+            mu2_mpa: set.mu2_mpa,
+            alpha2: set.alpha2,
+            effects: Default::default(),
+        })
+        .collect();
+    let plan = Plan {
+        sampler: format!(
+            "refinement round {round}: the recorded designs at the set calibrated through the surrogate"
+        ),
+        cases,
+        ..training.clone()
+    };
+    plan.validate().map_err(|e| {
+        CalibrateError::input("refinement plan", format!("round {round}"), &e.to_string())
+    })?;
+    Ok(plan)
+}
+
+/// The recorded designs `(N, T)`, sorted by N then T.
+pub fn recorded_designs(rec: &Recordings) -> Vec<(usize, f64)> {
+    let mut d: Vec<(usize, f64)> = rec
+        .bending
+        .iter()
+        .map(|r| (r.n_bellows, r.wall_thickness_mm))
+        .chain(rec.force.iter().map(|r| (r.n_bellows, r.wall_thickness_mm)))
+        .collect();
+    d.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    d.dedup();
+    d
+}
+
+/// Baseline rows (FE against the experiments) from snapshot rows of designs at one set: one per
+/// bending record; a configuration the FE did not reach gets `NaN` values and a message.
+pub fn baseline_rows(fe: &SnapshotSet, rec: &Recordings) -> Vec<BaselineRow> {
+    let at = |n: usize, t: f64, p: f64| {
+        fe.rows.iter().find(|r| {
+            r.inputs.n_bellows as usize == n
+                && (r.inputs.wall_thickness_mm - t).abs() < 1e-9
+                && (r.pressure_bar - p).abs() < 1e-9
+        })
+    };
+    rec.bending
+        .iter()
+        .map(|b| {
+            let row = at(b.n_bellows, b.wall_thickness_mm, b.pressure_bar);
+            let v = |q: usize| row.map_or(f64::NAN, |r| r.values[q]);
+            let (uz, uy) = (v(Q_TIP_UZ), v(Q_TIP_UY));
+            let f_exp = rec
+                .force
+                .iter()
+                .find(|f| {
+                    f.n_bellows == b.n_bellows
+                        && f.wall_thickness_mm == b.wall_thickness_mm
+                        && f.pressure_bar == b.pressure_bar
+                })
+                .map_or(f64::NAN, |f| f.force_n);
+            BaselineRow {
+                n_bellows: b.n_bellows,
+                wall_thickness_mm: b.wall_thickness_mm,
+                pressure_bar: b.pressure_bar,
+                uz_exp_mm: b.tip_uz_mm,
+                uz_sim_mm: uz,
+                uy_exp_mm: b.tip_uy_mm,
+                uy_sim_mm: uy,
+                angle_exp_deg: b.angle_deg,
+                angle_sim_deg: v(Q_ANGLE),
+                be_mm: bending_error(b.tip_uz_mm, b.tip_uy_mm, uz, uy),
+                force_exp_n: f_exp,
+                force_sim_n: v(Q_FORCE),
+                force_error_n: v(Q_FORCE) - f_exp,
+                error: if row.is_some() {
+                    String::new()
+                } else {
+                    "the FE case did not converge to this pressure".into()
+                },
+            }
+        })
+        .collect()
+}
+
+/// What [`refine`] reports as it goes.
+#[derive(Clone, Debug)]
+pub enum RefineEvent<'a> {
+    /// A stage, in words.
+    Stage(String),
+    /// FE progress of a round.
+    Fe {
+        /// Round.
+        round: usize,
+        /// Cases done of total in this run.
+        progress: Progress,
+    },
+    /// A round finished.
+    Round(&'a RefineRound),
+}
+
+/// Runs the refinement (see the [module docs](self)) from `model`, trained on `training`, for
+/// `rec`. The FE cases are run by `runner` (the FE: [`crate::snapshots::fe_runner::fe_runner`])
+/// into `dir/round_k/`; the retrained surrogates are written to `dir/model_round_k.json`.
+///
+/// # Errors
+/// Bad recordings or settings, a refinement case the plan refuses, FE directory errors
+/// (another plan in a round directory), training errors.
+pub fn refine(
+    model: &Surrogate,
+    training: &TrainingSet,
+    rec: &Recordings,
+    settings: &RefineSettings,
+    runner: &dyn CaseRunner,
+    dir: &Path,
+    progress: &(dyn Fn(RefineEvent) + Sync),
+) -> Result<Refinement, CalibrateError> {
+    if settings.max_rounds == 0 {
+        return Err(CalibrateError::input(
+            "max_rounds",
+            0,
+            "at least 1 FE round",
+        ));
+    }
+    let stage = |s: String| progress(RefineEvent::Stage(s));
+    let mesh: MeshOptions = training.plan.settings.mesh;
+    let designs = recorded_designs(rec);
+    let mut current = model.clone();
+    let mut cal = calibrate(&current, rec, &settings.calibration, &|s| stage(s.into()))?;
+    let mut rows = training.snapshots.rows.clone();
+    let mut skipped = training.snapshots.skipped_unconverged;
+    let mut rounds: Vec<RefineRound> = Vec::new();
+    let mut models = Vec::new();
+    let base_source = training.snapshots.source.clone();
+    let mut last_rows: Vec<BaselineRow>;
+    let mut final_check = None;
+    let stop = loop {
+        let k = rounds.len() + 1;
+        let set = cal.best.rounded(4);
+        let plan = round_plan(&training.plan, &designs, &set, k)?;
+        let fe_dir = dir.join(format!("round_{k}"));
+        stage(format!(
+            "round {k}: FE of {} designs at {} in {}",
+            designs.len(),
+            set.spec(),
+            fe_dir.display()
+        ));
+        let opts = RunOptions {
+            shard: Shard::ALL,
+            threads: settings.threads,
+            retry_failed: false,
+        };
+        let summary = run_shard(&plan, &fe_dir, &opts, runner, &|p| {
+            progress(RefineEvent::Fe {
+                round: k,
+                progress: p,
+            })
+        })
+        .map_err(|e| CalibrateError::input("refinement FE", fe_dir.display(), &e.to_string()))?;
+        let csv = dir.join(format!("round_{k}.csv"));
+        merge(std::slice::from_ref(&fe_dir), &csv)
+            .map_err(|e| CalibrateError::input("refinement FE", csv.display(), &e.to_string()))?;
+        let fe = SnapshotSet::read(&csv)?;
+        let verification = compare_fe(&current, &set, mesh, baseline_rows(&fe, rec))?;
+        let round = RefineRound {
+            round: k,
+            model_cases: current.training.n_cases,
+            model: cal.model.clone(),
+            set,
+            chi2: cal.chi2,
+            active_bounds: cal.active_bounds.clone(),
+            surrogate_mean_be_mm: cal.calibrated.mean_be_mm,
+            verification,
+            fe_cases_run: summary.done,
+            fe_wall_time_s: summary.wall_time_s,
+            fe_dir,
+        };
+        progress(RefineEvent::Round(&round));
+        let agree = round.verification.disagreements == 0;
+        last_rows = round
+            .verification
+            .rows
+            .iter()
+            .map(|r| r.fe.clone())
+            .collect();
+        rounds.push(round);
+        skipped += fe.skipped_unconverged;
+        rows.extend(fe.rows);
+        if agree {
+            break RefineStop::Agree;
+        }
+        if k == settings.max_rounds {
+            break RefineStop::MaxRounds;
+        }
+        let source = format!("{base_source} + refinement rounds 1..{k}");
+        let set_k = SnapshotSet {
+            source: source.clone(),
+            rows: rows.clone(),
+            skipped_unconverged: skipped,
+        };
+        let cases = set_k.into_cases()?;
+        stage(format!(
+            "retraining on {} cases ({} from refinement)",
+            cases.cases.len(),
+            designs.len() * k
+        ));
+        let report = train(&cases, &source, skipped, &settings.train, &|_, _| {})?;
+        current = report.surrogate;
+        let path = dir.join(format!("model_round_{k}.json"));
+        current.save(&path)?;
+        models.push(path);
+        cal = calibrate(&current, rec, &settings.calibration, &|s| stage(s.into()))?;
+        let last = rounds.last().expect("a round was pushed");
+        if cal.best.rounded(4) == last.set {
+            final_check = Some(compare_fe(&current, &last.set, mesh, last_rows)?);
+            break RefineStop::OptimumUnchanged;
+        }
+    };
+    Ok(Refinement {
+        rounds,
+        stop,
+        last_model_cases: current.training.n_cases,
+        last: cal,
+        final_check,
+        models,
+    })
+}
+
+impl Refinement {
+    /// The FE check of the final set: [`Self::final_check`] when the optimum stopped moving
+    /// (the last round's FE against the surrogate retrained on it), else the last round's.
+    pub fn final_verification(&self) -> &FeVerification {
+        self.final_check
+            .as_ref()
+            .unwrap_or(&self.final_round().verification)
+    }
+
+    /// A Markdown account of the rounds.
+    pub fn summary_markdown(&self) -> String {
+        use std::fmt::Write;
+        let mut s = String::new();
+        let _ = writeln!(s, "## Adaptive refinement\n");
+        let _ = writeln!(
+            s,
+            "Each round runs the FE model for every recorded design at the set calibrated through \
+             the round's surrogate, compares the two (a disagreement: |FE − surrogate| > 2σ of \
+             the surrogate in tip Uz, tip Uy or force), and where they disagree adds the FE cases \
+             to the training set, retrains and refits.\n"
+        );
+        let _ = writeln!(
+            s,
+            "| round | training cases | μ1 (MPa) | α1 | μ2 (MPa) | α2 | χ² | mean BE surrogate (mm) | mean BE FE (mm) | mean F error FE (N) | mean \\|Δ\\| Uz, Uy (mm), F (N) | max \\|Δ\\| Uz, Uy (mm), F (N) | configurations in disagreement | FE cases run, wall time |"
+        );
+        let _ = writeln!(
+            s,
+            "|---|---|---|---|---|---|---|---|---|---|---|---|---|---|"
+        );
+        for r in &self.rounds {
+            let v = &r.verification;
+            let _ = writeln!(
+                s,
+                "| {} | {} | {} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:+.3} | {:.2}, {:.2}, {:.3} | {:.2}, {:.2}, {:.3} | {} of {} | {}, {:.0} s |",
+                r.round,
+                r.model_cases,
+                r.set.mu1_mpa,
+                r.set.alpha1,
+                r.set.mu2_mpa,
+                r.set.alpha2,
+                r.chi2,
+                r.surrogate_mean_be_mm,
+                v.summary.mean_be_mm,
+                v.summary.mean_force_error_n,
+                v.mean_abs_sur_fe[0],
+                v.mean_abs_sur_fe[1],
+                v.mean_abs_sur_fe[2],
+                v.max_abs_sur_fe[0],
+                v.max_abs_sur_fe[1],
+                v.max_abs_sur_fe[2],
+                v.disagreements,
+                v.rows.len(),
+                r.fe_cases_run,
+                r.fe_wall_time_s
+            );
+        }
+        let _ = writeln!(s, "\nStopped: {}.", self.stop.describe());
+        if let Some(c) = &self.final_check {
+            let _ = writeln!(
+                s,
+                "\nThe surrogate retrained on every round ({} cases) against the last round's FE at \
+                 the same set: mean |Δ| {:.2}, {:.2} mm, {:.3} N; max {:.2}, {:.2} mm, {:.3} N; {} of \
+                 {} configurations beyond 2σ.",
+                self.last_model_cases,
+                c.mean_abs_sur_fe[0],
+                c.mean_abs_sur_fe[1],
+                c.mean_abs_sur_fe[2],
+                c.max_abs_sur_fe[0],
+                c.max_abs_sur_fe[1],
+                c.max_abs_sur_fe[2],
+                c.disagreements,
+                c.rows.len()
+            );
+        }
+        let f = self.final_verification();
+        let _ = writeln!(
+            s,
+            "\nFinal set {}: FE mean BE {:.2} mm (median {:.2}), mean force error {:+.3} N over {} configurations.",
+            self.final_round().set.spec(),
+            f.summary.mean_be_mm,
+            f.summary.median_be_mm,
+            f.summary.mean_force_error_n,
+            f.rows.len()
+        );
+        s
+    }
+}

@@ -1,0 +1,237 @@
+//! Adaptive refinement (`surrogate::calibrate::refine`): the rounds' mechanics on the analytic
+//! stand-in for the FE (a surrogate trained on few cases, refined until it agrees with the
+//! "FE" at the calibrated set), and the committed FE round of the coarse model reproduced by
+//! the code that plans it.
+
+use std::path::PathBuf;
+
+use surrogate::calibrate::optimise::MultistartSettings;
+use surrogate::calibrate::refine::{refine, round_plan, RefineSettings, RefineStop, TrainingSet};
+use surrogate::calibrate::synthetic::{noisy_recordings, TrueOutputs};
+use surrogate::calibrate::{CalibrationSettings, OgdenSet, Recordings, Weights};
+use surrogate::rom::data::SnapshotSet;
+use surrogate::rom::{train, TrainConfig};
+use surrogate::snapshots::merge::merge;
+use surrogate::snapshots::plan::{Plan, PlanSettings, PlannedCase};
+use surrogate::snapshots::run::{run_shard, AnalyticRunner, CaseOutcome, CaseRunner, RunOptions};
+use surrogate::snapshots::shard::Shard;
+
+fn scratch(name: &str) -> PathBuf {
+    let d = std::env::temp_dir().join(format!("surrogate_refine_{name}_{}", std::process::id()));
+    let _ = std::fs::remove_dir_all(&d);
+    std::fs::create_dir_all(&d).unwrap();
+    d
+}
+
+fn quick_calibration() -> CalibrationSettings {
+    let mut c = CalibrationSettings {
+        weights: Weights::parse("tip").unwrap(),
+        multistart: MultistartSettings {
+            starts: 6,
+            ..MultistartSettings::default()
+        },
+        ..CalibrationSettings::default()
+    };
+    c.identify.profile_points = 4;
+    c
+}
+
+const TRUTH: OgdenSet = OgdenSet {
+    mu1_mpa: 5.0 / 3.0,
+    alpha1: 3.0,
+    mu2_mpa: -5.0,
+    alpha2: -1.0,
+};
+
+/// The "FE" of the refinement: the analytic runner with the displacements 4 % larger than in
+/// the training cases, as a finer model would give (the surrogate's own error bars cannot know
+/// it, so the first round disagrees).
+fn fe(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
+    let mut o = AnalyticRunner::default().run(case, settings);
+    for s in &mut o.steps {
+        s.tip_uz_mm *= 1.04;
+        s.tip_uy_mm *= 1.04;
+        for m in &mut s.markers {
+            m[0] *= 1.04;
+            m[1] *= 1.04;
+        }
+        s.angle_deg = (-s.tip_uy_mm).atan2(92.0 - s.tip_uz_mm).to_degrees();
+    }
+    o
+}
+
+/// The "FE"'s outputs at 1, 2, 3 bar of the 9 recorded designs at `TRUTH`.
+fn truth(plan: &Plan) -> Vec<TrueOutputs> {
+    let mut out = Vec::new();
+    for n in [9, 11, 13] {
+        for t in [1.6, 2.0, 2.4] {
+            let case = PlannedCase {
+                id: 0,
+                n_bellows: n,
+                wall_thickness_mm: t,
+                mu1_mpa: TRUTH.mu1_mpa,
+                alpha1: TRUTH.alpha1,
+                mu2_mpa: TRUTH.mu2_mpa,
+                alpha2: TRUTH.alpha2,
+                effects: Default::default(),
+            };
+            let o = fe(&case, &plan.settings);
+            for (s, &p) in o.steps.iter().zip(&plan.settings.pressures_bar) {
+                if [1.0, 2.0, 3.0].contains(&p) {
+                    out.push(TrueOutputs {
+                        n_bellows: n,
+                        wall_thickness_mm: t,
+                        pressure_bar: p,
+                        tip_uz_mm: s.tip_uz_mm,
+                        tip_uy_mm: s.tip_uy_mm,
+                        angle_deg: s.angle_deg,
+                        force_n: s.force_n,
+                    });
+                }
+            }
+        }
+    }
+    out
+}
+
+#[test]
+fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
+    let dir = scratch("analytic");
+    let shipped = Plan::read(std::path::Path::new(
+        "training_data/snapshots_coarse.plan.json",
+    ))
+    .unwrap();
+    let plan = Plan::generate(30, 11, shipped.ranges.clone(), shipped.settings.clone()).unwrap();
+    let base = dir.join("base");
+    let opts = RunOptions {
+        shard: Shard::ALL,
+        threads: None,
+        retry_failed: false,
+    };
+    run_shard(&plan, &base, &opts, &AnalyticRunner::default(), &|_| {}).unwrap();
+    let csv = dir.join("base.csv");
+    merge(std::slice::from_ref(&base), &csv).unwrap();
+    let snapshots = SnapshotSet::read(&csv).unwrap();
+    let cfg = TrainConfig {
+        folds: 4,
+        ..TrainConfig::default()
+    };
+    let cases = snapshots.clone().into_cases().unwrap();
+    let m0 = train(&cases, "analytic", 0, &cfg, &|_, _| {})
+        .unwrap()
+        .surrogate;
+    let rec: Recordings = noisy_recordings(
+        &truth(&plan),
+        &Recordings::shipped().unwrap(),
+        5,
+        "analytic",
+    )
+    .unwrap();
+    let settings = RefineSettings {
+        max_rounds: 4,
+        train: cfg,
+        calibration: quick_calibration(),
+        threads: None,
+    };
+    let training = TrainingSet { snapshots, plan };
+    let r = refine(
+        &m0,
+        &training,
+        &rec,
+        &settings,
+        &fe,
+        &dir.join("refine"),
+        &|_| {},
+    )
+    .unwrap();
+    println!("{}", r.summary_markdown());
+    let first = &r.rounds[0];
+    assert!(
+        first.verification.disagreements > 0,
+        "the surrogate of the training cases disagrees with the finer \"FE\" at its optimum"
+    );
+    assert_ne!(r.stop, RefineStop::MaxRounds, "{}", r.summary_markdown());
+    for (k, round) in r.rounds.iter().enumerate() {
+        assert_eq!(round.model_cases, 30 + 9 * k, "round {}", round.round);
+        assert_eq!(round.verification.rows.len(), 27);
+        assert_eq!(round.verification.incomplete, 0);
+    }
+    // the round's FE values are the runner's at the round's set
+    let row = &first.verification.rows[0];
+    let case = PlannedCase {
+        id: 10_000,
+        n_bellows: row.config.n_bellows as usize,
+        wall_thickness_mm: row.config.wall_thickness_mm,
+        mu1_mpa: first.set.mu1_mpa,
+        alpha1: first.set.alpha1,
+        mu2_mpa: first.set.mu2_mpa,
+        alpha2: first.set.alpha2,
+        effects: Default::default(),
+    };
+    let o = fe(&case, &training.plan.settings);
+    let k = training
+        .plan
+        .settings
+        .pressures_bar
+        .iter()
+        .position(|&p| p == row.config.pressure_bar)
+        .unwrap();
+    assert!((o.steps[k].tip_uz_mm - row.fe.uz_sim_mm).abs() < 1e-9);
+    assert!((o.steps[k].force_n - row.fe.force_sim_n).abs() < 1e-9);
+    // the surrogate ends closer to the FE than it started
+    let last = r.final_verification();
+    assert!(
+        last.max_abs_sur_fe[0] < 0.5 * first.verification.max_abs_sur_fe[0]
+            && last.max_abs_sur_fe[1] < 0.5 * first.verification.max_abs_sur_fe[1],
+        "{}",
+        r.summary_markdown()
+    );
+    // a rerun reads every round back (no case is run again) and reports the same
+    let again = refine(
+        &m0,
+        &training,
+        &rec,
+        &settings,
+        &fe,
+        &dir.join("refine"),
+        &|_| {},
+    )
+    .unwrap();
+    assert!(again.rounds.iter().all(|x| x.fe_cases_run == 0));
+    assert_eq!(again.final_round().set, r.final_round().set);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn a_multi_fidelity_model_is_refused_with_its_name() {
+    let m = surrogate::rom::Surrogate::load(std::path::Path::new("models/actuator.json")).unwrap();
+    let e = TrainingSet::of_model(&m, std::path::Path::new("."))
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("multi-fidelity") && e.contains("snapshots_standard.csv"),
+        "{e}"
+    );
+}
+
+#[test]
+fn the_committed_coarse_round_is_the_plan_the_code_makes() {
+    let dir = std::path::Path::new("fe_reference/calibration/refine_coarse/refine/round_1");
+    let committed = std::fs::read_to_string(dir.join("plan_hash")).unwrap();
+    let training = Plan::read(std::path::Path::new(
+        "training_data/snapshots_coarse.plan.json",
+    ))
+    .unwrap();
+    let designs: Vec<(usize, f64)> = [9, 11, 13]
+        .iter()
+        .flat_map(|&n| [1.6, 2.0, 2.4].map(|t| (n, t)))
+        .collect();
+    let set = OgdenSet {
+        mu1_mpa: 1.761,
+        alpha1: 5.996,
+        mu2_mpa: -0.2839,
+        alpha2: -1.996,
+    };
+    let plan = round_plan(&training, &designs, &set, 1).unwrap();
+    assert_eq!(plan.hash(), committed.trim());
+}
