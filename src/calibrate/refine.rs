@@ -19,9 +19,11 @@
 //! training plan's. Each round's directory is a snapshot shard directory
 //! ([`crate::snapshots::run::run_shard`]): an interrupted refinement resumes where it stopped.
 //!
-//! Only a surrogate trained on one snapshot set can be refined this way; a multi-fidelity model
-//! (a low-fidelity set corrected by a high-fidelity one) would need the FE on both meshes in every
-//! round, which [`refine`] refuses with an error naming the model.
+//! A multi-fidelity model (a low-fidelity set corrected by a high-fidelity one,
+//! [`crate::rom::fidelity`]) is refined on both of its meshes: every round runs each design on
+//! the low-fidelity mesh (`round_k_low/`) and on the high-fidelity one (`round_k/`, the FE the
+//! surrogate is compared with), the pair is added to both sets under one id, and the correction
+//! and the surrogate are retrained as `surrogate train --high-fidelity` does.
 
 use std::path::{Path, PathBuf};
 
@@ -149,14 +151,27 @@ impl Refinement {
     }
 }
 
+/// The high-fidelity part of a multi-fidelity training set.
+#[derive(Clone, Debug)]
+pub struct HighFidelity {
+    /// The high-fidelity snapshots (their cases pair with low-fidelity ones by id).
+    pub snapshots: SnapshotSet,
+    /// Their plan (the high-fidelity FE settings of the refinement).
+    pub plan: Plan,
+    /// Whether the low fidelity is warped in pressure before the correction.
+    pub pressure_warp: bool,
+}
+
 /// The training set of a surrogate and the plan it was run with (for the FE settings of the
 /// refinement cases).
 #[derive(Clone, Debug)]
 pub struct TrainingSet {
-    /// The snapshots (validated rows).
+    /// The snapshots (validated rows); the low fidelity of a multi-fidelity set.
     pub snapshots: SnapshotSet,
     /// The plan of those snapshots (its settings are the refinement's).
     pub plan: Plan,
+    /// The high-fidelity set that corrects them, if any.
+    pub high: Option<HighFidelity>,
 }
 
 impl TrainingSet {
@@ -168,34 +183,71 @@ impl TrainingSet {
         let snapshots = SnapshotSet::read(snapshots)?;
         let plan = Plan::read(plan)
             .map_err(|e| CalibrateError::input("training plan", plan.display(), &e.to_string()))?;
-        Ok(TrainingSet { snapshots, plan })
+        Ok(TrainingSet {
+            snapshots,
+            plan,
+            high: None,
+        })
     }
 
-    /// The set a model was trained on: its recorded source (relative to `root`) and the
-    /// plan beside it (`<stem>.plan.json`).
+    /// Adds the high-fidelity set `snapshots` (its plan beside it) that corrects this one.
     ///
     /// # Errors
-    /// A multi-fidelity model, a source that is not a file, or the errors of [`Self::read`].
+    /// As [`Self::read`].
+    pub fn with_high_fidelity(
+        self,
+        snapshots: &Path,
+        pressure_warp: bool,
+    ) -> Result<Self, CalibrateError> {
+        let h = Self::read(snapshots, &crate::snapshots::merge::sidecar_path(snapshots))?;
+        Ok(TrainingSet {
+            high: Some(HighFidelity {
+                snapshots: h.snapshots,
+                plan: h.plan,
+                pressure_warp,
+            }),
+            ..self
+        })
+    }
+
+    /// The set a model was trained on: its recorded sources (relative to `root`; for a
+    /// multi-fidelity model the low- and the high-fidelity set) and the plans beside them
+    /// (`<stem>.plan.json`).
+    ///
+    /// # Errors
+    /// A source that is not a file, or the errors of [`Self::read`].
     pub fn of_model(model: &Surrogate, root: &Path) -> Result<Self, CalibrateError> {
-        if model.training.correction.is_some() {
-            return Err(CalibrateError::input(
-                "model",
-                &model.training.source,
-                "a surrogate trained on one snapshot set: refining a multi-fidelity model needs \
-                 FE runs on both of its meshes in every round (refine its low-fidelity model, or \
-                 give the training set and plan explicitly)",
-            ));
+        let file = |name: &str, what: &str| {
+            let csv = root.join(name);
+            if csv.is_file() {
+                Ok(csv)
+            } else {
+                Err(CalibrateError::input(
+                    what,
+                    csv.display(),
+                    "the snapshot CSV the model was trained on (give it explicitly)",
+                ))
+            }
+        };
+        match &model.training.correction {
+            None => {
+                let csv = file(&model.training.source, "model training source")?;
+                Self::read(&csv, &crate::snapshots::merge::sidecar_path(&csv))
+            }
+            Some(c) => {
+                // "<low> warped in pressure corrected by <high>" (`rom::fidelity`)
+                let src = &model.training.source;
+                let low = src
+                    .split(" warped in pressure")
+                    .next()
+                    .and_then(|l| l.split(" corrected by ").next())
+                    .unwrap_or(src);
+                let csv = file(low, "model training source (low fidelity)")?;
+                let high = file(&c.high_source, "model training source (high fidelity)")?;
+                Self::read(&csv, &crate::snapshots::merge::sidecar_path(&csv))?
+                    .with_high_fidelity(&high, c.pressure_warp.is_some())
+            }
         }
-        let csv = root.join(&model.training.source);
-        if !csv.is_file() {
-            return Err(CalibrateError::input(
-                "model training source",
-                csv.display(),
-                "the snapshot CSV the model was trained on (give it explicitly)",
-            ));
-        }
-        let plan = crate::snapshots::merge::sidecar_path(&csv);
-        Self::read(&csv, &plan)
     }
 }
 
@@ -299,6 +351,52 @@ pub fn baseline_rows(fe: &SnapshotSet, rec: &Recordings) -> Vec<BaselineRow> {
         .collect()
 }
 
+/// The surrogate retrained on the training set and the refinement cases of rounds `1..=k`
+/// (`low` and `high`: every row so far), as the original was trained.
+fn retrain(
+    training: &TrainingSet,
+    low: &[crate::rom::data::SnapshotRow],
+    high: &[crate::rom::data::SnapshotRow],
+    skipped: usize,
+    k: usize,
+    settings: &RefineSettings,
+    stage: &dyn Fn(String),
+) -> Result<Surrogate, CalibrateError> {
+    let low_set = SnapshotSet {
+        source: format!("{} + refinement rounds 1..{k}", training.snapshots.source),
+        rows: low.to_vec(),
+        skipped_unconverged: skipped,
+    };
+    let (set, correction) = match &training.high {
+        Some(h) => {
+            let high_set = SnapshotSet {
+                source: format!("{} + refinement rounds 1..{k}", h.snapshots.source),
+                rows: high.to_vec(),
+                skipped_unconverged: h.snapshots.skipped_unconverged,
+            };
+            let (set, info) = crate::rom::fidelity::correct_low_fidelity(
+                &low_set,
+                &high_set,
+                &settings.train,
+                h.pressure_warp,
+                false,
+                &|line| stage(line.to_string()),
+            )?;
+            (set, Some(info))
+        }
+        None => (low_set, None),
+    };
+    let source = set.source.clone();
+    let cases = set.into_cases()?;
+    stage(format!(
+        "retraining on {} cases (with the refinement rounds 1..{k})",
+        cases.cases.len()
+    ));
+    let mut report = train(&cases, &source, skipped, &settings.train, &|_, _| {})?;
+    report.surrogate.training.correction = correction;
+    Ok(report.surrogate)
+}
+
 /// What [`refine`] reports as it goes.
 #[derive(Clone, Debug)]
 pub enum RefineEvent<'a> {
@@ -339,44 +437,72 @@ pub fn refine(
         ));
     }
     let stage = |s: String| progress(RefineEvent::Stage(s));
-    let mesh: MeshOptions = training.plan.settings.mesh;
+    // the FE the surrogate is compared with: the high fidelity of a multi-fidelity set
+    let (verify_plan, high) = match &training.high {
+        Some(h) => (&h.plan, true),
+        None => (&training.plan, false),
+    };
+    let mesh: MeshOptions = verify_plan.settings.mesh;
     let designs = recorded_designs(rec);
     let mut current = model.clone();
     let mut cal = calibrate(&current, rec, &settings.calibration, &|s| stage(s.into()))?;
-    let mut rows = training.snapshots.rows.clone();
+    let mut low_rows = training.snapshots.rows.clone();
+    let mut high_rows = training
+        .high
+        .as_ref()
+        .map(|h| h.snapshots.rows.clone())
+        .unwrap_or_default();
     let mut skipped = training.snapshots.skipped_unconverged;
     let mut rounds: Vec<RefineRound> = Vec::new();
     let mut models = Vec::new();
-    let base_source = training.snapshots.source.clone();
     let mut last_rows: Vec<BaselineRow>;
     let mut final_check = None;
-    let stop = loop {
-        let k = rounds.len() + 1;
-        let set = cal.best.rounded(4);
-        let plan = round_plan(&training.plan, &designs, &set, k)?;
-        let fe_dir = dir.join(format!("round_{k}"));
-        stage(format!(
-            "round {k}: FE of {} designs at {} in {}",
-            designs.len(),
-            set.spec(),
-            fe_dir.display()
-        ));
-        let opts = RunOptions {
-            shard: Shard::ALL,
-            threads: settings.threads,
-            retry_failed: false,
-        };
-        let summary = run_shard(&plan, &fe_dir, &opts, runner, &|p| {
+    let opts = RunOptions {
+        shard: Shard::ALL,
+        threads: settings.threads,
+        retry_failed: false,
+    };
+    let run_round = |plan: &Plan, fe_dir: &Path, csv: &Path, k: usize| {
+        let summary = run_shard(plan, fe_dir, &opts, runner, &|p| {
             progress(RefineEvent::Fe {
                 round: k,
                 progress: p,
             })
         })
         .map_err(|e| CalibrateError::input("refinement FE", fe_dir.display(), &e.to_string()))?;
-        let csv = dir.join(format!("round_{k}.csv"));
-        merge(std::slice::from_ref(&fe_dir), &csv)
+        merge(&[fe_dir.to_path_buf()], csv)
             .map_err(|e| CalibrateError::input("refinement FE", csv.display(), &e.to_string()))?;
-        let fe = SnapshotSet::read(&csv)?;
+        Ok::<_, CalibrateError>((summary, SnapshotSet::read(csv)?))
+    };
+    let stop = loop {
+        let k = rounds.len() + 1;
+        let set = cal.best.rounded(4);
+        let fe_dir = dir.join(format!("round_{k}"));
+        let (mut cases_run, mut wall) = (0, 0.0);
+        if high {
+            let low_dir = dir.join(format!("round_{k}_low"));
+            stage(format!(
+                "round {k}: low-fidelity FE of {} designs at {} in {}",
+                designs.len(),
+                set.spec(),
+                low_dir.display()
+            ));
+            let plan = round_plan(&training.plan, &designs, &set, k)?;
+            let (summary, fe) =
+                run_round(&plan, &low_dir, &dir.join(format!("round_{k}_low.csv")), k)?;
+            cases_run += summary.done;
+            wall += summary.wall_time_s;
+            skipped += fe.skipped_unconverged;
+            low_rows.extend(fe.rows);
+        }
+        stage(format!(
+            "round {k}: FE of {} designs at {} in {}",
+            designs.len(),
+            set.spec(),
+            fe_dir.display()
+        ));
+        let plan = round_plan(verify_plan, &designs, &set, k)?;
+        let (summary, fe) = run_round(&plan, &fe_dir, &dir.join(format!("round_{k}.csv")), k)?;
         let verification = compare_fe(&current, &set, mesh, baseline_rows(&fe, rec))?;
         let round = RefineRound {
             round: k,
@@ -387,8 +513,8 @@ pub fn refine(
             active_bounds: cal.active_bounds.clone(),
             surrogate_mean_be_mm: cal.calibrated.mean_be_mm,
             verification,
-            fe_cases_run: summary.done,
-            fe_wall_time_s: summary.wall_time_s,
+            fe_cases_run: cases_run + summary.done,
+            fe_wall_time_s: wall + summary.wall_time_s,
             fe_dir,
         };
         progress(RefineEvent::Round(&round));
@@ -400,28 +526,21 @@ pub fn refine(
             .map(|r| r.fe.clone())
             .collect();
         rounds.push(round);
-        skipped += fe.skipped_unconverged;
-        rows.extend(fe.rows);
+        if high {
+            high_rows.extend(fe.rows);
+        } else {
+            skipped += fe.skipped_unconverged;
+            low_rows.extend(fe.rows);
+        }
         if agree {
             break RefineStop::Agree;
         }
         if k == settings.max_rounds {
             break RefineStop::MaxRounds;
         }
-        let source = format!("{base_source} + refinement rounds 1..{k}");
-        let set_k = SnapshotSet {
-            source: source.clone(),
-            rows: rows.clone(),
-            skipped_unconverged: skipped,
-        };
-        let cases = set_k.into_cases()?;
-        stage(format!(
-            "retraining on {} cases ({} from refinement)",
-            cases.cases.len(),
-            designs.len() * k
-        ));
-        let report = train(&cases, &source, skipped, &settings.train, &|_, _| {})?;
-        current = report.surrogate;
+        current = retrain(
+            training, &low_rows, &high_rows, skipped, k, settings, &stage,
+        )?;
         let path = dir.join(format!("model_round_{k}.json"));
         current.save(&path)?;
         models.push(path);
@@ -475,7 +594,7 @@ impl Refinement {
             let v = &r.verification;
             let _ = writeln!(
                 s,
-                "| {} | {} | {} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:+.3} | {:.2}, {:.2}, {:.3} | {:.2}, {:.2}, {:.3} | {} of {} | {}, {:.0} s |",
+                "| {} | {} | {} | {} | {} | {} | {:.1} | {:.2} | {:.2} | {:+.3} | {:.2}, {:.2}, {:.3} | {:.2}, {:.2}, {:.3} | {} of {} | {} |",
                 r.round,
                 r.model_cases,
                 r.set.mu1_mpa,
@@ -494,8 +613,11 @@ impl Refinement {
                 v.max_abs_sur_fe[2],
                 v.disagreements,
                 v.rows.len(),
-                r.fe_cases_run,
-                r.fe_wall_time_s
+                if r.fe_cases_run == 0 {
+                    "none (read back)".to_string()
+                } else {
+                    format!("{}, {:.0} s", r.fe_cases_run, r.fe_wall_time_s)
+                }
             );
         }
         let _ = writeln!(s, "\nStopped: {}.", self.stop.describe());

@@ -6,7 +6,9 @@
 use std::path::PathBuf;
 
 use surrogate::calibrate::optimise::MultistartSettings;
-use surrogate::calibrate::refine::{refine, round_plan, RefineSettings, RefineStop, TrainingSet};
+use surrogate::calibrate::refine::{
+    refine, round_plan, HighFidelity, RefineSettings, RefineStop, TrainingSet,
+};
 use surrogate::calibrate::synthetic::{noisy_recordings, TrueOutputs};
 use surrogate::calibrate::{CalibrationSettings, OgdenSet, Recordings, Weights};
 use surrogate::rom::data::SnapshotSet;
@@ -133,7 +135,11 @@ fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
         calibration: quick_calibration(),
         threads: None,
     };
-    let training = TrainingSet { snapshots, plan };
+    let training = TrainingSet {
+        snapshots,
+        plan,
+        high: None,
+    };
     let r = refine(
         &m0,
         &training,
@@ -203,15 +209,151 @@ fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
 }
 
 #[test]
-fn a_multi_fidelity_model_is_refused_with_its_name() {
+fn the_shipped_multi_fidelity_model_names_both_of_its_sets() {
     let m = surrogate::rom::Surrogate::load(std::path::Path::new("models/actuator.json")).unwrap();
-    let e = TrainingSet::of_model(&m, std::path::Path::new("."))
-        .unwrap_err()
-        .to_string();
-    assert!(
-        e.contains("multi-fidelity") && e.contains("snapshots_standard.csv"),
-        "{e}"
-    );
+    let t = TrainingSet::of_model(&m, std::path::Path::new(".")).unwrap();
+    assert_eq!(t.snapshots.source, "./training_data/snapshots_coarse.csv");
+    assert_eq!(t.plan.settings.mesh.level.name(), "coarse");
+    let h = t
+        .high
+        .expect("the shipped model is corrected by the standard set");
+    assert_eq!(h.snapshots.source, "./training_data/snapshots_standard.csv");
+    assert_eq!(h.plan.settings.mesh.level.name(), "standard");
+    assert!(h.pressure_warp);
+}
+
+/// The "FE" of both fidelities: the analytic runner on the low-fidelity mesh, 4 % larger
+/// displacements on the high-fidelity one.
+fn two_meshes(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
+    if settings.mesh.level.name() == "standard" {
+        fe(case, settings)
+    } else {
+        AnalyticRunner::default().run(case, settings)
+    }
+}
+
+#[test]
+fn a_multi_fidelity_model_is_refined_on_both_meshes() {
+    let dir = scratch("two_meshes");
+    let shipped = Plan::read(std::path::Path::new(
+        "training_data/snapshots_coarse.plan.json",
+    ))
+    .unwrap();
+    let low_plan =
+        Plan::generate(30, 11, shipped.ranges.clone(), shipped.settings.clone()).unwrap();
+    let high_plan = low_plan
+        .subset(
+            6,
+            surrogate::fe::mesh::MeshOptions::level(surrogate::fe::mesh::MeshLevel::Standard),
+        )
+        .unwrap();
+    let opts = RunOptions {
+        shard: Shard::ALL,
+        threads: None,
+        retry_failed: false,
+    };
+    let mut sets = Vec::new();
+    for (name, plan) in [("low", &low_plan), ("high", &high_plan)] {
+        let d = dir.join(name);
+        run_shard(plan, &d, &opts, &two_meshes, &|_| {}).unwrap();
+        let csv = dir.join(format!("{name}.csv"));
+        merge(std::slice::from_ref(&d), &csv).unwrap();
+        sets.push(SnapshotSet::read(&csv).unwrap());
+    }
+    let cfg = TrainConfig {
+        folds: 4,
+        ..TrainConfig::default()
+    };
+    let (corrected, info) = surrogate::rom::fidelity::correct_low_fidelity(
+        &sets[0],
+        &sets[1],
+        &cfg,
+        false,
+        false,
+        &|_| {},
+    )
+    .unwrap();
+    let mut m0 = train(
+        &corrected.into_cases().unwrap(),
+        "two meshes",
+        0,
+        &cfg,
+        &|_, _| {},
+    )
+    .unwrap()
+    .surrogate;
+    m0.training.correction = Some(info);
+    let rec: Recordings = noisy_recordings(
+        &truth(&low_plan),
+        &Recordings::shipped().unwrap(),
+        5,
+        "analytic",
+    )
+    .unwrap();
+    let training = TrainingSet {
+        snapshots: sets[0].clone(),
+        plan: low_plan,
+        high: Some(HighFidelity {
+            snapshots: sets[1].clone(),
+            plan: high_plan,
+            pressure_warp: false,
+        }),
+    };
+    let settings = RefineSettings {
+        max_rounds: 3,
+        train: cfg,
+        calibration: quick_calibration(),
+        threads: None,
+    };
+    let r = refine(
+        &m0,
+        &training,
+        &rec,
+        &settings,
+        &two_meshes,
+        &dir.join("refine"),
+        &|_| {},
+    )
+    .unwrap();
+    println!("{}", r.summary_markdown());
+    // both meshes ran every round, the high-fidelity one is what the surrogate is checked against
+    for round in &r.rounds {
+        let k = round.round;
+        for sub in [format!("round_{k}"), format!("round_{k}_low")] {
+            let n = std::fs::read_dir(dir.join("refine").join(&sub).join("cases"))
+                .unwrap()
+                .count();
+            assert_eq!(n, 9, "{sub}");
+        }
+        assert_eq!(round.model_cases, 30 + 9 * (k - 1));
+        assert_eq!(round.fe_cases_run, 18);
+        let row = &round.verification.rows[4];
+        let case = PlannedCase {
+            id: 0,
+            n_bellows: row.config.n_bellows as usize,
+            wall_thickness_mm: row.config.wall_thickness_mm,
+            mu1_mpa: round.set.mu1_mpa,
+            alpha1: round.set.alpha1,
+            mu2_mpa: round.set.mu2_mpa,
+            alpha2: round.set.alpha2,
+            effects: Default::default(),
+        };
+        let o = fe(&case, &training.high.as_ref().unwrap().plan.settings);
+        let p = training
+            .plan
+            .settings
+            .pressures_bar
+            .iter()
+            .position(|&p| p == row.config.pressure_bar);
+        assert!((o.steps[p.unwrap()].tip_uy_mm - row.fe.uy_sim_mm).abs() < 1e-9);
+    }
+    assert_ne!(r.stop, RefineStop::MaxRounds, "{}", r.summary_markdown());
+    if r.rounds.len() > 1 {
+        let m = surrogate::rom::Surrogate::load(&r.models[0]).unwrap();
+        let c = m.training.correction.expect("a corrected model");
+        assert_eq!(c.matched_cases, 6 + 9);
+    }
+    let _ = std::fs::remove_dir_all(&dir);
 }
 
 #[test]
