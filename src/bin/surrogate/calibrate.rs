@@ -201,11 +201,23 @@ fn run_refine(
     };
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let dir = a.out.join("refine");
+    let meshes = match &training.high {
+        Some(h) => format!(
+            "the {} mesh of {} and the {} mesh of {}",
+            training.plan.settings.mesh.level.name(),
+            training.snapshots.source,
+            h.plan.settings.mesh.level.name(),
+            h.snapshots.source
+        ),
+        None => format!(
+            "the {} mesh of {}",
+            training.plan.settings.mesh.level.name(),
+            training.snapshots.source
+        ),
+    };
     eprintln!(
-        "adaptive refinement: up to {} rounds on the {} mesh of {} (FE cached in {}; a rerun resumes)",
+        "adaptive refinement: up to {} rounds on {meshes} (FE cached in {}; a rerun resumes)",
         a.refine,
-        training.plan.settings.mesh.level.name(),
-        training.snapshots.source,
         dir.display()
     );
     let bar = ProgressBar::hidden();

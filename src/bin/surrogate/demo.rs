@@ -19,6 +19,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use plotters::prelude::*;
 use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::experiments::{bending_error, shipped_bending, BendingRecord};
+use surrogate::calibrate::refine::Refinement;
 use surrogate::calibrate::verify::{cached_verification, fe_material, FeVerification};
 use surrogate::calibrate::{calibrate, Calibration, CalibrationSettings, Recordings};
 use surrogate::diagnose::locate::{locate, LocateSettings};
@@ -37,6 +38,18 @@ use crate::args::DemoArgs;
 use crate::calibrate::{summary_text, write_outputs};
 
 /// The committed FE sensitivities of the effect library at the calibrated material.
+/// The committed adaptive refinements (`calibrate --refine`): what, where.
+const REFINEMENTS: [(&str, &str); 2] = [
+    (
+        "the coarse-mesh surrogate against coarse FE",
+        "fe_reference/calibration/refine_coarse",
+    ),
+    (
+        "the shipped surrogate against standard-mesh FE",
+        "fe_reference/calibration/refine_standard",
+    ),
+];
+
 const SENSITIVITIES: &str =
     "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json";
 
@@ -74,6 +87,9 @@ pub fn run(a: DemoArgs) -> Result<()> {
     print!("{}", summary_text(&cal, None));
     println!("\n# 3. FE verification of the calibrated set (standard mesh, committed)\n");
     committed_fe(&fe, &cal, &a.fe_cache);
+    for (what, dir) in REFINEMENTS {
+        committed_refinement(what, Path::new(dir));
+    }
     // 4. one design live
     println!(
         "\n# 4. One design re-verified live: N = {}, T = {} mm, {} mesh\n",
@@ -230,6 +246,45 @@ fn committed_fe(v: &FeVerification, cal: &Calibration, cache: &Path) {
         "Surrogate vs FE: mean |Δ| tip Uz {:.2} mm, tip Uy {:.2} mm, force {:.3} N; {} configurations outside the surrogate's 2σ band.",
         v.mean_abs_sur_fe[0], v.mean_abs_sur_fe[1], v.mean_abs_sur_fe[2], v.disagreements
     );
+}
+
+/// The rounds of a committed refinement (`DIR/refinement.json`), or how far it got.
+fn committed_refinement(what: &str, dir: &Path) {
+    let Ok(text) = std::fs::read_to_string(dir.join("refinement.json")) else {
+        println!(
+            "\nAdaptive refinement of {what}: not finished (`surrogate calibrate --refine 3 --out {}`; its FE cases are committed in {}/refine/ as they finish, and a rerun resumes).",
+            dir.display(),
+            dir.display()
+        );
+        return;
+    };
+    let Ok(r) = serde_json::from_str::<Refinement>(&text) else {
+        println!(
+            "\n{}/refinement.json is not a refinement report of this version",
+            dir.display()
+        );
+        return;
+    };
+    println!(
+        "\nAdaptive refinement of {what} ({}/refinement.md):",
+        dir.display()
+    );
+    for x in &r.rounds {
+        let v = &x.verification;
+        println!(
+            "- round {}: {} training cases, set {}; FE mean BE {:.2} mm; surrogate − FE max |Δ| {:.2} / {:.2} mm, {:.3} N; {} of {} configurations beyond 2σ",
+            x.round,
+            x.model_cases,
+            x.set.spec(),
+            v.summary.mean_be_mm,
+            v.max_abs_sur_fe[0],
+            v.max_abs_sur_fe[1],
+            v.max_abs_sur_fe[2],
+            v.disagreements,
+            v.rows.len()
+        );
+    }
+    println!("Stopped: {}.", r.stop.describe());
 }
 
 /// The live FE run of one design, beside the experiments and the surrogate of its mesh.
