@@ -168,3 +168,97 @@ fn bad_recordings_name_file_line_and_column() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+    std::fs::create_dir_all(to).unwrap();
+    for e in std::fs::read_dir(from).unwrap() {
+        let p = e.unwrap().path();
+        let dest = to.join(p.file_name().unwrap());
+        if p.is_dir() {
+            copy_dir(&p, &dest);
+        } else {
+            std::fs::copy(&p, &dest).unwrap();
+        }
+    }
+}
+
+#[test]
+fn refinement_reads_its_committed_round_and_reports_it() {
+    let dir = tmp("refine");
+    // the committed FE of round 1: the command finds it and runs no FE
+    copy_dir(
+        std::path::Path::new(concat!(
+            env!("CARGO_MANIFEST_DIR"),
+            "/fe_reference/calibration/refine_coarse/refine/round_1"
+        )),
+        &dir.join("refine/round_1"),
+    );
+    let out = dir.to_str().unwrap();
+    let (ok, stdout, stderr) = run(&[
+        "calibrate",
+        "--model",
+        "models/actuator_coarse.json",
+        "--refine",
+        "3",
+        "--out",
+        out,
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("Stopped: surrogate and FE agree"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("| 1 | 300 | 1.761 | 5.996 | -0.2839 | -1.996 |"),
+        "{stdout}"
+    );
+    assert!(stdout.contains("none (read back)"), "{stdout}");
+    for f in [
+        "refinement.md",
+        "refinement.json",
+        "refinement.svg",
+        "summary.md",
+    ] {
+        assert!(dir.join(f).is_file(), "{f}");
+    }
+    let svg = std::fs::read_to_string(dir.join("refinement.svg")).unwrap();
+    assert!(svg.contains("round 1 (300 training cases)"));
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+#[test]
+fn refinement_refuses_a_second_mesh_and_a_missing_training_set() {
+    let dir = tmp("refine_bad");
+    let out = dir.to_str().unwrap();
+    let (ok, _, stderr) = run(&[
+        "calibrate",
+        "--refine",
+        "2",
+        "--verify-fe",
+        "standard",
+        "--out",
+        out,
+    ]);
+    assert!(!ok);
+    assert!(
+        stderr.contains("--verify-fe standard with --refine 2"),
+        "{stderr}"
+    );
+    let (ok, _, stderr) = run(&[
+        "calibrate",
+        "--model",
+        "models/actuator_coarse.json",
+        "--refine",
+        "1",
+        "--training",
+        "no/such/snapshots.csv",
+        "--out",
+        out,
+    ]);
+    assert!(!ok);
+    assert!(stderr.contains("no/such/snapshots.csv"), "{stderr}");
+    let (ok, _, stderr) = run(&["calibrate", "--refine", "1", "--threads", "0", "--out", out]);
+    assert!(!ok);
+    assert!(stderr.contains("threads"), "{stderr}");
+    let _ = std::fs::remove_dir_all(&dir);
+}

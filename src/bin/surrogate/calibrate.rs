@@ -189,6 +189,10 @@ fn run_refine(
     rec: &Recordings,
     calibration: CalibrationSettings,
 ) -> Result<()> {
+    anyhow::ensure!(
+        a.threads != Some(0),
+        "--threads 0: expected at least 1 FE case at a time"
+    );
     let training = match &a.training {
         Some(csv) => TrainingSet::read(csv, &surrogate::snapshots::merge::sidecar_path(csv))?,
         None => TrainingSet::of_model(model, Path::new("."))?,
