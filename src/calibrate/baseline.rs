@@ -19,7 +19,6 @@
 
 use std::path::{Path, PathBuf};
 
-use rayon::prelude::*;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
@@ -587,9 +586,8 @@ fn sweep(
         .flat_map(|d| [(d, Mode::Bending), (d, Mode::Force)])
         .collect();
     let done = std::sync::atomic::AtomicUsize::new(0);
-    let results: Vec<Result<SweepRamp, BaselineError>> = jobs
-        .par_iter()
-        .map(|&(d, mode)| {
+    let results: Vec<Result<SweepRamp, BaselineError>> =
+        longest_first(&jobs, &cost_order(&jobs), |&(d, mode)| {
             let case = settings.case(
                 d.n_bellows,
                 d.wall_thickness_mm,
@@ -625,9 +623,59 @@ fn sweep(
                 source,
                 sensitivities,
             })
-        })
-        .collect();
+        });
     results.into_iter().collect()
+}
+
+/// The ramps of a sweep in the order their FE is expected to cost, largest first: thin walls
+/// first (their bellows touch earliest and longest), then more bellows, the blocked force
+/// before the bending of a design. Starting the longest ramps first keeps both cores busy to
+/// the end of a sweep instead of leaving one ramp running alone.
+fn cost_order(jobs: &[(&SweepDesign, Mode)]) -> Vec<usize> {
+    let mut order: Vec<usize> = (0..jobs.len()).collect();
+    order.sort_by(|&a, &b| {
+        let (da, ma) = jobs[a];
+        let (db, mb) = jobs[b];
+        da.wall_thickness_mm
+            .total_cmp(&db.wall_thickness_mm)
+            .then(db.n_bellows.cmp(&da.n_bellows))
+            .then((mb == Mode::Force).cmp(&(ma == Mode::Force)))
+            .then(a.cmp(&b))
+    });
+    order
+}
+
+/// `f` of every item on the threads of the current rayon pool, started in the order `order`
+/// (a shared queue: each thread takes the next item when it is free), the results in item
+/// order. Each item's result does not depend on which thread ran it or when.
+fn longest_first<T: Sync, R: Send>(
+    items: &[T],
+    order: &[usize],
+    f: impl Fn(&T) -> R + Sync,
+) -> Vec<R> {
+    use std::sync::atomic::{AtomicUsize, Ordering};
+    use std::sync::Mutex;
+    let next = AtomicUsize::new(0);
+    let slots: Vec<Mutex<Option<R>>> = items.iter().map(|_| Mutex::new(None)).collect();
+    let workers = rayon::current_num_threads().clamp(1, items.len().max(1));
+    rayon::scope(|s| {
+        for _ in 0..workers {
+            s.spawn(|_| loop {
+                let k = next.fetch_add(1, Ordering::SeqCst);
+                let Some(&i) = order.get(k) else { break };
+                let r = f(&items[i]);
+                *slots[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
+            });
+        }
+    });
+    slots
+        .into_iter()
+        .map(|m| {
+            m.into_inner()
+                .unwrap_or_else(|e| e.into_inner())
+                .expect("every item of the queue ran")
+        })
+        .collect()
 }
 
 /// One ramp of a sweep: the steps it reached and why it stopped, with the sensitivities to
@@ -767,6 +815,50 @@ mod tests {
     use super::*;
     use crate::fe::material::DEFAULT_BULK_RATIO;
     use crate::fe::mesh::MeshLevel;
+
+    #[test]
+    fn the_queue_starts_thin_walls_and_forces_first_and_returns_in_item_order() {
+        let designs: Vec<SweepDesign> = [(9, 2.4), (13, 1.6), (11, 2.0), (13, 2.4)]
+            .iter()
+            .map(|&(n, t)| SweepDesign {
+                n_bellows: n,
+                wall_thickness_mm: t,
+                pressures_bar: vec![0.0, 1.0],
+            })
+            .collect();
+        let jobs: Vec<(&SweepDesign, Mode)> = designs
+            .iter()
+            .flat_map(|d| [(d, Mode::Bending), (d, Mode::Force)])
+            .collect();
+        let order = cost_order(&jobs);
+        let first: Vec<(usize, f64, Mode)> = order
+            .iter()
+            .take(3)
+            .map(|&i| (jobs[i].0.n_bellows, jobs[i].0.wall_thickness_mm, jobs[i].1))
+            .collect();
+        assert_eq!(
+            first,
+            vec![
+                (13, 1.6, Mode::Force),
+                (13, 1.6, Mode::Bending),
+                (11, 2.0, Mode::Force)
+            ]
+        );
+        let started = std::sync::Mutex::new(Vec::new());
+        let out = longest_first(&jobs, &order, |&(d, m)| {
+            started
+                .lock()
+                .unwrap()
+                .push((d.n_bellows, m == Mode::Force));
+            (d.n_bellows, d.wall_thickness_mm, m)
+        });
+        let expected: Vec<(usize, f64, Mode)> = jobs
+            .iter()
+            .map(|&(d, m)| (d.n_bellows, d.wall_thickness_mm, m))
+            .collect();
+        assert_eq!(out, expected);
+        assert_eq!(started.into_inner().unwrap().len(), jobs.len());
+    }
 
     fn case(stiffness: f64) -> Case {
         Case {
