@@ -62,21 +62,26 @@ fn fe(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
     o
 }
 
+/// The case of design `(n, t)` at `set`.
+fn case_at(n: usize, t: f64, set: &OgdenSet) -> PlannedCase {
+    PlannedCase {
+        id: 0,
+        n_bellows: n,
+        wall_thickness_mm: t,
+        mu1_mpa: set.mu1_mpa,
+        alpha1: set.alpha1,
+        mu2_mpa: set.mu2_mpa,
+        alpha2: set.alpha2,
+        effects: Default::default(),
+    }
+}
+
 /// The "FE"'s outputs at 1, 2, 3 bar of the 9 recorded designs at `TRUTH`.
 fn truth(plan: &Plan) -> Vec<TrueOutputs> {
     let mut out = Vec::new();
     for n in [9, 11, 13] {
         for t in [1.6, 2.0, 2.4] {
-            let case = PlannedCase {
-                id: 0,
-                n_bellows: n,
-                wall_thickness_mm: t,
-                mu1_mpa: TRUTH.mu1_mpa,
-                alpha1: TRUTH.alpha1,
-                mu2_mpa: TRUTH.mu2_mpa,
-                alpha2: TRUTH.alpha2,
-                effects: Default::default(),
-            };
+            let case = case_at(n, t, &TRUTH);
             let o = fe(&case, &plan.settings);
             for (s, &p) in o.steps.iter().zip(&plan.settings.pressures_bar) {
                 if [1.0, 2.0, 3.0].contains(&p) {
@@ -164,16 +169,11 @@ fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
     }
     // the round's FE values are the runner's at the round's set
     let row = &first.verification.rows[0];
-    let case = PlannedCase {
-        id: 10_000,
-        n_bellows: row.config.n_bellows as usize,
-        wall_thickness_mm: row.config.wall_thickness_mm,
-        mu1_mpa: first.set.mu1_mpa,
-        alpha1: first.set.alpha1,
-        mu2_mpa: first.set.mu2_mpa,
-        alpha2: first.set.alpha2,
-        effects: Default::default(),
-    };
+    let case = case_at(
+        row.config.n_bellows as usize,
+        row.config.wall_thickness_mm,
+        &first.set,
+    );
     let o = fe(&case, &training.plan.settings);
     let k = training
         .plan
@@ -328,16 +328,11 @@ fn a_multi_fidelity_model_is_refined_on_both_meshes() {
         assert_eq!(round.model_cases, 30 + 9 * (k - 1));
         assert_eq!(round.fe_cases_run, 18);
         let row = &round.verification.rows[4];
-        let case = PlannedCase {
-            id: 0,
-            n_bellows: row.config.n_bellows as usize,
-            wall_thickness_mm: row.config.wall_thickness_mm,
-            mu1_mpa: round.set.mu1_mpa,
-            alpha1: round.set.alpha1,
-            mu2_mpa: round.set.mu2_mpa,
-            alpha2: round.set.alpha2,
-            effects: Default::default(),
-        };
+        let case = case_at(
+            row.config.n_bellows as usize,
+            row.config.wall_thickness_mm,
+            &round.set,
+        );
         let o = fe(&case, &training.high.as_ref().unwrap().plan.settings);
         let p = training
             .plan
