@@ -251,6 +251,20 @@ impl TrainingSet {
     }
 }
 
+/// The planned case `id` of design `(n, t)` at the Ogden set `set`, without effects.
+pub fn case_at(id: usize, n: usize, t: f64, set: &OgdenSet) -> PlannedCase {
+    PlannedCase {
+        id,
+        n_bellows: n,
+        wall_thickness_mm: t,
+        mu1_mpa: set.mu1_mpa,
+        alpha1: set.alpha1,
+        mu2_mpa: set.mu2_mpa,
+        alpha2: set.alpha2,
+        effects: Default::default(),
+    }
+}
+
 /// The FE cases of round `round` (1-based): every design of `designs` at `set`, with the
 /// training plan's settings.
 ///
@@ -265,16 +279,7 @@ pub fn round_plan(
     let cases = designs
         .iter()
         .enumerate()
-        .map(|(j, &(n, t))| PlannedCase {
-            id: 10_000 * round + j,
-            n_bellows: n,
-            wall_thickness_mm: t,
-            mu1_mpa: set.mu1_mpa,
-            alpha1: set.alpha1,
-            mu2_mpa: set.mu2_mpa,
-            alpha2: set.alpha2,
-            effects: Default::default(),
-        })
+        .map(|(j, &(n, t))| case_at(10_000 * round + j, n, t, set))
         .collect();
     let plan = Plan {
         sampler: format!(

@@ -64,16 +64,7 @@ fn fe(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
 
 /// The case of design `(n, t)` at `set`.
 fn case_at(n: usize, t: f64, set: &OgdenSet) -> PlannedCase {
-    PlannedCase {
-        id: 0,
-        n_bellows: n,
-        wall_thickness_mm: t,
-        mu1_mpa: set.mu1_mpa,
-        alpha1: set.alpha1,
-        mu2_mpa: set.mu2_mpa,
-        alpha2: set.alpha2,
-        effects: Default::default(),
-    }
+    surrogate::calibrate::refine::case_at(0, n, t, set)
 }
 
 /// The "FE"'s outputs at 1, 2, 3 bar of the 9 recorded designs at `TRUTH`.
