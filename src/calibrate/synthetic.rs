@@ -57,6 +57,29 @@ pub fn noisy_recordings(
     seed: u64,
     source: &str,
 ) -> Result<Recordings, CalibrateError> {
+    recordings_with_noise(truth, noise_from, seed, source, 1.0)
+}
+
+/// Recordings of `truth` without noise, with the standard deviations of the matching rows of
+/// `noise_from` (what a reference model says exactly, in the recordings' format).
+///
+/// # Errors
+/// As [`noisy_recordings`].
+pub fn exact_recordings(
+    truth: &[TrueOutputs],
+    noise_from: &Recordings,
+    source: &str,
+) -> Result<Recordings, CalibrateError> {
+    recordings_with_noise(truth, noise_from, 0, source, 0.0)
+}
+
+fn recordings_with_noise(
+    truth: &[TrueOutputs],
+    noise_from: &Recordings,
+    seed: u64,
+    source: &str,
+    scale: f64,
+) -> Result<Recordings, CalibrateError> {
     let mut rng = Xoshiro256Plus::seed_from_u64(seed);
     let mut bending = Vec::new();
     let mut force = Vec::new();
@@ -82,13 +105,14 @@ pub fn noisy_recordings(
             })?;
         let sa = b.angle_std_deg;
         let st = (FREE_LENGTH_MM - t.tip_uz_mm).hypot(t.tip_uy_mm) * sa.to_radians();
+        let (nt, na) = (scale * st, scale * sa);
         bending.push(BendingRecord {
             n_bellows: t.n_bellows,
             wall_thickness_mm: t.wall_thickness_mm,
             pressure_bar: t.pressure_bar,
-            tip_uz_mm: t.tip_uz_mm + st * normal(&mut rng),
-            tip_uy_mm: t.tip_uy_mm + st * normal(&mut rng),
-            angle_deg: t.angle_deg + sa * normal(&mut rng),
+            tip_uz_mm: t.tip_uz_mm + nt * normal(&mut rng),
+            tip_uy_mm: t.tip_uy_mm + nt * normal(&mut rng),
+            angle_deg: t.angle_deg + na * normal(&mut rng),
             angle_std_deg: sa,
         });
         if t.force_n.is_finite() {
@@ -101,7 +125,7 @@ pub fn noisy_recordings(
                     n_bellows: t.n_bellows,
                     wall_thickness_mm: t.wall_thickness_mm,
                     pressure_bar: t.pressure_bar,
-                    force_n: t.force_n + f.force_std_n * normal(&mut rng),
+                    force_n: t.force_n + scale * f.force_std_n * normal(&mut rng),
                     force_std_n: f.force_std_n,
                 });
             }
@@ -141,6 +165,27 @@ pub fn noisy_markers(
     noise_from: &Recordings,
     seed: u64,
 ) -> Result<Vec<MarkerRecord>, CalibrateError> {
+    markers_with_noise(truth, noise_from, seed, 1.0)
+}
+
+/// Marker recordings of `truth` without noise, the standard deviation column as
+/// [`noisy_markers`] writes it.
+///
+/// # Errors
+/// As [`noisy_markers`].
+pub fn exact_markers(
+    truth: &[TrueMarkers],
+    noise_from: &Recordings,
+) -> Result<Vec<MarkerRecord>, CalibrateError> {
+    markers_with_noise(truth, noise_from, 0, 0.0)
+}
+
+fn markers_with_noise(
+    truth: &[TrueMarkers],
+    noise_from: &Recordings,
+    seed: u64,
+    scale: f64,
+) -> Result<Vec<MarkerRecord>, CalibrateError> {
     let mut rng = Xoshiro256Plus::seed_from_u64(seed);
     rng.long_jump();
     let mut out = Vec::with_capacity(9 * truth.len());
@@ -171,8 +216,8 @@ pub fn noisy_markers(
                 wall_thickness_mm: t.wall_thickness_mm,
                 pressure_bar: t.pressure_bar,
                 marker: k + 1,
-                uz_mm: m[0] + std * normal(&mut rng),
-                uy_mm: m[1] + std * normal(&mut rng),
+                uz_mm: m[0] + scale * std * normal(&mut rng),
+                uy_mm: m[1] + scale * std * normal(&mut rng),
                 std_mm: std,
             });
         }

@@ -49,7 +49,9 @@ use super::experiments::{
     MARKERS_FILE,
 };
 use super::objective::Recordings;
-use super::synthetic::{noisy_markers, noisy_recordings, TrueMarkers, TrueOutputs};
+use super::synthetic::{
+    exact_markers, exact_recordings, noisy_markers, noisy_recordings, TrueMarkers, TrueOutputs,
+};
 use super::CalibrateError;
 use crate::fe::effects::Effects;
 use crate::fe::material::Material;
@@ -316,6 +318,24 @@ pub fn write_twin(
         ramp_dir,
         key,
     })
+}
+
+/// The noise-free recordings of `ramps` (bending, force and markers) at the designs,
+/// pressures and standard deviations of `noise_from`, named `source`: what the FE model
+/// says exactly, in the recordings' format. Rows whose ramps stopped short are left out.
+///
+/// # Errors
+/// A configuration without a matching row in `noise_from`.
+pub fn exact_twin_recordings(
+    ramps: &[super::baseline::SweepRamp],
+    noise_from: &Recordings,
+    source: &str,
+) -> Result<Recordings, CalibrateError> {
+    let (truth, markers, _) = truth(ramps, &noise_from.bending);
+    let mut rec = exact_recordings(&truth, noise_from, source)?;
+    rec.markers = exact_markers(&markers, noise_from)?;
+    rec.markers_source = format!("{source} (markers)");
+    Ok(rec)
 }
 
 /// The noise-free outputs of every bending row reached by both ramps of its design, its

@@ -133,15 +133,7 @@ pub fn mesh_error(
         rms_sigma_by_output: by_output,
         direction: ErrorDirection {
             name: "model_mesh".into(),
-            per_cell: d
-                .into_iter()
-                .zip(cells)
-                .map(|(v, c)| {
-                    (std::env::var("MESH_BENDING_ONLY").is_err()
-                        || c.output != crate::calibrate::objective::Output::Force)
-                        .then_some(v)
-                })
-                .collect(),
+            per_cell: d.into_iter().map(Some).collect(),
         },
     })
 }

@@ -2,6 +2,10 @@
 //! physics it leaves out, and what adding it gains on data the fit did not see.
 //!
 //! ```text
+//!   (optional) the model's approximation error against a finer reference, sampled at
+//!   several materials (approx_error): Recordings corrected by its mean, its covariance
+//!   passed to name
+//!                                                        │
 //!   Recordings ──► calibrate (one material set) ──► Calibration (residuals at the optimum)
 //!                                                        │
 //!                                                        ▼
@@ -12,8 +16,9 @@
 //!            (optional) the model's own mesh error, from a surrogate on another mesh
 //!                                                        │          ──► MeshError (mesh_error)
 //!                                                        ▼
-//!   name:    material re-fit, every effect's FE signature past it, nested F tests under
-//!            Holm, collinear pairs, the model's mesh error as a candidate ──► Naming (name)
+//!   name:    material re-fit, every effect's FE signature past it (weighed by the
+//!            approximation error's covariance), nested F tests under Holm, collinear
+//!            pairs, the model's mesh error as a candidate        ──► Naming (name)
 //!                                                        │
 //!                                                        ▼
 //!   model & show: material + effect(s) refitted, size and interval, every design held
@@ -90,6 +95,7 @@
 //! excluded.
 use thiserror::Error;
 
+pub mod approx_error;
 pub mod cells;
 pub mod coverage;
 pub mod findings;

@@ -27,6 +27,12 @@
 //! (`|s̃| ≤ 10⁻³ |s|`) or that moves nothing these recordings hold (a force-rig effect without
 //! force recordings) is listed as not testable, with the reason.
 //!
+//! With the covariance `Γ̃` of the diagnosing model's own error over the cells
+//! ([`super::approx_error`], in the cells' σ), the residual, the material's columns and
+//! every signature are first multiplied by `L⁻¹`, `LLᵀ = I + Γ̃` (generalised least
+//! squares): what varies with the model's own error between materials weighs less, and
+//! every quantity above (`χ²`, `θ̂`, `F`) is that of the weighted fit.
+//!
 //! Two candidates whose projected signatures are nearly collinear (`|cos| ≥ 0.95`) explain
 //! the residual the same way on these recordings and are reported as indistinguishable,
 //! with the output the sweep computes but the recordings lack (markers, force, other
@@ -41,6 +47,7 @@ use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
 use statrs::distribution::{ContinuousCDF, FisherSnedecor};
 
+use super::approx_error::ErrorSpread;
 use super::cells::Cell;
 use super::mesh_error::{ErrorDirection, MODEL_ERROR_UNIT, PLAUSIBLE_MODEL_ERROR};
 use super::signature::{cell_spike, derivative_of, sensitivity_step, LocalMaterial};
@@ -62,6 +69,11 @@ pub struct NameSettings {
     /// and names no physics.
     #[serde(default)]
     pub model_errors: Vec<ErrorDirection>,
+    /// The covariance of the diagnosing model's own error over the cells
+    /// ([`super::approx_error`]): the residual and every signature are weighed by
+    /// `(I + Γ̃)^(−1/2)` (a Cholesky factor) before the tests. None: the recordings' σ alone.
+    #[serde(default)]
+    pub error_spread: Option<ErrorSpread>,
 }
 
 impl Default for NameSettings {
@@ -70,6 +82,7 @@ impl Default for NameSettings {
             alpha: 0.05,
             collinear: 0.95,
             model_errors: Vec::new(),
+            error_spread: None,
         }
     }
 }
@@ -351,17 +364,35 @@ fn name_inner(
             "more than 6 (the sweep must cover the recorded designs and pressures)",
         ));
     }
-    let z = DVector::from_iterator(n, rows.iter().map(|(c, _)| c.standardised));
+    let whiten = whitening(s.error_spread.as_ref(), cells, &rows, &row_cell)?;
+    let w = |v: DVector<f64>| -> DVector<f64> {
+        match &whiten {
+            Some(l) => l
+                .solve_lower_triangular(&v)
+                .expect("a Cholesky factor of I + DDᵀ is regular"),
+            None => v,
+        }
+    };
+    let z = w(DVector::from_iterator(
+        n,
+        rows.iter().map(|(c, _)| c.standardised),
+    ));
     let column = |j: usize| DVector::from_iterator(n, rows.iter().map(|(_, d)| d[j]));
     let (sm, z_fit) = match local {
         Some(_) => (
             DMatrix::from_fn(n, 4, |i, k| refitted[i].1[k]),
-            DVector::from_iterator(n, refitted.iter().map(|v| v.0)),
+            w(DVector::from_iterator(n, refitted.iter().map(|v| v.0))),
         ),
         None => (
             DMatrix::from_columns(&material.iter().map(|&j| column(j)).collect::<Vec<_>>()),
             z.clone(),
         ),
+    };
+    let sm = match &whiten {
+        Some(l) => l
+            .solve_lower_triangular(&sm)
+            .expect("a Cholesky factor of I + DDᵀ is regular"),
+        None => sm,
     };
     let q = orthonormal_basis(&sm);
     let project = |v: &DVector<f64>| -> DVector<f64> { v - &q * (q.transpose() * v) };
@@ -413,7 +444,7 @@ fn name_inner(
         });
     }
     for t in tested {
-        let sj = t.column;
+        let sj = w(t.column);
         let norm = sj.norm();
         if norm == 0.0 {
             untestable.push(Untestable {
@@ -495,6 +526,39 @@ fn name_inner(
         untestable,
         verdict,
     })
+}
+
+/// The lower Cholesky factor `L` of `I + D̃D̃ᵀ` over the used cells (`D̃` the spread's
+/// deviations over each cell's σ), or none without a spread; `L⁻¹` whitens.
+fn whitening(
+    spread: Option<&ErrorSpread>,
+    cells: &[Cell],
+    rows: &[(&Cell, Vec<f64>)],
+    row_cell: &[usize],
+) -> Result<Option<DMatrix<f64>>, DiagnoseError> {
+    let Some(spread) = spread else {
+        return Ok(None);
+    };
+    if let Some(d) = spread.deviations.iter().find(|d| d.len() != cells.len()) {
+        return Err(DiagnoseError::input(
+            "error spread",
+            format!("{} values per sample", d.len()),
+            &format!("one value per cell of the table ({})", cells.len()),
+        ));
+    }
+    let n = rows.len();
+    let d = DMatrix::from_fn(n, spread.deviations.len(), |i, k| {
+        spread.deviations[k][row_cell[i]] / rows[i].0.sigma
+    });
+    let gamma = DMatrix::identity(n, n) + &d * d.transpose();
+    let chol = gamma.cholesky().ok_or_else(|| {
+        DiagnoseError::input(
+            "error spread",
+            "not finite",
+            "finite deviations (I + DDᵀ is then positive definite)",
+        )
+    })?;
+    Ok(Some(chol.l()))
 }
 
 /// Orthonormal basis of the column span of `a` (thin SVD, directions below 10⁻¹⁰ of the
@@ -990,6 +1054,90 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(err.contains("model_mesh (3 values)"), "{err}");
+    }
+
+    #[test]
+    fn a_model_error_weighed_by_its_covariance_is_not_named_as_physics() {
+        let sens = sweep(21);
+        let params = &sens.designs[0].sensitivities.parameters;
+        let j = params
+            .iter()
+            .position(|p| p.parameter == Parameter::Effect(Effect::FreeLengthBias))
+            .unwrap();
+        // the model's own error lies along free_length_bias's signature (as if the actuator
+        // were 1.5 mm longer); the recordings' noise is 1 σ
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(22);
+        let base = cells(&sens, &[], 23);
+        let e: Vec<f64> = base
+            .iter()
+            .map(|c| -1.5 * derivs_of(&sens, c).unwrap()[j])
+            .collect();
+        let noisy: Vec<Cell> = base
+            .iter()
+            .zip(&e)
+            .map(|(c, ei)| {
+                let mut c = c.clone();
+                c.standardised += ei + 1.7 * rng.gen_range(-1.0..1.0);
+                c
+            })
+            .collect();
+        let plain = name(&noisy, &sens, &NameSettings::default()).unwrap();
+        assert_eq!(
+            plain.named().map(|c| c.effect.as_str()),
+            Some("free_length_bias"),
+            "{}",
+            plain.verdict
+        );
+        // samples of the model's error at three materials: +e, −e, 0 (covariance e eᵀ)
+        let spread = ErrorSpread {
+            sources: vec!["a".into(), "b".into(), "c".into()],
+            deviations: vec![
+                e.iter().map(|v| v / 2f64.sqrt()).collect(),
+                e.iter().map(|v| -v / 2f64.sqrt()).collect(),
+                vec![0.0; e.len()],
+            ],
+        };
+        let s = NameSettings {
+            error_spread: Some(spread.clone()),
+            ..NameSettings::default()
+        };
+        let weighed = name(&noisy, &sens, &s).unwrap();
+        assert!(weighed.named().is_none(), "{}", weighed.verdict);
+        // an effect the model's error does not resemble is still named beside that error,
+        // with its size (recordings of little noise)
+        let planted: Vec<Cell> = cells(&sens, &[(Effect::WallBias, 0.3)], 23)
+            .into_iter()
+            .zip(&e)
+            .map(|(mut c, ei)| {
+                c.standardised += ei;
+                c
+            })
+            .collect();
+        let n = name(&planted, &sens, &s).unwrap();
+        let top = n.named().unwrap_or_else(|| panic!("{}", n.verdict));
+        assert_eq!(top.effect, "wall_bias", "{}", n.verdict);
+        assert!(
+            (top.estimate - 0.3).abs() < 3.0 * top.std_error,
+            "{} ± {}",
+            top.estimate,
+            top.std_error
+        );
+        // a spread of another table is refused
+        let short = ErrorSpread {
+            deviations: vec![vec![0.0; 3]; 3],
+            ..spread
+        };
+        let err = name(
+            &noisy,
+            &sens,
+            &NameSettings {
+                error_spread: Some(short),
+                ..NameSettings::default()
+            },
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(err.contains("3 values per sample"), "{err}");
     }
 
     #[test]

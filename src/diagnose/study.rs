@@ -33,12 +33,13 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
+use super::approx_error::{ApproximationError, ErrorSample};
 use super::refit::RefitSettings;
 use super::report::{diagnose, DiagnoseSettings, Diagnosis};
 use super::DiagnoseError;
 use crate::calibrate::baseline::{cached_ramps, recorded_designs, SweepSensitivities};
 use crate::calibrate::objective::Output;
-use crate::calibrate::twin::{write_twin, TwinKey, TwinSettings};
+use crate::calibrate::twin::{exact_twin_recordings, write_twin, TwinKey, TwinSettings};
 use crate::calibrate::{OgdenSet, ParamSpace, Recordings};
 use crate::fe::effects::{Effect, Effects};
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
@@ -333,6 +334,11 @@ pub struct Diagnoser<'a> {
     pub mesh_reference: Option<(&'a Surrogate, &'a str)>,
     /// Whether the twins' marker recordings are used (the shipped experiments have none).
     pub markers: bool,
+    /// The diagnosing model's approximation error against the twins' discretisation
+    /// ([`super::approx_error`], from [`null_approximation_error`]): the recordings are
+    /// corrected by its mean and the Name stage weighs by its covariance. A null twin is
+    /// diagnosed without the sample of its own group.
+    pub approximation: Option<&'a ApproximationError>,
 }
 
 /// Diagnoses one twin directory as a user would: calibrate through `model`, locate,
@@ -348,11 +354,18 @@ pub fn diagnose_twin(dir: &Path, by: &Diagnoser<'_>) -> Result<Diagnosis, Diagno
         rec.markers.clear();
         rec.markers_source.clear();
     }
+    if let Some(a) = by.approximation {
+        rec = a.correct(&rec);
+    }
     let mut d = diagnose(model, &rec, &DiagnoseSettings::default(), &|_| {})?;
     if let Some((reference, name)) = by.mesh_reference {
         d.mesh_error_with(model, reference, name)?;
     }
-    d.name_with(sens, model, &super::name::NameSettings::default())?;
+    let settings = super::name::NameSettings {
+        error_spread: by.approximation.map(|a| a.spread(&d.locate.cells)),
+        ..Default::default()
+    };
+    d.name_with(sens, model, &settings)?;
     let named = d
         .naming()
         .and_then(super::name::Naming::named)
@@ -363,6 +376,53 @@ pub fn diagnose_twin(dir: &Path, by: &Diagnoser<'_>) -> Result<Diagnosis, Diagno
         d.refit_with(sens, model, &RefitSettings::new(vec![effect]))?;
     }
     Ok(d)
+}
+
+/// The diagnosing `model`'s approximation error against the twins' discretisation, one
+/// sample per null group of `plan` (its noise-free FE recordings from the cache, no FE run
+/// here, against `model` at the group's material); `model_name` names the model.
+///
+/// # Errors
+/// A null group whose FE is not in the cache, fewer than two null groups, a material
+/// outside the model's domain.
+pub fn null_approximation_error(
+    plan: &StudyPlan,
+    noise_from: &Recordings,
+    dirs: &StudyDirs,
+    model: &Surrogate,
+    model_name: &str,
+) -> Result<ApproximationError, DiagnoseError> {
+    let mut samples = Vec::new();
+    for g in plan.groups.iter().filter(|g| g.effects.is_empty()) {
+        let s = g.settings(plan, 0, &dirs.cache)?;
+        let designs = recorded_designs(&noise_from.bending);
+        let ramps = cached_ramps(&s.sweep, &designs, &s.ramp_dir())
+            .map_err(crate::calibrate::CalibrateError::from)?;
+        let missing = ramps
+            .iter()
+            .filter(|r| r.source == crate::calibrate::baseline::RampSource::Missing)
+            .count();
+        if missing > 0 {
+            return Err(DiagnoseError::input(
+                &format!("null group {}", g.id),
+                format!("{missing} of {} FE ramps not cached", ramps.len()),
+                "every ramp (run --stage twins first)",
+            ));
+        }
+        let rec = exact_twin_recordings(&ramps, noise_from, &g.id)?;
+        let material = OgdenSet::literature(&g.material)?;
+        samples.push(ErrorSample::measure(model, &g.id, &material, &rec)?);
+    }
+    ApproximationError::new(
+        model_name,
+        &format!(
+            "FE on {} mm elements without effect (the null twins)",
+            plan.mesh
+                .element_size
+                .map_or("the plan's".into(), |e| e.to_string())
+        ),
+        samples,
+    )
 }
 
 /// One twin, scored.
@@ -541,6 +601,10 @@ pub struct StudyResults {
     /// The reference surrogate of the mesh error projected out (none: not projected).
     #[serde(default)]
     pub mesh_reference: Option<String>,
+    /// The approximation error the diagnoses used: its reference and samples (none: not
+    /// used).
+    #[serde(default)]
+    pub approximation_error: Option<String>,
     /// The summary.
     pub summary: StudySummary,
 }
@@ -660,7 +724,16 @@ pub fn run_diagnoses(
             pending.push(name);
             continue;
         }
-        let d = diagnose_twin(&dir, by)?;
+        let own;
+        let mut by_here = *by;
+        if let Some(a) = by.approximation {
+            let id = plan.groups[g].id.as_str();
+            if a.samples.iter().any(|x| x.source == id) {
+                own = a.without(&[id])?;
+                by_here.approximation = Some(&own);
+            }
+        }
+        let d = diagnose_twin(&dir, &by_here)?;
         let text = d.to_json()?;
         std::fs::create_dir_all(&dirs.diagnoses).map_err(|e| {
             DiagnoseError::input("diagnoses", dirs.diagnoses.display(), &e.to_string())
@@ -704,6 +777,20 @@ pub fn run_diagnoses(
         pending,
         markers,
         mesh_reference: by.mesh_reference.map(|(_, n)| n.to_string()),
+        approximation_error: by.approximation.map(|a| {
+            format!(
+                "the error of `{}` against {}, {} samples ({}); a null twin is diagnosed \
+                 without the sample of its own group",
+                a.model,
+                a.reference,
+                a.samples.len(),
+                a.samples
+                    .iter()
+                    .map(|s| s.source.as_str())
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            )
+        }),
         summary,
     })
 }
@@ -741,7 +828,18 @@ pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
                 "The diagnosing model's mesh error is projected out: its direction is the difference \
                  to `{m}` at the calibrated material (`diagnose::mesh_error`)."
             ),
-            None => "The diagnosing model's mesh error is not projected out.".to_string(),
+            None => "The diagnosing model's mesh error is not tested as a direction.".to_string(),
+        }
+    );
+    let _ = writeln!(
+        o,
+        "{}\n",
+        match &r.approximation_error {
+            Some(a) => format!(
+                "Approximation error (`diagnose::approx_error`): {a}. The recordings are \
+                 corrected by its mean; the Name stage weighs the residual by its covariance."
+            ),
+            None => "No approximation error: the recordings' σ alone weigh the residual.".into(),
         }
     );
     let _ = writeln!(o, "| target | result |\n|---|---|");

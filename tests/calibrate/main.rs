@@ -2,6 +2,7 @@
 //! diagnoser's Locate stage (`surrogate::diagnose`) on recordings with a planted residual. The
 //! command-line tests are in `tests/cli/`.
 
+mod approx_error;
 mod calibrate;
 mod diagnose;
 mod mesh_error;

@@ -204,7 +204,7 @@ fn bad_input_is_named_before_anything_runs() {
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     let empty_s = empty.to_str().unwrap();
-    let cases: [(&[&str], String); 10] = [
+    let cases: [(&[&str], String); 11] = [
         (
             &["--recordings", "no_such_recordings"],
             "--recordings no_such_recordings: not a directory".into(),
@@ -239,6 +239,10 @@ fn bad_input_is_named_before_anything_runs() {
             &["--mesh-reference", "no_such_model.json"],
             "--mesh-reference no_such_model.json: expected auto, none or a surrogate model file"
                 .into(),
+        ),
+        (
+            &["--approximation-error", "models/actuator.json"],
+            "--approximation-error models/actuator.json".into(),
         ),
     ];
     for (extra, want) in cases {

@@ -80,10 +80,17 @@ pub struct TwinStudyArgs {
     pub markers: Option<String>,
     /// A surrogate of the same plan on another mesh: its difference to `--model` is tested
     /// as the model's own mesh error beside the effects, as `diagnose` does by default
-    /// (`auto`: the other shipped model, `models/actuator.json` beside the coarse one; `none`:
-    /// not tested, results then go to results*_no_mesh.*; or a model file).
-    #[arg(long, default_value = "auto")]
+    /// (`auto`: the other shipped model, `models/actuator.json` beside the coarse one, results
+    /// then go to results*_mesh.*; a model file; `none`: not tested, as the approximation
+    /// error of `--approximation-error nulls` holds the model's mesh error already).
+    #[arg(long, default_value = "none")]
     pub mesh_reference: String,
+    /// The diagnosing model's approximation error against the twins' discretisation:
+    /// `nulls` samples it from the null twins' noise-free FE (each null twin diagnosed
+    /// without its own group's sample; written to `<out>/approximation_error.json`), `none`
+    /// leaves it out (results then go to results*_no_approx.*).
+    #[arg(long, default_value = "nulls")]
+    pub approximation_error: String,
     /// Only these groups of the plan (comma list of ids, e.g. `null_1,gap_bias_2`; default
     /// all): two processes with disjoint groups keep two cores busy.
     #[arg(long, value_delimiter = ',')]
@@ -150,6 +157,12 @@ pub struct DiagnoseArgs {
     /// `models/actuator.json` and the reverse; `none`: not tested; or a model file).
     #[arg(long, default_value = "auto")]
     pub mesh_reference: String,
+    /// The model's approximation error against a finer reference (a file `twin-study`
+    /// writes as `approximation_error.json`, or one made with
+    /// `surrogate::diagnose::approx_error`): the recordings are corrected by its mean and
+    /// the Name stage weighs the residual by its covariance. Default: none.
+    #[arg(long)]
+    pub approximation_error: Option<PathBuf>,
 }
 
 /// `surrogate twin`.

@@ -21,6 +21,7 @@ use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use crate::args::DiagnoseArgs;
 use crate::diagnose_plots::write_plots;
 use crate::files::{load_model, mesh_reference, write_file};
+use surrogate::diagnose::approx_error::ApproximationError;
 
 /// The validated settings of the run.
 fn settings(a: &DiagnoseArgs) -> Result<DiagnoseSettings> {
@@ -61,8 +62,24 @@ fn recordings(dir: &Path) -> Result<Recordings> {
 /// Runs the subcommand.
 pub fn run(a: DiagnoseArgs) -> Result<()> {
     let s = settings(&a)?;
-    let rec = recordings(&a.recordings)?;
+    let mut rec = recordings(&a.recordings)?;
     let model = load_model(&a.model)?;
+    let approximation = match &a.approximation_error {
+        Some(p) => {
+            let e = ApproximationError::read(p)
+                .with_context(|| format!("--approximation-error {}", p.display()))?;
+            eprintln!(
+                "approximation error: {} samples of {} against {}; the recordings are corrected \
+                 by its mean",
+                e.samples.len(),
+                e.model,
+                e.reference
+            );
+            rec = e.correct(&rec);
+            Some(e)
+        }
+        None => None,
+    };
     // checked before any work: a bad value is named at once
     let reference = mesh_reference(&a.mesh_reference, &a.model)?;
     refit_effects(&a.refit, None)?;
@@ -126,7 +143,11 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
             sens.designs.len(),
             sens.mesh.level.name()
         );
-        Some(d.name_with(sens, &model, &NameSettings::default())?.clone())
+        let ns = NameSettings {
+            error_spread: approximation.as_ref().map(|e| e.spread(&d.locate.cells)),
+            ..NameSettings::default()
+        };
+        Some(d.name_with(sens, &model, &ns)?.clone())
     } else {
         None
     };

@@ -3,7 +3,8 @@ use anyhow::{Context, Result};
 use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::{ParamSpace, Recordings};
 use surrogate::diagnose::study::{
-    make_twins, run_diagnoses, study_markdown, Diagnoser, StudyDirs, StudyPlan,
+    make_twins, null_approximation_error, run_diagnoses, study_markdown, Diagnoser, StudyDirs,
+    StudyPlan,
 };
 
 use crate::args::TwinStudyArgs;
@@ -67,11 +68,38 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
         let sens = SweepSensitivities::read(&a.sensitivities)
             .with_context(|| format!("--sensitivities {}", a.sensitivities.display()))?;
         let reference = mesh_reference(&a.mesh_reference, &a.model)?;
+        let approximation = match a.approximation_error.as_str() {
+            "none" => None,
+            "nulls" => {
+                let e = null_approximation_error(
+                    &plan,
+                    &noise_from,
+                    &dirs,
+                    &model,
+                    &a.model.display().to_string(),
+                )?;
+                let p = a.out.join("approximation_error.json");
+                e.write(&p)?;
+                eprintln!(
+                    "approximation error: {} samples ({}), written to {}",
+                    e.samples.len(),
+                    e.samples
+                        .iter()
+                        .map(|s| s.source.as_str())
+                        .collect::<Vec<_>>()
+                        .join(", "),
+                    p.display()
+                );
+                Some(e)
+            }
+            other => anyhow::bail!("--approximation-error {other}: expected nulls or none"),
+        };
         let by = Diagnoser {
             model: &model,
             sens: &sens,
             mesh_reference: reference.as_ref().map(|(r, n)| (r, n.as_str())),
             markers,
+            approximation: approximation.as_ref(),
         };
         let results = run_diagnoses(&plan, &noise_from, &dirs, &by, &|line| eprintln!("{line}"))?;
         let stem = format!(
@@ -81,8 +109,13 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
                 (false, true) => "results_markers",
                 (false, false) => "results_no_markers",
             },
-            if reference.is_some() { "" } else { "_no_mesh" }
+            if reference.is_some() { "_mesh" } else { "" },
         );
+        let stem = if approximation.is_some() {
+            stem
+        } else {
+            format!("{stem}_no_approx")
+        };
         let p = a.out.join(format!("{stem}.json"));
         write_file(&p, serde_json::to_string_pretty(&results)?.as_bytes())?;
         let md = study_markdown(&plan, &results);

@@ -1,0 +1,452 @@
+//! The diagnosing model's approximation error as a random quantity, estimated from a finer
+//! reference model at sample materials (the Bayesian approximation error approach of Kaipio
+//! and Somersalo, *J. Comput. Appl. Math.* 198, 2007).
+//!
+//! A surrogate trained on one mesh differs from any other discretisation (and from a real
+//! actuator) by its own error `ε(θ) = ŷ_model(θ) − y_reference(θ)`, which depends on the
+//! material `θ` and on the design. A single direction of that error
+//! ([`super::mesh_error`]) leaves most of it in the residual, where effects whose signatures
+//! resemble it compete for it. Here `ε` is sampled: at `K` materials `θ_k` the reference
+//! model's exact outputs are compared with the surrogate's, per recorded number, and
+//!
+//! ```text
+//!   ε̄ᵢ = (1/K) Σ_k εᵢ(θ_k)                     (mean error, unit of the output)
+//!   Γ_ε = (1/(K−1)) Σ_k (ε(θ_k) − ε̄)(ε(θ_k) − ε̄)ᵀ    (its covariance, rank ≤ K − 1)
+//! ```
+//!
+//! Recordings `y` are corrected by the mean, `y + ε̄` (what the surrogate would predict for
+//! the reference's actuator: [`ApproximationError::correct`]), and the Name stage weighs
+//! the residual by `(I + Γ̃)⁻¹`, `Γ̃` the covariance in the recordings' σ
+//! ([`ApproximationError::spread`]): the directions along which the model's own error
+//! varies between materials count for less than noise alone would. A number the samples
+//! do not cover (a pressure or marker the reference lacks) gets no correction.
+//!
+//! The samples are the user's to choose: reference FE runs of the recorded designs at
+//! materials spread over the surrogate's domain, without any effect (the blind study uses
+//! its null twins, leaving each scored twin's own material out).
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+
+use super::cells::Cell;
+use super::DiagnoseError;
+use crate::calibrate::objective::{Evaluator, ObservationSet, Output, Selection, Weights};
+use crate::calibrate::{OgdenSet, ParamSpace, Recordings};
+use crate::rom::Surrogate;
+
+/// The `format` field of an approximation-error file.
+pub const FORMAT: &str = "surrogate.approximation-error";
+/// The version this code writes and reads.
+pub const VERSION: u32 = 1;
+
+/// The model's error at one recorded number of one sample.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ErrorValue {
+    /// Number of bellows.
+    pub n_bellows: u32,
+    /// Wall thickness (mm).
+    pub wall_thickness_mm: f64,
+    /// Pressure (bar).
+    pub pressure_bar: f64,
+    /// The output.
+    pub output: Output,
+    /// `ŷ_model − y_reference` (unit of the output).
+    pub error: f64,
+}
+
+/// One sample of the model's error: the reference at one material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ErrorSample {
+    /// What the reference is (a twin group, a file).
+    pub source: String,
+    /// The material of both.
+    pub material: OgdenSet,
+    /// Per recorded number.
+    pub values: Vec<ErrorValue>,
+}
+
+/// Samples of the model's approximation error (see the [module docs](self)).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ApproximationError {
+    /// [`FORMAT`].
+    pub format: String,
+    /// [`VERSION`].
+    pub version: u32,
+    /// The diagnosing model's provenance, as its file states it.
+    pub model: String,
+    /// What the reference model is.
+    pub reference: String,
+    /// The samples.
+    pub samples: Vec<ErrorSample>,
+}
+
+/// The covariance of the model's error over the cells of a residual table, as deviations
+/// (`Γ = D Dᵀ`, each column one sample's deviation from the mean over `√(K − 1)`).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ErrorSpread {
+    /// The samples' sources, in column order.
+    pub sources: Vec<String>,
+    /// Per sample, per cell of the table: the deviation in the unit of the cell's output
+    /// (0 where the sample lacks the cell).
+    pub deviations: Vec<Vec<f64>>,
+}
+
+fn same(a: f64, b: f64) -> bool {
+    (a - b).abs() < 1e-9
+}
+
+impl ErrorSample {
+    /// The error of `model` against `reference` (exact recordings of a reference model at
+    /// `material`, as [`crate::calibrate::twin::exact_twin_recordings`] writes them), named
+    /// `source`.
+    ///
+    /// # Errors
+    /// A material outside the model's training domain, recordings outside its designs.
+    pub fn measure(
+        model: &Surrogate,
+        source: &str,
+        material: &OgdenSet,
+        reference: &Recordings,
+    ) -> Result<Self, DiagnoseError> {
+        let space = ParamSpace::training_domain(model)?;
+        let u = space.unit(material);
+        if u.iter().any(|v| !(-1e-9..=1.0 + 1e-9).contains(v)) {
+            return Err(DiagnoseError::input(
+                "approximation-error sample",
+                format!("{source} at {}", material.spec()),
+                "a material inside the surrogate's training domain",
+            ));
+        }
+        let u = u.map(|v| v.clamp(0.0, 1.0));
+        let weights = Weights {
+            tip: 1.0,
+            angle: 1.0,
+            force: if reference.force.is_empty() { 0.0 } else { 1.0 },
+            markers: if reference.markers.is_empty() {
+                0.0
+            } else {
+                1.0
+            },
+        };
+        let set = ObservationSet::build(model, reference, &weights, &Selection::default())?;
+        let pred = Evaluator::new(model, &set, space).predictions(&u)?;
+        let values = set
+            .obs
+            .iter()
+            .zip(&pred)
+            .filter(|(o, p)| o.value.is_finite() && p.is_finite())
+            .map(|(o, p)| ErrorValue {
+                n_bellows: o.config.n_bellows,
+                wall_thickness_mm: o.config.wall_thickness_mm,
+                pressure_bar: o.config.pressure_bar,
+                output: o.output,
+                error: p - o.value,
+            })
+            .collect();
+        Ok(ErrorSample {
+            source: source.to_string(),
+            material: *material,
+            values,
+        })
+    }
+
+    /// Its error at one recorded number, if it has it.
+    pub fn at(&self, n: u32, t: f64, p: f64, o: Output) -> Option<f64> {
+        self.values
+            .iter()
+            .find(|v| {
+                v.n_bellows == n
+                    && same(v.wall_thickness_mm, t)
+                    && same(v.pressure_bar, p)
+                    && v.output == o
+            })
+            .map(|v| v.error)
+    }
+}
+
+impl ApproximationError {
+    /// The samples of `model` (its provenance `model_name`) against `reference`.
+    ///
+    /// # Errors
+    /// Fewer than two samples (no covariance), two samples of one source.
+    pub fn new(
+        model_name: &str,
+        reference: &str,
+        samples: Vec<ErrorSample>,
+    ) -> Result<Self, DiagnoseError> {
+        if samples.len() < 2 {
+            return Err(DiagnoseError::input(
+                "approximation-error samples",
+                samples.len(),
+                "at least 2 (the covariance needs two)",
+            ));
+        }
+        for (i, s) in samples.iter().enumerate() {
+            if samples[..i].iter().any(|o| o.source == s.source) {
+                return Err(DiagnoseError::input(
+                    "approximation-error sample",
+                    &s.source,
+                    "one sample per source",
+                ));
+            }
+        }
+        Ok(Self {
+            format: FORMAT.into(),
+            version: VERSION,
+            model: model_name.to_string(),
+            reference: reference.to_string(),
+            samples,
+        })
+    }
+
+    /// The same without the samples whose source is in `sources` (to diagnose a
+    /// reference's own recordings without its own sample).
+    ///
+    /// # Errors
+    /// Fewer than two samples left.
+    pub fn without(&self, sources: &[&str]) -> Result<Self, DiagnoseError> {
+        Self::new(
+            &self.model,
+            &self.reference,
+            self.samples
+                .iter()
+                .filter(|s| !sources.contains(&s.source.as_str()))
+                .cloned()
+                .collect(),
+        )
+    }
+
+    /// The samples' errors at one recorded number.
+    fn values_at(&self, n: u32, t: f64, p: f64, o: Output) -> Vec<Option<f64>> {
+        self.samples.iter().map(|s| s.at(n, t, p, o)).collect()
+    }
+
+    /// The mean error `ε̄` at one recorded number (none: no sample has it).
+    pub fn mean_at(&self, n: u32, t: f64, p: f64, o: Output) -> Option<f64> {
+        let v: Vec<f64> = self.values_at(n, t, p, o).into_iter().flatten().collect();
+        (!v.is_empty()).then(|| v.iter().sum::<f64>() / v.len() as f64)
+    }
+
+    /// `rec` corrected by the mean error: every recorded number the samples cover plus
+    /// `ε̄` (what the model would predict for the reference's actuator); the standard
+    /// deviations unchanged.
+    pub fn correct(&self, rec: &Recordings) -> Recordings {
+        let mut out = rec.clone();
+        let shift = |v: &mut f64, n: usize, t: f64, p: f64, o: Output| {
+            if let Some(m) = self.mean_at(n as u32, t, p, o) {
+                *v += m;
+            }
+        };
+        for r in &mut out.bending {
+            let (n, t, p) = (r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
+            shift(&mut r.tip_uz_mm, n, t, p, Output::TipUz);
+            shift(&mut r.tip_uy_mm, n, t, p, Output::TipUy);
+            shift(&mut r.angle_deg, n, t, p, Output::Angle);
+        }
+        for r in &mut out.force {
+            let (n, t, p) = (r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
+            shift(&mut r.force_n, n, t, p, Output::Force);
+        }
+        for r in &mut out.markers {
+            let (n, t, p) = (r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
+            let k = r.marker as u8;
+            shift(&mut r.uz_mm, n, t, p, Output::MarkerUz(k));
+            shift(&mut r.uy_mm, n, t, p, Output::MarkerUy(k));
+        }
+        let note = |s: &str| format!("{s}, corrected by the mean error of {}", self.reference);
+        out.bending_source = note(&out.bending_source);
+        out.force_source = note(&out.force_source);
+        if !out.markers_source.is_empty() {
+            out.markers_source = note(&out.markers_source);
+        }
+        out
+    }
+
+    /// The covariance of the error over `cells` (see [`ErrorSpread`]); a cell only some
+    /// samples cover uses those.
+    pub fn spread(&self, cells: &[Cell]) -> ErrorSpread {
+        let k = self.samples.len();
+        let mut deviations = vec![vec![0.0; cells.len()]; k];
+        for (i, c) in cells.iter().enumerate() {
+            let v = self.values_at(c.n_bellows, c.wall_thickness_mm, c.pressure_bar, c.output);
+            let have: Vec<f64> = v.iter().flatten().copied().collect();
+            if have.len() < 2 {
+                continue;
+            }
+            let mean = have.iter().sum::<f64>() / have.len() as f64;
+            let scale = 1.0 / ((have.len() - 1) as f64).sqrt();
+            for (s, x) in v.iter().enumerate() {
+                if let Some(x) = x {
+                    deviations[s][i] = (x - mean) * scale;
+                }
+            }
+        }
+        ErrorSpread {
+            sources: self.samples.iter().map(|s| s.source.clone()).collect(),
+            deviations,
+        }
+    }
+
+    /// `rms(ε̄ᵢ/σᵢ)` and the rms of the spread's diagonal `√Γ̃ᵢᵢ` over `cells`: how large
+    /// the model's mean error and its variation are against the recordings' σ.
+    pub fn size_over(&self, cells: &[Cell]) -> (f64, f64) {
+        let spread = self.spread(cells);
+        let n = cells.len().max(1) as f64;
+        let mut mean2 = 0.0;
+        let mut var = 0.0;
+        for (i, c) in cells.iter().enumerate() {
+            let m = self
+                .mean_at(c.n_bellows, c.wall_thickness_mm, c.pressure_bar, c.output)
+                .unwrap_or(0.0);
+            mean2 += (m / c.sigma).powi(2);
+            var += spread
+                .deviations
+                .iter()
+                .map(|d| (d[i] / c.sigma).powi(2))
+                .sum::<f64>();
+        }
+        ((mean2 / n).sqrt(), (var / n).sqrt())
+    }
+
+    /// Reads a file written by [`Self::write`], checking its format and version.
+    ///
+    /// # Errors
+    /// An unreadable file, another format or version.
+    pub fn read(path: &Path) -> Result<Self, DiagnoseError> {
+        let text = std::fs::read_to_string(path).map_err(|e| {
+            DiagnoseError::input("approximation error", path.display(), &e.to_string())
+        })?;
+        let a: Self = serde_json::from_str(&text).map_err(|e| {
+            DiagnoseError::input(
+                "approximation error",
+                path.display(),
+                &format!("a {FORMAT} file ({e})"),
+            )
+        })?;
+        if a.format != FORMAT || a.version != VERSION {
+            return Err(DiagnoseError::input(
+                "approximation error",
+                format!(
+                    "{} (format {}, version {})",
+                    path.display(),
+                    a.format,
+                    a.version
+                ),
+                &format!("format {FORMAT}, version {VERSION}"),
+            ));
+        }
+        Self::new(&a.model, &a.reference, a.samples)
+    }
+
+    /// Writes it (atomically).
+    ///
+    /// # Errors
+    /// A file that cannot be written.
+    pub fn write(&self, path: &Path) -> Result<(), DiagnoseError> {
+        let text = serde_json::to_string_pretty(self)?;
+        crate::io::write_atomic(path, text.as_bytes()).map_err(|e| {
+            DiagnoseError::input("approximation error", path.display(), &e.to_string())
+        })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    fn sample(source: &str, errors: &[(Output, f64)]) -> ErrorSample {
+        ErrorSample {
+            source: source.into(),
+            material: OgdenSet::literature("ogden_002").unwrap(),
+            values: errors
+                .iter()
+                .map(|&(output, error)| ErrorValue {
+                    n_bellows: 9,
+                    wall_thickness_mm: 2.0,
+                    pressure_bar: 1.0,
+                    output,
+                    error,
+                })
+                .collect(),
+        }
+    }
+
+    #[test]
+    fn mean_and_spread_are_those_of_the_samples() {
+        let a = ApproximationError::new(
+            "m",
+            "r",
+            vec![
+                sample("a", &[(Output::TipUz, 1.0), (Output::Force, 0.1)]),
+                sample("b", &[(Output::TipUz, 3.0), (Output::Force, 0.3)]),
+                sample("c", &[(Output::TipUz, 5.0)]),
+            ],
+        )
+        .unwrap();
+        assert_eq!(a.mean_at(9, 2.0, 1.0, Output::TipUz), Some(3.0));
+        assert!((a.mean_at(9, 2.0, 1.0, Output::Force).unwrap() - 0.2).abs() < 1e-12);
+        assert_eq!(a.mean_at(9, 2.0, 2.0, Output::TipUz), None);
+        let cells = [
+            Cell::unit(9, 2.0, 1.0, Output::TipUz, 0.0),
+            Cell::unit(9, 2.0, 1.0, Output::Force, 0.0),
+            Cell::unit(9, 2.0, 2.0, Output::TipUz, 0.0),
+        ];
+        let s = a.spread(&cells);
+        // tip: deviations −2, 0, 2 over √2; the sample variance is 4 = Σ d²
+        let var: f64 = s.deviations.iter().map(|d| d[0] * d[0]).sum();
+        assert!((var - 4.0).abs() < 1e-12, "{var}");
+        // force: two samples, variance 0.02; the third sample lacks it
+        let var: f64 = s.deviations.iter().map(|d| d[1] * d[1]).sum();
+        assert!((var - 0.02).abs() < 1e-12, "{var}");
+        assert_eq!(s.deviations[2][1], 0.0);
+        assert!(s.deviations.iter().all(|d| d[2] == 0.0));
+        assert!(a.without(&["a", "b"]).is_err());
+        assert_eq!(a.without(&["c"]).unwrap().samples.len(), 2);
+    }
+
+    #[test]
+    fn corrected_recordings_are_shifted_by_the_mean_error() {
+        let rec = Recordings::shipped().unwrap();
+        let r0 = &rec.bending[0];
+        let (n, t, p) = (r0.n_bellows as u32, r0.wall_thickness_mm, r0.pressure_bar);
+        let mut s1 = sample("a", &[(Output::TipUz, 1.0), (Output::Angle, -2.0)]);
+        let mut s2 = sample("b", &[(Output::TipUz, 3.0), (Output::Angle, -4.0)]);
+        for v in s1.values.iter_mut().chain(s2.values.iter_mut()) {
+            (v.n_bellows, v.wall_thickness_mm, v.pressure_bar) = (n, t, p);
+        }
+        let a = ApproximationError::new("m", "5 mm FE", vec![s1, s2]).unwrap();
+        let c = a.correct(&rec);
+        assert!((c.bending[0].tip_uz_mm - (r0.tip_uz_mm + 2.0)).abs() < 1e-12);
+        assert!((c.bending[0].angle_deg - (r0.angle_deg - 3.0)).abs() < 1e-12);
+        assert_eq!(c.bending[0].tip_uy_mm, r0.tip_uy_mm);
+        assert_eq!(c.bending[1], rec.bending[1]);
+        assert_eq!(c.force, rec.force);
+        assert!(c.bending_source.contains("5 mm FE"));
+    }
+
+    #[test]
+    fn a_file_round_trips_and_a_foreign_one_is_refused() {
+        let dir = std::env::temp_dir().join(format!("approx_error_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let a = ApproximationError::new(
+            "m",
+            "r",
+            vec![
+                sample("a", &[(Output::TipUz, 1.0)]),
+                sample("b", &[(Output::TipUz, 2.0)]),
+            ],
+        )
+        .unwrap();
+        let p = dir.join("e.json");
+        a.write(&p).unwrap();
+        assert_eq!(ApproximationError::read(&p).unwrap(), a);
+        let text = std::fs::read_to_string(&p)
+            .unwrap()
+            .replace("\"version\": 1", "\"version\": 7");
+        std::fs::write(&p, text).unwrap();
+        let e = ApproximationError::read(&p).unwrap_err().to_string();
+        assert!(e.contains("version 7"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
