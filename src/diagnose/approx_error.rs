@@ -25,14 +25,21 @@
 //! materials spread over the surrogate's domain, without any effect (the blind study uses
 //! its null twins, leaving each scored twin's own material out).
 
-use std::path::Path;
+use std::path::{Path, PathBuf};
 
+use rand::SeedableRng;
+use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
 use super::cells::Cell;
 use super::DiagnoseError;
+use crate::calibrate::baseline::{cached_ramps, recorded_designs, run_ramps, RampSource};
 use crate::calibrate::objective::{Evaluator, ObservationSet, Output, Selection, Weights};
+use crate::calibrate::twin::{exact_twin_recordings, TwinSettings};
 use crate::calibrate::{OgdenSet, ParamSpace, Recordings};
+use crate::fe::effects::Effects;
+use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
+use crate::fe::mesh::MeshOptions;
 use crate::rom::Surrogate;
 
 /// The `format` field of an approximation-error file.
@@ -163,6 +170,100 @@ impl ErrorSample {
             })
             .map(|v| v.error)
     }
+}
+
+/// How [`sample`] runs its reference: the reference FE's mesh, the materials, the cache.
+#[derive(Clone, Debug, PartialEq)]
+pub struct SampleSettings {
+    /// The reference's discretisation (finer than the model's, or another one).
+    pub mesh: MeshOptions,
+    /// The materials of the samples.
+    pub materials: Vec<OgdenSet>,
+    /// Root of the FE cache (`twin_<hash>` per material, shared with `surrogate twin`).
+    pub cache: PathBuf,
+    /// Whether ramps missing from the cache are run (otherwise they are an error).
+    pub run_fe: bool,
+}
+
+/// `k` materials by a Latin hypercube over the central 80 % of `domain` (in its sampling
+/// coordinates), drawn with `seed`, rounded to 4 significant digits.
+///
+/// # Errors
+/// `k < 2`; a draw outside the admissible sets (not for a training domain).
+pub fn spread_materials(
+    domain: &ParamSpace,
+    k: usize,
+    seed: u64,
+) -> Result<Vec<OgdenSet>, DiagnoseError> {
+    if k < 2 {
+        return Err(DiagnoseError::input(
+            "materials",
+            k,
+            "at least 2 (the covariance needs two)",
+        ));
+    }
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+    super::study::lhs(&mut rng, k, 4)
+        .into_iter()
+        .map(|u| {
+            let u: [f64; 4] = std::array::from_fn(|i| 0.1 + 0.8 * u[i]);
+            Ok(domain.ogden(&u)?.rounded(4))
+        })
+        .collect()
+}
+
+/// Samples the approximation error of `model` (named `model_name`): the reference FE of
+/// every design of `noise_from` on `s.mesh` at each of `s.materials`, without any effect
+/// (cached and resumable, 2 ramps per design and material), its exact outputs against the
+/// model's. `progress(material, ramps done, ramps)` after every ramp.
+///
+/// # Errors
+/// A ramp missing from the cache when `s.run_fe` is off, an FE or cache error, a material
+/// outside the model's domain, fewer than two materials.
+pub fn sample(
+    model: &Surrogate,
+    model_name: &str,
+    s: &SampleSettings,
+    noise_from: &Recordings,
+    progress: &(dyn Fn(usize, usize, usize) + Sync),
+) -> Result<ApproximationError, DiagnoseError> {
+    let designs = recorded_designs(&noise_from.bending);
+    let mut samples = Vec::new();
+    for (k, m) in s.materials.iter().enumerate() {
+        let spec = m.spec();
+        let material = Material::from_spec(&spec, DEFAULT_BULK_RATIO)
+            .map_err(|e| DiagnoseError::input("material", &spec, &e.expected()))?;
+        let t = TwinSettings::new(material, &spec, s.mesh, Effects::neutral(), 0, &s.cache);
+        let dir = t.ramp_dir();
+        let ramps = if s.run_fe {
+            run_ramps(&t.sweep, &designs, Some(&dir), |d, n| progress(k, d, n))
+        } else {
+            cached_ramps(&t.sweep, &designs, &dir)
+        }
+        .map_err(crate::calibrate::CalibrateError::from)?;
+        let missing = ramps
+            .iter()
+            .filter(|r| r.source == RampSource::Missing)
+            .count();
+        if missing > 0 {
+            return Err(DiagnoseError::input(
+                &format!("reference FE at {spec}"),
+                format!(
+                    "{missing} of {} ramps not in {}",
+                    ramps.len(),
+                    dir.display()
+                ),
+                "every ramp (run the FE)",
+            ));
+        }
+        let rec = exact_twin_recordings(&ramps, noise_from, &spec)?;
+        samples.push(ErrorSample::measure(model, &spec, m, &rec)?);
+    }
+    let mesh = match s.mesh.element_size {
+        Some(h) => format!("{h} mm elements"),
+        None => format!("the {} mesh", s.mesh.level.name()),
+    };
+    ApproximationError::new(model_name, &format!("FE on {mesh} without effect"), samples)
 }
 
 impl ApproximationError {
@@ -403,6 +504,29 @@ mod tests {
         assert!(s.deviations.iter().all(|d| d[2] == 0.0));
         assert!(a.without(&["a", "b"]).is_err());
         assert_eq!(a.without(&["c"]).unwrap().samples.len(), 2);
+    }
+
+    #[test]
+    fn spread_materials_are_reproducible_and_inside_the_central_domain() {
+        let model = Surrogate::load(Path::new("models/actuator_coarse.json")).unwrap();
+        let domain = ParamSpace::training_domain(&model).unwrap();
+        let a = spread_materials(&domain, 6, 7).unwrap();
+        assert_eq!(a, spread_materials(&domain, 6, 7).unwrap());
+        assert_ne!(a, spread_materials(&domain, 6, 8).unwrap());
+        for m in &a {
+            let u = domain.unit(m);
+            assert!(u.iter().all(|v| (0.099..=0.901).contains(v)), "{u:?}");
+        }
+        // one per stratum in every coordinate
+        for i in 0..4 {
+            let mut strata: Vec<usize> = a
+                .iter()
+                .map(|m| ((domain.unit(m)[i] - 0.1) / 0.8 * 6.0).floor() as usize)
+                .collect();
+            strata.sort_unstable();
+            assert_eq!(strata, vec![0, 1, 2, 3, 4, 5], "coordinate {i}");
+        }
+        assert!(spread_materials(&domain, 1, 7).is_err());
     }
 
     #[test]

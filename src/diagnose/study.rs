@@ -33,13 +33,13 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
-use super::approx_error::{ApproximationError, ErrorSample};
+use super::approx_error::{sample, ApproximationError, SampleSettings};
 use super::refit::RefitSettings;
 use super::report::{diagnose, DiagnoseSettings, Diagnosis};
 use super::DiagnoseError;
 use crate::calibrate::baseline::{cached_ramps, recorded_designs, SweepSensitivities};
 use crate::calibrate::objective::Output;
-use crate::calibrate::twin::{exact_twin_recordings, write_twin, TwinKey, TwinSettings};
+use crate::calibrate::twin::{write_twin, TwinKey, TwinSettings};
 use crate::calibrate::{OgdenSet, ParamSpace, Recordings};
 use crate::fe::effects::{Effect, Effects};
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
@@ -99,7 +99,8 @@ pub struct StudyPlan {
     pub independent_noise: bool,
 }
 
-fn lhs(rng: &mut Xoshiro256PlusPlus, n: usize, dims: usize) -> Vec<Vec<f64>> {
+/// `n` points of a Latin hypercube in `[0, 1)^dims`.
+pub(crate) fn lhs(rng: &mut Xoshiro256PlusPlus, n: usize, dims: usize) -> Vec<Vec<f64>> {
     let mut cols: Vec<Vec<f64>> = Vec::with_capacity(dims);
     for _ in 0..dims {
         let mut c: Vec<f64> = (0..n)
@@ -392,37 +393,27 @@ pub fn null_approximation_error(
     model: &Surrogate,
     model_name: &str,
 ) -> Result<ApproximationError, DiagnoseError> {
-    let mut samples = Vec::new();
-    for g in plan.groups.iter().filter(|g| g.effects.is_empty()) {
-        let s = g.settings(plan, 0, &dirs.cache)?;
-        let designs = recorded_designs(&noise_from.bending);
-        let ramps = cached_ramps(&s.sweep, &designs, &s.ramp_dir())
-            .map_err(crate::calibrate::CalibrateError::from)?;
-        let missing = ramps
+    let nulls: Vec<&TwinGroup> = plan
+        .groups
+        .iter()
+        .filter(|g| g.effects.is_empty())
+        .collect();
+    let settings = SampleSettings {
+        mesh: plan.mesh,
+        materials: nulls
             .iter()
-            .filter(|r| r.source == crate::calibrate::baseline::RampSource::Missing)
-            .count();
-        if missing > 0 {
-            return Err(DiagnoseError::input(
-                &format!("null group {}", g.id),
-                format!("{missing} of {} FE ramps not cached", ramps.len()),
-                "every ramp (run --stage twins first)",
-            ));
-        }
-        let rec = exact_twin_recordings(&ramps, noise_from, &g.id)?;
-        let material = OgdenSet::literature(&g.material)?;
-        samples.push(ErrorSample::measure(model, &g.id, &material, &rec)?);
+            .map(|g| OgdenSet::literature(&g.material))
+            .collect::<Result<_, _>>()?,
+        cache: dirs.cache.clone(),
+        run_fe: false,
+    };
+    let mut e = sample(model, model_name, &settings, noise_from, &|_, _, _| {})?;
+    // the samples are named by their groups
+    for (s, g) in e.samples.iter_mut().zip(&nulls) {
+        s.source.clone_from(&g.id);
     }
-    ApproximationError::new(
-        model_name,
-        &format!(
-            "FE on {} mm elements without effect (the null twins)",
-            plan.mesh
-                .element_size
-                .map_or("the plan's".into(), |e| e.to_string())
-        ),
-        samples,
-    )
+    e.reference = format!("{} (the null twins)", e.reference);
+    Ok(e)
 }
 
 /// One twin, scored.

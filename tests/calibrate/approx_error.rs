@@ -24,8 +24,19 @@ fn committed_twins_are_named_right_with_the_approximation_error() {
     let plan = StudyPlan::read(&Path::new(STUDY).join("plan.json")).unwrap();
     let dirs = StudyDirs::under(Path::new(STUDY));
     let shipped = Recordings::shipped().unwrap();
-    let all = null_approximation_error(&plan, &shipped, &dirs, &model, "coarse").unwrap();
+    let all = null_approximation_error(
+        &plan,
+        &shipped,
+        &dirs,
+        &model,
+        "models/actuator_coarse.json",
+    )
+    .unwrap();
     assert_eq!(all.samples.len(), 6);
+    // what `twin-study` committed is what the library makes from the committed FE
+    let committed =
+        ApproximationError::read(&Path::new(STUDY).join("approximation_error.json")).unwrap();
+    assert_eq!(committed, all);
     // every sample holds the force error at each recorded design and pressure
     let f: Vec<f64> = all
         .samples

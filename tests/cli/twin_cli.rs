@@ -150,3 +150,34 @@ fn twin_study_refuses_bad_flags_and_plans() {
     );
     std::fs::remove_dir_all(&dir).unwrap();
 }
+
+#[test]
+fn approximation_error_refuses_bad_settings_before_any_fe() {
+    let dir = std::env::temp_dir().join(format!("surrogate_approx_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let out = dir.join("e.json");
+    let o = out.to_str().unwrap();
+    let d = dir.to_str().unwrap();
+    let cases: [(&[&str], &str); 4] = [
+        (&["--materials", "1"], "--materials 1: expected at least 2"),
+        (&["--mesh", "finest"], "--mesh finest"),
+        (&["--element-size", "0.01"], "--element-size 0.01: expected"),
+        (&["--model", "no_such_model.json"], "no_such_model.json"),
+    ];
+    for (extra, want) in cases {
+        let args: Vec<&str> = ["approximation-error", "--out", o]
+            .iter()
+            .chain(extra)
+            .copied()
+            .collect();
+        let (ok, stderr) = run(&args);
+        assert!(!ok && stderr.contains(want), "{extra:?}: {stderr}");
+    }
+    let (ok, stderr) = run(&["approximation-error", "--out", d]);
+    assert!(
+        !ok && stderr.contains("a directory (expected the file"),
+        "{stderr}"
+    );
+    assert!(!out.exists() && !dir.join("approximation_fe_ramps").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
+}

@@ -43,6 +43,43 @@ pub enum Command {
     /// The diagnoser's blind study: twins with concealed effects and null twins, each
     /// diagnosed without its key, scored against the keys.
     TwinStudy(TwinStudyArgs),
+    /// The model's approximation error: reference FE (another mesh, no effect) at materials
+    /// spread over the domain against the surrogate, for `diagnose --approximation-error`.
+    ApproximationError(ApproximationErrorArgs),
+}
+
+/// `surrogate approximation-error`.
+#[derive(Debug, Args)]
+pub struct ApproximationErrorArgs {
+    /// The surrogate whose error is sampled.
+    #[arg(long, default_value = "models/actuator.json")]
+    pub model: PathBuf,
+    /// The reference FE's mesh level: coarse | standard | fine.
+    #[arg(long, default_value = "fine")]
+    pub mesh: String,
+    /// Element size override of the reference in mm.
+    #[arg(long)]
+    pub element_size: Option<f64>,
+    /// Minimum number of the reference's elements through a wall.
+    #[arg(long)]
+    pub wall_elements: Option<usize>,
+    /// Number of materials, drawn by a Latin hypercube over the central 80 % of the model's
+    /// training domain (each costs 2 FE ramps per recorded design).
+    #[arg(long, default_value_t = 6)]
+    pub materials: usize,
+    /// Seed of the draw.
+    #[arg(long, default_value_t = 2026)]
+    pub seed: u64,
+    /// Directory with the recordings whose designs and pressures are sampled (and whose
+    /// standard deviations scale the error in reports).
+    #[arg(long, default_value = "training_data")]
+    pub recordings: PathBuf,
+    /// FE cache (default: `approximation_fe_ramps/` beside `--out`; a rerun resumes).
+    #[arg(long)]
+    pub cache: Option<PathBuf>,
+    /// The file to write.
+    #[arg(long)]
+    pub out: PathBuf,
 }
 
 /// `surrogate twin-study`.

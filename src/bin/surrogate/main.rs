@@ -1,5 +1,6 @@
 //! The `surrogate` command-line tool: parse → validated configuration → one library call per
 //! subcommand.
+mod approximation_error;
 mod args;
 mod calibrate;
 mod calibrate_plots;
@@ -38,6 +39,7 @@ fn main() -> ExitCode {
         args::Command::Twin(a) => twin::run(a),
         args::Command::Diagnose(a) => diagnose::run(a),
         args::Command::TwinStudy(a) => twin_study::run(a),
+        args::Command::ApproximationError(a) => approximation_error::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,
