@@ -27,7 +27,7 @@
 
 use std::path::{Path, PathBuf};
 
-use rand::SeedableRng;
+use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
@@ -172,6 +172,24 @@ impl ErrorSample {
     }
 }
 
+/// `n` points of a Latin hypercube in `[0, 1)^dims`.
+pub(crate) fn lhs(rng: &mut Xoshiro256PlusPlus, n: usize, dims: usize) -> Vec<Vec<f64>> {
+    let mut cols: Vec<Vec<f64>> = Vec::with_capacity(dims);
+    for _ in 0..dims {
+        let mut c: Vec<f64> = (0..n)
+            .map(|i| (i as f64 + rng.gen::<f64>()) / n as f64)
+            .collect();
+        for i in (1..n).rev() {
+            let j = rng.gen_range(0..=i);
+            c.swap(i, j);
+        }
+        cols.push(c);
+    }
+    (0..n)
+        .map(|i| cols.iter().map(|c| c[i]).collect())
+        .collect()
+}
+
 /// How [`sample`] runs its reference: the reference FE's mesh, the materials, the cache.
 #[derive(Clone, Debug, PartialEq)]
 pub struct SampleSettings {
@@ -203,7 +221,7 @@ pub fn spread_materials(
         ));
     }
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    super::study::lhs(&mut rng, k, 4)
+    lhs(&mut rng, k, 4)
         .into_iter()
         .map(|u| {
             let u: [f64; 4] = std::array::from_fn(|i| 0.1 + 0.8 * u[i]);

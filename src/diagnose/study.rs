@@ -33,7 +33,7 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
-use super::approx_error::{sample, ApproximationError, SampleSettings};
+use super::approx_error::{lhs, sample, ApproximationError, SampleSettings};
 use super::refit::RefitSettings;
 use super::report::{diagnose, DiagnoseSettings, Diagnosis};
 use super::DiagnoseError;
@@ -97,24 +97,6 @@ pub struct StudyPlan {
     /// of one seed share their standardised noise across the groups.
     #[serde(default)]
     pub independent_noise: bool,
-}
-
-/// `n` points of a Latin hypercube in `[0, 1)^dims`.
-pub(crate) fn lhs(rng: &mut Xoshiro256PlusPlus, n: usize, dims: usize) -> Vec<Vec<f64>> {
-    let mut cols: Vec<Vec<f64>> = Vec::with_capacity(dims);
-    for _ in 0..dims {
-        let mut c: Vec<f64> = (0..n)
-            .map(|i| (i as f64 + rng.gen::<f64>()) / n as f64)
-            .collect();
-        for i in (1..n).rev() {
-            let j = rng.gen_range(0..=i);
-            c.swap(i, j);
-        }
-        cols.push(c);
-    }
-    (0..n)
-        .map(|i| cols.iter().map(|c| c[i]).collect())
-        .collect()
 }
 
 impl StudyPlan {
