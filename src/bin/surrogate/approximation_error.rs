@@ -3,30 +3,13 @@
 use anyhow::{Context, Result};
 use surrogate::calibrate::{ParamSpace, Recordings};
 use surrogate::diagnose::approx_error::{sample, spread_materials, SampleSettings};
-use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 
 use crate::args::ApproximationErrorArgs;
 use crate::files::load_model;
 
 /// Runs the subcommand.
 pub fn run(a: ApproximationErrorArgs) -> Result<()> {
-    let level: MeshLevel = a
-        .mesh
-        .parse()
-        .map_err(|e: String| anyhow::anyhow!("--mesh {}: {e}", a.mesh))?;
-    let mesh = MeshOptions {
-        level,
-        element_size: a.element_size,
-        wall_elements: a.wall_elements,
-    };
-    mesh.validate().map_err(|e| {
-        anyhow::anyhow!(
-            "--{} {}: expected {}",
-            e.field.replace('_', "-"),
-            e.value,
-            e.expected
-        )
-    })?;
+    let mesh = crate::files::mesh_options(&a.mesh, a.element_size, a.wall_elements)?;
     if a.materials < 2 {
         anyhow::bail!(
             "--materials {}: expected at least 2 (the covariance needs two)",
@@ -58,7 +41,7 @@ pub fn run(a: ApproximationErrorArgs) -> Result<()> {
             .map(|r| (r.n_bellows, r.wall_thickness_mm.to_bits()))
             .collect::<std::collections::BTreeSet<_>>()
             .len(),
-        level.name(),
+        mesh.level.name(),
         a.element_size
             .map_or(String::new(), |h| format!(" ({h} mm elements)")),
         cache.display()

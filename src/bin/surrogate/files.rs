@@ -2,7 +2,34 @@
 use std::path::Path;
 
 use anyhow::{Context, Result};
+use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::rom::Surrogate;
+
+/// The mesh of `--mesh LEVEL [--element-size H] [--wall-elements K]`, validated; a bad value
+/// names its flag.
+pub fn mesh_options(
+    level: &str,
+    element_size: Option<f64>,
+    wall_elements: Option<usize>,
+) -> Result<MeshOptions> {
+    let level: MeshLevel = level
+        .parse()
+        .map_err(|e: String| anyhow::anyhow!("--mesh {level}: {e}"))?;
+    let mesh = MeshOptions {
+        level,
+        element_size,
+        wall_elements,
+    };
+    mesh.validate().map_err(|e| {
+        anyhow::anyhow!(
+            "--{} {}: expected {}",
+            e.field.replace('_', "-"),
+            e.value,
+            e.expected
+        )
+    })?;
+    Ok(mesh)
+}
 
 /// Loads a model file; a missing one says where it was looked for and what to give instead.
 pub fn load_model(path: &Path) -> Result<Surrogate> {

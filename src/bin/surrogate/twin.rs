@@ -7,7 +7,6 @@ use surrogate::calibrate::twin::{write_twin, TwinSettings};
 use surrogate::calibrate::Recordings;
 use surrogate::fe::effects::Effects;
 use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
-use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 
 use crate::args::TwinArgs;
 
@@ -36,20 +35,7 @@ fn source_commit() -> Option<String> {
 pub fn run(a: TwinArgs) -> Result<()> {
     let effects = Effects::parse(a.effect.iter().map(String::as_str))?;
     let material = Material::from_spec(&a.material, DEFAULT_BULK_RATIO)?;
-    let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
-    let mesh = MeshOptions {
-        level,
-        element_size: a.element_size,
-        wall_elements: a.wall_elements,
-    };
-    mesh.validate().map_err(|e| {
-        anyhow::anyhow!(
-            "--{} {}: expected {}",
-            e.field.replace('_', "-"),
-            e.value,
-            e.expected
-        )
-    })?;
+    let mesh = crate::files::mesh_options(&a.mesh, a.element_size, a.wall_elements)?;
     let noise_from = Recordings::read_dir(&a.noise_from)
         .with_context(|| format!("reading the noise source {}", a.noise_from.display()))?;
     let cache = a.cache.clone().unwrap_or_else(|| default_cache(&a.out));
