@@ -11,7 +11,18 @@
 //!       k = max_rounds                                             ──► stop: MaxRounds
 //!     S_k = S_{k−1} + the round's cases ──► retrain M_k ──► calibrate ──► θ_k
 //!       θ_k = θ_{k−1} (as reported, 4 significant digits)          ──► stop: OptimumUnchanged
+//!       M_k(θ_k) − M_k(θ_{k−1}) within noise on every recorded number ──► stop: PredictionsUnchanged
 //! ```
+//!
+//! The last test is the one that ends a refinement whose data leave a direction of the
+//! parameters undetermined: the refit then walks along that valley from round to round (another
+//! split of the initial shear modulus between the two Ogden terms, say) while nothing the
+//! recordings see changes. Through the retrained surrogate `M_k`, every recorded number
+//! (tip, angle, force, markers: whatever the recordings hold, at the calibration's
+//! configurations) is predicted at the refit `θ_k` and at the verified `θ_{k−1}`; when no
+//! prediction moves by more than `data_tolerance` of its standard deviation (the calibrator's
+//! noise model, [`super::objective`]), the two sets are the same answer to these recordings,
+//! and the FE at `θ_{k−1}` (already run) verifies it ([`data_space_shift`]).
 //!
 //! The FE cases of a round are a [`Plan`] with the training plan's settings (mesh, pressures,
 //! solver, contact, gravity, bulk ratio), so they are training cases of the same fidelity as the
@@ -32,8 +43,8 @@ use serde::{Deserialize, Serialize};
 use super::baseline::BaselineRow;
 use super::experiments::bending_error;
 use super::fit::{calibrate, Calibration, CalibrationSettings};
-use super::objective::Recordings;
-use super::params::OgdenSet;
+use super::objective::{Evaluator, ObservationSet, Recordings, Selection, Weights};
+use super::params::{OgdenSet, ParamSpace};
 use super::verify::{compare_fe, FeVerification};
 use super::CalibrateError;
 use crate::fe::mesh::MeshOptions;
@@ -56,6 +67,10 @@ pub struct RefineSettings {
     pub calibration: CalibrationSettings,
     /// FE cases run in parallel (`None`: one per core).
     pub threads: Option<usize>,
+    /// The refit counts as unchanged when no recorded number's prediction moves by more than
+    /// this many of its standard deviations from the verified set's (through the retrained
+    /// surrogate; see [`data_space_shift`]). 0 switches the test off.
+    pub data_tolerance: f64,
 }
 
 impl Default for RefineSettings {
@@ -68,6 +83,7 @@ impl Default for RefineSettings {
             },
             calibration: CalibrationSettings::default(),
             threads: None,
+            data_tolerance: 1.0,
         }
     }
 }
@@ -79,6 +95,10 @@ pub enum RefineStop {
     Agree,
     /// The retrained surrogate's optimum is the set the last round verified.
     OptimumUnchanged,
+    /// The retrained surrogate's optimum moved, but not in anything the recordings see: its
+    /// predictions there are within `data_tolerance` σ of those at the verified set on every
+    /// recorded number.
+    PredictionsUnchanged,
     /// `max_rounds` FE rounds were run and the two still disagree somewhere.
     MaxRounds,
 }
@@ -90,6 +110,10 @@ impl RefineStop {
             RefineStop::Agree => "surrogate and FE agree at the calibrated set",
             RefineStop::OptimumUnchanged => {
                 "the retrained surrogate's optimum is the set already verified by FE"
+            }
+            RefineStop::PredictionsUnchanged => {
+                "the retrained surrogate's optimum predicts every recorded number within its \
+                 noise of the set already verified by FE"
             }
             RefineStop::MaxRounds => "the largest number of rounds was reached",
         }
@@ -135,9 +159,13 @@ pub struct Refinement {
     pub last: Calibration,
     /// Training cases of the last surrogate.
     pub last_model_cases: usize,
-    /// With [`RefineStop::OptimumUnchanged`]: the last round's FE against the last surrogate
-    /// (retrained on it), at the same set.
+    /// With [`RefineStop::OptimumUnchanged`] or [`RefineStop::PredictionsUnchanged`]: the
+    /// last round's FE against the last surrogate (retrained on it), at the same set.
     pub final_check: Option<FeVerification>,
+    /// After each retraining: how far the refit moved from the verified set in what the
+    /// recordings see (through the retrained surrogate).
+    #[serde(default)]
+    pub shifts: Vec<DataSpaceShift>,
     /// Where the retrained surrogates are (`model_round_k.json`, trained after round k).
     pub models: Vec<PathBuf>,
 }
@@ -149,6 +177,129 @@ impl Refinement {
             .last()
             .expect("a refinement has at least one round")
     }
+}
+
+/// How far a refit moved from a verified set in what the recordings see
+/// ([`data_space_shift`]).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct DataSpaceShift {
+    /// After which round's retraining.
+    pub round: usize,
+    /// The verified set.
+    pub from: OgdenSet,
+    /// The refit.
+    pub to: OgdenSet,
+    /// Recorded numbers compared (every output the recordings hold, at the calibration's
+    /// configurations).
+    pub observations: usize,
+    /// Largest `|ŷ(to) − ŷ(from)| / σ` over them.
+    pub max_abs_z: f64,
+    /// Root mean square of the same.
+    pub rms_z: f64,
+    /// The recorded number that moves most, in words.
+    pub worst: String,
+    /// `χ²` of every recorded number (weight 1) at `from` and at `to`.
+    pub chi2_from: f64,
+    /// See `chi2_from`.
+    pub chi2_to: f64,
+}
+
+impl DataSpaceShift {
+    /// In words.
+    pub fn describe(&self) -> String {
+        format!(
+            "through the surrogate retrained after round {}, the refit {} moves the {} recorded \
+             numbers by {:.2} σ rms from the verified set {} (at most {:.2} σ: {}); χ² of all \
+             of them {:.1} → {:.1}",
+            self.round,
+            self.to.spec(),
+            self.observations,
+            self.rms_z,
+            self.from.spec(),
+            self.max_abs_z,
+            self.worst,
+            self.chi2_from,
+            self.chi2_to
+        )
+    }
+}
+
+/// The unit-box point of `p` in the model's training domain, allowing the 4-digit rounding of
+/// a reported set to sit a hair outside it.
+fn unit_of(space: &ParamSpace, p: &OgdenSet) -> Result<[f64; 4], CalibrateError> {
+    let u = space.unit(p);
+    if u.iter().any(|v| !(-1e-3..=1.0 + 1e-3).contains(v)) {
+        return Err(CalibrateError::input(
+            "material set",
+            p.spec(),
+            "a set inside the surrogate's training domain",
+        ));
+    }
+    Ok(u.map(|v| v.clamp(0.0, 1.0)))
+}
+
+/// How far `to` lies from `from` in what the recordings `rec` see, through `model`: every
+/// recorded number (tip Uz and Uy, angle, force, marker components: the outputs `rec` holds)
+/// at the configurations `selection` keeps is predicted at both sets, and the difference is
+/// measured in its standard deviation (the calibrator's noise model: measurement and the
+/// surrogate's own error in quadrature).
+///
+/// # Errors
+/// A set outside the model's training domain (beyond the rounding of a reported set), or
+/// observations that cannot be built (see [`ObservationSet::build`]).
+pub fn data_space_shift(
+    model: &Surrogate,
+    rec: &Recordings,
+    selection: &Selection,
+    from: &OgdenSet,
+    to: &OgdenSet,
+    round: usize,
+) -> Result<DataSpaceShift, CalibrateError> {
+    let has_bending = !rec.bending.is_empty();
+    let weights = Weights {
+        tip: f64::from(u8::from(has_bending)),
+        angle: f64::from(u8::from(has_bending)),
+        force: f64::from(u8::from(!rec.force.is_empty())),
+        markers: f64::from(u8::from(!rec.markers.is_empty())),
+    };
+    let set = ObservationSet::build(model, rec, &weights, selection)?;
+    let space = ParamSpace::training_domain(model)?;
+    let mut ev = Evaluator::new(model, &set, space);
+    let (ua, ub) = (unit_of(ev.space(), from)?, unit_of(ev.space(), to)?);
+    let a = ev.predictions(&ua)?;
+    let b = ev.predictions(&ub)?;
+    let (mut max, mut sum2, mut worst) = (0.0_f64, 0.0, 0);
+    let (mut chi_a, mut chi_b) = (0.0, 0.0);
+    for (i, o) in set.obs.iter().enumerate() {
+        let sigma = o.sigma();
+        let z = (b[i] - a[i]) / sigma;
+        chi_a += ((a[i] - o.value) / sigma).powi(2);
+        chi_b += ((b[i] - o.value) / sigma).powi(2);
+        sum2 += z * z;
+        if z.abs() > max {
+            max = z.abs();
+            worst = i;
+        }
+    }
+    let n = set.obs.len();
+    let w = &set.obs[worst];
+    Ok(DataSpaceShift {
+        round,
+        from: *from,
+        to: *to,
+        observations: n,
+        max_abs_z: max,
+        rms_z: (sum2 / n.max(1) as f64).sqrt(),
+        worst: format!(
+            "{} at {}, {:+.3} (σ {:.3})",
+            w.output.name(),
+            w.config.label(),
+            b[worst] - a[worst],
+            w.sigma()
+        ),
+        chi2_from: chi_a,
+        chi2_to: chi_b,
+    })
 }
 
 /// The high-fidelity part of a multi-fidelity training set.
@@ -441,6 +592,13 @@ pub fn refine(
             "at least 1 FE round",
         ));
     }
+    if !(settings.data_tolerance.is_finite() && settings.data_tolerance >= 0.0) {
+        return Err(CalibrateError::input(
+            "data_tolerance",
+            settings.data_tolerance,
+            "a finite number of standard deviations ≥ 0 (0: the test is off)",
+        ));
+    }
     let stage = |s: String| progress(RefineEvent::Stage(s));
     // the FE the surrogate is compared with: the high fidelity of a multi-fidelity set
     let (verify_plan, high) = match &training.high {
@@ -462,6 +620,7 @@ pub fn refine(
     let mut models = Vec::new();
     let mut last_rows: Vec<BaselineRow>;
     let mut final_check = None;
+    let mut shifts = Vec::new();
     let opts = RunOptions {
         shard: Shard::ALL,
         threads: settings.threads,
@@ -555,6 +714,25 @@ pub fn refine(
             final_check = Some(compare_fe(&current, &last.set, mesh, last_rows)?);
             break RefineStop::OptimumUnchanged;
         }
+        let selection = Selection {
+            exclude: cal.excluded.clone(),
+            ..settings.calibration.selection.clone()
+        };
+        let shift = data_space_shift(
+            &current,
+            rec,
+            &selection,
+            &last.set,
+            &cal.best.rounded(4),
+            k,
+        )?;
+        stage(shift.describe());
+        let unchanged = shift.max_abs_z <= settings.data_tolerance;
+        shifts.push(shift);
+        if unchanged {
+            final_check = Some(compare_fe(&current, &last.set, mesh, last_rows)?);
+            break RefineStop::PredictionsUnchanged;
+        }
     };
     Ok(Refinement {
         rounds,
@@ -562,6 +740,7 @@ pub fn refine(
         last_model_cases: current.training.n_cases,
         last: cal,
         final_check,
+        shifts,
         models,
     })
 }
@@ -624,6 +803,9 @@ impl Refinement {
                     format!("{}, {:.0} s", r.fe_cases_run, r.fe_wall_time_s)
                 }
             );
+        }
+        for sh in &self.shifts {
+            let _ = writeln!(s, "\nAfter round {}: {}.", sh.round, sh.describe());
         }
         let _ = writeln!(s, "\nStopped: {}.", self.stop.describe());
         if let Some(c) = &self.final_check {

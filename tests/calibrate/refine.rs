@@ -7,12 +7,12 @@ use std::path::PathBuf;
 
 use surrogate::calibrate::optimise::MultistartSettings;
 use surrogate::calibrate::refine::{
-    refine, round_plan, HighFidelity, RefineSettings, RefineStop, TrainingSet,
+    data_space_shift, refine, round_plan, HighFidelity, RefineSettings, RefineStop, TrainingSet,
 };
 use surrogate::calibrate::synthetic::{noisy_recordings, TrueOutputs};
-use surrogate::calibrate::{CalibrationSettings, OgdenSet, Recordings, Weights};
+use surrogate::calibrate::{CalibrationSettings, OgdenSet, Recordings, Selection, Weights};
 use surrogate::rom::data::SnapshotSet;
-use surrogate::rom::{train, TrainConfig};
+use surrogate::rom::{train, Surrogate, TrainConfig};
 use surrogate::snapshots::merge::merge;
 use surrogate::snapshots::plan::{Plan, PlanSettings, PlannedCase};
 use surrogate::snapshots::run::{run_shard, AnalyticRunner, CaseOutcome, CaseRunner, RunOptions};
@@ -92,9 +92,9 @@ fn truth(plan: &Plan) -> Vec<TrueOutputs> {
     out
 }
 
-#[test]
-fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
-    let dir = scratch("analytic");
+/// A surrogate trained on 30 analytic cases of the shipped coarse plan's ranges, its training
+/// set, and noisy recordings of the "FE" at `TRUTH`.
+fn analytic_model(dir: &std::path::Path) -> (Surrogate, TrainingSet, Recordings, TrainConfig) {
     let shipped = Plan::read(std::path::Path::new(
         "training_data/snapshots_coarse.plan.json",
     ))
@@ -125,16 +125,25 @@ fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
         "analytic",
     )
     .unwrap();
+    let training = TrainingSet {
+        snapshots,
+        plan,
+        high: None,
+    };
+    (m0, training, rec, cfg)
+}
+
+#[test]
+fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
+    let dir = scratch("analytic");
+    let (m0, training, rec, cfg) = analytic_model(&dir);
     let settings = RefineSettings {
         max_rounds: 4,
         train: cfg,
         calibration: quick_calibration(),
         threads: None,
-    };
-    let training = TrainingSet {
-        snapshots,
-        plan,
-        high: None,
+        // this test is about agreement: the data-space stop is tested below
+        data_tolerance: 0.0,
     };
     let r = refine(
         &m0,
@@ -196,6 +205,98 @@ fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
     .unwrap();
     assert!(again.rounds.iter().all(|x| x.fe_cases_run == 0));
     assert_eq!(again.final_round().set, r.final_round().set);
+    let _ = std::fs::remove_dir_all(&dir);
+}
+
+/// The analytic "FE" sees the material only through μ0 = ½Σμᵢαᵢ and the exponents: the
+/// split of μ0 between the two terms is a direction the recordings cannot determine. Two sets
+/// along it are the same answer in data space; a set with another μ0 is not.
+#[test]
+fn sets_along_an_undetermined_direction_are_the_same_in_data_space() {
+    let dir = scratch("data_space");
+    let (m0, _training, rec, _cfg) = analytic_model(&dir);
+    let sel = Selection::default();
+    // TRUTH: μ1α1 = 5, μ2α2 = 5 (μ0 = 5 MPa); the split moved to 6 + 4, μ0 and the α kept
+    let split = OgdenSet {
+        mu1_mpa: 2.0,
+        alpha1: 3.0,
+        mu2_mpa: -4.0,
+        alpha2: -1.0,
+    };
+    assert!((split.mu0_mpa() - TRUTH.mu0_mpa()).abs() < 1e-12);
+    let along = data_space_shift(&m0, &rec, &sel, &TRUTH, &split, 1).unwrap();
+    println!("{}", along.describe());
+    // tip Uz, Uy and angle at 27 configurations, force at 27
+    assert_eq!(along.observations, 27 * 4);
+    assert!(
+        along.max_abs_z < 0.5,
+        "a set along the undetermined direction moves nothing the recordings see: {}",
+        along.describe()
+    );
+    // 20 % more μ0: the actuator bends less, by more than twice the noise somewhere
+    let stiffer = OgdenSet {
+        mu1_mpa: 1.2 * TRUTH.mu1_mpa,
+        mu2_mpa: 1.2 * TRUTH.mu2_mpa,
+        ..TRUTH
+    };
+    let across = data_space_shift(&m0, &rec, &sel, &TRUTH, &stiffer, 1).unwrap();
+    println!("{}", across.describe());
+    assert!(across.max_abs_z > 2.0, "{}", across.describe());
+    assert!(across.chi2_to > across.chi2_from);
+    // a set outside the training domain is refused, not extrapolated
+    let outside = OgdenSet {
+        mu1_mpa: 50.0,
+        ..TRUTH
+    };
+    let err = data_space_shift(&m0, &rec, &sel, &TRUTH, &outside, 1).unwrap_err();
+    assert!(err.to_string().contains("training domain"), "{err}");
+
+    // the refinement with the data-space stop
+    let (_, training, _, cfg) = analytic_model(&dir);
+    let settings = RefineSettings {
+        max_rounds: 4,
+        train: cfg,
+        calibration: quick_calibration(),
+        threads: None,
+        data_tolerance: 1.0,
+    };
+    let r = refine(
+        &m0,
+        &training,
+        &rec,
+        &settings,
+        &fe,
+        &dir.join("refine"),
+        &|_| {},
+    )
+    .unwrap();
+    println!("{}", r.summary_markdown());
+    // the refit walks along the undetermined split after the first retraining (the parameters
+    // move, OptimumUnchanged cannot fire), but nothing the recordings see moves
+    assert_eq!(
+        r.stop,
+        RefineStop::PredictionsUnchanged,
+        "{}",
+        r.summary_markdown()
+    );
+    assert_eq!(r.shifts.len(), r.rounds.len());
+    for (k, sh) in r.shifts.iter().enumerate() {
+        assert_eq!(sh.round, k + 1);
+        assert_eq!(sh.from, r.rounds[k].set);
+    }
+    let last = r.shifts.last().unwrap();
+    assert!(last.max_abs_z <= 1.0);
+    assert_ne!(last.to, last.from);
+    assert_eq!(last.from, r.final_round().set);
+    assert_eq!(r.final_verification().rows.len(), 27);
+    assert!(r.final_check.is_some());
+    // a tolerance that is not a number of standard deviations is refused
+    let bad = RefineSettings {
+        data_tolerance: f64::NAN,
+        ..settings
+    };
+    let err = refine(&m0, &training, &rec, &bad, &fe, &dir.join("bad"), &|_| {}).unwrap_err();
+    assert!(err.to_string().contains("data_tolerance"), "{err}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
@@ -295,6 +396,7 @@ fn a_multi_fidelity_model_is_refined_on_both_meshes() {
         train: cfg,
         calibration: quick_calibration(),
         threads: None,
+        data_tolerance: 1.0,
     };
     let r = refine(
         &m0,

@@ -83,6 +83,11 @@ pub struct CalibrateArgs {
     /// FE cases run in parallel by the refinement (default: one per core).
     #[arg(long)]
     pub threads: Option<usize>,
+    /// The refinement stops when the refit moves no recorded number's prediction by more than
+    /// this many of its standard deviations from the verified set's (0: off; then only
+    /// agreement, an unchanged set or --refine rounds stop it).
+    #[arg(long, default_value_t = RefineSettings::default().data_tolerance)]
+    pub refine_data_tolerance: f64,
     /// Output directory (report.json, configurations.csv, summary.md, SVG plots).
     #[arg(long, default_value = "calibration")]
     pub out: PathBuf,
@@ -201,6 +206,7 @@ fn run_refine(
         max_rounds: a.refine,
         calibration,
         threads: a.threads,
+        data_tolerance: a.refine_data_tolerance,
         ..RefineSettings::default()
     };
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;

@@ -284,7 +284,27 @@ fn committed_refinement(what: &str, dir: &Path) {
             v.rows.len()
         );
     }
+    for sh in &r.shifts {
+        println!(
+            "- after round {}: the refit {} moves the recorded numbers by {:.2} σ rms, at most {:.2} σ",
+            sh.round,
+            sh.to.spec(),
+            sh.rms_z,
+            sh.max_abs_z
+        );
+    }
     println!("Stopped: {}.", r.stop.describe());
+    if let Some(c) = &r.final_check {
+        println!(
+            "The retrained surrogate ({} cases) against that FE: max |Δ| {:.2} / {:.2} mm, {:.3} N; {} of {} configurations beyond 2σ.",
+            r.last_model_cases,
+            c.max_abs_sur_fe[0],
+            c.max_abs_sur_fe[1],
+            c.max_abs_sur_fe[2],
+            c.disagreements,
+            c.rows.len()
+        );
+    }
 }
 
 /// The live FE run of one design, beside the experiments and the surrogate of its mesh.
