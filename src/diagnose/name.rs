@@ -37,7 +37,13 @@
 //! the residual the same way on these recordings and are reported as indistinguishable,
 //! with the output the sweep computes but the recordings lack (markers, force, other
 //! pressures) where their two explanations (`θ̂_a ∂y/∂θ_a` against `θ̂_b ∂y/∂θ_b`) differ
-//! most: the extra measurement that would separate them. The verdict names the best
+//! most: the extra measurement that would separate them. So is a pair of the first (or the
+//! named) candidate with another that it does not beat significantly: when the fit with
+//! both is not significantly better than the fit with the other alone (F test, 1 and
+//! `n − 6` degrees of freedom, at the level α), or when neither of the two non-nested fits
+//! is significantly better than the other (their likelihood ratio, as in Vuong's test,
+//! two-sided at α), the recordings do
+//! not prefer the first one, however the ranking ordered them. The verdict names the best
 //! significant candidate whose size lies in the library's plausible range; a significant one
 //! that needs an implausible size (a negative compliance, a wall 0.8 mm thinner than printed)
 //! is reported, not named. When no candidate is significant the verdict says so and names
@@ -45,7 +51,7 @@
 
 use nalgebra::{DMatrix, DVector};
 use serde::{Deserialize, Serialize};
-use statrs::distribution::{ContinuousCDF, FisherSnedecor};
+use statrs::distribution::{ContinuousCDF, FisherSnedecor, Normal};
 
 use super::approx_error::ErrorSpread;
 use super::cells::Cell;
@@ -136,8 +142,32 @@ pub struct Indistinguishable {
     pub b: String,
     /// `cos` between their projected signatures.
     pub cosine: f64,
+    /// For a pair with the first or the named candidate: the p-value of the better one's
+    /// `Δχ²` beyond the other's (F test of the fit with both against the fit with the other
+    /// alone). Above the level: the recordings do not prefer it, so the two cannot be told
+    /// apart even when their signatures are not collinear.
+    #[serde(default)]
+    pub p_separation: Option<f64>,
+    /// For the same pairs: the z of the likelihood ratio of the two non-nested one-effect
+    /// fits (positive: `a` fits better; [`PairFit`]'s `vuong_z`). Within the two-sided normal
+    /// quantile of the level: neither fits significantly better.
+    #[serde(default)]
+    pub vuong_z: Option<f64>,
     /// Where their two explanations differ most among outputs the recordings lack.
     pub separated_by: Option<String>,
+}
+
+impl Indistinguishable {
+    /// Why the two cannot be told apart, in words.
+    pub fn why(&self) -> String {
+        match (self.p_separation, self.vuong_z) {
+            (Some(p), Some(z)) => format!(
+                "cos {:.3}; the better one beyond the other: p = {p:.2}; likelihood-ratio z = {z:+.2}",
+                self.cosine
+            ),
+            _ => format!("cos {:.3}", self.cosine),
+        }
+    }
 }
 
 /// An effect that could not be tested, and why.
@@ -512,7 +542,14 @@ fn name_inner(
             )
         })
         .collect();
-    let indistinguishable = pairs(&projected, &candidates, sens, &recorded, s.collinear);
+    let fit = PairFit {
+        residual: &r,
+        chi2_material,
+        dof,
+        alpha: s.alpha,
+        collinear: s.collinear,
+    };
+    let indistinguishable = pairs(&projected, &candidates, sens, &recorded, &fit);
     let verdict = verdict(&candidates, &indistinguishable, chi2_material);
     Ok(Naming {
         refitted_material: None,
@@ -592,14 +629,89 @@ fn holm(c: &mut [Candidate], alpha: f64) {
     }
 }
 
-/// Nearly collinear pairs among the significant candidates (or the two best when none is),
-/// with the unrecorded output that separates them.
+/// What [`pairs`] tests two candidates with.
+struct PairFit<'a> {
+    /// The residual after the material re-fit (whitened, material directions projected out).
+    residual: &'a DVector<f64>,
+    /// Its `χ²`.
+    chi2_material: f64,
+    /// Degrees of freedom of a one-effect fit.
+    dof: f64,
+    /// Level of the separation test.
+    alpha: f64,
+    /// `|cos|` above which two signatures are collinear.
+    collinear: f64,
+}
+
+impl PairFit<'_> {
+    /// The p-value of the better of `sa`, `sb` beyond the other: the fit with both against
+    /// the fit with the worse one alone (F with 1 and `dof − 1` degrees of freedom).
+    fn p_separation(&self, sa: &DVector<f64>, sb: &DVector<f64>) -> f64 {
+        let r = self.residual;
+        let (aa, bb, ab) = (sa.dot(sa), sb.dot(sb), sa.dot(sb));
+        let (ar, br) = (sa.dot(r), sb.dot(r));
+        let (da, db) = (ar * ar / aa, br * br / bb);
+        let det = aa * bb - ab * ab;
+        let joint = if det > 1e-12 * aa * bb {
+            (bb * ar * ar - 2.0 * ab * ar * br + aa * br * br) / det
+        } else {
+            da.max(db)
+        };
+        let extra = (joint - da.min(db)).max(0.0);
+        let dof = self.dof - 1.0;
+        let scale = (self.chi2_material - joint).max(0.0) / dof;
+        if scale <= 0.0 || dof < 1.0 {
+            return 0.0;
+        }
+        FisherSnedecor::new(1.0, dof).map_or(f64::NAN, |d| 1.0 - d.cdf(extra / scale))
+    }
+
+    /// The likelihood-ratio test of two non-nested one-effect fits (Vuong's idea, with the
+    /// Gaussian variance of the cells rather than the empirical one): `D = χ²_b − χ²_a`
+    /// (twice the log-likelihood ratio, in units of the variance `s²` of the fit with both),
+    /// whose standard deviation is `2 s |ŷ_a − ŷ_b|` (`ŷ` the fitted explanations) to first
+    /// order; `z = D / sd`, positive when `sa` fits better. Two identical fits give 0.
+    fn vuong_z(&self, sa: &DVector<f64>, sb: &DVector<f64>) -> f64 {
+        let r = self.residual;
+        let (aa, bb, ab) = (sa.dot(sa), sb.dot(sb), sa.dot(sb));
+        let (ar, br) = (sa.dot(r), sb.dot(r));
+        let (ca, cb) = (ar / aa, br / bb);
+        let d = ar * ar / aa - br * br / bb;
+        // |ca sa − cb sb|
+        let gap = (ca * ca * aa - 2.0 * ca * cb * ab + cb * cb * bb)
+            .max(0.0)
+            .sqrt();
+        let det = aa * bb - ab * ab;
+        let joint = if det > 1e-12 * aa * bb {
+            (bb * ar * ar - 2.0 * ab * ar * br + aa * br * br) / det
+        } else {
+            (ar * ar / aa).max(br * br / bb)
+        };
+        let s2 = (self.chi2_material - joint).max(0.0) / (self.dof - 1.0).max(1.0);
+        if gap <= 1e-12 * r.norm().max(1e-300) || s2 <= 0.0 {
+            return 0.0;
+        }
+        d / (2.0 * s2.sqrt() * gap)
+    }
+
+    /// Whether the recordings cannot tell `sa` from `sb`: the better one adds nothing
+    /// significant beyond the other, or neither fits significantly better (Vuong).
+    fn tied(&self, p_separation: f64, vuong_z: f64) -> bool {
+        let z_crit = Normal::new(0.0, 1.0).map_or(1.96, |d| d.inverse_cdf(1.0 - 0.5 * self.alpha));
+        p_separation > self.alpha || vuong_z.abs() < z_crit
+    }
+}
+
+/// Pairs the recordings cannot tell apart, with the unrecorded output that separates them:
+/// nearly collinear pairs among the significant candidates (or the two best when none is),
+/// and pairs of the first or the named candidate with another whose fit it does not beat
+/// significantly ([`PairFit::tied`]).
 fn pairs(
     projected: &[(String, f64, DVector<f64>, Option<Parameter>)],
     ranked: &[Candidate],
     sens: &SweepSensitivities,
     recorded: &[(u32, f64, f64, String)],
-    collinear: f64,
+    fit: &PairFit,
 ) -> Vec<Indistinguishable> {
     let mut interesting: Vec<&str> = ranked
         .iter()
@@ -609,6 +721,15 @@ fn pairs(
     if interesting.is_empty() {
         interesting = ranked.iter().take(2).map(|c| c.effect.as_str()).collect();
     }
+    // the candidates a reader acts on: the first of the ranking and the named one, when
+    // significant
+    let leading: Vec<&str> = ranked
+        .first()
+        .into_iter()
+        .chain(ranked.iter().find(|c| c.significant && c.plausible))
+        .filter(|c| c.significant)
+        .map(|c| c.effect.as_str())
+        .collect();
     let mut out = Vec::new();
     for (a, (na, ta, sa, pa)) in projected.iter().enumerate() {
         for (nb, tb, sb, pb) in projected.iter().skip(a + 1) {
@@ -616,13 +737,18 @@ fn pairs(
                 continue;
             }
             let cos = sa.dot(sb) / (sa.norm() * sb.norm());
-            if cos.abs() < collinear {
+            let tests = (leading.contains(&na.as_str()) || leading.contains(&nb.as_str()))
+                .then(|| (fit.p_separation(sa, sb), fit.vuong_z(sa, sb)));
+            let tied = tests.is_some_and(|(p, z)| fit.tied(p, z));
+            if cos.abs() < fit.collinear && !tied {
                 continue;
             }
             out.push(Indistinguishable {
                 a: na.clone(),
                 b: nb.clone(),
                 cosine: cos,
+                p_separation: tests.map(|t| t.0),
+                vuong_z: tests.map(|t| t.1),
                 separated_by: match (pa, pb) {
                     (Some(pa), Some(pb)) => separation(sens, recorded, (*pa, *ta), (*pb, *tb)),
                     _ => None,
@@ -1138,6 +1264,69 @@ mod tests {
         .unwrap_err()
         .to_string();
         assert!(err.contains("3 values per sample"), "{err}");
+    }
+
+    /// The separation test on vectors made by hand: two signatures 0.8 apart in cosine, a
+    /// residual along the first with unit noise elsewhere.
+    #[test]
+    fn a_pair_is_tied_unless_the_better_one_adds_significantly_beyond_the_other() {
+        let n = 60;
+        let e = |k: usize| DVector::from_fn(n, |i, _| if i == k { 1.0 } else { 0.0 });
+        let sa = e(0);
+        let sb = e(0) * 0.8 + e(1) * 0.6;
+        // unit noise on the other 58 numbers: χ² per degree of freedom about 1
+        let noise = DVector::from_fn(n, |i, _| {
+            if i < 2 {
+                0.0
+            } else if i % 2 == 0 {
+                1.0
+            } else {
+                -1.0
+            }
+        });
+        let fit = |size: f64| {
+            let r = &sa * size + &noise;
+            let chi2_material = r.norm_squared();
+            let f = PairFit {
+                residual: &r,
+                chi2_material,
+                dof: n as f64 - 5.0,
+                alpha: 0.05,
+                collinear: 0.95,
+            };
+            f.p_separation(&sa, &sb)
+        };
+        // a strong residual along `sa`: b explains 64 % of it, a all of it, 36 % beyond b
+        // is 0.36 × 100 = 36 χ² units, far beyond the noise
+        assert!(fit(10.0) < 1e-6, "{}", fit(10.0));
+        // a weak one: 0.36 × 4 = 1.44 beyond b, within the noise
+        assert!(fit(2.0) > 0.05, "{}", fit(2.0));
+        // the order of the two does not matter
+        let r = &sa * 2.0 + &noise;
+        let f = PairFit {
+            residual: &r,
+            chi2_material: r.norm_squared(),
+            dof: n as f64 - 5.0,
+            alpha: 0.05,
+            collinear: 0.95,
+        };
+        assert!((f.p_separation(&sa, &sb) - f.p_separation(&sb, &sa)).abs() < 1e-12);
+        // Vuong: antisymmetric, and decided only by a strong residual
+        assert!((f.vuong_z(&sa, &sb) + f.vuong_z(&sb, &sa)).abs() < 1e-12);
+        assert!(f.tied(f.p_separation(&sa, &sb), f.vuong_z(&sa, &sb)));
+        let r = &sa * 10.0 + &noise;
+        let strong = PairFit {
+            residual: &r,
+            chi2_material: r.norm_squared(),
+            dof: n as f64 - 5.0,
+            alpha: 0.05,
+            collinear: 0.95,
+        };
+        // D = 100 − 64, |ŷ_a − ŷ_b| = |3.6, −4.8| = 6: z ≈ 36 / 12 = 3, told apart
+        let z = strong.vuong_z(&sa, &sb);
+        assert!((z - 3.0).abs() < 0.2, "{z}");
+        assert!(!strong.tied(strong.p_separation(&sa, &sb), z));
+        assert_eq!(strong.vuong_z(&sa, &sa), 0.0);
     }
 
     #[test]

@@ -909,7 +909,8 @@ pub struct FeConfirmSettings {
     /// The sweep's FE settings (mesh, contact, solver); its material and effects are replaced
     /// by the refitted ones each round.
     pub sweep: SweepSettings,
-    /// Where the ramps are cached (an interrupted confirmation resumes).
+    /// Where the ramps are cached (round 1; round k > 1 in `round_k/` inside it): an
+    /// interrupted confirmation resumes.
     pub cache: std::path::PathBuf,
     /// At most this many FE rounds.
     pub rounds: usize,
@@ -1003,7 +1004,17 @@ pub fn confirm_with_fe(
         d.pressures_bar.sort_by(f64::total_cmp);
         d.pressures_bar.dedup();
     }
+    // round 1 in the cache directory, round k > 1 in `round_k/` beside it: every round's
+    // ramps stay (one file per design and rig would otherwise be overwritten by the next
+    // round's material), so an interrupted confirmation resumes in the round it reached
+    let mut round = 0;
     let mut run_fe = |material: &OgdenSet, values: &[f64]| -> Result<FeEvaluation, DiagnoseError> {
+        round += 1;
+        let cache = if round == 1 {
+            fe.cache.clone()
+        } else {
+            fe.cache.join(format!("round_{round}"))
+        };
         let mut effects = Effects::default();
         for (e, v) in s.effects.iter().zip(values) {
             effects
@@ -1018,7 +1029,7 @@ pub fn confirm_with_fe(
             sensitivities: Vec::new(),
             ..fe.sweep.clone()
         };
-        let ramps = run_ramps(&settings, &designs, Some(&fe.cache), progress)
+        let ramps = run_ramps(&settings, &designs, Some(&cache), progress)
             .map_err(crate::calibrate::CalibrateError::from)?;
         let run = ramps.iter().filter(|r| r.source == RampSource::Run).count();
         let failed: Vec<String> = ramps

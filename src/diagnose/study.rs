@@ -420,6 +420,10 @@ pub struct TwinScore {
     pub rank: Option<usize>,
     /// Whether the concealed effect is reported indistinguishable from the first candidate.
     pub indistinguishable_from_first: bool,
+    /// How many other candidates the recordings cannot tell from the first (its tie set),
+    /// and how many candidates were ranked.
+    #[serde(default)]
+    pub tied_with_first: (usize, usize),
     /// The Name stage's estimate of the concealed effect's value and its standard error.
     pub name_estimate: Option<(f64, f64)>,
     /// The refit's value of the named effect and its interval.
@@ -487,6 +491,15 @@ pub fn score_twin(
                 .any(|p| (&p.a == f && &p.b == t) || (&p.b == f && &p.a == t));
         }
     }
+    let tied_with_first = naming.map_or((0, 0), |n| {
+        let tied = first.as_ref().map_or(0, |f| {
+            n.indistinguishable
+                .iter()
+                .filter(|p| &p.a == f || &p.b == f)
+                .count()
+        });
+        (tied, n.candidates.len())
+    });
     let refit = d.refitted();
     Ok(TwinScore {
         twin: twin.to_string(),
@@ -498,6 +511,7 @@ pub fn score_twin(
         first,
         rank,
         indistinguishable_from_first: indistinguishable,
+        tied_with_first,
         name_estimate,
         refit_value: refit
             .and_then(|r| r.effects.first())
@@ -593,6 +607,10 @@ pub struct StudySummary {
     pub visible_first_or_indistinguishable: usize,
     /// … named (the verdict's effect is the concealed one).
     pub visible_named: usize,
+    /// Over the visible twins: the mean number of other candidates the recordings cannot
+    /// tell from the first, and the mean number ranked.
+    #[serde(default)]
+    pub visible_mean_tied: (f64, f64),
     /// Every effect twin: ranked first.
     pub effect_twins: usize,
     /// Every effect twin: ranked first (count).
@@ -658,6 +676,21 @@ pub fn summarise(twins: &[TwinScore]) -> StudySummary {
             .filter(|t| first(t) || t.indistinguishable_from_first)
             .count(),
         visible_named: visible.iter().filter(|t| named_right(t)).count(),
+        visible_mean_tied: {
+            let k = visible.len().max(1) as f64;
+            (
+                visible
+                    .iter()
+                    .map(|t| t.tied_with_first.0 as f64)
+                    .sum::<f64>()
+                    / k,
+                visible
+                    .iter()
+                    .map(|t| t.tied_with_first.1 as f64)
+                    .sum::<f64>()
+                    / k,
+            )
+        },
         effect_twins: effect.len(),
         effect_first: effect.iter().filter(|t| first(t)).count(),
         nulls: nulls.len(),
@@ -856,6 +889,16 @@ pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
     }
     let _ = writeln!(
         o,
+        "\nOn the visible twins the recordings cannot tell the first candidate from {:.1} others \
+         on average (of {:.1} ranked): the pairs whose signatures are collinear, or where the \
+         better one adds nothing significant beyond the other, or neither one-effect fit is \
+         significantly better (`diagnose::name`). \"First or indistinguishable\" counts those \
+         twins too; it says the concealed effect is among what these recordings allow, not \
+         that they single it out.",
+        s.visible_mean_tied.0, s.visible_mean_tied.1
+    );
+    let _ = writeln!(
+        o,
         "\n## Confusion matrix (rows: concealed, columns: named)\n"
     );
     let mut rows: Vec<String> = s.confusion.iter().map(|c| c.0.clone()).collect();
@@ -930,6 +973,7 @@ mod tests {
             first: Some(first.into()),
             rank,
             indistinguishable_from_first: false,
+            tied_with_first: (0, 16),
             name_estimate: None,
             refit_value: None,
             held_out_be: None,
@@ -955,6 +999,7 @@ mod tests {
             Some(2),
         );
         b.indistinguishable_from_first = true;
+        b.tied_with_first = (3, 16);
         let mut c = twin(
             Some(("pressure_loss", 0.05)),
             Some("pressure_loss"),
@@ -978,6 +1023,7 @@ mod tests {
         assert_eq!(s.visible, 3);
         assert_eq!(s.visible_first, 2);
         assert_eq!(s.visible_first_or_indistinguishable, 3);
+        assert_eq!(s.visible_mean_tied, (1.0, 16.0));
         assert_eq!(s.visible_named, 2);
         assert_eq!((s.effect_twins, s.effect_first), (4, 2));
         assert_eq!((s.nulls, s.false_alarms), (3, 1));

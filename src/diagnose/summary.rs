@@ -529,10 +529,10 @@ fn naming(s: &mut String, n: &crate::diagnose::name::Naming) {
     for p in &n.indistinguishable {
         let _ = writeln!(
             s,
-            "\n{} and {} cannot be told apart on these recordings (cos {:.3}){}.",
+            "\n{} and {} cannot be told apart on these recordings ({}){}.",
             p.a,
             p.b,
-            p.cosine,
+            p.why(),
             p.separated_by.as_ref().map_or(String::new(), |w| format!(
                 "; what would separate them: {w}"
             ))

@@ -202,10 +202,10 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
             print_candidates(n, 5);
             for p in &n.indistinguishable {
                 println!(
-                    "- {} and {} cannot be told apart here (cos {:.3}){}",
+                    "- {} and {} cannot be told apart here ({}){}",
                     p.a,
                     p.b,
-                    p.cosine,
+                    p.why(),
                     p.separated_by
                         .as_ref()
                         .map_or(String::new(), |s| format!("; {s}"))
