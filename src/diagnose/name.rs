@@ -1284,18 +1284,17 @@ mod tests {
                 -1.0
             }
         });
-        let fit = |size: f64| {
-            let r = &sa * size + &noise;
-            let chi2_material = r.norm_squared();
-            let f = PairFit {
-                residual: &r,
-                chi2_material,
-                dof: n as f64 - 5.0,
+        // the fit of a residual that holds everything the material left
+        fn pair_fit(r: &DVector<f64>) -> PairFit<'_> {
+            PairFit {
+                residual: r,
+                chi2_material: r.norm_squared(),
+                dof: r.len() as f64 - 5.0,
                 alpha: 0.05,
                 collinear: 0.95,
-            };
-            f.p_separation(&sa, &sb)
-        };
+            }
+        }
+        let fit = |size: f64| pair_fit(&(&sa * size + &noise)).p_separation(&sa, &sb);
         // a strong residual along `sa`: b explains 64 % of it, a all of it, 36 % beyond b
         // is 0.36 × 100 = 36 χ² units, far beyond the noise
         assert!(fit(10.0) < 1e-6, "{}", fit(10.0));
@@ -1303,25 +1302,13 @@ mod tests {
         assert!(fit(2.0) > 0.05, "{}", fit(2.0));
         // the order of the two does not matter
         let r = &sa * 2.0 + &noise;
-        let f = PairFit {
-            residual: &r,
-            chi2_material: r.norm_squared(),
-            dof: n as f64 - 5.0,
-            alpha: 0.05,
-            collinear: 0.95,
-        };
+        let f = pair_fit(&r);
         assert!((f.p_separation(&sa, &sb) - f.p_separation(&sb, &sa)).abs() < 1e-12);
         // Vuong: antisymmetric, and decided only by a strong residual
         assert!((f.vuong_z(&sa, &sb) + f.vuong_z(&sb, &sa)).abs() < 1e-12);
         assert!(f.tied(f.p_separation(&sa, &sb), f.vuong_z(&sa, &sb)));
         let r = &sa * 10.0 + &noise;
-        let strong = PairFit {
-            residual: &r,
-            chi2_material: r.norm_squared(),
-            dof: n as f64 - 5.0,
-            alpha: 0.05,
-            collinear: 0.95,
-        };
+        let strong = pair_fit(&r);
         // D = 100 − 64, |ŷ_a − ŷ_b| = |3.6, −4.8| = 6: z ≈ 36 / 12 = 3, told apart
         let z = strong.vuong_z(&sa, &sb);
         assert!((z - 3.0).abs() < 0.2, "{z}");

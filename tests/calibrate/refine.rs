@@ -7,7 +7,8 @@ use std::path::PathBuf;
 
 use surrogate::calibrate::optimise::MultistartSettings;
 use surrogate::calibrate::refine::{
-    data_space_shift, refine, round_plan, HighFidelity, RefineSettings, RefineStop, TrainingSet,
+    data_space_shift, refine, round_plan, HighFidelity, RefineSettings, RefineStop, Refinement,
+    TrainingSet,
 };
 use surrogate::calibrate::synthetic::{noisy_recordings, TrueOutputs};
 use surrogate::calibrate::{CalibrationSettings, OgdenSet, Recordings, Selection, Weights};
@@ -36,6 +37,17 @@ fn quick_calibration() -> CalibrationSettings {
     };
     c.identify.profile_points = 4;
     c
+}
+
+/// The refinement's settings in these tests.
+fn settings(max_rounds: usize, train: TrainConfig, data_tolerance: f64) -> RefineSettings {
+    RefineSettings {
+        max_rounds,
+        train,
+        calibration: quick_calibration(),
+        threads: None,
+        data_tolerance,
+    }
 }
 
 const TRUTH: OgdenSet = OgdenSet {
@@ -133,18 +145,20 @@ fn analytic_model(dir: &std::path::Path) -> (Surrogate, TrainingSet, Recordings,
     (m0, training, rec, cfg)
 }
 
-#[test]
-fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
-    let dir = scratch("analytic");
-    let (m0, training, rec, cfg) = analytic_model(&dir);
-    let settings = RefineSettings {
-        max_rounds: 4,
-        train: cfg,
-        calibration: quick_calibration(),
-        threads: None,
-        // this test is about agreement: the data-space stop is tested below
-        data_tolerance: 0.0,
-    };
+/// The refinement of [`analytic_model`]'s surrogate against [`fe`] in `dir/refine`, up to 4
+/// rounds, and what it was made from.
+fn analytic_refinement(
+    dir: &std::path::Path,
+    data_tolerance: f64,
+) -> (
+    Refinement,
+    Surrogate,
+    TrainingSet,
+    Recordings,
+    RefineSettings,
+) {
+    let (m0, training, rec, cfg) = analytic_model(dir);
+    let settings = settings(4, cfg, data_tolerance);
     let r = refine(
         &m0,
         &training,
@@ -156,6 +170,14 @@ fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
     )
     .unwrap();
     println!("{}", r.summary_markdown());
+    (r, m0, training, rec, settings)
+}
+
+#[test]
+fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
+    let dir = scratch("analytic");
+    // this test is about agreement: the data-space stop is tested below
+    let (r, m0, training, rec, settings) = analytic_refinement(&dir, 0.0);
     let first = &r.rounds[0];
     assert!(
         first.verification.disagreements > 0,
@@ -214,7 +236,7 @@ fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
 #[test]
 fn sets_along_an_undetermined_direction_are_the_same_in_data_space() {
     let dir = scratch("data_space");
-    let (m0, _training, rec, _cfg) = analytic_model(&dir);
+    let (r, m0, training, rec, settings) = analytic_refinement(&dir, 1.0);
     let sel = Selection::default();
     // TRUTH: μ1α1 = 5, μ2α2 = 5 (μ0 = 5 MPa); the split moved to 6 + 4, μ0 and the α kept
     let split = OgdenSet {
@@ -252,25 +274,6 @@ fn sets_along_an_undetermined_direction_are_the_same_in_data_space() {
     assert!(err.to_string().contains("training domain"), "{err}");
 
     // the refinement with the data-space stop
-    let (_, training, _, cfg) = analytic_model(&dir);
-    let settings = RefineSettings {
-        max_rounds: 4,
-        train: cfg,
-        calibration: quick_calibration(),
-        threads: None,
-        data_tolerance: 1.0,
-    };
-    let r = refine(
-        &m0,
-        &training,
-        &rec,
-        &settings,
-        &fe,
-        &dir.join("refine"),
-        &|_| {},
-    )
-    .unwrap();
-    println!("{}", r.summary_markdown());
     // the refit walks along the undetermined split after the first retraining (the parameters
     // move, OptimumUnchanged cannot fire), but nothing the recordings see moves
     assert_eq!(
@@ -391,13 +394,7 @@ fn a_multi_fidelity_model_is_refined_on_both_meshes() {
             pressure_warp: false,
         }),
     };
-    let settings = RefineSettings {
-        max_rounds: 3,
-        train: cfg,
-        calibration: quick_calibration(),
-        threads: None,
-        data_tolerance: 1.0,
-    };
+    let settings = settings(3, cfg, 1.0);
     let r = refine(
         &m0,
         &training,
