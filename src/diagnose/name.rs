@@ -149,7 +149,7 @@ pub struct Indistinguishable {
     #[serde(default)]
     pub p_separation: Option<f64>,
     /// For the same pairs: the z of the likelihood ratio of the two non-nested one-effect
-    /// fits (positive: `a` fits better; [`PairFit`]'s `vuong_z`). Within the two-sided normal
+    /// fits (positive: `a` fits better; see the module docs). Within the two-sided normal
     /// quantile of the level: neither fits significantly better.
     #[serde(default)]
     pub vuong_z: Option<f64>,
