@@ -9,6 +9,11 @@
 //! cargo run --release --example refine
 //! cargo run --release --example refine -- /tmp/my_refinement
 //! ```
+//!
+//! The default settings stop when surrogate and FE agree, when the refit is the set already
+//! verified, or when the refit moves no recorded number by more than its σ
+//! (`RefineSettings::data_tolerance`, the answer to a refit that walks along a direction the
+//! recordings do not determine); the summary says which.
 use std::path::{Path, PathBuf};
 
 use surrogate::calibrate::refine::{refine, RefineEvent, RefineSettings, TrainingSet};
