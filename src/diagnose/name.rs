@@ -629,6 +629,18 @@ fn holm(c: &mut [Candidate], alpha: f64) {
     }
 }
 
+/// `Δχ²` of the fit with two signatures `a`, `b` together, from their Gram entries
+/// (`aa = a·a`, `bb`, `ab`) and their products with the residual (`ar`, `br`); the better
+/// single fit's where the two are collinear.
+fn joint_delta(aa: f64, bb: f64, ab: f64, ar: f64, br: f64) -> f64 {
+    let det = aa * bb - ab * ab;
+    if det > 1e-12 * aa * bb {
+        (bb * ar * ar - 2.0 * ab * ar * br + aa * br * br) / det
+    } else {
+        (ar * ar / aa).max(br * br / bb)
+    }
+}
+
 /// What [`pairs`] tests two candidates with.
 struct PairFit<'a> {
     /// The residual after the material re-fit (whitened, material directions projected out).
@@ -651,12 +663,7 @@ impl PairFit<'_> {
         let (aa, bb, ab) = (sa.dot(sa), sb.dot(sb), sa.dot(sb));
         let (ar, br) = (sa.dot(r), sb.dot(r));
         let (da, db) = (ar * ar / aa, br * br / bb);
-        let det = aa * bb - ab * ab;
-        let joint = if det > 1e-12 * aa * bb {
-            (bb * ar * ar - 2.0 * ab * ar * br + aa * br * br) / det
-        } else {
-            da.max(db)
-        };
+        let joint = joint_delta(aa, bb, ab, ar, br);
         let extra = (joint - da.min(db)).max(0.0);
         let dof = self.dof - 1.0;
         let scale = (self.chi2_material - joint).max(0.0) / dof;
@@ -681,12 +688,7 @@ impl PairFit<'_> {
         let gap = (ca * ca * aa - 2.0 * ca * cb * ab + cb * cb * bb)
             .max(0.0)
             .sqrt();
-        let det = aa * bb - ab * ab;
-        let joint = if det > 1e-12 * aa * bb {
-            (bb * ar * ar - 2.0 * ab * ar * br + aa * br * br) / det
-        } else {
-            (ar * ar / aa).max(br * br / bb)
-        };
+        let joint = joint_delta(aa, bb, ab, ar, br);
         let s2 = (self.chi2_material - joint).max(0.0) / (self.dof - 1.0).max(1.0);
         if gap <= 1e-12 * r.norm().max(1e-300) || s2 <= 0.0 {
             return 0.0;
