@@ -141,3 +141,55 @@ fn projected_tangent_keeps_the_residual_and_is_positive_semidefinite() {
         assert!(vkv >= 0.0, "vᵀKv = {vkv:e}");
     }
 }
+
+/// The blocked-force ramp N = 9, T = 1.6 to 1 bar on the coarse mesh (bellows and plate in
+/// contact) by both solvers: the residual Newton with augmented-Lagrangian penalty contact and
+/// the minimisation with the log barrier (d̂ = 1e-3 mm). Tip and blocked force agree within
+/// 0.2 % at every level (of the tip's displacement, of the force), the tolerance for
+/// the standard-mesh comparison of `fe_reference/solver_minimise/`.
+#[test]
+fn minimisation_and_residual_newton_give_the_same_tip_and_blocked_force() {
+    use surrogate::fe::material::DEFAULT_BULK_RATIO;
+    use surrogate::fe::simulate::{simulate, Case};
+    use surrogate::fe::solver::{MinimiseSettings, SolverKind, SolverSettings};
+    let case = |kind: SolverKind| Case {
+        design: DesignParams::new(9, 1.6).validate().unwrap(),
+        material: Material::from_spec("ogden_002", DEFAULT_BULK_RATIO).unwrap(),
+        pressures_bar: vec![0.0, 1.0],
+        gravity: true,
+        mesh: MeshOptions::level(MeshLevel::Coarse),
+        solver: SolverSettings {
+            kind,
+            ..SolverSettings::default()
+        },
+        mode: Mode::Force,
+        contact: ContactSettings::default(),
+        effects: Default::default(),
+    };
+    let newton = simulate(&case(SolverKind::Newton)).unwrap().steps;
+    let minimise = simulate(&case(SolverKind::Minimise(MinimiseSettings::default())))
+        .unwrap()
+        .steps;
+    for (a, b) in newton.iter().zip(&minimise) {
+        assert!(a.converged && b.converged);
+        let tip = a.tip_uz_mm.hypot(a.tip_uy_mm);
+        let d = (a.tip_uz_mm - b.tip_uz_mm).hypot(a.tip_uy_mm - b.tip_uy_mm);
+        assert!(
+            d <= 2e-3 * tip,
+            "{} bar: tip ({}, {}) against ({}, {}) mm",
+            a.pressure_bar,
+            a.tip_uz_mm,
+            a.tip_uy_mm,
+            b.tip_uz_mm,
+            b.tip_uy_mm
+        );
+        let (fa, fb) = (a.force_n.unwrap(), b.force_n.unwrap());
+        assert!(
+            (fa - fb).abs() <= 2e-3 * fa.abs().max(1e-3),
+            "{} bar: blocked force {fa} against {fb} N",
+            a.pressure_bar
+        );
+    }
+    // the contact was active: bellows touch and the plate carries the tip at 1 bar
+    assert!(newton[1].force_n.unwrap() > 0.1 && minimise[1].contact_force_n > 0.0);
+}

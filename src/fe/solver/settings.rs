@@ -108,8 +108,8 @@ pub struct MinimiseSettings {
     /// Pressure scale p̂ of the barrier (MPa).
     pub barrier_pressure: f64,
     /// Target Newton iterations per load increment: an increment that took at most this many
-    /// is followed by one twice as large, one that took more than twice as many by one half
-    /// as large.
+    /// is followed by one twice as large, one that took at most twice as many by one 1.5
+    /// times as large; only a failed increment is halved.
     pub target_iterations: usize,
 }
 

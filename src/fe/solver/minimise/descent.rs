@@ -1,5 +1,5 @@
 //! One load increment of the minimisation: Newton directions that descend on Π (LLᵀ, with
-//! the projected and shifted tangents as fallbacks), a step filter that keeps every contact
+//! the indefinite tangent's LDLᵀ, the projected and the shifted tangents as fallbacks), a step filter that keeps every contact
 //! gap positive, and a watchdog line search on Π.
 //!
 //! The watchdog: with κ = 1000 μ0, a Newton step along the soft bending mode is a linearised
@@ -170,29 +170,32 @@ impl<P: NonlinearProblem> Minimiser<'_, P> {
         Ok(out)
     }
 
-    /// A direction `du` with `∇Π·du < 0`: the Newton direction of the tangent by LLᵀ; if that
-    /// fails or does not descend, of the tangent of projected element tangents; then of that
-    /// one shifted by `μ·diag` (μ = 1e-6 … 1). Returns `∇Π·du`, or `None` if all fail.
+    /// A direction `du` with `∇Π·du < 0`: the Newton direction of the tangent by LLᵀ; if the
+    /// tangent is not positive definite, the Newton direction by LDLᵀ of the same tangent
+    /// (the residual Newton's, kept where it descends); then that of the tangent of projected
+    /// element tangents; then of that one shifted by `μ·diag` (μ = 1e-6 … 1). Returns `∇Π·du`,
+    /// or `None` if all fail.
     fn direction(&mut self, u_full: &[f64], level: &LoadLevel) -> Result<Option<f64>, SolverError> {
-        for attempt in 0..5 {
+        for attempt in 0..6 {
             match attempt {
-                0 | 1 => {
-                    let project = attempt == 1;
-                    if project {
-                        self.projections += 1;
-                    }
-                    if self.eval(u_full, level, true, project)?.is_none() {
+                0 => {
+                    if self.eval(u_full, level, true, false)?.is_none() {
                         return Ok(None);
                     }
-                    if project {
-                        for (c, d) in self.diag.iter_mut().enumerate() {
-                            *d = self.k[self.model.pattern().col_ptr[c]];
-                        }
+                }
+                1 => {}
+                2 => {
+                    self.projections += 1;
+                    if self.eval(u_full, level, true, true)?.is_none() {
+                        return Ok(None);
+                    }
+                    for (c, d) in self.diag.iter_mut().enumerate() {
+                        *d = self.k[self.model.pattern().col_ptr[c]];
                     }
                 }
                 _ => {
                     self.shifts += 1;
-                    let mu = 1e-6 * 100f64.powi(attempt - 2);
+                    let mu = 1e-6 * 100f64.powi(attempt - 3);
                     let cp = &self.model.pattern().col_ptr;
                     let dmax = self.diag.iter().fold(0.0f64, |m, d| m.max(d.abs()));
                     for (c, d) in self.diag.iter().enumerate() {
@@ -204,11 +207,20 @@ impl<P: NonlinearProblem> Minimiser<'_, P> {
                 *d = -r;
             }
             let t = Instant::now();
-            let ok = self.linear.solve_llt(&self.k, &mut self.du)?;
+            let ok = if attempt == 1 {
+                // the indefinite tangent as it is (LDLᵀ); a failed solve is not fatal here
+                self.linear.solve(&self.k, &mut self.du).is_ok()
+                    && self.du.iter().all(|v| v.is_finite())
+            } else {
+                self.linear.solve_llt(&self.k, &mut self.du)?
+            };
             self.factor_seconds += t.elapsed().as_secs_f64();
             if ok {
                 let gd = dot(&self.r_free, &self.du);
                 if gd < 0.0 {
+                    if attempt == 1 {
+                        self.indefinite += 1;
+                    }
                     return Ok(Some(gd));
                 }
             }
@@ -217,6 +229,8 @@ impl<P: NonlinearProblem> Minimiser<'_, P> {
                     "           direction attempt {attempt}: {}",
                     if ok {
                         "not a descent direction"
+                    } else if attempt == 1 {
+                        "LDLᵀ failed"
                     } else {
                         "tangent not positive definite"
                     }

@@ -17,7 +17,9 @@
 //!   finite Π has every gap strictly positive, and there are no multipliers to update, so no
 //!   outer loop.
 //! - **Descent directions.** The Newton system is factorised by Cholesky (LLᵀ). Where that
-//!   fails (the tangent is not positive definite), the tangent is rebuilt from element
+//!   fails (the tangent is not positive definite, as at the start of most increments: the
+//!   follower pressure's load stiffness), the same tangent is factorised by LDLᵀ and its
+//!   Newton direction kept if it descends on Π; otherwise the tangent is rebuilt from element
 //!   tangents projected onto the positive semi-definite cone, then shifted on its diagonal
 //!   until LLᵀ succeeds: the direction always descends on Π.
 //! - **Step filter and line search on Π** ([`descent`]). A step is first shortened so that no
@@ -27,7 +29,9 @@
 //!   decrease is below the round-off of Π the step is taken in full.
 //! - **Load increments by iteration count.** An increment that took at most
 //!   [`MinimiseSettings::target_iterations`] iterations is followed by one twice as large,
-//!   one that took more than twice that by one half as large; a failed increment is halved.
+//!   one that took at most twice that by one 1.5 times as large; only a failed increment is
+//!   halved (smaller increments do not need fewer iterations: each starts with the same
+//!   overshoot of the first Newton step).
 //!   Each increment starts from the path extrapolated in the load (as the residual solver's
 //!   predictor), kept only where it has a lower Π than the last state.
 //!
@@ -72,6 +76,8 @@ pub struct Minimiser<'m, P: NonlinearProblem> {
     assembly_seconds: f64,
     /// Pressure increment for the next substep (MPa).
     last_increment: Option<f64>,
+    /// Directions from the LDLᵀ of a tangent that is not positive definite (descending).
+    pub indefinite: usize,
     /// Tangents rebuilt from projected element tangents.
     pub projections: usize,
     /// Diagonal shifts of a projected tangent.
@@ -112,6 +118,7 @@ impl<'m, P: NonlinearProblem> Minimiser<'m, P> {
             factor_seconds: 0.0,
             assembly_seconds: 0.0,
             last_increment: None,
+            indefinite: 0,
             projections: 0,
             shifts: 0,
         })
@@ -214,10 +221,13 @@ impl<'m, P: NonlinearProblem> Minimiser<'m, P> {
                 s = s_next;
                 report.substeps += 1;
                 consecutive_cuts = 0;
+                // the iterations of an increment do not fall below about 6–10 with smaller
+                // increments (the first Newton step's second-order violation of J = 1, module
+                // docs), so a converged increment is never shrunk: only a failed one is halved
                 if out.iterations <= target_its {
                     frac *= 2.0;
-                } else if out.iterations > 2 * target_its {
-                    frac *= 0.5;
+                } else if out.iterations <= 2 * target_its {
+                    frac *= 1.5;
                 }
                 frac = frac.min(max_frac(dp));
                 if dp > 0.0 {
