@@ -83,7 +83,7 @@ fn cli_crates_are_optional_and_enabled_by_the_default_cli_feature() {
 /// the library alone, with warm dependencies, about 4 minutes in release). Run it with
 /// `cargo test --release --test library_features -- --ignored`.
 #[test]
-#[ignore = "compiles the dependencies in a target directory of its own (minutes)"]
+#[ignore = "compiles the dependencies in a target directory of its own (minutes); run: cargo test --release --test library_features -- --ignored"]
 fn library_builds_without_default_features() {
     let target = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("no_default_features");
     let out = std::process::Command::new(env!("CARGO"))

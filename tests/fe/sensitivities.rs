@@ -224,7 +224,7 @@ fn force_sensitivities_follow_the_plate_and_match_finite_differences() {
 }
 
 #[test]
-#[ignore = "about 40 full runs, 6 min on one core; its output is in fe_reference/sensitivities/"]
+#[ignore = "about 40 full runs, 6 min on one core; output in fe_reference/sensitivities/; run: cargo test --release --test fe -- --ignored every_parameter_matches_finite_differences_in_bending"]
 fn every_parameter_matches_finite_differences_in_bending() {
     println!(
         "{}",
@@ -233,7 +233,7 @@ fn every_parameter_matches_finite_differences_in_bending() {
 }
 
 #[test]
-#[ignore = "about 40 full runs at 1 bar, 20 min on one core"]
+#[ignore = "about 40 full runs at 1 bar, 20 min on one core; run: cargo test --release --test fe -- --ignored every_parameter_matches_finite_differences_in_the_force_rig"]
 fn every_parameter_matches_finite_differences_in_the_force_rig() {
     println!(
         "{}",

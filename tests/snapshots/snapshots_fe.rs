@@ -75,7 +75,7 @@ fn a_failing_fe_case_is_recorded_with_the_solver_error() {
 /// About 3 minutes on 2 busy cores, hence ignored:
 /// `cargo test --release --test snapshots -- --ignored`.
 #[test]
-#[ignore = "real FE: about 3 minutes"]
+#[ignore = "real FE, about 3 minutes; run: cargo test --release --test snapshots -- --ignored fe_snapshots_reproduce_when_re_simulated"]
 fn fe_snapshots_reproduce_when_re_simulated() {
     let root = scratch("reproduce");
     let plan = tiny_plan(4, 5, |_| {});

@@ -1,0 +1,56 @@
+#!/usr/bin/env python3
+"""Where the Newton iterations of a ramp go, from its trace (SURROGATE_TRACE=1 on stderr).
+
+Each Newton solve of the trace is one of: a failed increment (cut back, or retried without
+the predictor), an augmented-Lagrangian re-solve (after an Uzawa update of the contact
+shifts), or a converged load increment; a converged increment's iterations are split at the
+iteration from which the normalised residual stays below 1e-2 (the quadratic phase) into the
+iterations before it and those in it.
+
+    python3 fe_reference/solver_minimise/iterations.py LOG newton|minimise
+"""
+import re
+import sys
+
+
+def analyse(path, tag):
+    solves, cur, after_update = [], None, False
+    for line in open(path):
+        if "augmented update" in line:
+            after_update = True
+            continue
+        if line.startswith(("coarse:", "standard:", "simulate:")) or "predictor" in line:
+            after_update = False
+        m = re.match(r"\s+" + tag + r"\s+(\d+).*\|r\|/f = (\S+)", line)
+        if m:
+            it, r = int(m.group(1)), float(m.group(2))
+            if it == 0:
+                if cur:
+                    solves.append(cur)
+                cur = {"r": [], "update": after_update}
+                after_update = False
+            cur["r"].append(r)
+    if cur:
+        solves.append(cur)
+    cat = {"failed increments": 0, "augmented re-solves": 0,
+           "increments before the quadratic phase": 0, "increments in the quadratic phase": 0}
+    n_inc = 0
+    for s in solves:
+        x = s["r"]
+        its = len(x) - 1
+        if x[-1] > 1e-7:
+            cat["failed increments"] += its
+        elif s["update"]:
+            cat["augmented re-solves"] += its
+        else:
+            n_inc += 1
+            k = next((i for i, v in enumerate(x) if all(w < 1e-2 for w in x[i:])), its)
+            cat["increments before the quadratic phase"] += k
+            cat["increments in the quadratic phase"] += its - k
+    return n_inc, cat
+
+
+if __name__ == "__main__":
+    n, cat = analyse(sys.argv[1], sys.argv[2])
+    total = sum(cat.values())
+    print(f"{total} iterations, {n} converged increments: " + ", ".join(f"{k} {v}" for k, v in cat.items()))
