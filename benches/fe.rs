@@ -1,5 +1,6 @@
-//! Hot paths of the FE model (criterion): one element's residual + tangent, one full assembly
-//! of the coarse actuator, and one sparse factorisation + solve.
+//! Hot paths of the FE model (criterion): one element's residual + tangent, the PSD projection
+//! of one element tangent, one full assembly of the coarse actuator, and one sparse
+//! factorisation + solve.
 //!
 //! ```sh
 //! cargo bench --bench fe
@@ -7,8 +8,9 @@
 //! The full-ramp benchmark (wall time per mesh level) is `surrogate simulate --bench`.
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use surrogate::fe::assembly::projection::project_psd;
 use surrogate::fe::assembly::LoadLevel;
-use surrogate::fe::element::{residual_tangent, ElementWork};
+use surrogate::fe::element::{residual_tangent, ElementWork, DOFS};
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
@@ -54,6 +56,25 @@ fn fe(c: &mut Criterion) {
                 .expect("admissible")
         })
     });
+
+    // the minimisation solver's fallback: an element tangent made indefinite (its diagonal
+    // lowered by a tenth of its mean) projected onto the PSD cone (eigen-decomposition path)
+    residual_tangent(e, &fe.geometry[e], &ue, &fe.material, true, &mut work).expect("admissible");
+    let mean_diag = (0..DOFS).map(|i| work.k[i * DOFS + i]).sum::<f64>() / DOFS as f64;
+    let mut indefinite = work.k.clone();
+    for i in 0..DOFS {
+        indefinite[i * DOFS + i] -= 0.1 * mean_diag;
+    }
+    c.bench_function(
+        "PSD projection of an indefinite element tangent (81 × 81)",
+        |b| {
+            b.iter(|| {
+                let mut m = indefinite.clone();
+                assert!(project_psd::<DOFS>(&mut m));
+                m
+            })
+        },
+    );
 
     let mut r = vec![0.0; n];
     let mut k = vec![0.0; fe.pattern.nnz()];

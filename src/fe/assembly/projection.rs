@@ -7,7 +7,8 @@
 //! A Cholesky test of `K + τ I` (τ = 1e-10 · max |K_ii|) first: an element that passes is
 //! (up to τ) already PSD and is left as it is; the others are decomposed by nalgebra's
 //! symmetric eigen-solver (Householder tridiagonalisation and implicit QR, deterministic, on
-//! the stack: no allocation), about ten times faster than cyclic Jacobi rotations on 81 × 81.
+//! the stack: no allocation). It replaced cyclic Jacobi rotations, which took 76 % of the
+//! minimisation solver's time on the coarse ramp when most increments needed a projection.
 
 // Index loops mirror the matrix notation (i, j: rows and columns; p, q: the rotated pair).
 #![allow(clippy::needless_range_loop)]

@@ -1,6 +1,6 @@
 //! One load increment of the minimisation: Newton directions that descend on Π (LLᵀ, with
-//! the indefinite tangent's LDLᵀ, the projected and the shifted tangents as fallbacks), a step filter that keeps every contact
-//! gap positive, and a watchdog line search on Π.
+//! the indefinite tangent's LDLᵀ, the projected and the shifted tangents as fallbacks), a
+//! step filter that keeps every contact gap positive, and a watchdog line search on Π.
 //!
 //! The watchdog: with κ = 1000 μ0, a Newton step along the soft bending mode is a linearised
 //! rotation whose second-order violation of J = 1 raises Π although the iteration converges
