@@ -6,6 +6,12 @@
 //! The fill-reducing ordering is the one of AMD and METIS nested dissection
 //! ([`crate::fe::ordering`]) that gives the smaller factor: nested dissection on the standard
 //! mesh, AMD on the coarse one (measurements in `docs/SOLVER_MEASUREMENTS.md`).
+//!
+//! The numeric factorisation and the triangular solves run on one thread
+//! ([`factor_parallelism`]) while the assembly uses all of rayon's: on the 2-core machine the
+//! standard-mesh LDLᵀ takes 0.99 s sequentially and 1.37 s with faer's rayon parallelism
+//! (`RAYON_NUM_THREADS=1|2 cargo bench --bench fe -- "standard actuator"`, nested dissection),
+//! and a factor computed on one thread does not depend on the thread count.
 
 use faer::dyn_stack::StackReq;
 use faer::dyn_stack::{MemBuffer, MemStack};
@@ -16,7 +22,7 @@ use faer::sparse::linalg::cholesky::{
     factorize_symbolic_cholesky, LdltRef, LltRef, SymbolicCholesky, SymmetricOrdering,
 };
 use faer::sparse::{SparseColMatRef, SymbolicSparseColMatRef};
-use faer::{Conj, Mat, Side};
+use faer::{Conj, Mat, Par, Side};
 
 use super::problem::NonlinearProblem;
 use super::settings::SolverError;
@@ -50,6 +56,25 @@ pub struct LinearSolver {
     factored: bool,
     /// Whether that factor is an LLᵀ ([`Self::solve_llt`]) rather than an LDLᵀ.
     factored_llt: bool,
+    /// Parallelism of the numeric factorisation and the solves ([`factor_parallelism`]).
+    par: Par,
+}
+
+/// Environment variable that sets the threads of the numeric factorisation (module docs);
+/// unset, 0 or 1: one thread.
+pub const FACTOR_THREADS_ENV: &str = "SURROGATE_FACTOR_THREADS";
+
+/// The parallelism of the sparse factorisation: sequential unless
+/// [`FACTOR_THREADS_ENV`] asks for more threads (for machines where faer's parallel
+/// supernodal kernels pay; on the 2-core reference machine they cost 38 % more time).
+pub fn factor_parallelism() -> Par {
+    match std::env::var(FACTOR_THREADS_ENV)
+        .ok()
+        .and_then(|v| v.trim().parse::<usize>().ok())
+    {
+        Some(n) if n > 1 => Par::rayon(n),
+        _ => Par::Seq,
+    }
 }
 
 impl LinearSolver {
@@ -114,7 +139,7 @@ impl LinearSolver {
                 }
             }
         };
-        let par = faer::get_global_parallelism();
+        let par = factor_parallelism();
         let factor_buf = MemBuffer::new(StackReq::or(
             symbolic.factorize_numeric_ldlt_scratch::<f64>(par, Default::default()),
             symbolic.factorize_numeric_llt_scratch::<f64>(par, Default::default()),
@@ -133,6 +158,7 @@ impl LinearSolver {
             factorizations: 0,
             factored: false,
             factored_llt: false,
+            par,
         })
     }
 
@@ -154,7 +180,7 @@ impl LinearSolver {
             &self.row_idx,
         );
         let mat = SparseColMatRef::new(sym, values);
-        let par = faer::get_global_parallelism();
+        let par = self.par;
         self.factorizations += 1;
         self.factored = false;
         self.symbolic
@@ -188,7 +214,7 @@ impl LinearSolver {
             &self.row_idx,
         );
         let mat = SparseColMatRef::new(sym, values);
-        let par = faer::get_global_parallelism();
+        let par = self.par;
         self.factorizations += 1;
         self.factored = false;
         match self.symbolic.factorize_numeric_llt(
@@ -225,7 +251,7 @@ impl LinearSolver {
                 "no factor to reuse: the last factorisation failed or none was made".into(),
             ));
         }
-        let par = faer::get_global_parallelism();
+        let par = self.par;
         for (i, v) in b.iter().enumerate() {
             self.rhs[(i, 0)] = *v;
         }
