@@ -35,8 +35,11 @@
 //!   shifts between solves, so the walls touch to within [`AUGMENTED_GAP_TOL`] · ε.
 //! - **Stabilisation.** Only where plain load control has stopped (a limit point), so every
 //!   result that converged without it is unchanged, and only undamped equilibria are reported.
-//! - **Every iteration factorises.** Reusing factors (GMRES, modified Newton) was measured and
-//!   did not pay on this problem; [`SolverSettings::reuse_factor`] keeps the option.
+//! - **Every iteration factorises.** Reusing factors (GMRES, modified Newton) did not pay on
+//!   the coarse mesh, where assembly weighs as much as the factor; with the factorisation on
+//!   one thread ([`linear::factor_parallelism`]) modified Newton in the augmented re-solves
+//!   ([`SolverSettings::reuse_factor`]) saves 13 % on the standard mesh, but stays off by
+//!   default because switching it on changes every ramp's cache key.
 //!
 //! The measurements behind each of these choices (iteration counts and wall times of the
 //! alternatives that were tried) are recorded in `docs/SOLVER_MEASUREMENTS.md`.
