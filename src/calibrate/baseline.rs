@@ -27,6 +27,7 @@ use crate::fe::effects::Effects;
 use crate::fe::geometry::DesignParams;
 use crate::fe::material::Material;
 use crate::fe::mesh::MeshOptions;
+use crate::fe::preset::Geometry;
 use crate::fe::sensitivity::{
     sensitivities_with, Parameter, Sensitivities, SENSITIVITY_FORMAT_VERSION, SENSITIVITY_METHOD,
 };
@@ -372,6 +373,9 @@ impl RampCache {
 pub struct SweepSettings {
     /// The material.
     pub material: Material,
+    /// The dimensions the reference study leaves unstated ([`Geometry`]); the historical
+    /// [`Geometry::as_modelled`] leaves every design, and so every cache key, as it was.
+    pub geometry: Geometry,
     /// Mesh level and options.
     pub mesh: MeshOptions,
     /// Contact settings (bellows, clamp, force plate).
@@ -394,6 +398,7 @@ impl SweepSettings {
     pub fn new(material: Material, mesh: MeshOptions) -> Self {
         Self {
             material,
+            geometry: Geometry::as_modelled(),
             mesh,
             contact: ContactSettings::default(),
             effects: Effects::default(),
@@ -406,7 +411,8 @@ impl SweepSettings {
     /// The FE case of design `(n, t)` in `mode` through `pressures_bar`.
     ///
     /// # Errors
-    /// [`SimulateError`] for a design outside the model's range.
+    /// [`SimulateError`] for a design outside the model's range or one the geometry cannot
+    /// build.
     pub fn case(
         &self,
         n: usize,
@@ -414,10 +420,15 @@ impl SweepSettings {
         pressures_bar: Vec<f64>,
         mode: Mode,
     ) -> Result<Case, SimulateError> {
-        Ok(Case {
-            design: DesignParams::new(n, t)
+        let design = if self.geometry.is_as_modelled() {
+            DesignParams::new(n, t)
                 .validate()
-                .map_err(SimulateError::from)?,
+                .map_err(SimulateError::from)?
+        } else {
+            self.geometry.design(n, t).map_err(SimulateError::from)?
+        };
+        Ok(Case {
+            design,
             material: self.material.clone(),
             pressures_bar,
             gravity: self.gravity,

@@ -37,6 +37,7 @@ pub mod checks;
 pub mod experiments;
 pub mod fit;
 pub mod identify;
+pub mod joint;
 pub mod objective;
 pub mod optimise;
 pub mod params;

@@ -5,24 +5,35 @@
 //! of a case without it (tested bit for bit). The diagnoser ranks these effects as candidate
 //! explanations of a mismatch between the model and the recordings.
 //!
-//! | effect | unit | neutral | range | what it changes |
-//! |---|---|---|---|---|
-//! | `wall_bias` | mm | 0 | −0.4 … 0.4 | every bellow wall printed `T + bias` thick |
-//! | `wall_bias_bellows` | mm | 0 | −0.4 … 0.4 | only the walls facing the gaps (normal ±z) |
-//! | `wall_bias_skin` | mm | 0 | −0.4 … 0.4 | only the outer skin (side wall and top) |
-//! | `gap_bias` | mm | 0 | −0.5 … 0.5 | gap between bellows `g + bias` (nominal 1 mm) |
-//! | `base_bias` | mm | 0 | −0.5 … 0.5 | base thickness `b + bias` (nominal 4 mm) |
-//! | `duct_bias` | mm | 0 | −0.5 … 0.5 | duct half-width `d + bias` (nominal 2 mm) |
-//! | `free_length_bias` | mm | 0 | −2 … 2 | free length `Lf + bias` (nominal 92 mm) |
-//! | `clamp_compliance` | mm/MPa | 0 | 0 … 0.5 | clamped face on normal springs `k = 1/c` |
-//! | `clamp_shear_compliance` | mm/MPa | 0 | 0 … 0.5 | clamped face on tangential springs |
-//! | `pressure_loss` | 1 | 0 | 0 … 0.3 | effective pressure `(1 − f)·P − p₀` |
-//! | `pressure_offset` | bar | 0 | 0 … 0.3 | the `p₀` above |
-//! | `density` | 1 | 1 | 0.5 … 1.5 | self-weight scaled |
-//! | `anisotropy` | 1 | 0 | −0.25 … 1 | fibre term along the length, `k = a·μ0` |
-//! | `plate_offset` | mm | 0 | −2 … 2 | plate `5 + offset` mm below the sagged tip |
-//! | `plate_compliance` | mm/N | 0 | 0 … 1 | plate yields `c·F` under the blocked force |
-//! | `force_scale` | 1 | 1 | 0.7 … 1.3 | reported blocked force scaled (load-cell calibration) |
+//! | effect | unit | neutral | range | kind | what it changes |
+//! |---|---|---|---|---|---|
+//! | `wall_bias` | mm | 0 | −0.4 … 0.4 | tolerance | every bellow wall printed `T + bias` thick |
+//! | `wall_bias_bellows` | mm | 0 | −0.4 … 0.4 | tolerance | only the walls facing the gaps (normal ±z) |
+//! | `wall_bias_skin` | mm | 0 | −0.4 … 0.4 | tolerance | only the outer skin (side wall and top) |
+//! | `wall_bias_side` | mm | 0 | −1.8 … 1.8 | unstated | only the side walls (normal ±x), within 0.6 … 3.4 mm |
+//! | `gap_bias` | mm | 0 | −0.8 … 1.0 | unstated | gap between bellows `g + bias` (modelled 1 mm): 0.2 … 2 mm |
+//! | `base_bias` | mm | 0 | −0.8 … 3.0 | unstated | base thickness `b + bias` (modelled 4 mm): 3.2 … 7 mm |
+//! | `duct_bias` | mm | 0 | −1.5 … 2.0 | unstated | duct half-width `d + bias` (modelled 2 mm): 0.5 … 4 mm |
+//! | `free_length_bias` | mm | 0 | −6 … 6 | unstated | free length `Lf + bias` (modelled 92 mm) |
+//! | `clamp_compliance` | mm/MPa | 0 | 0 … 0.5 | tolerance | clamped face on normal springs `k = 1/c` |
+//! | `clamp_shear_compliance` | mm/MPa | 0 | 0 … 0.5 | tolerance | clamped face on tangential springs |
+//! | `pressure_loss` | 1 | 0 | 0 … 0.3 | tolerance | effective pressure `(1 − f)·P − p₀` |
+//! | `pressure_offset` | bar | 0 | 0 … 0.3 | tolerance | the `p₀` above |
+//! | `density` | 1 | 1 | 0.5 … 1.5 | tolerance | self-weight scaled |
+//! | `anisotropy` | 1 | 0 | −0.25 … 1 | tolerance | fibre term along the length, `k = a·μ0` |
+//! | `plate_offset` | mm | 0 | −4.5 … 2 | unstated | plate `5 + offset` mm below the sagged tip (a printed square of unstated height on the scale) |
+//! | `plate_compliance` | mm/N | 0 | 0 … 1 | tolerance | plate yields `c·F` under the blocked force |
+//! | `force_scale` | 1 | 1 | 0.7 … 1.3 | tolerance | reported blocked force scaled (load-cell calibration) |
+//!
+//! **Tolerances and unstated dimensions** ([`Kind`]). A tolerance is a print or rig error around
+//! a value the reference study states (the wall thickness `T` is 4, 5 or 6 perimeters of a
+//! 0.4 mm nozzle); its range is what a printer or a rig can miss. An unstated dimension is one
+//! the study does not give (the gap, the base, the duct, the side walls' solid layers, the
+//! clamped length, the height of the printed square under the tip in the force rig): the
+//! model's value is an assumption, and the range is what is physically possible for this
+//! actuator. Each entry's [`EffectInfo::source`] quotes the study's sentence or states its
+//! silence. A combination that leaves no valid actuator (gap ≤ 0, walls meeting, a closed
+//! cavity, a duct above the base) is refused by [`DesignParams::validate`] before any FE.
 //!
 //! Why each is plausible, from the printing process and the rigs:
 //!
@@ -73,6 +84,8 @@ pub enum Effect {
     WallBiasBellows,
     /// The outer skin (side wall, top) off nominal (mm).
     WallBiasSkin,
+    /// The side walls (normal ±x, printed as solid layers) off their modelled thickness (mm).
+    WallBiasSide,
     /// Gap between bellows off nominal (mm).
     GapBias,
     /// Base thickness off nominal (mm).
@@ -111,6 +124,18 @@ pub enum Acts {
     Force,
 }
 
+/// What an effect's value stands for: a tolerance around a value the reference study states,
+/// or a dimension (of the actuator or a rig) that it does not state, whose range is then what
+/// is physically possible for this actuator.
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize)]
+#[serde(rename_all = "snake_case")]
+pub enum Kind {
+    /// A print or rig tolerance around a stated value.
+    Tolerance,
+    /// A dimension the source does not state: the model's value is an assumption.
+    Unstated,
+}
+
 /// What the library says about an effect.
 #[derive(Clone, Copy, Debug, Serialize)]
 pub struct EffectInfo {
@@ -126,12 +151,16 @@ pub struct EffectInfo {
     pub neutral: f64,
     /// Plausible range `[lo, hi]` (values outside are refused).
     pub range: (f64, f64),
+    /// A tolerance or an unstated dimension.
+    pub kind: Kind,
+    /// What the reference study says of it: its sentence, or its silence.
+    pub source: &'static str,
     /// Which rig it acts on.
     pub acts_on: Acts,
 }
 
 /// The library, in the order listed by `surrogate effects`.
-pub const EFFECTS: [EffectInfo; 16] = [
+pub const EFFECTS: [EffectInfo; 17] = [
     EffectInfo {
         effect: Effect::WallBias,
         name: "wall_bias",
@@ -139,6 +168,8 @@ pub const EFFECTS: [EffectInfo; 16] = [
         unit: "mm",
         neutral: 0.0,
         range: (-0.4, 0.4),
+        kind: Kind::Tolerance,
+        source: "T = 1.6, 2.0, 2.4 mm: \"the deposition of 4, 5 and 6 shell layers\" of a 0.4 mm nozzle",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -148,6 +179,8 @@ pub const EFFECTS: [EffectInfo; 16] = [
         unit: "mm",
         neutral: 0.0,
         range: (-0.4, 0.4),
+        kind: Kind::Tolerance,
+        source: "the walls facing the gaps are shell layers (perimeters): T is stated",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -157,6 +190,19 @@ pub const EFFECTS: [EffectInfo; 16] = [
         unit: "mm",
         neutral: 0.0,
         range: (-0.4, 0.4),
+        kind: Kind::Tolerance,
+        source: "side wall and top drawn T thick in the model; the drawing labels only \"wall thickness\"",
+        acts_on: Acts::Both,
+    },
+    EffectInfo {
+        effect: Effect::WallBiasSide,
+        name: "wall_bias_side",
+        meaning: "only the side walls (normal ±x, solid layers of the print) off their modelled thickness",
+        unit: "mm",
+        neutral: 0.0,
+        range: (-1.8, 1.8),
+        kind: Kind::Unstated,
+        source: "not stated: printed \"sideways, with the bending plane parallel to the building platform\", the side walls (normal x) are solid layers of 0.15 mm whose count is not given",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -165,7 +211,9 @@ pub const EFFECTS: [EffectInfo; 16] = [
         meaning: "gap between neighbouring bellows off its nominal 1 mm",
         unit: "mm",
         neutral: 0.0,
-        range: (-0.5, 0.5),
+        range: (-0.8, 1.0),
+        kind: Kind::Unstated,
+        source: "not stated: the drawing shows \"repeated slots\", the text \"narrow gaps\"; 1 mm is assumed",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -174,7 +222,9 @@ pub const EFFECTS: [EffectInfo; 16] = [
         meaning: "strain-limiting base off its nominal 4 mm",
         unit: "mm",
         neutral: 0.0,
-        range: (-0.5, 0.5),
+        range: (-0.8, 3.0),
+        kind: Kind::Unstated,
+        source: "not stated: the drawing gives only the height 22 and width 16; 4 mm is assumed",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -183,7 +233,9 @@ pub const EFFECTS: [EffectInfo; 16] = [
         meaning: "air duct half-width off its nominal 2 mm",
         unit: "mm",
         neutral: 0.0,
-        range: (-0.5, 0.5),
+        range: (-1.5, 2.0),
+        kind: Kind::Unstated,
+        source: "not stated: \"chambers connected by a central duct\"; 2 mm half-width is assumed",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -192,7 +244,9 @@ pub const EFFECTS: [EffectInfo; 16] = [
         meaning: "free length off its nominal 92 mm (where the clamp grips)",
         unit: "mm",
         neutral: 0.0,
-        range: (-2.0, 2.0),
+        range: (-6.0, 6.0),
+        kind: Kind::Unstated,
+        source: "not stated: \"the overall length of the actuator is set at 115 mm\" includes the clamped inlet; 92 mm free is assumed",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -202,6 +256,8 @@ pub const EFFECTS: [EffectInfo; 16] = [
         unit: "mm/MPa",
         neutral: 0.0,
         range: (0.0, 0.5),
+        kind: Kind::Tolerance,
+        source: "\"mounted horizontally on a 3D-printed custom support\": a rigid clamp is assumed",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -211,6 +267,8 @@ pub const EFFECTS: [EffectInfo; 16] = [
         unit: "mm/MPa",
         neutral: 0.0,
         range: (0.0, 0.5),
+        kind: Kind::Tolerance,
+        source: "as clamp_compliance",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -220,6 +278,8 @@ pub const EFFECTS: [EffectInfo; 16] = [
         unit: "1",
         neutral: 0.0,
         range: (0.0, 0.3),
+        kind: Kind::Tolerance,
+        source: "\"regulated by a pressure gauge at the compressor's outlet\" and an electro-pneumatic transducer",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -229,6 +289,8 @@ pub const EFFECTS: [EffectInfo; 16] = [
         unit: "bar",
         neutral: 0.0,
         range: (0.0, 0.3),
+        kind: Kind::Tolerance,
+        source: "as pressure_loss",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -238,6 +300,8 @@ pub const EFFECTS: [EffectInfo; 16] = [
         unit: "1",
         neutral: 1.0,
         range: (0.5, 1.5),
+        kind: Kind::Tolerance,
+        source: "NinjaFlex TPU; the print's density is not stated",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -247,6 +311,8 @@ pub const EFFECTS: [EffectInfo; 16] = [
         unit: "1",
         neutral: 0.0,
         range: (-0.25, 1.0),
+        kind: Kind::Tolerance,
+        source: "printed sideways with PrusaSlicer, 0.4 mm nozzle, 0.15 mm layers; no anisotropy is reported",
         acts_on: Acts::Both,
     },
     EffectInfo {
@@ -255,7 +321,9 @@ pub const EFFECTS: [EffectInfo; 16] = [
         meaning: "force plate this much further than 5 mm below the sagged tip (negative: closer)",
         unit: "mm",
         neutral: 0.0,
-        range: (-2.0, 2.0),
+        range: (-4.5, 2.0),
+        kind: Kind::Unstated,
+        source: "not stated: the actuator \"was positioned 5 mm above the scale's plate to allow it to bend and apply force to a 3D-printed square\" of unstated height",
         acts_on: Acts::Force,
     },
     EffectInfo {
@@ -265,6 +333,8 @@ pub const EFFECTS: [EffectInfo; 16] = [
         unit: "mm/N",
         neutral: 0.0,
         range: (0.0, 1.0),
+        kind: Kind::Tolerance,
+        source: "\"a digital scale with a 0.1 g sensitivity\"",
         acts_on: Acts::Force,
     },
     EffectInfo {
@@ -274,6 +344,8 @@ pub const EFFECTS: [EffectInfo; 16] = [
         unit: "1",
         neutral: 1.0,
         range: (0.7, 1.3),
+        kind: Kind::Tolerance,
+        source: "as plate_compliance",
         acts_on: Acts::Force,
     },
 ];
@@ -493,6 +565,15 @@ impl Effects {
         }
         if all != 0.0 || skin != 0.0 {
             p.skin_thickness = Some(nominal.skin_thickness.unwrap_or(t) + all + skin);
+        }
+        let side = self.get(Effect::WallBiasSide);
+        if all != 0.0 || skin != 0.0 || side != 0.0 {
+            if let Some(s) = nominal.side_wall_thickness {
+                p.side_wall_thickness = Some(s + all + skin + side);
+            } else if side != 0.0 {
+                p.side_wall_thickness =
+                    Some(nominal.skin_thickness.unwrap_or(t) + all + skin + side);
+            }
         }
         p.gap = add(p.gap, Effect::GapBias);
         p.base_thickness = add(p.base_thickness, Effect::BaseBias);

@@ -87,6 +87,11 @@ pub struct DesignParams {
     /// normal +y), when it differs from `wall_thickness`. Not written when `None`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub skin_thickness: Option<f64>,
+    /// Thickness of the side walls (normal ±x) alone, when it differs from the skin: the
+    /// actuators are printed on their side, so these walls are solid layers whose thickness
+    /// need not follow `T` ([`Geometry`]). Not written when `None`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub side_wall_thickness: Option<f64>,
 }
 
 impl Default for DesignParams {
@@ -104,6 +109,7 @@ impl Default for DesignParams {
             duct_top: 3.0,
             bellow_wall_thickness: None,
             skin_thickness: None,
+            side_wall_thickness: None,
         }
     }
 }
@@ -169,12 +175,21 @@ impl DesignParams {
                 PRINTED_WALL_RANGE.1,
             )?;
         }
+        if let Some(tx) = p.side_wall_thickness {
+            check_range(
+                "side_wall_thickness",
+                tx,
+                PRINTED_WALL_RANGE.0,
+                PRINTED_WALL_RANGE.1,
+            )?;
+        }
         let t = p.bellow_wall_thickness.unwrap_or(p.wall_thickness);
         let ts = p.skin_thickness.unwrap_or(p.wall_thickness);
+        let tx = p.side_wall_thickness.unwrap_or(ts);
         let pitch = p.free_length / n as f64;
         let length = pitch - p.gap - 2.0 * t;
         if length < MIN_CAVITY_LENGTH
-            || p.width - 2.0 * ts <= 0.0
+            || p.width - 2.0 * tx <= 0.0
             || p.height - ts <= p.base_thickness
         {
             return Err(GeometryError::NoCavity {
@@ -261,6 +276,12 @@ impl Design {
             .skin_thickness
             .unwrap_or(self.params.wall_thickness)
     }
+    /// Thickness of the side walls, normal ±x (mm): the skin's unless overridden.
+    pub fn side_wall(&self) -> f64 {
+        self.params
+            .side_wall_thickness
+            .unwrap_or_else(|| self.skin())
+    }
     /// Free length Lf (mm).
     pub fn free_length(&self) -> f64 {
         self.params.free_length
@@ -292,10 +313,10 @@ impl Design {
     pub fn cavity(&self, i: usize) -> Aabb {
         let p = &self.params;
         let b = self.bellow(i);
-        let (t, ts) = (self.bellow_wall(), self.skin());
+        let (t, ts, tx) = (self.bellow_wall(), self.skin(), self.side_wall());
         Aabb {
-            lo: [ts, p.base_thickness, b.lo[2] + t],
-            hi: [p.width - ts, p.height - ts, b.hi[2] - t],
+            lo: [tx, p.base_thickness, b.lo[2] + t],
+            hi: [p.width - tx, p.height - ts, b.hi[2] - t],
         }
     }
 

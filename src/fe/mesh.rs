@@ -480,11 +480,11 @@ impl Breaks {
         let p = design.params();
         // bellow walls (facing the gaps) and outer skin: both T unless a printed thickness
         // differs ([`Design::bellow_wall`], [`Design::skin`])
-        let (t, ts) = (design.bellow_wall(), design.skin());
+        let (t, ts, tx) = (design.bellow_wall(), design.skin(), design.side_wall());
         let w2 = p.width / 2.0;
         let duct = design.duct();
         // x: walls resolved with `wall_div` elements, the rest by size.
-        let mut xb = vec![0.0, ts, w2];
+        let mut xb = vec![0.0, tx, w2];
         if let Some(d) = duct {
             xb.push(d.lo[0]);
         }
@@ -505,8 +505,8 @@ impl Breaks {
         }
         Self {
             at: [xb, yb, zb],
-            walls: [vec![(0.0, ts)], vec![(p.height - ts, p.height)], walls],
-            thickest_wall: t.max(ts),
+            walls: [vec![(0.0, tx)], vec![(p.height - ts, p.height)], walls],
+            thickest_wall: t.max(ts).max(tx),
         }
     }
 }

@@ -13,6 +13,7 @@ pub mod loads;
 pub mod material;
 pub mod mesh;
 pub mod ordering;
+pub mod preset;
 pub mod sensitivity;
 pub mod simulate;
 pub mod solver;

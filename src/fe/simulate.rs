@@ -122,6 +122,9 @@ pub enum SimulateError {
     /// Invalid design.
     #[error(transparent)]
     Geometry(#[from] GeometryError),
+    /// A geometry preset that cannot build the design ([`crate::fe::preset`]).
+    #[error(transparent)]
+    Preset(#[from] crate::fe::preset::PresetError),
     /// Invalid mesh.
     #[error(transparent)]
     Element(#[from] ElementError),

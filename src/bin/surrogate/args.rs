@@ -46,6 +46,49 @@ pub enum Command {
     /// The model's approximation error: reference FE (another mesh, no effect) at materials
     /// spread over the domain against the surrogate, for `diagnose --approximation-error`.
     ApproximationError(ApproximationErrorArgs),
+    /// Identify the material and the dimensions the reference study leaves unstated (gap,
+    /// base, side walls, the force rig's plate) jointly, straight on the FE model.
+    Identify(IdentifyArgs),
+}
+
+/// `surrogate identify`.
+#[derive(Debug, Args)]
+pub struct IdentifyArgs {
+    /// The unknowns, comma-separated: mu1, alpha1, mu2, alpha2, gap, base, duct, side_wall,
+    /// free_length, or an effect name (plate_offset, wall_bias_bellows, clamp_compliance, …).
+    #[arg(
+        long,
+        default_value = "mu1,alpha1,mu2,alpha2,gap,side_wall,base,plate_offset"
+    )]
+    pub unknowns: String,
+    /// Starting material: a name or mu1,alpha1,mu2,alpha2 (second-order Ogden).
+    #[arg(long, default_value = "ogden_002")]
+    pub material: String,
+    /// Starting geometry: as_modelled or a preset file (.json).
+    #[arg(long, default_value = "as_modelled")]
+    pub geometry: String,
+    /// Starting values, NAME=VALUE (repeatable): a dimension (gap=0.5, side_wall=1.2) or an
+    /// effect (plate_offset=-2).
+    #[arg(long = "set")]
+    pub set: Vec<String>,
+    /// Directory of the recordings (bending_experiments.csv, blocked_force_experiments.csv);
+    /// default: the shipped experiments in training_data/, named in the report.
+    #[arg(long)]
+    pub recordings: Option<PathBuf>,
+    /// FE mesh level: coarse | standard | fine.
+    #[arg(long, default_value = "coarse")]
+    pub mesh: String,
+    /// Largest number of FE sweeps (one sweep: every recorded design in both rigs, with the
+    /// sensitivities).
+    #[arg(long, default_value_t = 12)]
+    pub max_sweeps: usize,
+    /// Initial Levenberg–Marquardt damping.
+    #[arg(long, default_value_t = 1e-2)]
+    pub lambda: f64,
+    /// Output directory: report.json, summary.md, the identified geometry (geometry.json) and
+    /// the FE cache (fe_ramps/; a rerun resumes from it).
+    #[arg(long, default_value = "identify_output")]
+    pub out: PathBuf,
 }
 
 /// `surrogate approximation-error`.

@@ -11,6 +11,7 @@ mod effects;
 mod export;
 mod figure;
 mod files;
+mod identify;
 mod predict;
 mod simulate;
 mod snapshots;
@@ -40,6 +41,7 @@ fn main() -> ExitCode {
         args::Command::Diagnose(a) => diagnose::run(a),
         args::Command::TwinStudy(a) => twin_study::run(a),
         args::Command::ApproximationError(a) => approximation_error::run(a),
+        args::Command::Identify(a) => identify::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -540,6 +540,7 @@ fn point(
         Effect::WallBias
         | Effect::WallBiasBellows
         | Effect::WallBiasSkin
+        | Effect::WallBiasSide
         | Effect::GapBias
         | Effect::BaseBias
         | Effect::DuctBias

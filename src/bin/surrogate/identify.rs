@@ -1,0 +1,96 @@
+//! `surrogate identify`: the material and the unstated dimensions, jointly, on the FE model
+//! ([`surrogate::calibrate::joint`]).
+use anyhow::{bail, Context, Result};
+use indicatif::{ProgressBar, ProgressStyle};
+use surrogate::calibrate::joint::{identify, JointPoint, JointSettings, Unknown};
+use surrogate::calibrate::Recordings;
+use surrogate::fe::effects::Effects;
+use surrogate::fe::material::Material;
+use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::fe::preset::Geometry;
+
+use crate::args::IdentifyArgs;
+
+/// Runs the subcommand.
+pub fn run(a: IdentifyArgs) -> Result<()> {
+    let unknowns = a
+        .unknowns
+        .split(',')
+        .map(|n| Unknown::from_name(n.trim()))
+        .collect::<Result<Vec<_>, _>>()
+        .context("--unknowns")?;
+    let material = Material::from_spec(&a.material, 1000.0).context("--material")?;
+    let Some(ogden) = material.ogden_params() else {
+        bail!(
+            "--material {}: expected a second-order Ogden set (a name or mu1,alpha1,mu2,alpha2)",
+            a.material
+        );
+    };
+    let mut start = JointPoint {
+        ogden,
+        geometry: Geometry::from_name(&a.geometry).context("--geometry")?,
+        effects: Effects::default(),
+    };
+    for item in &a.set {
+        let Some((name, value)) = item.split_once('=') else {
+            bail!("--set {item}: expected NAME=VALUE");
+        };
+        let v: f64 = value
+            .trim()
+            .parse()
+            .with_context(|| format!("--set {item}: {value:?} is not a number"))?;
+        let u = Unknown::from_name(name.trim()).with_context(|| format!("--set {item}"))?;
+        start.set(u, v).with_context(|| format!("--set {item}"))?;
+    }
+    if !start.geometry.is_as_modelled() {
+        start.geometry.name = "start".into();
+    }
+    start.geometry.validate().context("the starting geometry")?;
+    let rec = match &a.recordings {
+        Some(dir) => Recordings::read_dir(dir)?,
+        None => {
+            eprintln!(
+                "recordings: the shipped experiments (training_data/bending_experiments.csv, \
+                 training_data/blocked_force_experiments.csv); --recordings DIR for others"
+            );
+            Recordings::shipped()?
+        }
+    };
+    let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
+    let cache = a.out.join("fe_ramps");
+    eprintln!(
+        "FE ramps cached in {} (a rerun with the same settings resumes)",
+        cache.display()
+    );
+    let settings = JointSettings {
+        unknowns,
+        start,
+        mesh: MeshOptions::level(level),
+        max_sweeps: a.max_sweeps,
+        lambda0: a.lambda,
+        cache: Some(cache),
+    };
+    let bar = ProgressBar::new(0);
+    bar.set_style(ProgressStyle::with_template(
+        "{spinner} sweep {msg} [{bar:30}] {pos}/{len} FE ramps, {elapsed_precise}",
+    )?);
+    let report = identify(&settings, &rec, |sweep, done, total| {
+        bar.set_length(total as u64);
+        bar.set_message(sweep.to_string());
+        bar.set_position(done as u64);
+    })?;
+    bar.finish_and_clear();
+    report.write(&a.out)?;
+    let mut g = report.optimum.geometry.clone();
+    g.name = "identified".into();
+    surrogate::io::write_atomic(
+        &a.out.join("geometry.json"),
+        serde_json::to_string_pretty(&g)?.as_bytes(),
+    )?;
+    println!("{}", report.summary());
+    println!(
+        "wrote {}/report.json, summary.md, geometry.json",
+        a.out.display()
+    );
+    Ok(())
+}

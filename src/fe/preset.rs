@@ -1,0 +1,277 @@
+//! The dimensions the reference study leaves unstated, as one named set: a geometry preset.
+//!
+//! The study states N, T (4, 5 or 6 perimeters of a 0.4 mm nozzle), the height 22 mm and the
+//! width 16 mm. It does not state the gap between the bellows, the base (strain-limiting
+//! layer), the duct, the thickness of the side walls (the actuators were printed on their
+//! side, so the walls normal to x are solid layers, not perimeters) or the clamped length.
+//! A [`Geometry`] holds one value for each, shared by every design: `Geometry::design(N, T)`
+//! is the actuator of that design built with them.
+//!
+//! [`Geometry::as_modelled`] is the model's historical choice (gap 1 mm, base 4 mm, duct
+//! half-width 2 mm, free length 92 mm, side walls `T` thick); its designs are bit for bit
+//! those of [`DesignParams::new`], so every cache keyed by a design stays valid. The
+//! identification ([`crate::calibrate::joint`]) writes the values it finds as a preset of
+//! its own.
+//!
+//! Physical ranges (mm), refused outside with a named error: gap 0.2 … 2, base 3.2 … 7, duct
+//! half-width 0.5 … 4, side wall 0.6 … 3.4, free length 86 … 98. A preset that leaves some
+//! design without a valid actuator (a closed cavity) is refused by [`Geometry::design`].
+
+use std::path::Path;
+
+use serde::{Deserialize, Serialize};
+use thiserror::Error;
+
+use super::geometry::{Design, DesignParams, GeometryError, PRINTED_WALL_RANGE};
+
+/// Physical range of the gap between neighbouring bellows (mm).
+pub const GAP_RANGE: (f64, f64) = (0.2, 2.0);
+/// Physical range of the base thickness (mm): above the duct, below the bellows' cavities.
+pub const BASE_RANGE: (f64, f64) = (3.2, 7.0);
+/// Physical range of the duct's half-width (mm).
+pub const DUCT_HALF_WIDTH_RANGE: (f64, f64) = (0.5, 4.0);
+/// Physical range of the free length (mm).
+pub const FREE_LENGTH_RANGE: (f64, f64) = (86.0, 98.0);
+
+/// Errors of a geometry preset.
+#[derive(Debug, Error)]
+pub enum PresetError {
+    /// A dimension outside its physical range.
+    #[error("geometry preset '{preset}': {field} = {value} mm is outside its physical range: expected {lo} … {hi} mm")]
+    OutOfRange {
+        /// The preset's name.
+        preset: String,
+        /// The dimension.
+        field: &'static str,
+        /// Its value (mm).
+        value: f64,
+        /// Lower end (mm).
+        lo: f64,
+        /// Upper end (mm).
+        hi: f64,
+    },
+    /// A name that is no preset.
+    #[error("unknown geometry preset '{0}': expected as_modelled or a preset file (.json)")]
+    Unknown(String),
+    /// A design this preset cannot build.
+    #[error("geometry preset '{preset}' at N = {n}, T = {t} mm: {source}")]
+    Design {
+        /// The preset's name.
+        preset: String,
+        /// Number of bellows.
+        n: usize,
+        /// Wall thickness (mm).
+        t: f64,
+        /// Why.
+        source: GeometryError,
+    },
+    /// A preset file that cannot be read.
+    #[error("geometry preset file {path}: {why}")]
+    File {
+        /// The file.
+        path: String,
+        /// Why.
+        why: String,
+    },
+}
+
+/// The unstated dimensions, one value each for every design (mm).
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct Geometry {
+    /// Its name (`as_modelled`, or what the identification calls it).
+    pub name: String,
+    /// Gap between neighbouring bellows.
+    pub gap_mm: f64,
+    /// Base (strain-limiting layer) thickness.
+    pub base_thickness_mm: f64,
+    /// Half-width of the air duct in the base.
+    pub duct_half_width_mm: f64,
+    /// Free length, support face to tip.
+    pub free_length_mm: f64,
+    /// Side walls (normal ±x, solid layers of the print), the same for every `T`; `None`:
+    /// `T` thick like the other walls.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub side_wall_mm: Option<f64>,
+}
+
+impl Default for Geometry {
+    fn default() -> Self {
+        Self::as_modelled()
+    }
+}
+
+impl Geometry {
+    /// The model's historical values ([`DesignParams::default`]).
+    pub fn as_modelled() -> Self {
+        let d = DesignParams::default();
+        Self {
+            name: "as_modelled".into(),
+            gap_mm: d.gap,
+            base_thickness_mm: d.base_thickness,
+            duct_half_width_mm: d.duct_half_width,
+            free_length_mm: d.free_length,
+            side_wall_mm: None,
+        }
+    }
+
+    /// Whether this is the historical geometry (its designs are [`DesignParams::new`]'s).
+    pub fn is_as_modelled(&self) -> bool {
+        let m = Self::as_modelled();
+        self.gap_mm == m.gap_mm
+            && self.base_thickness_mm == m.base_thickness_mm
+            && self.duct_half_width_mm == m.duct_half_width_mm
+            && self.free_length_mm == m.free_length_mm
+            && self.side_wall_mm.is_none()
+    }
+
+    /// A named preset (`as_modelled`) or a preset file (a path ending in `.json`).
+    ///
+    /// # Errors
+    /// [`PresetError::Unknown`], [`PresetError::File`], or the file's first dimension outside
+    /// its physical range.
+    pub fn from_name(name: &str) -> Result<Self, PresetError> {
+        match name {
+            "as_modelled" => Ok(Self::as_modelled()),
+            n if n.ends_with(".json") => Self::load(Path::new(n)),
+            n => Err(PresetError::Unknown(n.to_string())),
+        }
+    }
+
+    /// Reads a preset file (JSON, the fields of [`Geometry`]) and checks it.
+    ///
+    /// # Errors
+    /// [`PresetError::File`] for a missing or malformed file, [`PresetError::OutOfRange`].
+    pub fn load(path: &Path) -> Result<Self, PresetError> {
+        let file = |why: String| PresetError::File {
+            path: path.display().to_string(),
+            why,
+        };
+        let text = std::fs::read_to_string(path).map_err(|e| file(e.to_string()))?;
+        let g: Geometry = serde_json::from_str(&text).map_err(|e| file(e.to_string()))?;
+        g.validate()?;
+        Ok(g)
+    }
+
+    /// Checks every dimension against its physical range.
+    ///
+    /// # Errors
+    /// [`PresetError::OutOfRange`] naming the first dimension outside.
+    pub fn validate(&self) -> Result<(), PresetError> {
+        let check = |field: &'static str, value: f64, (lo, hi): (f64, f64)| {
+            if value.is_finite() && value >= lo && value <= hi {
+                Ok(())
+            } else {
+                Err(PresetError::OutOfRange {
+                    preset: self.name.clone(),
+                    field,
+                    value,
+                    lo,
+                    hi,
+                })
+            }
+        };
+        check("gap_mm", self.gap_mm, GAP_RANGE)?;
+        check("base_thickness_mm", self.base_thickness_mm, BASE_RANGE)?;
+        check(
+            "duct_half_width_mm",
+            self.duct_half_width_mm,
+            DUCT_HALF_WIDTH_RANGE,
+        )?;
+        check("free_length_mm", self.free_length_mm, FREE_LENGTH_RANGE)?;
+        if let Some(s) = self.side_wall_mm {
+            check("side_wall_mm", s, PRINTED_WALL_RANGE)?;
+        }
+        Ok(())
+    }
+
+    /// The raw parameters of design `(n, t)` with these dimensions; exactly
+    /// [`DesignParams::new`]`(n, t)` for [`Geometry::as_modelled`].
+    pub fn params(&self, n: usize, t: f64) -> DesignParams {
+        let mut p = DesignParams::new(n, t);
+        if self.is_as_modelled() {
+            return p;
+        }
+        p.gap = self.gap_mm;
+        p.base_thickness = self.base_thickness_mm;
+        p.duct_half_width = self.duct_half_width_mm;
+        p.free_length = self.free_length_mm;
+        p.side_wall_thickness = self.side_wall_mm;
+        p
+    }
+
+    /// The validated design `(n, t)` with these dimensions.
+    ///
+    /// # Errors
+    /// [`PresetError::OutOfRange`] for a dimension outside its physical range,
+    /// [`PresetError::Design`] when the design is invalid with them (a closed cavity).
+    pub fn design(&self, n: usize, t: f64) -> Result<Design, PresetError> {
+        self.validate()?;
+        self.params(n, t)
+            .validate()
+            .map_err(|source| PresetError::Design {
+                preset: self.name.clone(),
+                n,
+                t,
+                source,
+            })
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn as_modelled_builds_the_historical_designs_bit_for_bit() {
+        let g = Geometry::as_modelled();
+        for n in [7, 9, 11, 13, 15] {
+            for t in [1.2, 1.6, 2.0, 2.4] {
+                assert_eq!(g.params(n, t), DesignParams::new(n, t));
+            }
+        }
+        assert_eq!(
+            serde_json::to_string(&g.params(11, 2.0)).unwrap(),
+            serde_json::to_string(&DesignParams::new(11, 2.0)).unwrap()
+        );
+    }
+
+    #[test]
+    fn out_of_range_and_impossible_presets_are_named_errors() {
+        let mut g = Geometry::as_modelled();
+        g.gap_mm = 0.0;
+        let e = g.design(11, 2.0).unwrap_err().to_string();
+        assert!(e.contains("gap_mm = 0") && e.contains("0.2"), "{e}");
+        g.gap_mm = 2.0;
+        // N = 13, T = 2.4: pitch 7.08 − gap 2 − 2·2.4 leaves 0.28 mm of cavity
+        let e = g.design(13, 2.4).unwrap_err().to_string();
+        assert!(e.contains("N = 13") && e.contains("cavity"), "{e}");
+        assert!(g.design(9, 1.6).is_ok());
+        let mut g = Geometry::as_modelled();
+        g.side_wall_mm = Some(f64::NAN);
+        assert!(g
+            .design(11, 2.0)
+            .unwrap_err()
+            .to_string()
+            .contains("side_wall_mm"));
+        assert!(Geometry::from_name("nominal").is_err());
+    }
+
+    #[test]
+    fn the_side_wall_is_decoupled_from_t() {
+        let g = Geometry {
+            side_wall_mm: Some(1.2),
+            name: "test".into(),
+            ..Geometry::as_modelled()
+        };
+        for t in [1.6, 2.4] {
+            let d = g.design(11, t).unwrap();
+            assert_eq!(d.side_wall(), 1.2);
+            assert_eq!(d.bellow_wall(), t);
+            assert_eq!(d.skin(), t);
+            let c = d.cavity(0);
+            assert_eq!(c.lo[0], 1.2);
+            assert_eq!(c.hi[1], 22.0 - t);
+        }
+    }
+}
