@@ -18,9 +18,11 @@
 //! | bending | `training_data/bending_experiments.csv` | [`BENDING_COLUMNS`] |
 //! | force | `training_data/blocked_force_experiments.csv` | [`FORCE_COLUMNS`] |
 //! | markers | a marker recording (`surrogate calibrate --markers`) | [`MARKER_RECORDING_COLUMNS`] |
+//! | units | a recording column in another unit (bending, force, markers) | [`RECORDING_UNIT_COLUMNS`], each in place of the column it stands for |
 //!
-//! A reader of the experiment files requires exactly their columns, in any order; the snapshot
-//! reader requires [`SNAPSHOT_COLUMNS`] first and in order.
+//! A reader of the experiment files requires exactly their columns, in any order, each either
+//! as named or as one of its [`RECORDING_UNIT_COLUMNS`]; the snapshot reader requires
+//! [`SNAPSHOT_COLUMNS`] first and in order.
 //!
 //! ## Columns and quantities
 //!
@@ -68,6 +70,29 @@
 //! | `uz_mm` | mm | recorded Uz = −Δz of the marker | markers |
 //! | `uy_mm` | mm | recorded Uy = Δy of the marker | markers |
 //! | `std_mm` | mm | standard deviation of each recorded component | markers |
+//!
+//! ## Recording columns in other units
+//!
+//! A recording (formats `bending`, `force`, `markers`) may carry one of these columns instead
+//! of the format's column of the same quantity; the reader converts it on reading and lists
+//! the conversion with the file it read ([`RECORDING_UNIT_COLUMNS`]). Values in the format's
+//! own units are checked for scale and sign (`crate::calibrate::units`).
+//!
+//! | column | unit | meaning | files |
+//! |---|---|---|---|
+//! | `pressure_kpa` | kPa | gauge pressure P in kPa, read as `pressure_bar` × 0.01 | units |
+//! | `pressure_mpa` | MPa | gauge pressure P in MPa, read as `pressure_bar` × 10 | units |
+//! | `pressure_psi` | psi | gauge pressure P in psi, read as `pressure_bar` × 0.0689476 | units |
+//! | `wall_thickness_cm` | cm | wall thickness T in cm, read as `wall_thickness_mm` × 10 | units |
+//! | `tip_uz_cm` | cm | tip Uz in cm, read as `tip_uz_mm` × 10 | units |
+//! | `tip_uy_cm` | cm | tip Uy in cm, read as `tip_uy_mm` × 10 | units |
+//! | `angle_rad` | rad | bending angle in radians, read as `angle_deg` × 180/π | units |
+//! | `angle_std_rad` | rad | its standard deviation in radians, read as `angle_std_deg` × 180/π | units |
+//! | `force_mn` | mN | blocked force in mN, read as `force_n` × 0.001 | units |
+//! | `force_std_mn` | mN | its standard deviation in mN, read as `force_std_n` × 0.001 | units |
+//! | `uz_cm` | cm | recorded marker Uz in cm, read as `uz_mm` × 10 | units |
+//! | `uy_cm` | cm | recorded marker Uy in cm, read as `uy_mm` × 10 | units |
+//! | `std_cm` | cm | standard deviation of each marker component in cm, read as `std_mm` × 10 | units |
 
 /// A column or quantity: its name in files, its unit and what it is.
 #[derive(Debug, Clone, Copy, PartialEq, Eq, Hash)]
@@ -324,6 +349,144 @@ pub const MARKER_RECORDED_STD: Quantity = q(
     "standard deviation of each recorded component",
 );
 
+// ---- recording columns in other units ---------------------------------------------------
+
+/// A recording column in another unit than its format's: accepted by the recording readers in
+/// place of [`UnitColumn::canonical`] and converted on reading.
+#[derive(Debug, Clone, Copy, PartialEq)]
+pub struct UnitColumn {
+    /// The column as written: its name, unit and meaning.
+    pub column: Quantity,
+    /// The format's column it stands for.
+    pub canonical: Quantity,
+    /// `value × to_canonical` is the value in the canonical column's unit.
+    pub to_canonical: f64,
+}
+
+const fn alt(column: Quantity, canonical: Quantity, to_canonical: f64) -> UnitColumn {
+    UnitColumn {
+        column,
+        canonical,
+        to_canonical,
+    }
+}
+
+const DEG_PER_RAD: f64 = 180.0 / std::f64::consts::PI;
+
+/// The recording columns in other units that the readers accept (the module docs' second
+/// table), each with the column it stands for.
+pub const RECORDING_UNIT_COLUMNS: [UnitColumn; 13] = [
+    alt(
+        q(
+            "pressure_kpa",
+            "kPa",
+            "gauge pressure P in kPa, read as `pressure_bar` × 0.01",
+        ),
+        PRESSURE,
+        0.01,
+    ),
+    alt(
+        q(
+            "pressure_mpa",
+            "MPa",
+            "gauge pressure P in MPa, read as `pressure_bar` × 10",
+        ),
+        PRESSURE,
+        10.0,
+    ),
+    alt(
+        q(
+            "pressure_psi",
+            "psi",
+            "gauge pressure P in psi, read as `pressure_bar` × 0.0689476",
+        ),
+        PRESSURE,
+        0.068_947_572_931_683_6,
+    ),
+    alt(
+        q(
+            "wall_thickness_cm",
+            "cm",
+            "wall thickness T in cm, read as `wall_thickness_mm` × 10",
+        ),
+        WALL_THICKNESS,
+        10.0,
+    ),
+    alt(
+        q("tip_uz_cm", "cm", "tip Uz in cm, read as `tip_uz_mm` × 10"),
+        TIP_UZ,
+        10.0,
+    ),
+    alt(
+        q("tip_uy_cm", "cm", "tip Uy in cm, read as `tip_uy_mm` × 10"),
+        TIP_UY,
+        10.0,
+    ),
+    alt(
+        q(
+            "angle_rad",
+            "rad",
+            "bending angle in radians, read as `angle_deg` × 180/π",
+        ),
+        ANGLE,
+        DEG_PER_RAD,
+    ),
+    alt(
+        q(
+            "angle_std_rad",
+            "rad",
+            "its standard deviation in radians, read as `angle_std_deg` × 180/π",
+        ),
+        ANGLE_STD,
+        DEG_PER_RAD,
+    ),
+    alt(
+        q(
+            "force_mn",
+            "mN",
+            "blocked force in mN, read as `force_n` × 0.001",
+        ),
+        FORCE,
+        0.001,
+    ),
+    alt(
+        q(
+            "force_std_mn",
+            "mN",
+            "its standard deviation in mN, read as `force_std_n` × 0.001",
+        ),
+        FORCE_STD,
+        0.001,
+    ),
+    alt(
+        q(
+            "uz_cm",
+            "cm",
+            "recorded marker Uz in cm, read as `uz_mm` × 10",
+        ),
+        MARKER_RECORDED_UZ,
+        10.0,
+    ),
+    alt(
+        q(
+            "uy_cm",
+            "cm",
+            "recorded marker Uy in cm, read as `uy_mm` × 10",
+        ),
+        MARKER_RECORDED_UY,
+        10.0,
+    ),
+    alt(
+        q(
+            "std_cm",
+            "cm",
+            "standard deviation of each marker component in cm, read as `std_mm` × 10",
+        ),
+        MARKER_RECORDED_STD,
+        10.0,
+    ),
+];
+
 // ---- formats ----------------------------------------------------------------------------
 
 /// The snapshot CSV's required columns (the training data), in order.
@@ -519,7 +682,30 @@ mod tests {
             ("bending", BENDING_COLUMNS.to_vec()),
             ("force", FORCE_COLUMNS.to_vec()),
             ("markers", MARKER_RECORDING_COLUMNS.to_vec()),
+            (
+                "units",
+                RECORDING_UNIT_COLUMNS.iter().map(|u| u.column).collect(),
+            ),
         ]
+    }
+
+    #[test]
+    fn unit_columns_stand_for_a_recording_column_of_the_same_quantity() {
+        let recordings = [
+            &BENDING_COLUMNS[..],
+            &FORCE_COLUMNS,
+            &MARKER_RECORDING_COLUMNS,
+        ]
+        .concat();
+        for u in RECORDING_UNIT_COLUMNS {
+            assert!(recordings.contains(&u.canonical), "{}", u.column.name);
+            // the same stem, another unit suffix
+            let stem = |name: &'static str| name.rsplit_once('_').map_or(name, |(s, _)| s);
+            assert_eq!(stem(u.column.name), stem(u.canonical.name));
+            assert_ne!(u.column.unit, u.canonical.unit);
+            assert!(u.to_canonical.is_finite() && u.to_canonical > 0.0);
+            assert!(!recordings.iter().any(|c| c.name == u.column.name));
+        }
     }
 
     #[test]

@@ -2,12 +2,21 @@
 //! 27 (N, T, P) configurations each, and the study's tip bending error
 //! `BE = sqrt((Uz_exp − Uz_sim)² + (Uy_exp − Uy_sim)²)` (mm). The columns of the experiment
 //! files, with units and meanings: [`crate::schema`] (formats `bending`, `force`, `markers`).
+//!
+//! Every reader validates at the door: comma-separated text (a file separated by `;` or tabs
+//! is named as such), exactly the format's columns in any order, each either as named or as
+//! one of its columns in another unit (`pressure_kpa`, `force_mn`, …, converted on reading),
+//! finite numbers, integer `N`, positive standard deviations, one row per configuration, and
+//! values whose scale and sign are those of the format ([`super::units`]). Each failure is an
+//! [`ExperimentError`] naming the file, the line and the column.
 
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use super::inputs::InputFile;
+use super::units::{self, map_header, Suspicion, Written};
 use crate::schema;
 
 /// Errors reading experiment files.
@@ -21,6 +30,32 @@ pub enum ExperimentError {
         /// Cause.
         #[source]
         source: std::io::Error,
+    },
+    /// A file whose header is one field holding another separator.
+    #[error(
+        "{source_name}, line 1: the header is one column, {header:?}: the file looks \
+         {separator}-separated; the recordings are comma-separated (a spreadsheet's \
+         \"CSV (comma delimited)\", with a decimal point)"
+    )]
+    Separator {
+        /// File or source name.
+        source_name: String,
+        /// The header as read.
+        header: String,
+        /// The separator it holds (`;`, `tab`).
+        separator: String,
+    },
+    /// Values whose scale or sign is not the format's: each column with every failing row.
+    #[error(
+        "{source_name}: values in another unit or with the other sign (nothing was read from \
+         it):\n  - {}",
+        problems.iter().map(ToString::to_string).collect::<Vec<_>>().join("\n  - ")
+    )]
+    Implausible {
+        /// File or source name.
+        source_name: String,
+        /// Each suspicious column, with its rows.
+        problems: Vec<Suspicion>,
     },
     /// A malformed record.
     #[error("{source_name}, line {line}, column {column}: {reason}")]
@@ -80,11 +115,34 @@ pub const MARKERS_FILE: &str = "marker_experiments.csv";
 const BENDING_CSV: &str = include_str!("../../training_data/bending_experiments.csv");
 const FORCE_CSV: &str = include_str!("../../training_data/blocked_force_experiments.csv");
 
+/// Rows of a recording and the columns converted from another unit.
+struct Parsed<T> {
+    rows: Vec<T>,
+    written: Written,
+}
+
+impl<T> Parsed<T> {
+    /// The conversions, in words (`pressure_kpa → pressure_bar × 0.01`).
+    fn converted(&self) -> Vec<String> {
+        self.written
+            .renamed
+            .iter()
+            .map(|(c, w)| {
+                let f = schema::RECORDING_UNIT_COLUMNS
+                    .iter()
+                    .find(|u| u.column.name == w)
+                    .map_or(1.0, |u| u.to_canonical);
+                format!("{w} → {c} × {f}")
+            })
+            .collect()
+    }
+}
+
 fn parse<T: for<'de> Deserialize<'de>>(
     name: &str,
     text: &str,
     columns: &[&str],
-) -> Result<Vec<T>, ExperimentError> {
+) -> Result<Parsed<T>, ExperimentError> {
     let mut rdr = csv::ReaderBuilder::new()
         .trim(csv::Trim::All)
         .from_reader(text.as_bytes());
@@ -92,44 +150,27 @@ fn parse<T: for<'de> Deserialize<'de>>(
         .headers()
         .map_err(|e| record_error(name, 1, "header", &e.to_string()))?
         .clone();
-    for c in columns {
-        if !headers.iter().any(|h| h == *c) {
-            return Err(record_error(name, 1, c, "missing column"));
-        }
-    }
-    for h in headers.iter() {
-        if !columns.contains(&h) {
-            return Err(record_error(
-                name,
-                1,
-                h,
-                &format!(
-                    "unexpected column (a unit or quantity this file format does not have); \
-                     expected exactly {}",
-                    columns.join(", ")
-                ),
-            ));
-        }
-        if headers.iter().filter(|o| *o == h).count() > 1 {
-            return Err(record_error(name, 1, h, "column given twice"));
-        }
-    }
+    let (mapped, written) = map_header(name, &headers, columns)?;
+    let canonical: csv::StringRecord = mapped.iter().map(|(c, _)| c.as_str()).collect();
     let mut out = Vec::new();
     for (i, rec) in rdr.records().enumerate() {
         let line = i + 2;
         let rec = rec.map_err(|e| record_error(name, line, "row", &e.to_string()))?;
-        for (h, v) in headers.iter().zip(rec.iter()) {
-            if !v.parse::<f64>().is_ok_and(f64::is_finite) {
-                return Err(record_error(
-                    name,
-                    line,
-                    h,
-                    &format!("'{v}' is not a finite number"),
-                ));
-            }
-            if INTEGER_COLUMNS.contains(&h) {
-                let x: f64 = v.parse().unwrap_or(f64::NAN);
-                if x.fract() != 0.0 || x < 0.0 {
+        let mut cleaned = csv::StringRecord::new();
+        for ((h, (c, factor)), v) in headers.iter().zip(&mapped).zip(rec.iter()) {
+            let x = match v.parse::<f64>() {
+                Ok(x) if x.is_finite() => x * factor,
+                _ => {
+                    return Err(record_error(
+                        name,
+                        line,
+                        h,
+                        &format!("'{v}' is not a finite number"),
+                    ))
+                }
+            };
+            if INTEGER_COLUMNS.contains(&c.as_str()) {
+                if x.fract() != 0.0 || x < 0.0 || x > u32::MAX as f64 {
                     return Err(record_error(
                         name,
                         line,
@@ -137,40 +178,45 @@ fn parse<T: for<'de> Deserialize<'de>>(
                         &format!("'{v}' is not a non-negative integer"),
                     ));
                 }
+                // integers written as `9.0` (what pandas writes) are accepted
+                cleaned.push_field(&format!("{}", x as u64));
+                continue;
             }
-            if STD_COLUMNS.contains(&h) {
-                let x: f64 = v.parse().unwrap_or(f64::NAN);
-                if x <= 0.0 {
-                    return Err(record_error(
-                        name,
-                        line,
-                        h,
-                        &format!("'{v}': a standard deviation must be > 0"),
-                    ));
-                }
+            if STD_COLUMNS.contains(&c.as_str()) && x <= 0.0 {
+                return Err(record_error(
+                    name,
+                    line,
+                    h,
+                    &format!("'{v}': a standard deviation must be > 0"),
+                ));
+            }
+            if *factor == 1.0 {
+                cleaned.push_field(v);
+            } else {
+                cleaned.push_field(&format!("{x:?}"));
             }
         }
-        // integers written as `9.0` (what pandas writes) are accepted
-        let cleaned: csv::StringRecord = headers
-            .iter()
-            .zip(rec.iter())
-            .map(|(h, v)| {
-                if INTEGER_COLUMNS.contains(&h) {
-                    format!("{}", v.parse::<f64>().unwrap_or(f64::NAN) as i64)
-                } else {
-                    v.to_string()
-                }
-            })
-            .collect();
         let row: T = cleaned
-            .deserialize(Some(&headers))
+            .deserialize(Some(&canonical))
             .map_err(|e| record_error(name, line, "row", &e.to_string()))?;
         out.push(row);
     }
     if out.is_empty() {
         return Err(record_error(name, 2, "row", "no records"));
     }
-    Ok(out)
+    Ok(Parsed { rows: out, written })
+}
+
+/// The error of a file whose values fail the scale and sign checks, if any do.
+fn plausible(name: &str, problems: Vec<Suspicion>) -> Result<(), ExperimentError> {
+    if problems.is_empty() {
+        Ok(())
+    } else {
+        Err(ExperimentError::Implausible {
+            source_name: name.to_string(),
+            problems,
+        })
+    }
 }
 
 /// Columns holding integers.
@@ -182,25 +228,53 @@ const STD_COLUMNS: [&str; 3] = [
     schema::MARKER_RECORDED_STD.name,
 ];
 
-/// Rejects two records of the same key, naming both lines (header = line 1).
-fn check_duplicates<K: PartialEq + std::fmt::Debug>(
-    name: &str,
-    keys: &[K],
-) -> Result<(), ExperimentError> {
+/// Rejects two records of the same configuration, naming both lines (header = line 1) and the
+/// configuration in its units.
+fn check_duplicates(name: &str, keys: &[Key]) -> Result<(), ExperimentError> {
     for (i, k) in keys.iter().enumerate() {
-        if let Some(j) = keys[..i].iter().position(|o| o == k) {
+        if let Some(j) = keys[..i].iter().position(|o| o.same(k)) {
             return Err(record_error(
                 name,
                 i + 2,
                 "row",
-                &format!("duplicate of line {} (same configuration {k:?})", j + 2),
+                &format!(
+                    "duplicate of line {} (same configuration: {})",
+                    j + 2,
+                    k.label()
+                ),
             ));
         }
     }
     Ok(())
 }
 
-fn record_error(name: &str, line: usize, column: &str, reason: &str) -> ExperimentError {
+/// The configuration of a row, and its marker for marker recordings.
+#[derive(Clone, Copy, Debug)]
+struct Key {
+    n: usize,
+    t_mm: f64,
+    p_bar: f64,
+    marker: Option<usize>,
+}
+
+impl Key {
+    fn same(&self, o: &Key) -> bool {
+        self.n == o.n && self.t_mm == o.t_mm && self.p_bar == o.p_bar && self.marker == o.marker
+    }
+
+    fn label(&self) -> String {
+        let mut s = format!(
+            "N = {}, T = {} mm, P = {} bar",
+            self.n, self.t_mm, self.p_bar
+        );
+        if let Some(k) = self.marker {
+            s.push_str(&format!(", marker {k}"));
+        }
+        s
+    }
+}
+
+pub(super) fn record_error(name: &str, line: usize, column: &str, reason: &str) -> ExperimentError {
     ExperimentError::Record {
         source_name: name.to_string(),
         line,
@@ -235,44 +309,42 @@ pub struct MarkerRecord {
     pub std_mm: f64,
 }
 
-fn key(n: usize, t: f64, p: f64) -> (usize, u64, u64) {
-    (n, t.to_bits(), p.to_bits())
+fn key(n: usize, t: f64, p: f64) -> Key {
+    Key {
+        n,
+        t_mm: t,
+        p_bar: p,
+        marker: None,
+    }
 }
 
-/// Parses `text` and rejects two records of the same configuration `(N, T, P)`.
-fn parse_unique<T: for<'de> Deserialize<'de>>(
-    name: &str,
-    text: &str,
-    columns: &[&str],
-    config: impl Fn(&T) -> (usize, f64, f64),
-) -> Result<Vec<T>, ExperimentError> {
-    let rows: Vec<T> = parse(name, text, columns)?;
-    let keys: Vec<_> = rows
+fn bending_from(name: &str, text: &str) -> Result<Parsed<BendingRecord>, ExperimentError> {
+    let parsed: Parsed<BendingRecord> = parse(name, text, &BENDING_COLUMNS)?;
+    let keys: Vec<Key> = parsed
+        .rows
         .iter()
-        .map(|r| {
-            let (n, t, p) = config(r);
-            key(n, t, p)
-        })
+        .map(|r| key(r.n_bellows, r.wall_thickness_mm, r.pressure_bar))
         .collect();
     check_duplicates(name, &keys)?;
-    Ok(rows)
+    plausible(name, units::check_bending(&parsed.rows, &parsed.written))?;
+    Ok(parsed)
 }
 
-fn bending_from(name: &str, text: &str) -> Result<Vec<BendingRecord>, ExperimentError> {
-    parse_unique(name, text, &BENDING_COLUMNS, |r: &BendingRecord| {
-        (r.n_bellows, r.wall_thickness_mm, r.pressure_bar)
-    })
+fn force_from(name: &str, text: &str) -> Result<Parsed<ForceRecord>, ExperimentError> {
+    let parsed: Parsed<ForceRecord> = parse(name, text, &FORCE_COLUMNS)?;
+    let keys: Vec<Key> = parsed
+        .rows
+        .iter()
+        .map(|r| key(r.n_bellows, r.wall_thickness_mm, r.pressure_bar))
+        .collect();
+    check_duplicates(name, &keys)?;
+    plausible(name, units::check_force(&parsed.rows, &parsed.written))?;
+    Ok(parsed)
 }
 
-fn force_from(name: &str, text: &str) -> Result<Vec<ForceRecord>, ExperimentError> {
-    parse_unique(name, text, &FORCE_COLUMNS, |r: &ForceRecord| {
-        (r.n_bellows, r.wall_thickness_mm, r.pressure_bar)
-    })
-}
-
-fn markers_from(name: &str, text: &str) -> Result<Vec<MarkerRecord>, ExperimentError> {
-    let rows: Vec<MarkerRecord> = parse(name, text, &MARKER_COLUMNS)?;
-    for (i, r) in rows.iter().enumerate() {
+fn markers_from(name: &str, text: &str) -> Result<Parsed<MarkerRecord>, ExperimentError> {
+    let parsed: Parsed<MarkerRecord> = parse(name, text, &MARKER_COLUMNS)?;
+    for (i, r) in parsed.rows.iter().enumerate() {
         if !(1..=9).contains(&r.marker) {
             return Err(record_error(
                 name,
@@ -282,17 +354,17 @@ fn markers_from(name: &str, text: &str) -> Result<Vec<MarkerRecord>, ExperimentE
             ));
         }
     }
-    let keys: Vec<_> = rows
+    let keys: Vec<Key> = parsed
+        .rows
         .iter()
-        .map(|r| {
-            (
-                key(r.n_bellows, r.wall_thickness_mm, r.pressure_bar),
-                r.marker,
-            )
+        .map(|r| Key {
+            marker: Some(r.marker),
+            ..key(r.n_bellows, r.wall_thickness_mm, r.pressure_bar)
         })
         .collect();
     check_duplicates(name, &keys)?;
-    Ok(rows)
+    plausible(name, units::check_markers(&parsed.rows, &parsed.written))?;
+    Ok(parsed)
 }
 
 fn read_text(path: &Path) -> Result<String, ExperimentError> {
@@ -302,12 +374,17 @@ fn read_text(path: &Path) -> Result<String, ExperimentError> {
     })
 }
 
+/// Where the shipped bending experiments are, in the repository.
+pub const SHIPPED_BENDING: &str = "training_data/bending_experiments.csv";
+/// Where the shipped blocked-force experiments are, in the repository.
+pub const SHIPPED_FORCE: &str = "training_data/blocked_force_experiments.csv";
+
 /// The shipped bending experiments.
 ///
 /// # Errors
 /// Never for the shipped file (tested); kept fallible for uniformity.
 pub fn shipped_bending() -> Result<Vec<BendingRecord>, ExperimentError> {
-    bending_from("training_data/bending_experiments.csv", BENDING_CSV)
+    Ok(bending_from(SHIPPED_BENDING, BENDING_CSV)?.rows)
 }
 
 /// The shipped blocked-force experiments.
@@ -315,33 +392,97 @@ pub fn shipped_bending() -> Result<Vec<BendingRecord>, ExperimentError> {
 /// # Errors
 /// Never for the shipped file (tested).
 pub fn shipped_force() -> Result<Vec<ForceRecord>, ExperimentError> {
-    force_from("training_data/blocked_force_experiments.csv", FORCE_CSV)
+    Ok(force_from(SHIPPED_FORCE, FORCE_CSV)?.rows)
 }
 
-/// Reads a bending-experiment CSV (columns exactly those of the shipped file).
+/// The shipped experiments as built into the program, each with its record as a default
+/// input (checksum of the text built in, which is the repository's file).
 ///
 /// # Errors
-/// I/O errors, a missing or unexpected column, a cell that is not a finite number, a
-/// non-positive standard deviation, a duplicate configuration (naming line and column).
-pub fn read_bending(path: &Path) -> Result<Vec<BendingRecord>, ExperimentError> {
-    bending_from(&path.display().to_string(), &read_text(path)?)
+/// Never for the shipped files (tested).
+pub fn shipped_files() -> Result<(Loaded<BendingRecord>, Loaded<ForceRecord>), ExperimentError> {
+    let b = bending_from(SHIPPED_BENDING, BENDING_CSV)?;
+    let f = force_from(SHIPPED_FORCE, FORCE_CSV)?;
+    Ok((
+        loaded("bending", SHIPPED_BENDING, BENDING_CSV, b, true),
+        loaded("force", SHIPPED_FORCE, FORCE_CSV, f, true),
+    ))
 }
 
-/// Reads a blocked-force CSV (columns exactly those of the shipped file).
+/// Rows read from a recording file, and the file's record (path, checksum, rows, conversions).
+#[derive(Clone, Debug)]
+pub struct Loaded<T> {
+    /// The rows, in the format's units.
+    pub rows: Vec<T>,
+    /// The file.
+    pub file: InputFile,
+}
+
+fn loaded<T>(role: &str, path: &str, text: &str, p: Parsed<T>, default: bool) -> Loaded<T> {
+    let mut file = InputFile::of_bytes(role, path, text.as_bytes());
+    file.rows = Some(p.rows.len());
+    file.converted = p.converted();
+    file.default = default;
+    Loaded { rows: p.rows, file }
+}
+
+/// Reads a bending-experiment CSV with its record as an input named by the user.
+///
+/// # Errors
+/// As [`read_bending`].
+pub fn load_bending(path: &Path) -> Result<Loaded<BendingRecord>, ExperimentError> {
+    let (name, text) = (path.display().to_string(), read_text(path)?);
+    let p = bending_from(&name, &text)?;
+    Ok(loaded("bending", &name, &text, p, false))
+}
+
+/// Reads a blocked-force CSV with its record.
+///
+/// # Errors
+/// As [`read_bending`].
+pub fn load_force(path: &Path) -> Result<Loaded<ForceRecord>, ExperimentError> {
+    let (name, text) = (path.display().to_string(), read_text(path)?);
+    let p = force_from(&name, &text)?;
+    Ok(loaded("force", &name, &text, p, false))
+}
+
+/// Reads a marker-recording CSV with its record.
+///
+/// # Errors
+/// As [`read_markers`].
+pub fn load_markers(path: &Path) -> Result<Loaded<MarkerRecord>, ExperimentError> {
+    let (name, text) = (path.display().to_string(), read_text(path)?);
+    let p = markers_from(&name, &text)?;
+    Ok(loaded("markers", &name, &text, p, false))
+}
+
+/// Reads a bending-experiment CSV: the columns of the shipped file (or, for a quantity, its
+/// column in another unit: [`crate::schema::RECORDING_UNIT_COLUMNS`]).
+///
+/// # Errors
+/// I/O errors; a file separated by `;` or tabs ([`ExperimentError::Separator`]); a missing
+/// or unexpected column, a cell that is not a finite number, a non-positive standard
+/// deviation, a duplicate configuration (naming line and column); values whose scale or sign
+/// is not the format's ([`ExperimentError::Implausible`], every failing row).
+pub fn read_bending(path: &Path) -> Result<Vec<BendingRecord>, ExperimentError> {
+    Ok(load_bending(path)?.rows)
+}
+
+/// Reads a blocked-force CSV (the columns of the shipped file, or their other units).
 ///
 /// # Errors
 /// As [`read_bending`].
 pub fn read_force(path: &Path) -> Result<Vec<ForceRecord>, ExperimentError> {
-    force_from(&path.display().to_string(), &read_text(path)?)
+    Ok(load_force(path)?.rows)
 }
 
 /// Reads a marker-recording CSV (`n_bellows, wall_thickness_mm, pressure_bar, marker, uz_mm,
-/// uy_mm, std_mm`).
+/// uy_mm, std_mm`, or their other units).
 ///
 /// # Errors
 /// As [`read_bending`]; a marker number outside 1..9.
 pub fn read_markers(path: &Path) -> Result<Vec<MarkerRecord>, ExperimentError> {
-    markers_from(&path.display().to_string(), &read_text(path)?)
+    Ok(load_markers(path)?.rows)
 }
 
 /// Parses bending records from text (`name` is used in messages).
@@ -349,7 +490,7 @@ pub fn read_markers(path: &Path) -> Result<Vec<MarkerRecord>, ExperimentError> {
 /// # Errors
 /// As [`read_bending`].
 pub fn parse_bending(name: &str, text: &str) -> Result<Vec<BendingRecord>, ExperimentError> {
-    bending_from(name, text)
+    Ok(bending_from(name, text)?.rows)
 }
 
 /// Parses blocked-force records from text.
@@ -357,7 +498,7 @@ pub fn parse_bending(name: &str, text: &str) -> Result<Vec<BendingRecord>, Exper
 /// # Errors
 /// As [`read_bending`].
 pub fn parse_force(name: &str, text: &str) -> Result<Vec<ForceRecord>, ExperimentError> {
-    force_from(name, text)
+    Ok(force_from(name, text)?.rows)
 }
 
 /// Parses marker records from text.
@@ -365,7 +506,7 @@ pub fn parse_force(name: &str, text: &str) -> Result<Vec<ForceRecord>, Experimen
 /// # Errors
 /// As [`read_markers`].
 pub fn parse_markers(name: &str, text: &str) -> Result<Vec<MarkerRecord>, ExperimentError> {
-    markers_from(name, text)
+    Ok(markers_from(name, text)?.rows)
 }
 
 /// The study's tip bending error (eq. 1), mm.
@@ -389,13 +530,12 @@ mod tests {
     #[test]
     fn malformed_rows_name_line_and_column() {
         let text = "n_bellows,wall_thickness_mm,pressure_bar,tip_uz_mm,tip_uy_mm,angle_deg,angle_std_deg\n9,1.6,1,abc,-35.9,23.57,1.95\n";
-        let e = parse::<BendingRecord>("x.csv", text, &BENDING_COLUMNS).unwrap_err();
+        let e = parse_bending("x.csv", text).unwrap_err();
         assert_eq!(
             e.to_string(),
             "x.csv, line 2, column tip_uz_mm: 'abc' is not a finite number"
         );
-        let e = parse::<BendingRecord>("x.csv", "n_bellows,pressure_bar\n9,1\n", &BENDING_COLUMNS)
-            .unwrap_err();
+        let e = parse_bending("x.csv", "n_bellows,pressure_bar\n9,1\n").unwrap_err();
         assert!(
             e.to_string()
                 .contains("column wall_thickness_mm: missing column"),
@@ -422,7 +562,13 @@ mod tests {
         )
         .unwrap_err()
         .to_string();
-        assert!(e.contains("line 4, column row: duplicate of line 2"), "{e}");
+        assert!(
+            e.contains(
+                "line 4, column row: duplicate of line 2 (same configuration: N = 9, T = 1.6 \
+                 mm, P = 1 bar)"
+            ),
+            "{e}"
+        );
         let e = parse_force("f.csv", &format!("{head}\n9,1.6,1,NaN,0.05\n"))
             .unwrap_err()
             .to_string();
@@ -453,6 +599,98 @@ mod tests {
             e.contains("column marker: 10 is not a marker number"),
             "{e}"
         );
+    }
+
+    #[test]
+    fn columns_in_other_units_are_converted_and_listed() {
+        let text = "n_bellows,wall_thickness_mm,pressure_kpa,tip_uz_cm,tip_uy_cm,angle_rad,angle_std_deg\n\
+                    9,1.6,100,0.94,-3.59,0.41137,1.95\n";
+        let p = bending_from("k.csv", text).unwrap();
+        let r = &p.rows[0];
+        assert!((r.pressure_bar - 1.0).abs() < 1e-12);
+        assert!((r.tip_uz_mm - 9.4).abs() < 1e-12 && (r.tip_uy_mm + 35.9).abs() < 1e-12);
+        assert!((r.angle_deg - 23.57).abs() < 0.01);
+        assert_eq!(
+            p.converted(),
+            [
+                "pressure_kpa → pressure_bar × 0.01",
+                "tip_uz_cm → tip_uz_mm × 10",
+                "tip_uy_cm → tip_uy_mm × 10",
+                "angle_rad → angle_deg × 57.29577951308232",
+            ]
+        );
+        let f = "n_bellows,wall_thickness_mm,pressure_bar,force_mn,force_std_mn\n9,1.6,1,759,58\n";
+        let r = &parse_force("f.csv", f).unwrap()[0];
+        assert!((r.force_n - 0.759).abs() < 1e-12 && (r.force_std_n - 0.058).abs() < 1e-12);
+        // a quantity given in two units is refused, naming both
+        let e = parse_force(
+            "f.csv",
+            "n_bellows,wall_thickness_mm,pressure_bar,pressure_kpa,force_n,force_std_n\n9,1.6,1,100,0.7,0.1\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains(
+                "column pressure_bar: column given twice, as pressure_bar and as pressure_kpa"
+            ),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn another_separator_and_a_renamed_column_are_named() {
+        let e = parse_force(
+            "s.csv",
+            "n_bellows;wall_thickness_mm;pressure_bar;force_n;force_std_n\n9;1,6;1;0,7;0,1\n",
+        )
+        .unwrap_err();
+        assert!(matches!(e, ExperimentError::Separator { .. }), "{e}");
+        let e = e.to_string();
+        assert!(
+            e.contains("s.csv, line 1") && e.contains("looks ;-separated"),
+            "{e}"
+        );
+        assert!(!e.contains("missing column"), "{e}");
+        let e = parse_force(
+            "r.csv",
+            "n_bellows,wall_thickness_mm,pressure_bar,blocked_force_n,force_std_n\n9,1.6,1,0.7,0.1\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains(
+                "column force_n: missing column (the header has blocked_force_n, which this \
+                 format does not have: renamed?)"
+            ),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn implausible_values_are_an_error_listing_every_row() {
+        let head =
+            "n_bellows,wall_thickness_mm,pressure_bar,tip_uz_mm,tip_uy_mm,angle_deg,angle_std_deg";
+        let e = parse_bending(
+            "b.csv",
+            &format!("{head}\n9,1.6,100,9.4,-35.9,23.57,1.95\n9,1.6,200,28.15,-57.30,42.10,3.37\n"),
+        )
+        .unwrap_err();
+        let ExperimentError::Implausible { problems, .. } = &e else {
+            panic!("{e}")
+        };
+        assert_eq!(problems.len(), 1);
+        assert_eq!(problems[0].rows, [(2, "100".into()), (3, "200".into())]);
+        let e = e.to_string();
+        assert!(
+            e.contains("column pressure_bar looks like kPa") && e.contains("pressure_kpa"),
+            "{e}"
+        );
+        // named in its own column, the value is converted and passes
+        let ok = format!(
+            "{}\n9,1.6,100,9.4,-35.9,23.57,1.95\n",
+            head.replace("pressure_bar", "pressure_kpa")
+        );
+        assert_eq!(parse_bending("b.csv", &ok).unwrap()[0].pressure_bar, 1.0);
     }
 
     #[test]

@@ -146,6 +146,10 @@ pub struct ResidualRow {
 pub struct Calibration {
     /// Model file checksum and provenance.
     pub model: String,
+    /// Every file read: the recordings (and, added by the caller that read it, the model),
+    /// each with its checksum and whether it was a documented default.
+    #[serde(default)]
+    pub inputs: Vec<super::inputs::InputFile>,
     /// The objective (`tip=1,force=0.5`).
     pub objective: String,
     /// Observations fitted.
@@ -229,6 +233,13 @@ pub fn calibrate(
         }
     }
     let set = ObservationSet::build(model, rec, &s.weights, &selection)?;
+    if set.len() <= 4 {
+        return Err(CalibrateError::input(
+            "observations",
+            format!("{} at {} configurations", set.len(), set.configs.len()),
+            "more than the 4 Ogden parameters (more recordings or objective terms)",
+        ));
+    }
     let domain = ParamSpace::training_domain(model)?;
     progress(&format!(
         "fitting {} observations at {} configurations ({}), {} starts",
@@ -295,6 +306,7 @@ pub fn calibrate(
             model.training.n_cases,
             model.training.source
         ),
+        inputs: rec.files.clone(),
         objective: s.weights.describe(),
         n_observations: set.len(),
         n_configurations: set.configs.len(),

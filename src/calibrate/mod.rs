@@ -37,6 +37,7 @@ pub mod checks;
 pub mod experiments;
 pub mod fit;
 pub mod identify;
+pub mod inputs;
 pub mod joint;
 pub mod objective;
 pub mod optimise;
@@ -45,6 +46,7 @@ pub mod refine;
 pub mod study;
 pub mod synthetic;
 pub mod twin;
+pub mod units;
 pub mod verify;
 
 pub use fit::{calibrate, Calibration, CalibrationSettings};
@@ -75,6 +77,19 @@ pub enum CalibrateError {
         column: String,
         /// What is wrong.
         reason: String,
+    },
+    /// Recordings outside the surrogate's domain, every row named.
+    #[error(
+        "{} recorded rows lie outside the surrogate's domain:\n  - {}\nexclude them to go on \
+         without them: {excludes}",
+        rows.len(),
+        rows.join("\n  - ")
+    )]
+    OutsideDomain {
+        /// Each row: file, line, column, value and the domain.
+        rows: Vec<String>,
+        /// The `--exclude` flags that leave them out.
+        excludes: String,
     },
     /// Reading the experiment files.
     #[error(transparent)]

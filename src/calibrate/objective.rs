@@ -37,6 +37,7 @@ use std::collections::BTreeSet;
 use serde::{Deserialize, Serialize};
 
 use super::experiments::{BendingRecord, ForceRecord, MarkerRecord};
+use super::inputs::InputFile;
 use super::params::ParamSpace;
 use super::CalibrateError;
 use crate::rom::{Jacobian, Prediction, Query, Surrogate};
@@ -365,7 +366,7 @@ impl Exclusion {
 }
 
 /// The recordings a calibration reads: bending (required), blocked force and markers
-/// (optional), with the names of their sources for messages.
+/// (optional), with the names of their sources for messages and the record of each file read.
 #[derive(Clone, Debug, Default)]
 pub struct Recordings {
     /// Bending rows.
@@ -380,22 +381,61 @@ pub struct Recordings {
     pub force_source: String,
     /// Source of the marker rows.
     pub markers_source: String,
+    /// The files the rows were read from (path, checksum, rows, default or named); empty for
+    /// recordings made in memory.
+    pub files: Vec<InputFile>,
 }
 
 impl Recordings {
-    /// The shipped experiments (bending and blocked force, 27 configurations each).
+    /// The shipped experiments (bending and blocked force, 27 configurations each), as built
+    /// into the program; both files are listed as defaults.
     ///
     /// # Errors
     /// Never for the shipped files (tested).
     pub fn shipped() -> Result<Self, CalibrateError> {
+        let (b, f) = super::experiments::shipped_files()?;
         Ok(Recordings {
-            bending: super::experiments::shipped_bending()?,
-            force: super::experiments::shipped_force()?,
+            bending_source: b.file.path.clone(),
+            force_source: f.file.path.clone(),
+            bending: b.rows,
+            force: f.rows,
             markers: Vec::new(),
-            bending_source: "training_data/bending_experiments.csv".into(),
-            force_source: "training_data/blocked_force_experiments.csv".into(),
             markers_source: String::new(),
+            files: vec![b.file, f.file],
         })
+    }
+
+    /// Exactly the files given: bending (required), blocked force and markers where given;
+    /// nothing else is read.
+    ///
+    /// # Errors
+    /// Any file that does not read ([`super::experiments`]).
+    pub fn read_files(
+        bending: &std::path::Path,
+        force: Option<&std::path::Path>,
+        markers: Option<&std::path::Path>,
+    ) -> Result<Self, CalibrateError> {
+        use super::experiments::{load_bending, load_force, load_markers};
+        let b = load_bending(bending)?;
+        let mut rec = Recordings {
+            bending_source: b.file.path.clone(),
+            bending: b.rows,
+            files: vec![b.file],
+            ..Recordings::default()
+        };
+        if let Some(p) = force {
+            let f = load_force(p)?;
+            rec.force_source = f.file.path.clone();
+            rec.force = f.rows;
+            rec.files.push(f.file);
+        }
+        if let Some(p) = markers {
+            let m = load_markers(p)?;
+            rec.markers_source = m.file.path.clone();
+            rec.markers = m.rows;
+            rec.files.push(m.file);
+        }
+        Ok(rec)
     }
 
     /// The recordings of a directory laid out like `training_data/` (a twin's output, say):
@@ -406,39 +446,26 @@ impl Recordings {
     /// # Errors
     /// A missing bending file; any file that does not read ([`super::experiments`]).
     pub fn read_dir(dir: &std::path::Path) -> Result<Self, CalibrateError> {
-        use super::experiments::{
-            read_bending, read_force, read_markers, BENDING_FILE, FORCE_FILE, MARKERS_FILE,
-        };
+        use super::experiments::{BENDING_FILE, FORCE_FILE, MARKERS_FILE};
         let (b, f, m) = (
             dir.join(BENDING_FILE),
             dir.join(FORCE_FILE),
             dir.join(MARKERS_FILE),
         );
-        let source = |p: &std::path::Path| p.display().to_string();
-        Ok(Recordings {
-            bending: read_bending(&b)?,
-            force: if f.exists() {
-                read_force(&f)?
-            } else {
-                Vec::new()
-            },
-            markers: if m.exists() {
-                read_markers(&m)?
-            } else {
-                Vec::new()
-            },
-            bending_source: source(&b),
-            force_source: if f.exists() {
-                source(&f)
-            } else {
-                String::new()
-            },
-            markers_source: if m.exists() {
-                source(&m)
-            } else {
-                String::new()
-            },
-        })
+        Self::read_files(
+            &b,
+            f.exists().then_some(f.as_path()),
+            m.exists().then_some(m.as_path()),
+        )
+    }
+
+    /// The same recordings with every file marked as a documented default (read without the
+    /// user naming it).
+    pub fn as_defaults(mut self) -> Self {
+        for f in &mut self.files {
+            f.default = true;
+        }
+        self
     }
 }
 
@@ -546,8 +573,12 @@ impl ObservationSet {
             }
             hit
         };
-        let domain = |c: &Config, source: &str, line: usize| -> Result<(), CalibrateError> {
-            check_domain(model, c, source, line)
+        let mut outside: Vec<(Config, CalibrateError)> = Vec::new();
+        let mut domain = |c: &Config, source: &str, line: usize| -> Result<(), CalibrateError> {
+            if let Err(e) = check_domain(model, c, source, line) {
+                outside.push((*c, e));
+            }
+            Ok(())
         };
         if weights.tip > 0.0 || weights.angle > 0.0 {
             for (i, r) in rec.bending.iter().enumerate() {
@@ -642,6 +673,12 @@ impl ObservationSet {
                 }
             }
         }
+        if outside.len() == 1 {
+            return Err(outside.remove(0).1);
+        }
+        if !outside.is_empty() {
+            return Err(outside_domain(outside));
+        }
         if let Some(i) = used.iter().position(|u| !u) {
             let e = &sel.exclude[i];
             return Err(CalibrateError::input(
@@ -692,6 +729,39 @@ impl ObservationSet {
     /// Whether there are none.
     pub fn is_empty(&self) -> bool {
         self.obs.is_empty()
+    }
+}
+
+/// Several configurations outside the model's domain: one error naming every row and the
+/// exclusions that would leave them out.
+fn outside_domain(rows: Vec<(Config, CalibrateError)>) -> CalibrateError {
+    let mut excludes: Vec<String> = Vec::new();
+    for (c, _) in &rows {
+        let e = format!(
+            "--exclude {},{},{}",
+            c.n_bellows, c.wall_thickness_mm, c.pressure_bar
+        );
+        if !excludes.contains(&e) {
+            excludes.push(e);
+        }
+    }
+    CalibrateError::OutsideDomain {
+        rows: rows
+            .into_iter()
+            .map(|(_, e)| match e {
+                CalibrateError::Record {
+                    source_name,
+                    line,
+                    column,
+                    reason,
+                } => format!(
+                    "{source_name}, line {line}, column {column}: {}",
+                    reason.split("; exclude").next().unwrap_or(&reason)
+                ),
+                other => other.to_string(),
+            })
+            .collect(),
+        excludes: excludes.join(" "),
     }
 }
 

@@ -138,6 +138,7 @@ fn recordings_with_noise(
         bending_source: format!("{source} (bending)"),
         force_source: format!("{source} (force)"),
         markers_source: String::new(),
+        files: Vec::new(),
     })
 }
 

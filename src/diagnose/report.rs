@@ -9,6 +9,7 @@ use super::name::{name_refitted, NameSettings, Naming};
 use super::refit::{refit, Refit, RefitSettings};
 use super::DiagnoseError;
 use crate::calibrate::fit::describe_exclusions;
+use crate::calibrate::inputs::InputFile;
 use crate::calibrate::{calibrate, Calibration, CalibrationSettings, OgdenSet, Recordings};
 use crate::rom::Surrogate;
 
@@ -112,6 +113,11 @@ pub struct Diagnosis {
     pub version: u32,
     /// The recordings.
     pub recordings: Sources,
+    /// Every file read: the recordings and, added by the caller that read them, the model,
+    /// the FE sensitivities and the other references; each with its checksum and whether it
+    /// was a documented default.
+    #[serde(default)]
+    pub inputs: Vec<InputFile>,
     /// The calibration diagnosed.
     pub calibration: CalibrationSummary,
     /// Where the residual is.
@@ -137,6 +143,7 @@ impl Diagnosis {
                 force: rec.force_source.clone(),
                 markers: rec.markers_source.clone(),
             },
+            inputs: rec.files.clone(),
             calibration: CalibrationSummary::of(cal),
             locate,
             mesh_error: None,

@@ -81,6 +81,7 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
     if l.along_actuator {
         along(&mut s, l);
     }
+    let _ = write!(s, "\n{}", crate::calibrate::inputs::markdown(&d.inputs));
     s
 }
 
@@ -238,10 +239,17 @@ fn header(s: &mut String, d: &Diagnosis) {
 
 fn sources(d: &Diagnosis) -> String {
     let r = &d.recordings;
-    let mut v = vec![format!("bending {}", r.bending)];
+    let default = |src: &str| {
+        if d.inputs.iter().any(|f| f.default && f.path == src) {
+            " (default)"
+        } else {
+            ""
+        }
+    };
+    let mut v = vec![format!("bending {}{}", r.bending, default(&r.bending))];
     for (what, src) in [("force", &r.force), ("markers", &r.markers)] {
         if !src.is_empty() {
-            v.push(format!("{what} {src}"));
+            v.push(format!("{what} {src}{}", default(src)));
         }
     }
     v.join(", ")

@@ -1,10 +1,15 @@
 //! `surrogate calibrate` from the command line: outputs, markers, bad input.
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Command;
 
 fn run(args: &[&str]) -> (bool, String, String) {
+    run_in(Path::new(env!("CARGO_MANIFEST_DIR")), args)
+}
+
+/// Runs the program in the working directory `dir`.
+fn run_in(dir: &Path, args: &[&str]) -> (bool, String, String) {
     let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
+        .current_dir(dir)
         .args(args)
         .output()
         .unwrap();
@@ -90,6 +95,8 @@ fn marker_recordings_enter_the_objective() {
         "calibrate",
         "--objective",
         "markers",
+        "--bending",
+        "training_data/bending_experiments.csv",
         "--markers",
         mf.to_str().unwrap(),
         "--starts",
@@ -261,4 +268,187 @@ fn refinement_refuses_a_second_mesh_and_a_missing_training_set() {
     assert!(!ok);
     assert!(stderr.contains("threads"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
+}
+
+fn repository(path: &str) -> String {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join(path)
+        .to_str()
+        .unwrap()
+        .to_string()
+}
+
+fn report_json(dir: &Path) -> serde_json::Value {
+    serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap()
+}
+
+#[test]
+fn only_the_recordings_named_are_read_and_every_input_is_listed() {
+    let dir = tmp("inputs");
+    let mine = repository("tests/data/bad_recordings/three_rows.csv");
+    let fast = ["--starts", "2", "--profile-points", "4"];
+    // from a folder that is not the repository: the defaults are the repository's
+    let out = dir.join("mine");
+    let mut args = vec![
+        "calibrate",
+        "--bending",
+        &mine,
+        "--out",
+        out.to_str().unwrap(),
+    ];
+    args.extend(fast);
+    let (ok, stdout, stderr) = run_in(&dir, &args);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("no --force: only the files named are read"),
+        "{stderr}"
+    );
+    assert!(
+        stdout.contains("6 observations at 3 configurations"),
+        "{stdout}"
+    );
+    let inputs = report_json(&out)["calibration"]["inputs"].clone();
+    let inputs = inputs.as_array().unwrap();
+    let roles: Vec<&str> = inputs.iter().map(|f| f["role"].as_str().unwrap()).collect();
+    assert_eq!(roles, ["model", "bending"], "no force file read");
+    assert_eq!(inputs[0]["path"], repository("models/actuator.json"));
+    assert_eq!(inputs[0]["default"], true);
+    assert_eq!(inputs[1]["path"], mine.as_str());
+    assert_eq!(inputs[1]["default"], false);
+    assert_eq!(inputs[1]["rows"], 3);
+    assert!(inputs[1]["checksum"]
+        .as_str()
+        .unwrap()
+        .starts_with("crc32:"));
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(md.contains(&format!("| bending | `{mine}` | ")), "{md}");
+    assert!(!md.contains("blocked_force"), "{md}");
+    // the force is not taken from anywhere else
+    let (ok, _, stderr) = run_in(
+        &dir,
+        &[
+            "calibrate",
+            "--bending",
+            &mine,
+            "--objective",
+            "tip,force",
+            "--out",
+            "x",
+        ],
+    );
+    assert!(
+        !ok && stderr.contains("blocked-force recordings (none were given)"),
+        "{stderr}"
+    );
+    let force = repository("training_data/blocked_force_experiments.csv");
+    let (ok, _, stderr) = run_in(&dir, &["calibrate", "--force", &force, "--out", "x"]);
+    assert!(
+        !ok && stderr.contains("--force without --bending: the calibration needs bending"),
+        "{stderr}"
+    );
+    // nothing named: both shipped files, listed as defaults
+    let out = dir.join("defaults");
+    let mut args = vec!["calibrate", "--out", out.to_str().unwrap()];
+    args.extend(fast);
+    let (ok, _, stderr) = run_in(&dir, &args);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("no recordings named: reading the shipped experiments"),
+        "{stderr}"
+    );
+    let r = report_json(&out);
+    let inputs = r["calibration"]["inputs"].as_array().unwrap();
+    let files: Vec<(&str, bool)> = inputs
+        .iter()
+        .map(|f| (f["path"].as_str().unwrap(), f["default"].as_bool().unwrap()))
+        .collect();
+    let (b, m) = (
+        repository("training_data/bending_experiments.csv"),
+        repository("models/actuator.json"),
+    );
+    assert_eq!(
+        files,
+        [
+            (m.as_str(), true),
+            (b.as_str(), true),
+            (force.as_str(), true)
+        ]
+    );
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(
+        md.contains("## Inputs") && md.contains("| default |"),
+        "{md}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn recordings_in_other_units_or_signs_are_refused_by_name() {
+    let dir = tmp("units");
+    let bad = |f: &str| repository(&format!("tests/data/bad_recordings/{f}"));
+    let bending = repository("training_data/bending_experiments.csv");
+    let cases: [(&[&str], &str); 6] = [
+        (
+            &["--bending", &bad("pressure_kpa.csv")],
+            "column pressure_bar looks like kPa",
+        ),
+        (
+            &["--bending", &bad("semicolons.csv")],
+            "the file looks ;-separated",
+        ),
+        (
+            &["--bending", &bad("n10.csv")],
+            "9 recorded rows lie outside the surrogate's domain",
+        ),
+        (
+            &["--bending", &bending, "--force", &bad("force_mn.csv")],
+            "column force_n looks like mN",
+        ),
+        (
+            &["--bending", &bad("sign_flip.csv")],
+            "column tip_uy_mm has the other sign",
+        ),
+        (
+            &["--bending", &bad("tip_cm.csv")],
+            "columns tip_uz_mm and tip_uy_mm look like cm",
+        ),
+    ];
+    let out = dir.join("out");
+    for (extra, want) in cases {
+        let mut args = vec!["calibrate", "--out", out.to_str().unwrap()];
+        args.extend(extra);
+        let (ok, _, stderr) = run_in(&dir, &args);
+        assert!(!ok && stderr.contains(want), "{extra:?}: {stderr}");
+        assert!(!out.exists(), "{extra:?}: nothing written");
+    }
+    // the same file with its unit in the column name is converted and named in the report
+    let kpa = std::fs::read_to_string(bad("pressure_kpa.csv"))
+        .unwrap()
+        .replacen("pressure_bar", "pressure_kpa", 1);
+    let f = dir.join("kpa.csv");
+    std::fs::write(&f, kpa).unwrap();
+    let (ok, stdout, stderr) = run_in(
+        &dir,
+        &[
+            "calibrate",
+            "--bending",
+            f.to_str().unwrap(),
+            "--starts",
+            "2",
+            "--profile-points",
+            "4",
+            "--out",
+            out.to_str().unwrap(),
+        ],
+    );
+    assert!(ok, "{stderr}");
+    assert!(
+        stdout.contains("54 observations at 27 configurations"),
+        "{stdout}"
+    );
+    assert!(
+        stdout.contains("bending: column pressure_kpa → pressure_bar × 0.01"),
+        "{stdout}"
+    );
+    std::fs::remove_dir_all(dir).unwrap();
 }

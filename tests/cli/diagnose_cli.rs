@@ -46,9 +46,41 @@ fn diagnoses_the_shipped_experiments() {
     let r = report(&out);
     assert_eq!(r["format"], "surrogate.diagnosis");
     assert_eq!(r["version"], 1);
+    // the defaults are the repository's, and the report says so
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let in_repo = |p: &str| root.join(p).to_str().unwrap().to_string();
     assert_eq!(
         r["recordings"]["bending"],
-        "training_data/bending_experiments.csv"
+        in_repo("training_data/bending_experiments.csv")
+    );
+    let inputs: Vec<(&str, &str, bool)> = r["inputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .map(|f| {
+            (
+                f["role"].as_str().unwrap(),
+                f["path"].as_str().unwrap(),
+                f["default"].as_bool().unwrap(),
+            )
+        })
+        .collect();
+    let (m, b, f, c, s) = (
+        in_repo("models/actuator.json"),
+        in_repo("training_data/bending_experiments.csv"),
+        in_repo("training_data/blocked_force_experiments.csv"),
+        in_repo("models/actuator_coarse.json"),
+        in_repo("fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json"),
+    );
+    assert_eq!(
+        inputs,
+        [
+            ("model", m.as_str(), true),
+            ("bending", b.as_str(), true),
+            ("force", f.as_str(), true),
+            ("mesh reference", c.as_str(), true),
+            ("sensitivities", s.as_str(), true),
+        ]
     );
     // the Name stage on the committed FE sensitivities
     assert_eq!(r["name"]["status"], "named");
@@ -64,6 +96,11 @@ fn diagnoses_the_shipped_experiments() {
     assert!(stdout.contains("no marker recordings along the actuator"));
     let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
     assert!(md.starts_with("# Diagnosis") && md.contains("## Findings"));
+    assert!(
+        md.contains(&format!("Recordings: bending {b} (default)")),
+        "{md}"
+    );
+    assert!(md.contains(&format!("| sensitivities | `{s}` | ")), "{md}");
     assert!(md.contains("- **Name**: ") && md.contains("## Name: candidate effects"));
     // the named effect is refitted (`--refit auto`): its size, the fit before and after,
     // every design held out
@@ -75,7 +112,7 @@ fn diagnoses_the_shipped_experiments() {
         .filter(|c| c["model_error"] != true)
         .map(|c| c["effect"].clone());
     // the model's own mesh error (against the other shipped model) is a candidate too
-    assert_eq!(r["mesh_error"]["reference"], "models/actuator_coarse.json");
+    assert_eq!(r["mesh_error"]["reference"], c.as_str());
     assert!(r["name"]["candidates"]
         .as_array()
         .unwrap()
@@ -255,5 +292,37 @@ fn bad_input_is_named_before_anything_runs() {
         assert!(!ok && stderr.contains(&want), "{extra:?}: {stderr}");
         assert!(!out.exists(), "{extra:?}: nothing written");
     }
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn runs_from_any_folder_and_names_the_defaults_it_read() {
+    let dir = tmp("elsewhere");
+    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
+        .current_dir(&dir)
+        .args(["diagnose", "--refit", "none", "--out", "report"])
+        .output()
+        .unwrap();
+    let stderr = String::from_utf8_lossy(&out.stderr);
+    assert!(out.status.success(), "{stderr}");
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for f in [
+        "models/actuator.json",
+        "training_data/bending_experiments.csv",
+        "training_data/blocked_force_experiments.csv",
+        "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json",
+    ] {
+        let p = root.join(f);
+        assert!(
+            stderr.contains(&format!("reading {} (the default)", p.display())),
+            "{f}: {stderr}"
+        );
+    }
+    let r = report(&dir.join("report"));
+    assert!(r["inputs"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .all(|f| f["default"] == true));
     std::fs::remove_dir_all(dir).unwrap();
 }

@@ -180,14 +180,17 @@ pub struct TwinStudyArgs {
 /// `surrogate diagnose`.
 #[derive(Debug, Args)]
 pub struct DiagnoseArgs {
-    /// Surrogate model file (the calibration and the predictions go through it).
-    #[arg(long, default_value = "models/actuator.json")]
-    pub model: PathBuf,
+    /// Surrogate model file (the calibration and the predictions go through it) [default:
+    /// models/actuator.json of the repository the program was built from, from any working
+    /// directory].
+    #[arg(long)]
+    pub model: Option<PathBuf>,
     /// Directory of recordings in the shipped experiments' format: bending_experiments.csv
     /// (required), blocked_force_experiments.csv and marker_experiments.csv (where they
-    /// exist; what is missing is said in the report).
-    #[arg(long, default_value = "training_data")]
-    pub recordings: PathBuf,
+    /// exist; what is missing is said in the report) [default: training_data/ of the
+    /// repository; every file read is listed in the report, defaults as such].
+    #[arg(long)]
+    pub recordings: Option<PathBuf>,
     /// Objective of the calibration: tip, angle, force, markers, all, or weights such as
     /// tip=1,force=0.5; the recorded outputs it leaves out are diagnosed too.
     #[arg(long, default_value = "tip")]
@@ -209,12 +212,11 @@ pub struct DiagnoseArgs {
     /// FE sensitivities of the effect library at the calibrated material (written by
     /// `validate --sensitivities all`); the Name stage ranks the effects with them.
     /// `calibrated` runs that sweep now, at the material just calibrated (18 ramps on
-    /// --sweep-mesh, cached in `<out>/fe_sensitivities`); `none` skips Name and Model.
-    #[arg(
-        long,
-        default_value = "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json"
-    )]
-    pub sensitivities: PathBuf,
+    /// --sweep-mesh, cached in `<out>/fe_sensitivities`); `none` skips Name and Model
+    /// [default: fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json of
+    /// the repository, the sweep at the shipped experiments' calibrated material].
+    #[arg(long)]
+    pub sensitivities: Option<PathBuf>,
     /// Model and show: `auto` refits the material with the effect the Name stage names (and
     /// nothing when it names none), `none` skips the refit, or a comma list of effects to
     /// refit with whatever the Name stage says (`force_scale`, `gap_bias,pressure_loss`).

@@ -5,9 +5,10 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
-use surrogate::calibrate::experiments::{read_bending, read_force, read_markers};
+use surrogate::calibrate::experiments::{SHIPPED_BENDING, SHIPPED_FORCE};
 use surrogate::calibrate::fit::describe_exclusions;
 use surrogate::calibrate::identify::IdentifySettings;
+use surrogate::calibrate::inputs::{self, InputFile};
 use surrogate::calibrate::objective::Exclusion;
 use surrogate::calibrate::optimise::MultistartSettings;
 use surrogate::calibrate::refine::{refine, RefineEvent, RefineSettings, TrainingSet};
@@ -19,21 +20,30 @@ use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::rom::Surrogate;
 
 use crate::calibrate_plots::write_plots;
-use crate::files::write_file;
+use crate::files::{given_or_default, input_file, load_model, repository_file, write_file};
+
+/// The model `calibrate` and `diagnose` read without `--model`, in the repository.
+pub const DEFAULT_MODEL: &str = "models/actuator.json";
 
 /// `surrogate calibrate`.
 #[derive(Debug, Args)]
 pub struct CalibrateArgs {
-    /// Surrogate model file.
-    #[arg(long, default_value = "models/actuator.json")]
-    pub model: PathBuf,
-    /// Bending recordings (columns of training_data/bending_experiments.csv).
-    #[arg(long, default_value = "training_data/bending_experiments.csv")]
-    pub bending: PathBuf,
-    /// Blocked-force recordings (columns of training_data/blocked_force_experiments.csv).
-    #[arg(long, default_value = "training_data/blocked_force_experiments.csv")]
-    pub force: PathBuf,
-    /// Marker recordings (n_bellows, wall_thickness_mm, pressure_bar, marker, uz_mm, uy_mm, std_mm).
+    /// Surrogate model file [default: models/actuator.json of the repository the program was
+    /// built from, from any working directory].
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+    /// Bending recordings (columns of training_data/bending_experiments.csv, or their other
+    /// units: src/schema.rs). Without --bending, --force and --markers the shipped
+    /// experiments are read (training_data/ of the repository, both files, listed as
+    /// defaults in the report); with any of them, only the files named are read.
+    #[arg(long)]
+    pub bending: Option<PathBuf>,
+    /// Blocked-force recordings (columns of training_data/blocked_force_experiments.csv); not
+    /// given with --bending: the force is not compared.
+    #[arg(long)]
+    pub force: Option<PathBuf>,
+    /// Marker recordings (n_bellows, wall_thickness_mm, pressure_bar, marker, uz_mm, uy_mm,
+    /// std_mm); needs --bending.
     #[arg(long)]
     pub markers: Option<PathBuf>,
     /// Objective: tip, angle, force, markers, all, or weights such as tip=1,force=0.5.
@@ -93,29 +103,50 @@ pub struct CalibrateArgs {
     pub out: PathBuf,
 }
 
-/// Reads the recordings named on the command line.
-fn recordings(a: &CalibrateArgs) -> Result<Recordings> {
-    let mut rec = Recordings {
-        bending: read_bending(&a.bending)?,
-        force: Vec::new(),
-        markers: Vec::new(),
-        bending_source: a.bending.display().to_string(),
-        force_source: a.force.display().to_string(),
-        markers_source: String::new(),
-    };
-    if a.force.exists() {
-        rec.force = read_force(&a.force)?;
-    } else {
-        eprintln!(
-            "no blocked-force recordings at {}: the force is not compared",
-            a.force.display()
-        );
+/// Reads the recordings named on the command line, and only those; none named: the shipped
+/// experiments of the repository, both files, as defaults.
+pub fn recordings(a: &CalibrateArgs) -> Result<Recordings> {
+    match (&a.bending, &a.force, &a.markers) {
+        (None, None, None) => {
+            let (b, f) = (
+                repository_file(SHIPPED_BENDING),
+                repository_file(SHIPPED_FORCE),
+            );
+            eprintln!(
+                "no recordings named: reading the shipped experiments {} and {} (the defaults)",
+                b.display(),
+                f.display()
+            );
+            let rec = Recordings::read_files(&b, Some(&f), None).with_context(|| {
+                "the default recordings (give --bending FILE and --force FILE)".to_string()
+            })?;
+            Ok(rec.as_defaults())
+        }
+        (None, f, m) => {
+            let given = [
+                f.as_ref().map(|_| "--force"),
+                m.as_ref().map(|_| "--markers"),
+            ];
+            anyhow::bail!(
+                "{} without --bending: the calibration needs bending recordings and reads only \
+                 the files named; give --bending FILE (the shipped ones are {})",
+                given
+                    .into_iter()
+                    .flatten()
+                    .collect::<Vec<_>>()
+                    .join(" and "),
+                repository_file(SHIPPED_BENDING).display()
+            )
+        }
+        (Some(b), f, m) => {
+            if f.is_none() {
+                eprintln!(
+                    "no --force: only the files named are read; the blocked force is not compared"
+                );
+            }
+            Ok(Recordings::read_files(b, f.as_deref(), m.as_deref())?)
+        }
     }
-    if let Some(m) = &a.markers {
-        rec.markers = read_markers(m)?;
-        rec.markers_source = m.display().to_string();
-    }
-    Ok(rec)
 }
 
 /// The validated settings of the run.
@@ -148,8 +179,9 @@ pub fn settings(a: &CalibrateArgs) -> Result<CalibrationSettings> {
 
 /// Runs the subcommand.
 pub fn run(a: CalibrateArgs) -> Result<()> {
-    let model = Surrogate::load(&a.model)
-        .with_context(|| format!("loading the surrogate {}", a.model.display()))?;
+    let (model_path, default) = given_or_default(a.model.as_deref(), DEFAULT_MODEL);
+    let model = load_model(&model_path)?;
+    let model_file = input_file("model", &model_path, default)?;
     let rec = recordings(&a)?;
     let s = settings(&a)?;
     let mesh = match a.verify_fe.as_str() {
@@ -163,9 +195,10 @@ pub fn run(a: CalibrateArgs) -> Result<()> {
             a.verify_fe,
             a.refine
         );
-        return run_refine(&a, &model, &rec, s);
+        return run_refine(&a, &model, &model_file, &rec, s);
     }
-    let cal = calibrate(&model, &rec, &s, &|stage| eprintln!("{stage}"))?;
+    let mut cal = calibrate(&model, &rec, &s, &|stage| eprintln!("{stage}"))?;
+    cal.inputs.insert(0, model_file);
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let fe = match mesh {
         Some(level) => {
@@ -191,6 +224,7 @@ pub fn run(a: CalibrateArgs) -> Result<()> {
 fn run_refine(
     a: &CalibrateArgs,
     model: &Surrogate,
+    model_file: &InputFile,
     rec: &Recordings,
     calibration: CalibrationSettings,
 ) -> Result<()> {
@@ -200,7 +234,15 @@ fn run_refine(
     );
     let training = match &a.training {
         Some(csv) => TrainingSet::read(csv, &surrogate::snapshots::merge::sidecar_path(csv))?,
-        None => TrainingSet::of_model(model, Path::new("."))?,
+        // the model's training source, relative to the repository for the default model
+        None => TrainingSet::of_model(
+            model,
+            &if a.model.is_none() {
+                repository_file("")
+            } else {
+                PathBuf::from(".")
+            },
+        )?,
     };
     let settings = RefineSettings {
         max_rounds: a.refine,
@@ -235,7 +277,7 @@ fn run_refine(
         "{spinner} round {msg} FE cases [{bar:30}] {pos}/{len}, {elapsed_precise}, eta {eta}",
     )?);
     let runner = surrogate::snapshots::fe_runner::fe_runner;
-    let r = refine(model, &training, rec, &settings, &runner, &dir, &|ev| {
+    let mut r = refine(model, &training, rec, &settings, &runner, &dir, &|ev| {
         match ev {
             RefineEvent::Stage(s) => bar.suspend(|| eprintln!("{s}")),
             RefineEvent::Fe { round, progress } => {
@@ -263,6 +305,7 @@ fn run_refine(
             }),
         }
     })?;
+    r.last.inputs.insert(0, model_file.clone());
     let mut written = write_outputs(&a.out, &r.last, Some(r.final_verification()))?;
     let md = r.summary_markdown();
     let p = a.out.join("refinement.md");
@@ -428,6 +471,7 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
         "Objective `{}`: {} observations at {} configurations, model {}.\n",
         cal.objective, cal.n_observations, cal.n_configurations, cal.model
     );
+    let _ = writeln!(s, "{}", inputs::markdown(&cal.inputs));
     let _ = writeln!(s, "| set | μ1 (MPa) | α1 | μ2 (MPa) | α2 | μ0 (MPa) | χ² |");
     let _ = writeln!(s, "|---|---|---|---|---|---|---|");
     for (name, p, c) in [

@@ -19,8 +19,14 @@ use surrogate::fe::effects::Effect;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 
 use crate::args::DiagnoseArgs;
+use crate::calibrate::DEFAULT_MODEL;
 use crate::diagnose_plots::write_plots;
-use crate::files::{load_model, mesh_reference, write_file};
+use crate::files::{given_or_default, input_file, load_model, mesh_reference, write_file};
+use surrogate::calibrate::inputs::InputFile;
+
+/// The FE sensitivities `diagnose` reads without `--sensitivities`, in the repository.
+const DEFAULT_SENSITIVITIES: &str =
+    "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json";
 use surrogate::diagnose::approx_error::ApproximationError;
 
 /// The validated settings of the run.
@@ -47,7 +53,8 @@ fn settings(a: &DiagnoseArgs) -> Result<DiagnoseSettings> {
 }
 
 /// The recordings of `dir`; a path that is not a directory says what was expected there.
-fn recordings(dir: &Path) -> Result<Recordings> {
+/// `default`: the repository's `training_data/`, said on stderr and in the report.
+fn recordings(dir: &Path, default: bool) -> Result<Recordings> {
     if !dir.is_dir() {
         anyhow::bail!(
             "--recordings {}: not a directory (expected a directory holding {BENDING_FILE} and, \
@@ -55,15 +62,51 @@ fn recordings(dir: &Path) -> Result<Recordings> {
             dir.display()
         );
     }
-    Recordings::read_dir(dir)
-        .with_context(|| format!("reading the recordings in {}", dir.display()))
+    let rec = Recordings::read_dir(dir)
+        .with_context(|| format!("reading the recordings in {}", dir.display()))?;
+    if default {
+        for f in &rec.files {
+            eprintln!("no --recordings: reading {} (the default)", f.path);
+        }
+        return Ok(rec.as_defaults());
+    }
+    Ok(rec)
+}
+
+/// The FE sensitivities of `--sensitivities`: a file (default: the committed sweep at the
+/// shipped experiments' calibrated material), `calibrated` or `none` (then no file: `None`).
+fn sensitivities(a: &DiagnoseArgs) -> Result<Option<(SweepSensitivities, InputFile)>> {
+    if matches!(
+        a.sensitivities.as_deref().and_then(Path::to_str),
+        Some("none" | "calibrated")
+    ) {
+        return Ok(None);
+    }
+    let (p, default) = given_or_default(a.sensitivities.as_deref(), DEFAULT_SENSITIVITIES);
+    let sens = SweepSensitivities::read(&p).with_context(|| {
+        format!(
+            "--sensitivities {}: expected the file `validate --sensitivities all` writes (or \
+             calibrated, none)",
+            p.display()
+        )
+    })?;
+    if default {
+        eprintln!("no --sensitivities: reading {} (the default)", p.display());
+    }
+    Ok(Some((sens, input_file("sensitivities", &p, default)?)))
 }
 
 /// Runs the subcommand.
 pub fn run(a: DiagnoseArgs) -> Result<()> {
     let s = settings(&a)?;
-    let mut rec = recordings(&a.recordings)?;
-    let model = load_model(&a.model)?;
+    let (dir, default) = given_or_default(a.recordings.as_deref(), "training_data");
+    let mut rec = recordings(&dir, default)?;
+    let (model_path, default) = given_or_default(a.model.as_deref(), DEFAULT_MODEL);
+    if default {
+        eprintln!("no --model: reading {} (the default)", model_path.display());
+    }
+    let model = load_model(&model_path)?;
+    let mut inputs = vec![input_file("model", &model_path, default)?];
     let approximation = match &a.approximation_error {
         Some(p) => {
             let e = ApproximationError::read(p)
@@ -76,12 +119,17 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
                 e.reference
             );
             rec = e.correct(&rec);
+            inputs.push(input_file("approximation error", p, false)?);
             Some(e)
         }
         None => None,
     };
     // checked before any work: a bad value is named at once
-    let reference = mesh_reference(&a.mesh_reference, &a.model)?;
+    let reference = mesh_reference(&a.mesh_reference, &model_path)?;
+    if let Some((_, name)) = &reference {
+        let auto = a.mesh_reference == "auto";
+        inputs.push(input_file("mesh reference", Path::new(name), auto)?);
+    }
     refit_effects(&a.refit, None)?;
     let confirm: Option<MeshLevel> = match a.confirm_fe.as_str() {
         "none" => None,
@@ -91,23 +139,21 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
                 .map_err(|e: String| anyhow::anyhow!("--confirm-fe {other}: {e} (or none)"))?,
         ),
     };
-    let at_calibrated = a.sensitivities.as_os_str() == "calibrated";
+    let at_calibrated = a.sensitivities.as_deref() == Some(Path::new("calibrated"));
     let sweep_mesh: MeshLevel = a
         .sweep_mesh
         .parse()
         .map_err(|e: String| anyhow::anyhow!("--sweep-mesh {}: {e}", a.sweep_mesh))?;
-    let sens = if a.sensitivities.as_os_str() == "none" || at_calibrated {
-        None
-    } else {
-        Some(SweepSensitivities::read(&a.sensitivities).with_context(|| {
-            format!(
-                "--sensitivities {}: expected the file `validate --sensitivities all` writes \
-                 (or calibrated, none)",
-                a.sensitivities.display()
-            )
-        })?)
+    let sens = match sensitivities(&a)? {
+        Some((sens, file)) => {
+            inputs.push(file);
+            Some(sens)
+        }
+        None => None,
     };
     let mut d = diagnose(&model, &rec, &s, &|stage| eprintln!("{stage}"))?;
+    d.inputs.splice(0..0, inputs.drain(..1));
+    d.inputs.extend(inputs);
     let sens = if at_calibrated {
         let cache = a.out.join("fe_sensitivities");
         eprintln!(

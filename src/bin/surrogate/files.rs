@@ -1,9 +1,32 @@
-//! The files the subcommands share: the model they read and the outputs they write.
-use std::path::Path;
+//! The files the subcommands share: the model they read, the documented defaults of the
+//! repository, and the outputs they write.
+use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
+use surrogate::calibrate::inputs::InputFile;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::rom::Surrogate;
+
+/// The repository this program was built from: where its documented defaults (the shipped
+/// models, experiments and FE references) are found, from any working directory.
+pub fn repository_file(relative: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
+}
+
+/// The file of an optional flag: as the user gave it (`false`), or the documented default
+/// `relative` of the repository (`true`).
+pub fn given_or_default(given: Option<&Path>, relative: &str) -> (PathBuf, bool) {
+    match given {
+        Some(p) => (p.to_path_buf(), false),
+        None => (repository_file(relative), true),
+    }
+}
+
+/// The record of an input file for the reports (path, checksum, named or default).
+pub fn input_file(role: &str, path: &Path, default: bool) -> Result<InputFile> {
+    let f = InputFile::read(role, path).with_context(|| format!("reading {}", path.display()))?;
+    Ok(if default { f.as_default() } else { f })
+}
 
 /// The mesh of `--mesh LEVEL [--element-size H] [--wall-elements K]`, validated; a bad value
 /// names its flag.
