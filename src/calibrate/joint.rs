@@ -491,14 +491,6 @@ fn derivs(
     Some((sens.steps[i].values.clone(), d))
 }
 
-fn chi2(e: &Evaluation) -> f64 {
-    if e.error.is_empty() {
-        e.r.norm_squared()
-    } else {
-        f64::INFINITY
-    }
-}
-
 fn summary_of(rows: &[JointRow]) -> (f64, f64) {
     let be: Vec<f64> = rows.iter().map(|r| r.be_mm).collect();
     let fe: Vec<f64> = rows
@@ -557,99 +549,189 @@ pub fn identify(
             ));
         }
     }
-    let mut sweep_no = 0usize;
-    let mut eval_at = |x: &JointPoint| {
-        sweep_no += 1;
-        let k = sweep_no;
-        evaluate(s, rec, x, &|d, n| progress(k, d, n))
+    let x0: Vec<f64> = s.unknowns.iter().map(|&u| x.get(u)).collect();
+    let point_at = |v: &[f64]| -> Result<JointPoint, CalibrateError> {
+        let mut p = x.clone();
+        for (&u, &vi) in s.unknowns.iter().zip(v) {
+            p.set(u, vi)?;
+        }
+        Ok(p)
     };
-    let mut cur = eval_at(&x)?;
-    if !cur.error.is_empty() {
-        return Err(CalibrateError::input(
-            "start",
-            "the FE model",
-            &format!("a start the FE reaches ({})", cur.error),
-        ));
+    let mut evaluations: Vec<(JointPoint, Result<Evaluation, String>)> = Vec::new();
+    let trace = bounded_lm(&x0, &bnds, s.lambda0, s.max_sweeps, |v| {
+        let p = point_at(v)?;
+        let k = evaluations.len() + 1;
+        let e = evaluate(s, rec, &p, &|d, n| progress(k, d, n));
+        if k == 1 {
+            if let Ok(e) = &e {
+                if !e.error.is_empty() {
+                    return Err(CalibrateError::input(
+                        "start",
+                        "the FE model",
+                        &format!("a start the FE reaches ({})", e.error),
+                    ));
+                }
+            }
+        }
+        let out = match &e {
+            Ok(e) if e.error.is_empty() => Some((e.r.clone(), e.j.clone())),
+            _ => None,
+        };
+        evaluations.push((p, e.map_err(|e| e.to_string())));
+        Ok(out)
+    })?;
+    let mut sweeps = Vec::new();
+    for (step, (p, e)) in trace.steps.iter().zip(&evaluations) {
+        let (be, fe, error) = match e {
+            Ok(e) => {
+                let (be, fe) = summary_of(&e.rows);
+                (be, fe, e.error.clone())
+            }
+            Err(why) => (f64::NAN, f64::NAN, why.clone()),
+        };
+        sweeps.push(JointSweep {
+            point: p.clone(),
+            chi2: step.chi2,
+            mean_be_mm: be,
+            mean_abs_force_error_n: fe,
+            accepted: step.accepted,
+            lambda: step.lambda,
+            predicted_chi2: step.predicted_chi2,
+            error,
+        });
     }
-    let (be0, f0) = summary_of(&cur.rows);
-    let mut sweeps = vec![JointSweep {
-        point: x.clone(),
-        chi2: chi2(&cur),
-        mean_be_mm: be0,
-        mean_abs_force_error_n: f0,
-        accepted: true,
+    let best = trace.best;
+    let (xb, eb) = evaluations.swap_remove(best);
+    let cur = eb.map_err(|why| CalibrateError::input("optimum", "the FE model", &why))?;
+    Ok(report(s, &bnds, xb, cur, sweeps, trace.stop))
+}
+
+/// One evaluation of [`bounded_lm`].
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct LmStep {
+    /// The point.
+    pub x: Vec<f64>,
+    /// `χ²` (`inf` where the evaluation failed).
+    pub chi2: f64,
+    /// `χ²` the linearisation predicted (the start's own for the first).
+    pub predicted_chi2: f64,
+    /// Damping of the step (0 for the start).
+    pub lambda: f64,
+    /// Whether it became the current point.
+    pub accepted: bool,
+}
+
+/// The evaluations of [`bounded_lm`] and how it stopped.
+#[derive(Clone, Debug, PartialEq)]
+pub(crate) struct LmTrace {
+    /// Every evaluation, in order.
+    pub steps: Vec<LmStep>,
+    /// Index of the last accepted one (the optimum).
+    pub best: usize,
+    /// Why it stopped.
+    pub stop: JointStop,
+}
+
+/// Bounded Levenberg–Marquardt for costly evaluations: `eval(x)` gives the residuals and their
+/// Jacobian, or `None` where the model fails there (a failed step). Coordinates on a bound
+/// whose gradient pushes out of the box are held for the step (the free set); the others
+/// solve `(JᵀJ + λ·diag(JᵀJ)) δ = −Jᵀr` and the trial is clipped to the box. Nielsen's
+/// damping update; stops after `max_evals` evaluations, when `χ²` falls by less than a
+/// relative 1e-3 over an accepted step, or when `λ > 1e8`.
+pub(crate) fn bounded_lm<E>(
+    x0: &[f64],
+    bnds: &[(f64, f64)],
+    lambda0: f64,
+    max_evals: usize,
+    mut eval: impl FnMut(&[f64]) -> Result<Option<(DVector<f64>, DMatrix<f64>)>, E>,
+) -> Result<LmTrace, E> {
+    let k = x0.len();
+    let mut x = x0.to_vec();
+    let first = eval(&x)?;
+    let c0 = first
+        .as_ref()
+        .map_or(f64::INFINITY, |(r, _)| r.norm_squared());
+    let mut steps = vec![LmStep {
+        x: x.clone(),
+        chi2: c0,
+        predicted_chi2: c0,
         lambda: 0.0,
-        predicted_chi2: chi2(&cur),
-        error: String::new(),
+        accepted: true,
     }];
-    let mut lambda = s.lambda0;
-    let mut nu = 2.0;
+    let Some((mut r, mut j)) = first else {
+        return Ok(LmTrace {
+            steps,
+            best: 0,
+            stop: JointStop::NoDescent,
+        });
+    };
+    let mut best = 0;
+    let (mut lambda, mut nu) = (lambda0, 2.0);
     let stop = loop {
-        if sweeps.len() >= s.max_sweeps {
+        if steps.len() >= max_evals {
             break JointStop::Budget;
         }
         if lambda > 1e8 {
             break JointStop::NoDescent;
         }
-        let jtj = cur.j.transpose() * &cur.j;
-        let g = cur.j.transpose() * &cur.r;
+        let jtj = j.transpose() * &j;
+        let g = j.transpose() * &r;
+        let free: Vec<bool> = (0..k)
+            .map(|i| {
+                let (lo, hi) = bnds[i];
+                let span = (hi - lo).max(1e-300);
+                let out = (x[i] - lo <= 1e-9 * span && g[i] > 0.0)
+                    || (hi - x[i] <= 1e-9 * span && g[i] < 0.0);
+                !out
+            })
+            .collect();
         let mut a = jtj.clone();
-        for i in 0..a.nrows() {
-            a[(i, i)] += lambda * jtj[(i, i)].max(1e-12);
+        let mut b = -&g;
+        for i in 0..k {
+            if free[i] {
+                a[(i, i)] += lambda * jtj[(i, i)].max(1e-12);
+            } else {
+                for c in 0..k {
+                    a[(i, c)] = 0.0;
+                    a[(c, i)] = 0.0;
+                }
+                a[(i, i)] = 1.0;
+                b[i] = 0.0;
+            }
         }
-        let Some(delta) = a.cholesky().map(|c| c.solve(&(-&g))) else {
+        let Some(delta) = a.cholesky().map(|c| c.solve(&b)) else {
             lambda *= nu;
             nu *= 2.0;
             continue;
         };
-        let mut trial = x.clone();
-        let mut step = DVector::zeros(delta.len());
-        for (i, (&u, &(lo, hi))) in s.unknowns.iter().zip(&bnds).enumerate() {
-            let v = (x.get(u) + delta[i]).clamp(lo, hi);
-            step[i] = v - x.get(u);
-            trial.set(u, v)?;
-        }
-        let predicted = (&cur.r + &cur.j * &step).norm_squared();
-        let c0 = chi2(&cur);
-        let next = eval_at(&trial);
-        let (c1, next) = match next {
-            Ok(e) => (chi2(&e), Some(e)),
-            Err(e) => {
-                sweeps.push(JointSweep {
-                    point: trial.clone(),
-                    chi2: f64::INFINITY,
-                    mean_be_mm: f64::NAN,
-                    mean_abs_force_error_n: f64::NAN,
-                    accepted: false,
-                    lambda,
-                    predicted_chi2: predicted,
-                    error: e.to_string(),
-                });
-                lambda *= nu;
-                nu *= 2.0;
-                continue;
-            }
-        };
-        let next = next.expect("set above");
-        let rho = (c0 - c1) / (c0 - predicted).max(1e-300);
-        let (be, fe) = summary_of(&next.rows);
-        let accepted = c1.is_finite() && rho > 0.0;
-        sweeps.push(JointSweep {
-            point: trial.clone(),
-            chi2: c1,
-            mean_be_mm: be,
-            mean_abs_force_error_n: fe,
-            accepted,
-            lambda,
+        let trial: Vec<f64> = (0..k)
+            .map(|i| (x[i] + delta[i]).clamp(bnds[i].0, bnds[i].1))
+            .collect();
+        let step = DVector::from_fn(k, |i, _| trial[i] - x[i]);
+        let c_cur = r.norm_squared();
+        let predicted = (&r + &j * &step).norm_squared();
+        let next = eval(&trial)?;
+        let c_new = next
+            .as_ref()
+            .map_or(f64::INFINITY, |(r, _)| r.norm_squared());
+        let rho = (c_cur - c_new) / (c_cur - predicted).max(1e-300);
+        let accepted = c_new.is_finite() && c_new < c_cur;
+        steps.push(LmStep {
+            x: trial.clone(),
+            chi2: c_new,
             predicted_chi2: predicted,
-            error: next.error.clone(),
+            lambda,
+            accepted,
         });
         if accepted {
+            let (rn, jn) = next.expect("finite χ² has residuals");
             x = trial;
-            cur = next;
+            r = rn;
+            j = jn;
+            best = steps.len() - 1;
             lambda *= (1.0 / 3.0f64).max(1.0 - (2.0 * rho - 1.0).powi(3));
             nu = 2.0;
-            if (c0 - c1) / c0 < 1e-3 {
+            if (c_cur - c_new) / c_cur < 1e-3 {
                 break JointStop::Converged;
             }
         } else {
@@ -657,7 +739,7 @@ pub fn identify(
             nu *= 2.0;
         }
     };
-    Ok(report(s, &bnds, x, cur, sweeps, stop))
+    Ok(LmTrace { steps, best, stop })
 }
 
 fn report(
@@ -825,6 +907,69 @@ mod tests {
     fn the_paper_nine_move_t_and_p_together() {
         assert!(in_paper_nine(1.6, 1.0) && in_paper_nine(2.0, 2.0) && in_paper_nine(2.4, 3.0));
         assert!(!in_paper_nine(1.6, 3.0) && !in_paper_nine(2.4, 1.0));
+    }
+
+    /// Residuals of a bounded test problem: `r = (x₀ − 1, 10(x₁ − x₀²), x₂ − 5)`, the last
+    /// coordinate bounded to [0, 2] so that its optimum lies on the bound.
+    #[allow(clippy::type_complexity)]
+    fn rosenbrock(x: &[f64]) -> Result<Option<(DVector<f64>, DMatrix<f64>)>, ()> {
+        let r = DVector::from_vec(vec![x[0] - 1.0, 10.0 * (x[1] - x[0] * x[0]), x[2] - 5.0]);
+        let j = DMatrix::from_row_slice(
+            3,
+            3,
+            &[1.0, 0.0, 0.0, -20.0 * x[0], 10.0, 0.0, 0.0, 0.0, 1.0],
+        );
+        Ok(Some((r, j)))
+    }
+
+    #[test]
+    fn bounded_lm_finds_an_interior_optimum_and_stops_on_a_bound() {
+        let bnds = [(-2.0, 2.0), (-1.0, 3.0), (0.0, 2.0)];
+        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 200, rosenbrock).unwrap();
+        let x = &t.steps[t.best].x;
+        assert!(
+            (x[0] - 1.0).abs() < 0.05 && (x[1] - 1.0).abs() < 0.1,
+            "{x:?}"
+        );
+        assert_eq!(x[2], 2.0, "the bounded coordinate ends on its bound");
+        assert!(t
+            .steps
+            .iter()
+            .all(|s| s.x.iter().zip(&bnds).all(|(v, b)| *v >= b.0 && *v <= b.1)));
+        // χ² never rises along the accepted steps
+        let acc: Vec<f64> = t
+            .steps
+            .iter()
+            .filter(|s| s.accepted)
+            .map(|s| s.chi2)
+            .collect();
+        assert!(acc.windows(2).all(|w| w[1] <= w[0]), "{acc:?}");
+        assert!(t.steps[t.best].chi2 < 9.0 + 1e-3, "only (5 − 2)² is left");
+    }
+
+    #[test]
+    fn bounded_lm_treats_a_failed_evaluation_as_a_failed_step_and_keeps_to_the_budget() {
+        let bnds = [(-2.0, 2.0), (-1.0, 3.0), (0.0, 2.0)];
+        let mut calls = 0;
+        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 6, |x| {
+            calls += 1;
+            // the model fails at every second trial
+            if calls % 2 == 0 {
+                Ok(None)
+            } else {
+                rosenbrock(x)
+            }
+        })
+        .unwrap();
+        assert_eq!(t.steps.len(), 6);
+        assert_eq!(t.stop, JointStop::Budget);
+        assert!(t
+            .steps
+            .iter()
+            .skip(1)
+            .step_by(2)
+            .all(|s| !s.accepted && s.chi2.is_infinite()));
+        assert!(t.steps[t.best].accepted);
     }
 
     #[test]
