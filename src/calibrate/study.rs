@@ -10,7 +10,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::baseline::in_l9_subset;
+use super::baseline::in_paper_nine;
 use super::experiments::bending_error;
 use super::objective::{Config, Evaluator, ObservationSet, Recordings, Selection, Weights};
 use super::optimise::{multistart, MultistartSettings};
@@ -23,8 +23,9 @@ use crate::rom::{Query, Surrogate};
 pub struct ConfigFit {
     /// The configuration.
     pub config: Config,
-    /// Whether it belongs to the L9 subset of the study.
-    pub l9: bool,
+    /// Whether it is one of the reference study's nine (T and P together).
+    #[serde(alias = "l9")]
+    pub paper_nine: bool,
     /// The fitted set.
     pub params: OgdenSet,
     /// BE with the literature set (mm).
@@ -80,11 +81,12 @@ pub struct PerConfigurationStudy {
     pub spread: Vec<Spread>,
     /// The one set fitted to all configurations in the same box.
     pub one_set: OgdenSet,
-    /// BE summaries (all configurations, and the L9 subset): literature, per configuration,
+    /// BE summaries (all configurations, and the reference study's nine): literature, per configuration,
     /// one set.
     pub all: [BeSummary; 3],
-    /// The same over the L9 subset.
-    pub l9: [BeSummary; 3],
+    /// The same over the reference study's nine.
+    #[serde(alias = "l9")]
+    pub paper_nine: [BeSummary; 3],
 }
 
 fn summary(v: &[f64]) -> BeSummary {
@@ -173,7 +175,7 @@ pub fn per_configuration(
             .collect();
         fits.push(ConfigFit {
             config: *c,
-            l9: in_l9_subset(
+            paper_nine: in_paper_nine(
                 &ln,
                 &lt,
                 &lp,
@@ -209,9 +211,9 @@ pub fn per_configuration(
             }
         })
         .collect();
-    let col = |l9_only: bool, k: usize| -> Vec<f64> {
+    let col = |nine_only: bool, k: usize| -> Vec<f64> {
         fits.iter()
-            .filter(|f| !l9_only || f.l9)
+            .filter(|f| !nine_only || f.paper_nine)
             .map(|f| [f.be_literature_mm, f.be_fitted_mm, f.be_one_set_mm][k])
             .collect()
     };
@@ -221,7 +223,7 @@ pub fn per_configuration(
         spread,
         one_set,
         all: [0, 1, 2].map(|k| summary(&col(false, k))),
-        l9: [0, 1, 2].map(|k| summary(&col(true, k))),
+        paper_nine: [0, 1, 2].map(|k| summary(&col(true, k))),
         fits,
     })
 }

@@ -494,7 +494,7 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
     let cs = &cal.calibrated;
     let _ = writeln!(
         s,
-        "| through the surrogate | mean BE (mm) | median BE (mm) | L9 mean BE (mm) | mean F error (N) | mean |F error| (N) |"
+        "| through the surrogate | mean BE (mm) | median BE (mm) | the study's nine: mean BE (mm) | mean F error (N) | mean |F error| (N) |"
     );
     let _ = writeln!(s, "|---|---|---|---|---|---|");
     for (name, x) in [("literature", ls), ("calibrated", cs)] {
@@ -503,7 +503,7 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
             "| {name} | {:.2} | {:.2} | {:.2} | {:+.3} | {:.3} |",
             x.mean_be_mm,
             x.median_be_mm,
-            x.l9_mean_be_mm,
+            x.paper_nine_mean_be_mm,
             x.mean_force_error_n,
             x.mean_abs_force_error_n
         );
@@ -516,7 +516,7 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
             v.mesh,
             x.mean_be_mm,
             x.median_be_mm,
-            x.l9_mean_be_mm,
+            x.paper_nine_mean_be_mm,
             x.mean_force_error_n,
             x.mean_abs_force_error_n
         );
@@ -666,7 +666,10 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
             "| | literature | per configuration | one set, same box |"
         );
         let _ = writeln!(s, "|---|---|---|---|");
-        for (name, v) in [("all, mean BE (mm)", &st.all), ("L9, mean BE (mm)", &st.l9)] {
+        for (name, v) in [
+            ("all, mean BE (mm)", &st.all),
+            ("the study's nine, mean BE (mm)", &st.paper_nine),
+        ] {
             let _ = writeln!(
                 s,
                 "| {name} | {:.2} | {:.2} | {:.2} |",
@@ -675,7 +678,7 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
         }
         for (name, v) in [
             ("all, median BE (mm)", &st.all),
-            ("L9, median BE (mm)", &st.l9),
+            ("the study's nine, median BE (mm)", &st.paper_nine),
         ] {
             let _ = writeln!(
                 s,

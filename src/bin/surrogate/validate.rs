@@ -119,10 +119,10 @@ pub fn run(a: ValidateArgs) -> Result<()> {
         s.mean_force_error_n
     );
     println!(
-        "  L9 subset ({} configurations): mean BE {:.2} mm, median BE {:.2} mm; at {} bar: mean F error {:+.3} N",
-        s.l9_configurations,
-        s.l9_mean_be_mm,
-        s.l9_median_be_mm,
+        "  the reference study's nine ({} configurations, T and P together): mean BE {:.2} mm, median BE {:.2} mm; at {} bar: mean F error {:+.3} N",
+        s.paper_nine_configurations,
+        s.paper_nine_mean_be_mm,
+        s.paper_nine_median_be_mm,
         s.top_pressure_bar,
         s.mean_force_error_top_pressure_n
     );
