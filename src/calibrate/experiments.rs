@@ -13,63 +13,12 @@
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
-use thiserror::Error;
 
 use super::inputs::InputFile;
-use super::units::{self, map_header, Suspicion, Written};
+pub use super::recording_csv::ExperimentError;
+use super::recording_csv::{check_duplicates, parse, plausible, record_error, Key, Parsed};
+use super::units::{self, Recorded, Row};
 use crate::schema;
-
-/// Errors reading experiment files.
-#[derive(Debug, Error)]
-pub enum ExperimentError {
-    /// The file could not be read.
-    #[error("{path}: {source}")]
-    Io {
-        /// File.
-        path: String,
-        /// Cause.
-        #[source]
-        source: std::io::Error,
-    },
-    /// A file whose header is one field holding another separator.
-    #[error(
-        "{source_name}, line 1: the header is one column, {header:?}: the file looks \
-         {separator}-separated; the recordings are comma-separated (a spreadsheet's \
-         \"CSV (comma delimited)\", with a decimal point)"
-    )]
-    Separator {
-        /// File or source name.
-        source_name: String,
-        /// The header as read.
-        header: String,
-        /// The separator it holds (`;`, `tab`).
-        separator: String,
-    },
-    /// Values whose scale or sign is not the format's: each column with every failing row.
-    #[error(
-        "{source_name}: values in another unit or with the other sign (nothing was read from \
-         it):\n  - {}",
-        problems.iter().map(ToString::to_string).collect::<Vec<_>>().join("\n  - ")
-    )]
-    Implausible {
-        /// File or source name.
-        source_name: String,
-        /// Each suspicious column, with its rows.
-        problems: Vec<Suspicion>,
-    },
-    /// A malformed record.
-    #[error("{source_name}, line {line}, column {column}: {reason}")]
-    Record {
-        /// File or source name.
-        source_name: String,
-        /// 1-based line.
-        line: usize,
-        /// Column name.
-        column: String,
-        /// What is wrong.
-        reason: String,
-    },
-}
 
 /// One bending configuration (means over specimens and repetitions).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -115,174 +64,6 @@ pub const MARKERS_FILE: &str = "marker_experiments.csv";
 const BENDING_CSV: &str = include_str!("../../training_data/bending_experiments.csv");
 const FORCE_CSV: &str = include_str!("../../training_data/blocked_force_experiments.csv");
 
-/// Rows of a recording and the columns converted from another unit.
-struct Parsed<T> {
-    rows: Vec<T>,
-    written: Written,
-}
-
-impl<T> Parsed<T> {
-    /// The conversions, in words (`pressure_kpa → pressure_bar × 0.01`).
-    fn converted(&self) -> Vec<String> {
-        self.written
-            .renamed
-            .iter()
-            .map(|(c, w)| {
-                let f = schema::RECORDING_UNIT_COLUMNS
-                    .iter()
-                    .find(|u| u.column.name == w)
-                    .map_or(1.0, |u| u.to_canonical);
-                format!("{w} → {c} × {f}")
-            })
-            .collect()
-    }
-}
-
-fn parse<T: for<'de> Deserialize<'de>>(
-    name: &str,
-    text: &str,
-    columns: &[&str],
-) -> Result<Parsed<T>, ExperimentError> {
-    let mut rdr = csv::ReaderBuilder::new()
-        .trim(csv::Trim::All)
-        .from_reader(text.as_bytes());
-    let headers = rdr
-        .headers()
-        .map_err(|e| record_error(name, 1, "header", &e.to_string()))?
-        .clone();
-    let (mapped, written) = map_header(name, &headers, columns)?;
-    let canonical: csv::StringRecord = mapped.iter().map(|(c, _)| c.as_str()).collect();
-    let mut out = Vec::new();
-    for (i, rec) in rdr.records().enumerate() {
-        let line = i + 2;
-        let rec = rec.map_err(|e| record_error(name, line, "row", &e.to_string()))?;
-        let mut cleaned = csv::StringRecord::new();
-        for ((h, (c, factor)), v) in headers.iter().zip(&mapped).zip(rec.iter()) {
-            let x = match v.parse::<f64>() {
-                Ok(x) if x.is_finite() => x * factor,
-                _ => {
-                    return Err(record_error(
-                        name,
-                        line,
-                        h,
-                        &format!("'{v}' is not a finite number"),
-                    ))
-                }
-            };
-            if INTEGER_COLUMNS.contains(&c.as_str()) {
-                if x.fract() != 0.0 || x < 0.0 || x > u32::MAX as f64 {
-                    return Err(record_error(
-                        name,
-                        line,
-                        h,
-                        &format!("'{v}' is not a non-negative integer"),
-                    ));
-                }
-                // integers written as `9.0` (what pandas writes) are accepted
-                cleaned.push_field(&format!("{}", x as u64));
-                continue;
-            }
-            if STD_COLUMNS.contains(&c.as_str()) && x <= 0.0 {
-                return Err(record_error(
-                    name,
-                    line,
-                    h,
-                    &format!("'{v}': a standard deviation must be > 0"),
-                ));
-            }
-            if *factor == 1.0 {
-                cleaned.push_field(v);
-            } else {
-                cleaned.push_field(&format!("{x:?}"));
-            }
-        }
-        let row: T = cleaned
-            .deserialize(Some(&canonical))
-            .map_err(|e| record_error(name, line, "row", &e.to_string()))?;
-        out.push(row);
-    }
-    if out.is_empty() {
-        return Err(record_error(name, 2, "row", "no records"));
-    }
-    Ok(Parsed { rows: out, written })
-}
-
-/// The error of a file whose values fail the scale and sign checks, if any do.
-fn plausible(name: &str, problems: Vec<Suspicion>) -> Result<(), ExperimentError> {
-    if problems.is_empty() {
-        Ok(())
-    } else {
-        Err(ExperimentError::Implausible {
-            source_name: name.to_string(),
-            problems,
-        })
-    }
-}
-
-/// Columns holding integers.
-const INTEGER_COLUMNS: [&str; 2] = [schema::N_BELLOWS.name, schema::MARKER.name];
-/// Columns holding standard deviations (must be > 0).
-const STD_COLUMNS: [&str; 3] = [
-    schema::ANGLE_STD.name,
-    schema::FORCE_STD.name,
-    schema::MARKER_RECORDED_STD.name,
-];
-
-/// Rejects two records of the same configuration, naming both lines (header = line 1) and the
-/// configuration in its units.
-fn check_duplicates(name: &str, keys: &[Key]) -> Result<(), ExperimentError> {
-    for (i, k) in keys.iter().enumerate() {
-        if let Some(j) = keys[..i].iter().position(|o| o.same(k)) {
-            return Err(record_error(
-                name,
-                i + 2,
-                "row",
-                &format!(
-                    "duplicate of line {} (same configuration: {})",
-                    j + 2,
-                    k.label()
-                ),
-            ));
-        }
-    }
-    Ok(())
-}
-
-/// The configuration of a row, and its marker for marker recordings.
-#[derive(Clone, Copy, Debug)]
-struct Key {
-    n: usize,
-    t_mm: f64,
-    p_bar: f64,
-    marker: Option<usize>,
-}
-
-impl Key {
-    fn same(&self, o: &Key) -> bool {
-        self.n == o.n && self.t_mm == o.t_mm && self.p_bar == o.p_bar && self.marker == o.marker
-    }
-
-    fn label(&self) -> String {
-        let mut s = format!(
-            "N = {}, T = {} mm, P = {} bar",
-            self.n, self.t_mm, self.p_bar
-        );
-        if let Some(k) = self.marker {
-            s.push_str(&format!(", marker {k}"));
-        }
-        s
-    }
-}
-
-pub(super) fn record_error(name: &str, line: usize, column: &str, reason: &str) -> ExperimentError {
-    ExperimentError::Record {
-        source_name: name.to_string(),
-        line,
-        column: column.to_string(),
-        reason: reason.to_string(),
-    }
-}
-
 const BENDING_COLUMNS: [&str; 7] = schema::names(&schema::BENDING_COLUMNS);
 const FORCE_COLUMNS: [&str; 5] = schema::names(&schema::FORCE_COLUMNS);
 
@@ -326,7 +107,19 @@ fn bending_from(name: &str, text: &str) -> Result<Parsed<BendingRecord>, Experim
         .map(|r| key(r.n_bellows, r.wall_thickness_mm, r.pressure_bar))
         .collect();
     check_duplicates(name, &keys)?;
-    plausible(name, units::check_bending(&parsed.rows, &parsed.written))?;
+    let rows: Vec<Row> = (parsed.rows.iter().enumerate())
+        .map(|(i, r)| Row {
+            line: i + 2,
+            pressure_bar: r.pressure_bar,
+            wall_thickness_mm: r.wall_thickness_mm,
+            recorded: Recorded::Bending {
+                tip_uz_mm: r.tip_uz_mm,
+                tip_uy_mm: r.tip_uy_mm,
+                angle_deg: r.angle_deg,
+            },
+        })
+        .collect();
+    plausible(name, units::check(&rows, &parsed.written))?;
     Ok(parsed)
 }
 
@@ -338,7 +131,18 @@ fn force_from(name: &str, text: &str) -> Result<Parsed<ForceRecord>, ExperimentE
         .map(|r| key(r.n_bellows, r.wall_thickness_mm, r.pressure_bar))
         .collect();
     check_duplicates(name, &keys)?;
-    plausible(name, units::check_force(&parsed.rows, &parsed.written))?;
+    let rows: Vec<Row> = (parsed.rows.iter().enumerate())
+        .map(|(i, r)| Row {
+            line: i + 2,
+            pressure_bar: r.pressure_bar,
+            wall_thickness_mm: r.wall_thickness_mm,
+            recorded: Recorded::Force {
+                force_n: r.force_n,
+                force_std_n: r.force_std_n,
+            },
+        })
+        .collect();
+    plausible(name, units::check(&rows, &parsed.written))?;
     Ok(parsed)
 }
 
@@ -363,7 +167,19 @@ fn markers_from(name: &str, text: &str) -> Result<Parsed<MarkerRecord>, Experime
         })
         .collect();
     check_duplicates(name, &keys)?;
-    plausible(name, units::check_markers(&parsed.rows, &parsed.written))?;
+    let rows: Vec<Row> = (parsed.rows.iter().enumerate())
+        .map(|(i, r)| Row {
+            line: i + 2,
+            pressure_bar: r.pressure_bar,
+            wall_thickness_mm: r.wall_thickness_mm,
+            recorded: Recorded::Marker {
+                marker: r.marker,
+                uz_mm: r.uz_mm,
+                uy_mm: r.uy_mm,
+            },
+        })
+        .collect();
+    plausible(name, units::check(&rows, &parsed.written))?;
     Ok(parsed)
 }
 
@@ -635,62 +451,6 @@ mod tests {
             ),
             "{e}"
         );
-    }
-
-    #[test]
-    fn another_separator_and_a_renamed_column_are_named() {
-        let e = parse_force(
-            "s.csv",
-            "n_bellows;wall_thickness_mm;pressure_bar;force_n;force_std_n\n9;1,6;1;0,7;0,1\n",
-        )
-        .unwrap_err();
-        assert!(matches!(e, ExperimentError::Separator { .. }), "{e}");
-        let e = e.to_string();
-        assert!(
-            e.contains("s.csv, line 1") && e.contains("looks ;-separated"),
-            "{e}"
-        );
-        assert!(!e.contains("missing column"), "{e}");
-        let e = parse_force(
-            "r.csv",
-            "n_bellows,wall_thickness_mm,pressure_bar,blocked_force_n,force_std_n\n9,1.6,1,0.7,0.1\n",
-        )
-        .unwrap_err()
-        .to_string();
-        assert!(
-            e.contains(
-                "column force_n: missing column (the header has blocked_force_n, which this \
-                 format does not have: renamed?)"
-            ),
-            "{e}"
-        );
-    }
-
-    #[test]
-    fn implausible_values_are_an_error_listing_every_row() {
-        let head =
-            "n_bellows,wall_thickness_mm,pressure_bar,tip_uz_mm,tip_uy_mm,angle_deg,angle_std_deg";
-        let e = parse_bending(
-            "b.csv",
-            &format!("{head}\n9,1.6,100,9.4,-35.9,23.57,1.95\n9,1.6,200,28.15,-57.30,42.10,3.37\n"),
-        )
-        .unwrap_err();
-        let ExperimentError::Implausible { problems, .. } = &e else {
-            panic!("{e}")
-        };
-        assert_eq!(problems.len(), 1);
-        assert_eq!(problems[0].rows, [(2, "100".into()), (3, "200".into())]);
-        let e = e.to_string();
-        assert!(
-            e.contains("column pressure_bar looks like kPa") && e.contains("pressure_kpa"),
-            "{e}"
-        );
-        // named in its own column, the value is converted and passes
-        let ok = format!(
-            "{}\n9,1.6,100,9.4,-35.9,23.57,1.95\n",
-            head.replace("pressure_bar", "pressure_kpa")
-        );
-        assert_eq!(parse_bending("b.csv", &ok).unwrap()[0].pressure_bar, 1.0);
     }
 
     #[test]

@@ -42,6 +42,7 @@ pub mod joint;
 pub mod objective;
 pub mod optimise;
 pub mod params;
+mod recording_csv;
 pub mod refine;
 pub mod study;
 pub mod synthetic;

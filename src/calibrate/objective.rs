@@ -44,7 +44,7 @@ use crate::rom::{Jacobian, Prediction, Query, Surrogate};
 use crate::schema::{self, Quantity};
 
 /// Free length used to derive the tip's standard deviation (mm).
-pub const FREE_LENGTH_MM: f64 = 92.0;
+pub use super::units::FREE_LENGTH_MM;
 
 /// One recorded output.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash, PartialOrd, Ord, Serialize, Deserialize)]

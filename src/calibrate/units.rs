@@ -32,9 +32,11 @@ use std::fmt;
 
 use serde::{Deserialize, Serialize};
 
-use super::experiments::{record_error, BendingRecord, ExperimentError, ForceRecord, MarkerRecord};
-use super::objective::FREE_LENGTH_MM;
 use crate::schema;
+
+/// The free length of the actuators of the shipped experiments: the distance from the support
+/// to the undeformed tip (mm).
+pub const FREE_LENGTH_MM: f64 = 92.0;
 
 /// Largest gauge pressure a recording may hold (bar).
 pub const PRESSURE_MAX_BAR: f64 = 10.0;
@@ -135,90 +137,6 @@ impl Written {
     }
 }
 
-/// Each column of the file as the format's column it stands for, with its factor.
-pub(super) fn map_header(
-    name: &str,
-    headers: &csv::StringRecord,
-    columns: &[&str],
-) -> Result<(Vec<(String, f64)>, Written), ExperimentError> {
-    if headers.len() == 1 {
-        let h = &headers[0];
-        for (sep, word) in [(';', ";"), ('\t', "tab")] {
-            if h.contains(sep) {
-                return Err(ExperimentError::Separator {
-                    source_name: name.to_string(),
-                    header: h.to_string(),
-                    separator: word.to_string(),
-                });
-            }
-        }
-    }
-    let mut mapped = Vec::new();
-    let mut written = Written::default();
-    let mut unknown = Vec::new();
-    for h in headers.iter() {
-        if columns.contains(&h) {
-            mapped.push((h.to_string(), 1.0));
-        } else if let Some(u) = schema::RECORDING_UNIT_COLUMNS
-            .iter()
-            .find(|u| u.column.name == h && columns.contains(&u.canonical.name))
-        {
-            mapped.push((u.canonical.name.to_string(), u.to_canonical));
-            written
-                .renamed
-                .push((u.canonical.name.to_string(), h.to_string()));
-        } else {
-            unknown.push(h);
-            mapped.push((String::new(), f64::NAN));
-        }
-    }
-    for c in columns {
-        if !mapped.iter().any(|(m, _)| m == c) {
-            let hint = if unknown.is_empty() {
-                String::new()
-            } else {
-                format!(
-                    " (the header has {}, which this format does not have: renamed?)",
-                    unknown.join(", ")
-                )
-            };
-            return Err(record_error(name, 1, c, &format!("missing column{hint}")));
-        }
-    }
-    if let Some(h) = unknown.first() {
-        let alternatives: Vec<&str> = schema::RECORDING_UNIT_COLUMNS
-            .iter()
-            .filter(|u| columns.contains(&u.canonical.name))
-            .map(|u| u.column.name)
-            .collect();
-        return Err(record_error(
-            name,
-            1,
-            h,
-            &format!(
-                "unexpected column (a unit or quantity this file format does not have); \
-                 expected exactly {}, each either as named or in another unit ({})",
-                columns.join(", "),
-                alternatives.join(", ")
-            ),
-        ));
-    }
-    for (i, (m, _)) in mapped.iter().enumerate() {
-        if let Some(j) = mapped[..i].iter().position(|(o, _)| o == m) {
-            let both = if headers[i] == headers[j] {
-                "column given twice".to_string()
-            } else {
-                format!(
-                    "column given twice, as {} and as {}",
-                    &headers[j], &headers[i]
-                )
-            };
-            return Err(record_error(name, 1, m, &both));
-        }
-    }
-    Ok((mapped, written))
-}
-
 /// Collects failing rows per (columns, likely) and words them at the end.
 struct Findings<'a> {
     written: &'a Written,
@@ -287,40 +205,39 @@ fn fix(canonical: &[&str], likely: &str) -> String {
 
 const SIGN: &str = "the other sign";
 
-fn pressure_checks(f: &mut Findings<'_>, rows: &[(usize, f64, f64)]) {
+fn pressure_check(f: &mut Findings<'_>, r: &Row) {
+    let (line, p, t) = (r.line, r.pressure_bar, r.wall_thickness_mm);
     let p_name = schema::PRESSURE.name;
-    for &(line, p, t) in rows {
-        if p < 0.0 {
-            f.add(
-                &[p_name],
-                SIGN,
-                "a gauge pressure is ≥ 0",
-                line,
-                p.to_string(),
-            );
-        } else if p > PRESSURE_MAX_BAR {
-            let (unit, why) = if p > 60.0 {
-                (
-                    "kPa",
-                    "above the 10 bar an actuator of this kind holds; 100 kPa = 1 bar",
-                )
-            } else {
-                (
-                    "psi",
-                    "above the 10 bar an actuator of this kind holds; 14.5 psi = 1 bar",
-                )
-            };
-            f.add(&[p_name], unit, why, line, p.to_string());
-        }
-        if t < WALL_THICKNESS_MIN_MM {
-            f.add(
-                &[schema::WALL_THICKNESS.name],
-                "cm",
-                "thinner than the 0.5 mm a printed wall has; 1 cm = 10 mm",
-                line,
-                t.to_string(),
-            );
-        }
+    if p < 0.0 {
+        f.add(
+            &[p_name],
+            SIGN,
+            "a gauge pressure is ≥ 0",
+            line,
+            p.to_string(),
+        );
+    } else if p > PRESSURE_MAX_BAR {
+        let (unit, why) = if p > 60.0 {
+            (
+                "kPa",
+                "above the 10 bar an actuator of this kind holds; 100 kPa = 1 bar",
+            )
+        } else {
+            (
+                "psi",
+                "above the 10 bar an actuator of this kind holds; 14.5 psi = 1 bar",
+            )
+        };
+        f.add(&[p_name], unit, why, line, p.to_string());
+    }
+    if t < WALL_THICKNESS_MIN_MM {
+        f.add(
+            &[schema::WALL_THICKNESS.name],
+            "cm",
+            "thinner than the 0.5 mm a printed wall has; 1 cm = 10 mm",
+            line,
+            t.to_string(),
+        );
     }
 }
 
@@ -379,58 +296,141 @@ fn plausible_length(l: f64) -> bool {
     (IMPLIED_LENGTH_MM[0]..=IMPLIED_LENGTH_MM[1]).contains(&l)
 }
 
-/// The scale and sign checks of bending rows (line of row `i` = `i + 2`).
-pub fn check_bending(rows: &[BendingRecord], written: &Written) -> Vec<Suspicion> {
+/// One row of a recording, in the format's units, for the checks.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub struct Row {
+    /// Its line in the file (header = 1).
+    pub line: usize,
+    /// Pressure (bar).
+    pub pressure_bar: f64,
+    /// Wall thickness (mm).
+    pub wall_thickness_mm: f64,
+    /// What it records.
+    pub recorded: Recorded,
+}
+
+/// What a row records, in the format's units.
+#[derive(Clone, Copy, Debug, PartialEq)]
+pub enum Recorded {
+    /// Tip Uz, Uy (mm) and the bending angle (deg).
+    Bending {
+        /// Tip Uz.
+        tip_uz_mm: f64,
+        /// Tip Uy.
+        tip_uy_mm: f64,
+        /// Angle.
+        angle_deg: f64,
+    },
+    /// Blocked force and its standard deviation (N).
+    Force {
+        /// Force.
+        force_n: f64,
+        /// Its standard deviation.
+        force_std_n: f64,
+    },
+    /// Marker `k` (1..9): Uz, Uy (mm).
+    Marker {
+        /// Marker number.
+        marker: usize,
+        /// Uz.
+        uz_mm: f64,
+        /// Uy.
+        uy_mm: f64,
+    },
+}
+
+/// The scale and sign checks of a recording's rows (the module docs' table): each suspicious
+/// column with every failing row; empty when all pass.
+pub fn check(rows: &[Row], written: &Written) -> Vec<Suspicion> {
     let mut f = Findings::new(written);
-    let (uz_n, uy_n, a_n) = (schema::TIP_UZ.name, schema::TIP_UY.name, schema::ANGLE.name);
-    let lines = || rows.iter().enumerate().map(|(i, r)| (i + 2, r));
-    let pt: Vec<_> = lines()
-        .map(|(l, r)| (l, r.pressure_bar, r.wall_thickness_mm))
-        .collect();
-    pressure_checks(&mut f, &pt);
-    let mut angle_ok = Vec::new();
-    for (line, r) in lines().filter(|(_, r)| r.pressure_bar > 0.0) {
-        let (uz, uy, a) = (r.tip_uz_mm, r.tip_uy_mm, r.angle_deg);
-        let mut signs_ok = true;
-        if uy > UY_SIGN_TOL_MM {
-            signs_ok = false;
-            let why = "the actuator bends down: Uy = Δy < 0 under pressure";
-            f.add(&[uy_n], SIGN, why, line, uy.to_string());
-        }
-        if a < -ANGLE_SIGN_TOL_DEG {
-            signs_ok = false;
-            let why = "the bending angle is > 0 under pressure";
-            f.add(&[a_n], SIGN, why, line, a.to_string());
-        }
-        let chord = (FREE_LENGTH_MM - uz).hypot(uy);
-        if uz < 0.0 && chord > CHORD_MAX * FREE_LENGTH_MM {
-            signs_ok = false;
-            let why = format!(
-                "the tip would lie farther from the support than the free length \
-                 ({FREE_LENGTH_MM} mm); Uz = −Δz is > 0 when the tip moves back"
-            );
-            f.add(&[uz_n], SIGN, &why, line, uz.to_string());
-        }
-        if !signs_ok || (a < 2.0 && uy.abs() < 2.0) {
-            continue;
-        }
-        if !plausible_length(implied_length(uz, uy, a)) {
-            tip_and_angle(&mut f, line, uz, uy, a);
-        }
-        if !f
-            .out
-            .iter()
-            .any(|s| s.likely == "rad" && s.rows.iter().any(|(l, _)| *l == line))
-        {
-            angle_ok.push((line, r.pressure_bar, a));
+    for r in rows {
+        pressure_check(&mut f, r);
+    }
+    let mut angle_per_bar = Vec::new();
+    let mut force_per_bar = Vec::new();
+    for r in rows {
+        match r.recorded {
+            Recorded::Bending {
+                tip_uz_mm,
+                tip_uy_mm,
+                angle_deg,
+            } => {
+                if bending(&mut f, r, tip_uz_mm, tip_uy_mm, angle_deg) {
+                    angle_per_bar.push((r.line, r.pressure_bar, angle_deg));
+                }
+            }
+            Recorded::Force {
+                force_n,
+                force_std_n,
+            } => {
+                if force(&mut f, r, force_n, force_std_n) {
+                    force_per_bar.push((r.line, r.pressure_bar, force_n));
+                }
+            }
+            Recorded::Marker {
+                marker,
+                uz_mm,
+                uy_mm,
+            } => self::marker(&mut f, r, marker, uz_mm, uy_mm),
         }
     }
-    per_bar(&mut f, &angle_ok, a_n, "deg", ANGLE_PER_BAR_MAX);
+    per_bar(
+        &mut f,
+        &angle_per_bar,
+        schema::ANGLE.name,
+        "deg",
+        ANGLE_PER_BAR_MAX,
+    );
+    per_bar(
+        &mut f,
+        &force_per_bar,
+        schema::FORCE.name,
+        "N",
+        FORCE_PER_BAR_MAX,
+    );
     f.out
 }
 
-/// Which units make a row's tip and angle imply a support-to-tip distance of this family.
-fn tip_and_angle(f: &mut Findings<'_>, line: usize, uz: f64, uy: f64, a: f64) {
+/// A bending row's sign and tip-and-angle checks; whether its angle counts in the per-bar
+/// check (under pressure, signs and degrees as expected).
+fn bending(f: &mut Findings<'_>, r: &Row, uz: f64, uy: f64, a: f64) -> bool {
+    if r.pressure_bar <= 0.0 {
+        return false;
+    }
+    let (uz_n, uy_n, a_n) = (schema::TIP_UZ.name, schema::TIP_UY.name, schema::ANGLE.name);
+    let line = r.line;
+    let mut signs_ok = true;
+    if uy > UY_SIGN_TOL_MM {
+        signs_ok = false;
+        let why = "the actuator bends down: Uy = Δy < 0 under pressure";
+        f.add(&[uy_n], SIGN, why, line, uy.to_string());
+    }
+    if a < -ANGLE_SIGN_TOL_DEG {
+        signs_ok = false;
+        let why = "the bending angle is > 0 under pressure";
+        f.add(&[a_n], SIGN, why, line, a.to_string());
+    }
+    let chord = (FREE_LENGTH_MM - uz).hypot(uy);
+    if uz < 0.0 && chord > CHORD_MAX * FREE_LENGTH_MM {
+        signs_ok = false;
+        let why = format!(
+            "the tip would lie farther from the support than the free length \
+             ({FREE_LENGTH_MM} mm); Uz = −Δz is > 0 when the tip moves back"
+        );
+        f.add(&[uz_n], SIGN, &why, line, uz.to_string());
+    }
+    if !signs_ok || (a < 2.0 && uy.abs() < 2.0) {
+        return false;
+    }
+    if plausible_length(implied_length(uz, uy, a)) {
+        return true;
+    }
+    tip_and_angle(f, line, uz, uy, a)
+}
+
+/// Which units make a row's tip and angle imply a support-to-tip distance of this family;
+/// whether its angle is in degrees.
+fn tip_and_angle(f: &mut Findings<'_>, line: usize, uz: f64, uy: f64, a: f64) -> bool {
     let (uz_n, uy_n, a_n) = (schema::TIP_UZ.name, schema::TIP_UY.name, schema::ANGLE.name);
     let value = format!("Uz {uz}, Uy {uy}, angle {a}");
     let l = implied_length(uz, uy, a);
@@ -441,6 +441,7 @@ fn tip_and_angle(f: &mut Findings<'_>, line: usize, uz: f64, uy: f64, a: f64) {
     );
     if plausible_length(implied_length(10.0 * uz, 10.0 * uy, a)) {
         f.add(&[uz_n, uy_n], "cm", &why_cm, line, value);
+        true
     } else if plausible_length(implied_length(uz, uy, a.to_degrees())) {
         let why = format!(
             "read in degrees, it makes the tip imply a support-to-tip distance of {l:.0} mm, \
@@ -448,78 +449,104 @@ fn tip_and_angle(f: &mut Findings<'_>, line: usize, uz: f64, uy: f64, a: f64) {
             IMPLIED_LENGTH_MM[0], IMPLIED_LENGTH_MM[1]
         );
         f.add(&[a_n], "rad", &why, line, value);
+        false
     } else if plausible_length(implied_length(10.0 * uz, 10.0 * uy, a.to_degrees())) {
         f.add(&[uz_n, uy_n], "cm", &why_cm, line, value.clone());
         let why = "with the tip in cm, it fits in radians";
         f.add(&[a_n], "rad", why, line, value);
+        false
+    } else {
+        // no unit explains it; the data checks compare it with the other rows
+        true
     }
 }
 
-/// The scale and sign checks of blocked-force rows.
-pub fn check_force(rows: &[ForceRecord], written: &Written) -> Vec<Suspicion> {
-    let mut f = Findings::new(written);
+/// A blocked-force row's scale and sign checks; whether it counts in the per-bar check.
+fn force(f: &mut Findings<'_>, r: &Row, force_n: f64, force_std_n: f64) -> bool {
     let (f_n, s_n) = (schema::FORCE.name, schema::FORCE_STD.name);
-    let pt: Vec<_> = rows
-        .iter()
-        .enumerate()
-        .map(|(i, r)| (i + 2, r.pressure_bar, r.wall_thickness_mm))
-        .collect();
-    pressure_checks(&mut f, &pt);
-    let mut force_ok = Vec::new();
-    for (i, r) in rows.iter().enumerate() {
-        let line = i + 2;
-        let mn = "larger than the 20 N an actuator of this kind pushes; 1000 mN = 1 N";
-        if r.force_n > FORCE_MAX_N {
-            f.add(&[f_n], "mN", mn, line, r.force_n.to_string());
-        } else if r.force_n < -FORCE_SIGN_TOL_N {
-            let why = "the blocked force pushes on the plate: > 0";
-            f.add(&[f_n], SIGN, why, line, r.force_n.to_string());
-        } else if r.pressure_bar > 0.0 {
-            force_ok.push((line, r.pressure_bar, r.force_n));
-        }
-        if r.force_std_n > FORCE_STD_MAX_N {
-            let why = "larger than the 2 N a blocked force scatters; 1000 mN = 1 N";
-            f.add(&[s_n], "mN", why, line, r.force_std_n.to_string());
-        }
+    let line = r.line;
+    if force_std_n > FORCE_STD_MAX_N {
+        let why = "larger than the 2 N a blocked force scatters; 1000 mN = 1 N";
+        f.add(&[s_n], "mN", why, line, force_std_n.to_string());
     }
-    per_bar(&mut f, &force_ok, f_n, "N", FORCE_PER_BAR_MAX);
-    f.out
+    if force_n > FORCE_MAX_N {
+        let why = "larger than the 20 N an actuator of this kind pushes; 1000 mN = 1 N";
+        f.add(&[f_n], "mN", why, line, force_n.to_string());
+        false
+    } else if force_n < -FORCE_SIGN_TOL_N {
+        let why = "the blocked force pushes on the plate: > 0";
+        f.add(&[f_n], SIGN, why, line, force_n.to_string());
+        false
+    } else {
+        r.pressure_bar > 0.0
+    }
 }
 
-/// The scale and sign checks of marker rows.
-pub fn check_markers(rows: &[MarkerRecord], written: &Written) -> Vec<Suspicion> {
-    let mut f = Findings::new(written);
-    let pt: Vec<_> = rows
-        .iter()
-        .enumerate()
-        .map(|(i, r)| (i + 2, r.pressure_bar, r.wall_thickness_mm))
-        .collect();
-    pressure_checks(&mut f, &pt);
-    for (i, r) in rows.iter().enumerate() {
-        if r.pressure_bar <= 0.0 {
-            continue;
-        }
-        let line = i + 2;
-        if r.uy_mm > UY_SIGN_TOL_MM {
-            let why = "the actuator bends down: Uy = Δy < 0 under pressure";
-            let name = schema::MARKER_RECORDED_UY.name;
-            f.add(&[name], SIGN, why, line, r.uy_mm.to_string());
-        }
-        let z = FREE_LENGTH_MM * r.marker as f64 / 9.0;
-        if r.uz_mm < 0.0 && (z - r.uz_mm).hypot(r.uy_mm) > CHORD_MAX * z + 1.0 {
-            let why = "the marker would lie farther from the support than its place on the \
-                       actuator; Uz = −Δz is > 0 when it moves back";
-            let name = schema::MARKER_RECORDED_UZ.name;
-            f.add(&[name], SIGN, why, line, r.uz_mm.to_string());
-        }
+/// A marker row's sign checks.
+fn marker(f: &mut Findings<'_>, r: &Row, k: usize, uz: f64, uy: f64) {
+    if r.pressure_bar <= 0.0 {
+        return;
     }
-    f.out
+    if uy > UY_SIGN_TOL_MM {
+        let why = "the actuator bends down: Uy = Δy < 0 under pressure";
+        let name = schema::MARKER_RECORDED_UY.name;
+        f.add(&[name], SIGN, why, r.line, uy.to_string());
+    }
+    let z = FREE_LENGTH_MM * k as f64 / 9.0;
+    if uz < 0.0 && (z - uz).hypot(uy) > CHORD_MAX * z + 1.0 {
+        let why = "the marker would lie farther from the support than its place on the \
+                   actuator; Uz = −Δz is > 0 when it moves back";
+        let name = schema::MARKER_RECORDED_UZ.name;
+        f.add(&[name], SIGN, why, r.line, uz.to_string());
+    }
 }
 
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::calibrate::experiments::{shipped_bending, shipped_force};
+    use crate::calibrate::experiments::{
+        parse_bending, parse_force, shipped_bending, shipped_force, BendingRecord, ExperimentError,
+        ForceRecord,
+    };
+
+    fn bending_rows(v: &[BendingRecord]) -> Vec<Row> {
+        v.iter()
+            .enumerate()
+            .map(|(i, r)| Row {
+                line: i + 2,
+                pressure_bar: r.pressure_bar,
+                wall_thickness_mm: r.wall_thickness_mm,
+                recorded: Recorded::Bending {
+                    tip_uz_mm: r.tip_uz_mm,
+                    tip_uy_mm: r.tip_uy_mm,
+                    angle_deg: r.angle_deg,
+                },
+            })
+            .collect()
+    }
+
+    fn force_rows(v: &[ForceRecord]) -> Vec<Row> {
+        v.iter()
+            .enumerate()
+            .map(|(i, r)| Row {
+                line: i + 2,
+                pressure_bar: r.pressure_bar,
+                wall_thickness_mm: r.wall_thickness_mm,
+                recorded: Recorded::Force {
+                    force_n: r.force_n,
+                    force_std_n: r.force_std_n,
+                },
+            })
+            .collect()
+    }
+
+    fn check_bending(v: &[BendingRecord], w: &Written) -> Vec<Suspicion> {
+        check(&bending_rows(v), w)
+    }
+
+    fn check_force(v: &[ForceRecord], w: &Written) -> Vec<Suspicion> {
+        check(&force_rows(v), w)
+    }
 
     #[test]
     fn the_shipped_experiments_pass() {
@@ -568,12 +595,71 @@ mod tests {
         let s = check_force(&mn, &w);
         assert_eq!(s.len(), 2, "{s:?}");
         assert!(s.iter().all(|x| x.likely == "mN"));
-        assert!(s[0].to_string().contains("force_mn"), "{}", s[0]);
+        assert!(s
+            .iter()
+            .any(|x| x.to_string().contains("name the column force_mn")));
+        assert!(s.iter().any(|x| x.to_string().contains("force_std_mn")));
         let mut mpa = f;
         mpa.iter_mut().for_each(|r| r.pressure_bar /= 10.0);
         let s = check_force(&mpa, &w);
         assert_eq!(s.len(), 1, "{s:?}");
         assert_eq!(s[0].likely, "MPa");
         assert!(s[0].to_string().contains("pressure_mpa"), "{}", s[0]);
+    }
+
+    #[test]
+    fn another_separator_and_a_renamed_column_are_named() {
+        let e = parse_force(
+            "s.csv",
+            "n_bellows;wall_thickness_mm;pressure_bar;force_n;force_std_n\n9;1,6;1;0,7;0,1\n",
+        )
+        .unwrap_err();
+        assert!(matches!(e, ExperimentError::Separator { .. }), "{e}");
+        let e = e.to_string();
+        assert!(
+            e.contains("s.csv, line 1") && e.contains("looks ;-separated"),
+            "{e}"
+        );
+        assert!(!e.contains("missing column"), "{e}");
+        let e = parse_force(
+            "r.csv",
+            "n_bellows,wall_thickness_mm,pressure_bar,blocked_force_n,force_std_n\n9,1.6,1,0.7,0.1\n",
+        )
+        .unwrap_err()
+        .to_string();
+        assert!(
+            e.contains(
+                "column force_n: missing column (the header has blocked_force_n, which this \
+                 format does not have: renamed?)"
+            ),
+            "{e}"
+        );
+    }
+
+    #[test]
+    fn implausible_values_are_an_error_listing_every_row() {
+        let head =
+            "n_bellows,wall_thickness_mm,pressure_bar,tip_uz_mm,tip_uy_mm,angle_deg,angle_std_deg";
+        let e = parse_bending(
+            "b.csv",
+            &format!("{head}\n9,1.6,100,9.4,-35.9,23.57,1.95\n9,1.6,200,28.15,-57.30,42.10,3.37\n"),
+        )
+        .unwrap_err();
+        let ExperimentError::Implausible { problems, .. } = &e else {
+            panic!("{e}")
+        };
+        assert_eq!(problems.len(), 1);
+        assert_eq!(problems[0].rows, [(2, "100".into()), (3, "200".into())]);
+        let e = e.to_string();
+        assert!(
+            e.contains("column pressure_bar looks like kPa") && e.contains("pressure_kpa"),
+            "{e}"
+        );
+        // named in its own column, the value is converted and passes
+        let ok = format!(
+            "{}\n9,1.6,100,9.4,-35.9,23.57,1.95\n",
+            head.replace("pressure_bar", "pressure_kpa")
+        );
+        assert_eq!(parse_bending("b.csv", &ok).unwrap()[0].pressure_bar, 1.0);
     }
 }
