@@ -324,6 +324,11 @@ impl RampCache {
         if case.mode == Mode::Force {
             key["plate_revision"] = FORCE_MODEL_REVISION.into();
         }
+        // a design of another geometry than the historical one ([`Geometry`]) is keyed by
+        // every dimension; the historical designs keep their key (and the committed caches)
+        if *p != DesignParams::new(p.n_bellows, p.wall_thickness) {
+            key["design_params"] = serde_json::to_value(p).unwrap_or_default();
+        }
         // a neutral case keeps the key (and the cache) it had before effects existed
         if !case.effects.is_neutral() {
             key["effects"] = serde_json::to_value(&case.effects).unwrap_or_default();
@@ -919,6 +924,17 @@ mod tests {
         assert_eq!(sources(&settings), vec![RampSource::Cache; 18]);
         settings.effects = Effects::parse(["wall_bias=0.1"]).unwrap();
         assert_eq!(sources(&settings), vec![RampSource::Missing; 18]);
+        // another geometry: every dimension is in the key, nothing read; the historical one
+        // given explicitly keeps the keys
+        settings.effects = Effects::default();
+        settings.geometry = Geometry {
+            name: "other".into(),
+            side_wall_mm: Some(2.0),
+            ..Geometry::as_modelled()
+        };
+        assert_eq!(sources(&settings), vec![RampSource::Missing; 18]);
+        settings.geometry = Geometry::as_modelled();
+        assert_eq!(sources(&settings), vec![RampSource::Cache; 18]);
         // the rows of the table: every configuration reached
         let force = crate::calibrate::experiments::shipped_force().unwrap();
         settings.effects = Effects::default();

@@ -36,9 +36,10 @@
 //! stops when `χ²` falls by less than a relative `1e-3` over an accepted step, when `λ`
 //! exceeds `1e8`, or after the iteration budget ([`JointStop`]).
 //!
-//! Every sweep is cached (one file per ramp, keyed by everything that defines it), so an
-//! interrupted identification rerun with the same settings replays the same sequence of
-//! steps from the cache and resumes where it stopped.
+//! Every sweep is cached (sweep `k` in `sweep_k/` of the cache, one file per ramp keyed by
+//! everything that defines it, the geometry's every dimension included), so an interrupted
+//! identification rerun with the same settings replays the same sequence of steps from the
+//! cache and resumes where it stopped.
 //!
 //! ## What the data determine
 //!
@@ -377,14 +378,18 @@ fn designs(rec: &Recordings) -> Vec<SweepDesign> {
     super::baseline::recorded_designs(&rec.bending)
 }
 
+/// Evaluation `k` (from 1) caches its ramps in `sweep_k/` of the cache: a rerun with the same
+/// settings takes the same steps and finds each sweep where it left it.
 fn evaluate(
     s: &JointSettings,
     rec: &Recordings,
     x: &JointPoint,
+    k: usize,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Evaluation, CalibrateError> {
     let settings = sweep_settings(s, x)?;
-    let ramps = run_ramps(&settings, &designs(rec), s.cache.as_deref(), progress)?;
+    let cache = s.cache.as_ref().map(|c| c.join(format!("sweep_{k:02}")));
+    let ramps = run_ramps(&settings, &designs(rec), cache.as_deref(), progress)?;
     Ok(residuals(s, rec, &ramps))
 }
 
@@ -561,7 +566,7 @@ pub fn identify(
     let trace = bounded_lm(&x0, &bnds, s.lambda0, s.max_sweeps, |v| {
         let p = point_at(v)?;
         let k = evaluations.len() + 1;
-        let e = evaluate(s, rec, &p, &|d, n| progress(k, d, n));
+        let e = evaluate(s, rec, &p, k, &|d, n| progress(k, d, n));
         if k == 1 {
             if let Ok(e) = &e {
                 if !e.error.is_empty() {
