@@ -55,10 +55,7 @@ fn main() -> surrogate::Result<()> {
     }
     println!(
         "mean tip BE {:.2} mm (the study's nine: {:.2} mm), mean |F error| {:.3} N, stopped: {:?}",
-        report.mean_be_mm,
-        report.mean_be_paper_nine_mm,
-        report.mean_abs_force_error_n,
-        report.stop
+        report.mean_be_mm, report.mean_be_paper_nine_mm, report.mean_abs_force_error_n, report.stop
     );
     Ok(())
 }

@@ -336,6 +336,118 @@ pub struct JointReport {
     pub mean_abs_force_error_n: f64,
     /// Mean force error, FE − recorded (N).
     pub mean_force_error_n: f64,
+    /// Designs held out: every way of leaving 3 of the designs out, linearised around the FE
+    /// optimum ([`HeldOut`]).
+    pub held_out: HeldOut,
+}
+
+/// Prediction of designs the fit did not see, linearised around the FE optimum: for every
+/// way of holding out `k` of the recorded designs, the unknowns are refitted (bounded
+/// Levenberg–Marquardt on `r + J·(θ − θ*)`) on the other designs' residuals and the held-out
+/// designs' tips predicted with the refit (`y + σ·(r + J·δ)`). A linear refit from the
+/// optimum of all designs: it says how much the optimum leans on each design, not how a
+/// full FE refit from the start would end.
+#[derive(Clone, Debug, Default, Serialize, Deserialize)]
+pub struct HeldOut {
+    /// Designs held out per split.
+    pub k: usize,
+    /// Splits (every combination).
+    pub splits: usize,
+    /// Mean over the splits of the held-out configurations' mean tip BE (mm).
+    pub mean_be_mm: f64,
+    /// The worst split's mean held-out BE (mm) and its designs `(N, T)`.
+    pub worst_be_mm: f64,
+    /// The worst split's designs.
+    pub worst: Vec<(usize, f64)>,
+    /// Mean held-out |force error| (N).
+    pub mean_abs_force_error_n: f64,
+    /// The same tip BE at the optimum of all designs (no refit), for comparison (mm).
+    pub in_sample_be_mm: f64,
+}
+
+/// [`HeldOut`] of an evaluation at the optimum `x` (the unknowns' values) with bounds.
+fn held_out(e: &Evaluation, x: &[f64], bnds: &[(f64, f64)], k: usize) -> HeldOut {
+    let mut designs: Vec<(usize, f64)> = e.what.iter().map(|w| (w.n, w.t)).collect();
+    designs.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
+    designs.dedup();
+    if designs.len() <= k || !e.error.is_empty() {
+        return HeldOut::default();
+    }
+    let mut splits = Vec::new();
+    combinations(designs.len(), k, &mut Vec::new(), 0, &mut splits);
+    let (mut sum_be, mut sum_f, mut sum_in) = (0.0, 0.0, 0.0);
+    let mut worst = (f64::NEG_INFINITY, Vec::new());
+    for split in &splits {
+        let out: Vec<(usize, f64)> = split.iter().map(|&i| designs[i]).collect();
+        let held = |w: &Residual| out.contains(&(w.n, w.t));
+        let keep: Vec<usize> = (0..e.what.len()).filter(|&i| !held(&e.what[i])).collect();
+        let rk = DVector::from_fn(keep.len(), |i, _| e.r[keep[i]]);
+        let jk = DMatrix::from_fn(keep.len(), x.len(), |i, c| e.j[(keep[i], c)]);
+        let fit = bounded_lm(x, bnds, 1e-3, 50, |v| -> Result<_, ()> {
+            let d = DVector::from_fn(v.len(), |i, _| v[i] - x[i]);
+            Ok(Some((&rk + &jk * &d, jk.clone())))
+        })
+        .expect("the linear model does not fail");
+        let v = &fit.steps[fit.best].x;
+        let d = DVector::from_fn(v.len(), |i, _| v[i] - x[i]);
+        let pred = &e.r + &e.j * &d;
+        let (be, be_in, f) = split_errors(e, &pred, &held);
+        sum_be += be;
+        sum_in += be_in;
+        sum_f += f;
+        if be > worst.0 {
+            worst = (be, out);
+        }
+    }
+    let n = splits.len() as f64;
+    HeldOut {
+        k,
+        splits: splits.len(),
+        mean_be_mm: sum_be / n,
+        worst_be_mm: worst.0,
+        worst: worst.1,
+        mean_abs_force_error_n: sum_f / n,
+        in_sample_be_mm: sum_in / n,
+    }
+}
+
+/// Mean tip BE of the held-out configurations with the refit's residuals `pred` and at the
+/// optimum itself, and their mean |force error|.
+fn split_errors(
+    e: &Evaluation,
+    pred: &DVector<f64>,
+    held: &dyn Fn(&Residual) -> bool,
+) -> (f64, f64, f64) {
+    let (mut be, mut be_in, mut f) = (Vec::new(), Vec::new(), Vec::new());
+    for (i, w) in e.what.iter().enumerate() {
+        if !held(w) {
+            continue;
+        }
+        match w.output {
+            Recorded::TipUz => {
+                // the Uy residual of the same configuration follows it
+                let j = i + 1;
+                be.push(w.sigma * pred[i].hypot(pred[j]));
+                be_in.push(w.sigma * e.r[i].hypot(e.r[j]));
+            }
+            Recorded::TipUy => {}
+            Recorded::Force => f.push(w.sigma * pred[i].abs()),
+        }
+    }
+    (mean(&be), mean(&be_in), mean(&f))
+}
+
+/// Every `k`-subset of `0..n` in lexicographic order.
+fn combinations(n: usize, k: usize, cur: &mut Vec<usize>, from: usize, out: &mut Vec<Vec<usize>>) {
+    if cur.len() == k {
+        out.push(cur.clone());
+        return;
+    }
+    for i in from..n {
+        cur.push(i);
+        combinations(n, k, cur, i + 1, out);
+        cur.pop();
+    }
 }
 
 /// Whether `(t, p)` is one of the reference study's nine configurations: T and P move
@@ -350,8 +462,27 @@ pub fn in_paper_nine(t: f64, p: f64) -> bool {
 struct Evaluation {
     r: DVector<f64>,
     j: DMatrix<f64>,
+    /// What each residual is: design `(N, T)`, pressure, output, σ.
+    what: Vec<Residual>,
     rows: Vec<JointRow>,
     error: String,
+}
+
+/// What one residual of an evaluation is.
+#[derive(Clone, Copy, Debug)]
+struct Residual {
+    n: usize,
+    t: f64,
+    output: Recorded,
+    sigma: f64,
+}
+
+/// A recorded output of the identification.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+enum Recorded {
+    TipUz,
+    TipUy,
+    Force,
 }
 
 /// The sweep settings of a point.
@@ -397,6 +528,7 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
     let k = s.unknowns.len();
     let params: Vec<Parameter> = s.unknowns.iter().map(|u| u.parameter()).collect();
     let mut r = Vec::new();
+    let mut what = Vec::new();
     let mut jac: Vec<Vec<f64>> = Vec::new();
     let mut rows = Vec::new();
     let mut errors = Vec::new();
@@ -430,6 +562,14 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
                 jac.push(d.iter().map(|o| o.tip_uz_mm / st).collect());
                 r.push((v.tip_uy_mm - b.tip_uy_mm) / st);
                 jac.push(d.iter().map(|o| o.tip_uy_mm / st).collect());
+                for output in [Recorded::TipUz, Recorded::TipUy] {
+                    what.push(Residual {
+                        n,
+                        t,
+                        output,
+                        sigma: st,
+                    });
+                }
             }
             None => errors.push(format!("bending N = {n}, T = {t}, {p} bar")),
         }
@@ -444,6 +584,12 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
                     let fe = v.force_n.unwrap_or(f64::NAN);
                     row.force_n[1] = fe;
                     r.push((fe - f.force_n) / f.force_std_n);
+                    what.push(Residual {
+                        n,
+                        t,
+                        output: Recorded::Force,
+                        sigma: f.force_std_n,
+                    });
                     jac.push(
                         d.iter()
                             .map(|o| o.force_n.unwrap_or(0.0) / f.force_std_n)
@@ -470,6 +616,7 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
     Evaluation {
         r: DVector::from_vec(r),
         j,
+        what,
         rows,
         error,
     }
@@ -785,6 +932,8 @@ fn report(
                 .collect()
         })
         .collect();
+    let x_opt: Vec<f64> = s.unknowns.iter().map(|&u| x.get(u)).collect();
+    let held_out = held_out(&cur, &x_opt, bnds, 3);
     let rows = cur.rows;
     let (mean_be_mm, mean_abs_force_error_n) = summary_of(&rows);
     let nine: Vec<f64> = rows
@@ -814,6 +963,7 @@ fn report(
         rms_angle_error_deg: mean(&da).sqrt(),
         mean_abs_force_error_n,
         mean_force_error_n: mean(&df),
+        held_out,
     }
 }
 
@@ -839,6 +989,24 @@ impl JointReport {
             self.rms_angle_error_deg,
             self.mean_abs_force_error_n,
             self.mean_force_error_n
+        ));
+        let h = &self.held_out;
+        s.push_str(&format!(
+            "Designs held out ({} of the designs at a time, all {} ways; linearised refit \
+             around the FE optimum): mean held-out tip BE {:.2} mm (the same configurations \
+             at the optimum of all designs: {:.2} mm), worst split {:.2} mm ({}), mean \
+             held-out |force error| {:.3} N.\n\n",
+            h.k,
+            h.splits,
+            h.mean_be_mm,
+            h.in_sample_be_mm,
+            h.worst_be_mm,
+            h.worst
+                .iter()
+                .map(|(n, t)| format!("N = {n}, T = {t}"))
+                .collect::<Vec<_>>()
+                .join("; "),
+            h.mean_abs_force_error_n
         ));
         s.push_str("| unknown | start | value | std. error | bounds | on a bound |\n|---|---|---|---|---|---|\n");
         for e in &self.estimates {
@@ -907,6 +1075,58 @@ impl JointReport {
 #[cfg(test)]
 mod tests {
     use super::*;
+
+    #[test]
+    fn every_k_subset_once() {
+        let mut out = Vec::new();
+        combinations(9, 3, &mut Vec::new(), 0, &mut out);
+        assert_eq!(out.len(), 84);
+        assert_eq!(out[0], vec![0, 1, 2]);
+        assert_eq!(out[83], vec![6, 7, 8]);
+    }
+
+    /// A linear model whose designs all share one unknown: holding any out changes nothing,
+    /// so the held-out error is the in-sample one; a design with its own bias is predicted
+    /// worse when held out.
+    #[test]
+    fn held_out_designs_are_predicted_by_the_refit_of_the_others() {
+        let designs = [(9, 1.6), (11, 2.0), (13, 2.4), (9, 2.4)];
+        let mut what = Vec::new();
+        let mut r = Vec::new();
+        for &(n, t) in &designs {
+            for output in [Recorded::TipUz, Recorded::TipUy] {
+                what.push(Residual {
+                    n,
+                    t,
+                    output,
+                    sigma: 2.0,
+                });
+                // residual 0.5 everywhere, 3 at N = 13 (its own bias)
+                r.push(if n == 13 { 3.0 } else { 0.5 });
+            }
+        }
+        let m = r.len();
+        let e = Evaluation {
+            r: DVector::from_vec(r),
+            j: DMatrix::from_element(m, 1, 1.0),
+            what,
+            rows: Vec::new(),
+            error: String::new(),
+        };
+        let h = held_out(&e, &[0.0], &[(-10.0, 10.0)], 1);
+        assert_eq!(h.splits, 4);
+        // leaving N = 13 out: the others fit exactly (θ = −0.5), N = 13 predicted at
+        // 2.5·√2·2 mm; leaving another out: θ = −(0.5·2 + 3)/3 = −4/3, that design misses by
+        // (0.5 − 4/3)·√2·2 mm
+        let expected =
+            (2.5 * 2f64.sqrt() * 2.0 + 3.0 * (4.0 / 3.0 - 0.5) * 2f64.sqrt() * 2.0) / 4.0;
+        assert!(
+            (h.mean_be_mm - expected).abs() < 1e-6,
+            "{} vs {expected}",
+            h.mean_be_mm
+        );
+        assert_eq!(h.worst, vec![(13, 2.4)]);
+    }
 
     #[test]
     fn the_paper_nine_move_t_and_p_together() {

@@ -563,7 +563,11 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
     } else {
         let _ = writeln!(
             s,
-            "Active bounds of the training domain (the optimum would lie outside it): {}.",
+            "**The training box truncates this optimum**: it ends on {} (the fit would move \
+             further if the box let it, and the surrogate does not know what lies there). The \
+             numbers above are the best inside the box, not the best material; `surrogate \
+             identify` fits straight on the FE model, without the box, and with the unstated \
+             dimensions.",
             cal.active_bounds.join("; ")
         );
     }
