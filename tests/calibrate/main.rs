@@ -1,10 +1,13 @@
-//! The calibrator (`surrogate::calibrate`) on recordings made by the FE model, and the
-//! diagnoser's Locate stage (`surrogate::diagnose`) on recordings with a planted residual. The
+//! The calibrator (`surrogate::calibrate`) on recordings made by the FE model, the recording
+//! readers on bad files (`tests/data/bad_recordings/`) and random ones, and the diagnoser's
+//! Locate stage (`surrogate::diagnose`) on recordings with a planted residual. The
 //! command-line tests are in `tests/cli/`.
 
 mod approx_error;
+mod bad_recordings;
 mod calibrate;
 mod diagnose;
+mod fuzz_recordings;
 mod mesh_error;
 mod refine;
 mod refit;

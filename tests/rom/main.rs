@@ -8,6 +8,7 @@
 mod rom_common;
 
 mod domain;
+mod fuzz_parsers;
 mod output_schema;
 mod rom_alloc;
 mod rom_data;
