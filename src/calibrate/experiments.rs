@@ -116,6 +116,7 @@ fn bending_from(name: &str, text: &str) -> Result<Parsed<BendingRecord>, Experim
                 tip_uz_mm: r.tip_uz_mm,
                 tip_uy_mm: r.tip_uy_mm,
                 angle_deg: r.angle_deg,
+                angle_std_deg: r.angle_std_deg,
             },
         })
         .collect();
@@ -176,6 +177,7 @@ fn markers_from(name: &str, text: &str) -> Result<Parsed<MarkerRecord>, Experime
                 marker: r.marker,
                 uz_mm: r.uz_mm,
                 uy_mm: r.uy_mm,
+                std_mm: r.std_mm,
             },
         })
         .collect();

@@ -11,12 +11,17 @@
 //! |---|---|---|
 //! | pressure | `0 ≤ P ≤ 10 bar` | kPa above 60, psi below; a negative one: the sign |
 //! | wall thickness | `T ≥ 0.5 mm` | cm |
-//! | tip Uy, angle | `Uy ≤ 1 mm`, `α ≥ −1°` (the actuator bends down: `Uy = Δy < 0`) | the other sign |
-//! | tip Uz | the tip no farther from the support than `1.05 L_f` | the other sign of Uz (`Uz = −Δz`) |
-//! | tip and angle | the support-to-tip distance they imply, `L = Uz − Uy / tan α`, in 60–130 mm (92 ± 4 mm in the shipped experiments) | tips in cm (`L` ten times too small), the angle in radians |
-//! | blocked force | `−0.05 ≤ F ≤ 20 N`, its standard deviation ≤ 2 N | the other sign; mN |
+//! | tip Uy, angle | `Uy ≤ max(1 mm, 3 σ_tip)`, `α ≥ −max(1°, 3 σ_α)` (the actuator bends down: `Uy = Δy < 0`) | the other sign |
+//! | tip Uz | the tip no farther from the support than `1.05 L_f + 3 σ_tip` | the other sign of Uz (`Uz = −Δz`) |
+//! | tip and angle | the support-to-tip distance they imply, `L = Uz − Uy / tan α`, reaches 60–130 mm (92 ± 4 mm in the shipped experiments) for some angle within `α ± 3 σ_α` | tips in cm (`L` ten times too small), the angle in radians |
+//! | blocked force | `F ≥ −max(0.05 N, 3 σ_F)`, `F ≤ 20 N`, `σ_F ≤ 2 N` | the other sign; mN |
 //! | response per bar | median over the rows of `α / P` ≤ 100 °/bar, of `F / P` ≤ 2.5 N/bar | the pressure in MPa, when every pressure is ≤ 0.5 |
-//! | markers | `Uy ≤ 1 mm`, marker `k` no farther from the support than `1.05 k L_f / 9 + 1 mm` | the other sign |
+//! | markers | `Uy ≤ max(1 mm, 3 σ)`, marker `k` no farther from the support than `1.05 k L_f / 9 + max(1 mm, 3 σ)` | the other sign |
+//!
+//! `σ_α`, `σ_F` and the markers' `σ` are the rows' recorded standard deviations, and
+//! `σ_tip = r σ_α` (radians) with `r` the chord from the support to the tip, as in the
+//! calibration's noise model ([`super::objective`]): a sign or a distance is questioned only
+//! beyond the row's own scatter, so that noisy recordings near zero pass.
 //!
 //! The bounds per bar lie above anything the shipped surrogate gives over its whole training
 //! domain (at most 96 °/bar and 1.7 N/bar, at 0.25 bar and the softest materials) and below
@@ -320,6 +325,8 @@ pub enum Recorded {
         tip_uy_mm: f64,
         /// Angle.
         angle_deg: f64,
+        /// Its standard deviation.
+        angle_std_deg: f64,
     },
     /// Blocked force and its standard deviation (N).
     Force {
@@ -336,6 +343,8 @@ pub enum Recorded {
         uz_mm: f64,
         /// Uy.
         uy_mm: f64,
+        /// Standard deviation of each component.
+        std_mm: f64,
     },
 }
 
@@ -354,8 +363,10 @@ pub fn check(rows: &[Row], written: &Written) -> Vec<Suspicion> {
                 tip_uz_mm,
                 tip_uy_mm,
                 angle_deg,
+                angle_std_deg,
             } => {
-                if bending(&mut f, r, tip_uz_mm, tip_uy_mm, angle_deg) {
+                let tip = [tip_uz_mm, tip_uy_mm];
+                if bending(&mut f, r, tip, angle_deg, angle_std_deg) {
                     angle_per_bar.push((r.line, r.pressure_bar, angle_deg));
                 }
             }
@@ -371,7 +382,8 @@ pub fn check(rows: &[Row], written: &Written) -> Vec<Suspicion> {
                 marker,
                 uz_mm,
                 uy_mm,
-            } => self::marker(&mut f, r, marker, uz_mm, uy_mm),
+                std_mm,
+            } => self::marker(&mut f, r, marker, [uz_mm, uy_mm], std_mm),
         }
     }
     per_bar(
@@ -393,25 +405,26 @@ pub fn check(rows: &[Row], written: &Written) -> Vec<Suspicion> {
 
 /// A bending row's sign and tip-and-angle checks; whether its angle counts in the per-bar
 /// check (under pressure, signs and degrees as expected).
-fn bending(f: &mut Findings<'_>, r: &Row, uz: f64, uy: f64, a: f64) -> bool {
+fn bending(f: &mut Findings<'_>, r: &Row, [uz, uy]: [f64; 2], a: f64, sa: f64) -> bool {
     if r.pressure_bar <= 0.0 {
         return false;
     }
+    let chord = (FREE_LENGTH_MM - uz).hypot(uy);
+    let s_tip = 3.0 * chord * sa.to_radians();
     let (uz_n, uy_n, a_n) = (schema::TIP_UZ.name, schema::TIP_UY.name, schema::ANGLE.name);
     let line = r.line;
     let mut signs_ok = true;
-    if uy > UY_SIGN_TOL_MM {
+    if uy > UY_SIGN_TOL_MM.max(s_tip) {
         signs_ok = false;
-        let why = "the actuator bends down: Uy = Δy < 0 under pressure";
+        let why = "the actuator bends down: Uy = Δy < 0 under pressure, beyond its scatter";
         f.add(&[uy_n], SIGN, why, line, uy.to_string());
     }
-    if a < -ANGLE_SIGN_TOL_DEG {
+    if a < -ANGLE_SIGN_TOL_DEG.max(3.0 * sa) {
         signs_ok = false;
-        let why = "the bending angle is > 0 under pressure";
+        let why = "the bending angle is > 0 under pressure, beyond its scatter";
         f.add(&[a_n], SIGN, why, line, a.to_string());
     }
-    let chord = (FREE_LENGTH_MM - uz).hypot(uy);
-    if uz < 0.0 && chord > CHORD_MAX * FREE_LENGTH_MM {
+    if uz < 0.0 && chord > CHORD_MAX * FREE_LENGTH_MM + s_tip {
         signs_ok = false;
         let why = format!(
             "the tip would lie farther from the support than the free length \
@@ -422,7 +435,12 @@ fn bending(f: &mut Findings<'_>, r: &Row, uz: f64, uy: f64, a: f64) -> bool {
     if !signs_ok || (a < 2.0 && uy.abs() < 2.0) {
         return false;
     }
-    if plausible_length(implied_length(uz, uy, a)) {
+    // the distance over the angle's scatter (`L` falls as `α` grows, below 90°)
+    let (lo, hi) = (
+        implied_length(uz, uy, (a + 3.0 * sa).min(89.9)),
+        implied_length(uz, uy, (a - 3.0 * sa).max(0.1)),
+    );
+    if a > 90.0 || (lo <= IMPLIED_LENGTH_MM[1] && hi >= IMPLIED_LENGTH_MM[0]) {
         return true;
     }
     tip_and_angle(f, line, uz, uy, a)
@@ -463,6 +481,7 @@ fn tip_and_angle(f: &mut Findings<'_>, line: usize, uz: f64, uy: f64, a: f64) ->
 
 /// A blocked-force row's scale and sign checks; whether it counts in the per-bar check.
 fn force(f: &mut Findings<'_>, r: &Row, force_n: f64, force_std_n: f64) -> bool {
+    let sign_tol = FORCE_SIGN_TOL_N.max(3.0 * force_std_n);
     let (f_n, s_n) = (schema::FORCE.name, schema::FORCE_STD.name);
     let line = r.line;
     if force_std_n > FORCE_STD_MAX_N {
@@ -473,8 +492,8 @@ fn force(f: &mut Findings<'_>, r: &Row, force_n: f64, force_std_n: f64) -> bool 
         let why = "larger than the 20 N an actuator of this kind pushes; 1000 mN = 1 N";
         f.add(&[f_n], "mN", why, line, force_n.to_string());
         false
-    } else if force_n < -FORCE_SIGN_TOL_N {
-        let why = "the blocked force pushes on the plate: > 0";
+    } else if force_n < -sign_tol {
+        let why = "the blocked force pushes on the plate: > 0, beyond its scatter";
         f.add(&[f_n], SIGN, why, line, force_n.to_string());
         false
     } else {
@@ -483,17 +502,18 @@ fn force(f: &mut Findings<'_>, r: &Row, force_n: f64, force_std_n: f64) -> bool 
 }
 
 /// A marker row's sign checks.
-fn marker(f: &mut Findings<'_>, r: &Row, k: usize, uz: f64, uy: f64) {
+fn marker(f: &mut Findings<'_>, r: &Row, k: usize, [uz, uy]: [f64; 2], std: f64) {
     if r.pressure_bar <= 0.0 {
         return;
     }
-    if uy > UY_SIGN_TOL_MM {
-        let why = "the actuator bends down: Uy = Δy < 0 under pressure";
+    let tol = UY_SIGN_TOL_MM.max(3.0 * std);
+    if uy > tol {
+        let why = "the actuator bends down: Uy = Δy < 0 under pressure, beyond its scatter";
         let name = schema::MARKER_RECORDED_UY.name;
         f.add(&[name], SIGN, why, r.line, uy.to_string());
     }
     let z = FREE_LENGTH_MM * k as f64 / 9.0;
-    if uz < 0.0 && (z - uz).hypot(uy) > CHORD_MAX * z + 1.0 {
+    if uz < 0.0 && (z - uz).hypot(uy) > CHORD_MAX * z + tol {
         let why = "the marker would lie farther from the support than its place on the \
                    actuator; Uz = −Δz is > 0 when it moves back";
         let name = schema::MARKER_RECORDED_UZ.name;
@@ -520,6 +540,7 @@ mod tests {
                     tip_uz_mm: r.tip_uz_mm,
                     tip_uy_mm: r.tip_uy_mm,
                     angle_deg: r.angle_deg,
+                    angle_std_deg: r.angle_std_deg,
                 },
             })
             .collect()
