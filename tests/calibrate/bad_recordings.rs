@@ -234,3 +234,29 @@ fn the_corpus_readme_lists_every_case() {
         assert!(readme.contains(&format!("`{file}`")), "{file}");
     }
 }
+
+/// Every directory of recordings under `dir` (one holding a bending file), but the build's.
+fn recording_dirs(dir: &Path, out: &mut Vec<PathBuf>) {
+    for entry in std::fs::read_dir(dir).unwrap() {
+        let p = entry.unwrap().path();
+        let name = p.file_name().unwrap().to_string_lossy().into_owned();
+        if p.is_dir() && name != "target" && !name.starts_with('.') {
+            recording_dirs(&p, out);
+        } else if name == surrogate::calibrate::experiments::BENDING_FILE {
+            out.push(dir.to_path_buf());
+        }
+    }
+}
+
+#[test]
+fn every_committed_recording_passes_the_checks() {
+    // the shipped experiments and every twin of the studies (noisy, some near zero)
+    let mut dirs = Vec::new();
+    recording_dirs(Path::new(env!("CARGO_MANIFEST_DIR")), &mut dirs);
+    assert!(dirs.len() > 50, "{} directories", dirs.len());
+    for d in dirs {
+        if let Err(e) = Recordings::read_dir(&d) {
+            panic!("{}: {e}", d.display());
+        }
+    }
+}
