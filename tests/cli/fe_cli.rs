@@ -16,6 +16,78 @@ fn simulate(args: &[&str]) -> (bool, String, String) {
     )
 }
 
+/// A geometry preset (the unstated dimensions) outside its physical range, or one that leaves
+/// a design without a valid actuator, is refused by name before any FE; so are bad unknowns
+/// and starts of `identify`.
+#[test]
+fn bad_geometries_and_identifications_are_refused_before_any_fe() {
+    let dir = std::env::temp_dir().join(format!("surrogate_geometry_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let write = |name: &str, text: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, text).unwrap();
+        p.display().to_string()
+    };
+    let wide = write(
+        "wide.json",
+        r#"{"name":"wide","gap_mm":2.0,"base_thickness_mm":4.0,"duct_half_width_mm":2.0,"free_length_mm":92.0,"side_wall_mm":1.0}"#,
+    );
+    let closed = write(
+        "closed.json",
+        r#"{"name":"closed","gap_mm":0.0,"base_thickness_mm":4.0,"duct_half_width_mm":2.0,"free_length_mm":92.0}"#,
+    );
+    let typo = write(
+        "typo.json",
+        r#"{"name":"typo","gap":1.0,"base_thickness_mm":4.0,"duct_half_width_mm":2.0,"free_length_mm":92.0}"#,
+    );
+    let cases: Vec<(Vec<&str>, &str)> = vec![
+        (
+            vec!["--n", "13", "--t", "2.4", "--geometry", &wide],
+            "geometry preset 'wide' at N = 13, T = 2.4 mm: design N = 13, T = 2.4 mm has no usable cavity: its cavity is 0.277 mm long",
+        ),
+        (
+            vec!["--geometry", &closed],
+            "gap_mm = 0 mm is outside its physical range: expected 0.2 … 2 mm",
+        ),
+        (vec!["--geometry", &typo], "unknown field `gap`"),
+        (vec!["--geometry", "nominal"], "unknown geometry preset 'nominal'"),
+    ];
+    for (args, expected) in &cases {
+        let (ok, _, err) = simulate(args);
+        assert!(!ok, "{args:?} should fail");
+        assert!(err.contains(expected), "{args:?}: {err}");
+        assert!(!err.contains("step"), "{args:?} ran FE steps: {err}");
+    }
+    let identify = |args: &[&str]| {
+        let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
+            .arg("identify")
+            .args(args)
+            .args(["--out", &dir.join("identify").display().to_string()])
+            .output()
+            .expect("the binary runs");
+        (
+            out.status.success(),
+            String::from_utf8_lossy(&out.stderr).into_owned(),
+        )
+    };
+    for (args, expected) in [
+        (vec!["--unknowns", "gap_bias"], "the dimension itself"),
+        (vec!["--unknowns", "colour"], "unknown = colour"),
+        (
+            vec!["--set", "gap=0.1"],
+            "gap_mm = 0.1 mm is outside its physical range",
+        ),
+        (vec!["--set", "plate_offset=-9"], "plate_offset"),
+        (vec!["--set", "gap"], "expected NAME=VALUE"),
+    ] {
+        let (ok, err) = identify(&args);
+        assert!(!ok, "{args:?} should fail");
+        assert!(err.contains(expected), "{args:?}: {err}");
+    }
+    assert!(!dir.join("identify").join("fe_ramps").exists(), "no FE ran");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
 #[test]
 fn bad_input_is_a_named_error_with_nonzero_exit() {
     let cases: &[(&[&str], &str)] = &[

@@ -500,6 +500,11 @@ pub struct SimulateArgs {
     /// Wall thickness T in mm (1.2..=2.8).
     #[arg(long = "t", default_value_t = 2.0)]
     pub t: f64,
+    /// The dimensions the reference study leaves unstated (gap, base, duct, side walls, free
+    /// length): as_modelled, or a geometry preset file such as `surrogate identify` writes
+    /// (geometry.json).
+    #[arg(long, default_value = "as_modelled")]
+    pub geometry: String,
     /// Gauge pressures in bar, increasing: a comma list (0,1,2,3) or max:step (3:0.5 = 0, 0.5,
     /// …, 3).
     #[arg(long, default_value = "0,1,2,3", allow_hyphen_values = true)]
@@ -611,6 +616,9 @@ pub enum SolverArg {
 /// `surrogate validate`.
 #[derive(Debug, Args)]
 pub struct ValidateArgs {
+    /// Geometry preset: as_modelled or a preset file (see `simulate --help`).
+    #[arg(long, default_value = "as_modelled")]
+    pub geometry: String,
     /// Material (see `simulate --help`).
     #[arg(long, default_value = "ogden_002")]
     pub material: String,

@@ -8,6 +8,7 @@ use serde::Serialize;
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::fe::preset::Geometry;
 use surrogate::fe::sensitivity::{sensitivities_with, Parameter, Sensitivities};
 use surrogate::fe::simulate::{
     simulate_with, ActuatorModel, Case, ContactSettings, Mode, Response, StepResult,
@@ -18,7 +19,12 @@ use surrogate::fe::vtk;
 use crate::args::{ModeArg, SimulateArgs, SolverArg};
 
 fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result<Case> {
-    let design = DesignParams::new(a.n, a.t).validate()?;
+    let geometry = Geometry::from_name(&a.geometry).context("--geometry")?;
+    let design = if geometry.is_as_modelled() {
+        DesignParams::new(a.n, a.t).validate()?
+    } else {
+        geometry.design(a.n, a.t)?
+    };
     let material = Material::from_spec(&a.material, a.bulk_ratio)?;
     anyhow::ensure!(
         a.max_increment.is_finite() && a.max_increment > 0.0 && a.max_increment <= 5.0,

@@ -57,6 +57,7 @@ pub fn run(a: ValidateArgs) -> Result<()> {
             Some(list) => Parameter::parse_list(list).context("--sensitivities")?,
             None => Vec::new(),
         },
+        geometry: surrogate::fe::preset::Geometry::from_name(&a.geometry).context("--geometry")?,
         ..SweepSettings::new(
             material,
             MeshOptions {
