@@ -789,12 +789,14 @@ fn check_domain(
             format!("trained N {:?}", model.n_allowed),
         ));
     }
-    let t = &model.inputs[1];
-    if c.wall_thickness_mm < t.min - 1e-9 || c.wall_thickness_mm > t.max + 1e-9 {
+    // the model's domain: the plan's range where its cases cover it (`crate::rom::domain`)
+    let [t_min, t_max] =
+        model.domain().ranges[1].unwrap_or([model.inputs[1].min, model.inputs[1].max]);
+    if c.wall_thickness_mm < t_min - 1e-9 || c.wall_thickness_mm > t_max + 1e-9 {
         return Err(fail(
             schema::WALL_THICKNESS.name,
             c.wall_thickness_mm.to_string(),
-            format!("[{:.3}, {:.3}] mm", t.min, t.max),
+            format!("[{t_min:.3}, {t_max:.3}] mm"),
         ));
     }
     let (p0, p1) = (

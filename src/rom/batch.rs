@@ -2,7 +2,8 @@
 //! The columns, their units and meanings: [`crate::schema`] (formats `query`, `prediction`).
 //!
 //! A query CSV has the columns `n_bellows, wall_thickness_mm, pressure_bar` and either
-//! `material` (a name or `mu1,alpha1,mu2,alpha2` in quotes) or the four
+//! `material` (a name, `mu1,alpha1,mu2,alpha2` in quotes, or a calibration report
+//! `DIR/report.json`: [`super::material_spec`]) or the four
 //! `mu1_mpa, alpha1, mu2_mpa, alpha2`, in any order. Any other column (an ID, a note) is
 //! passed through to the output unchanged. `n_bellows` accepts `9` and `9.0`. A missing
 //! column, an empty or non-finite cell, an unknown material or an `N` the model was not trained
@@ -21,7 +22,7 @@ use std::io::{Read, Write};
 
 use serde::Serialize;
 
-use super::domain::{BatchDomainReport, DomainViolation};
+use super::domain::{BatchDomainReport, BoundSnap, DomainViolation};
 use super::query::Query;
 use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES};
@@ -29,14 +30,16 @@ use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::simulate::Marker;
 use crate::schema;
 
-/// Ogden parameters `[μ₁, α₁, μ₂, α₂]` of a material spec (a literature name or four numbers
-/// `mu1,alpha1,mu2,alpha2`), parsed and checked by [`Material::from_spec`].
+/// Ogden parameters `[μ₁, α₁, μ₂, α₂]` of a material spec (a literature name, four numbers
+/// `mu1,alpha1,mu2,alpha2`, or a calibration report file `DIR/report.json`:
+/// [`super::material_spec`]), parsed and checked by [`Material::from_spec`].
 ///
 /// # Errors
-/// Unknown name, malformed numbers, an inadmissible set, or a non-Ogden law (the surrogate is
-/// parametrised by the Ogden constants).
+/// Unknown name, malformed numbers, an unreadable report, an inadmissible set, or a
+/// non-Ogden law (the surrogate is parametrised by the Ogden constants).
 pub fn material_params(spec: &str) -> Result<[f64; 4], RomError> {
-    let material = Material::from_spec(spec.trim(), DEFAULT_BULK_RATIO)
+    let expanded = super::material_spec::expand(spec)?;
+    let material = Material::from_spec(expanded.trim(), DEFAULT_BULK_RATIO)
         .map_err(|e| RomError::invalid(MATERIAL, spec, &e.expected()))?;
     material.ogden_params().ok_or_else(|| {
         RomError::invalid(
@@ -335,6 +338,9 @@ pub struct PredictedRow {
     pub std: Option<[f64; 22]>,
     /// The inputs outside the training domain.
     pub outside: Vec<DomainViolation>,
+    /// The inputs beyond an end of the domain within the tolerance, predicted at the end
+    /// ([`Surrogate::snap_to_domain`]; the row's query holds the moved values).
+    pub snapped: Vec<BoundSnap>,
 }
 
 /// A predicted batch.
@@ -350,7 +356,9 @@ pub struct PredictedTable {
 
 /// Predicts every row of a query table. The domain is checked for every row first: with rows
 /// outside and `allow_extrapolation` false, nothing is predicted and the error carries one
-/// summary of the batch (count and the first rows).
+/// summary of the batch (count and the first rows). An input beyond an end of the domain by
+/// at most the tolerance ([`super::domain::BOUND_TOLERANCE`]) is moved onto it and predicted
+/// there ([`PredictedRow::snapped`]).
 ///
 /// # Errors
 /// [`RomError::OutsideDomain`]; an invalid query.
@@ -376,7 +384,9 @@ pub fn predict_table(
     }
     let mut pred = model.new_prediction();
     let mut rows = Vec::with_capacity(table.rows.len());
-    for (row, outside) in table.rows.into_iter().zip(outside) {
+    for (mut row, outside) in table.rows.into_iter().zip(outside) {
+        let (query, snapped) = domain.snap(&row.query);
+        row.query = query;
         if with_std {
             model.predict_with_std_into(&row.query, &mut pred)?;
         } else {
@@ -387,6 +397,7 @@ pub fn predict_table(
             values: pred.values,
             std: with_std.then_some(pred.std),
             outside,
+            snapped,
         });
     }
     Ok(PredictedTable {

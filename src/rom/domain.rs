@@ -22,12 +22,43 @@
 //! Outside the box the regression **extrapolates**; outside the pressure grid the prediction is
 //! **clamped**: it holds the value at the nearer end of the grid (and its derivative with respect
 //! to the pressure is zero there). Both are reported in [`DomainViolation::clamped`].
+//!
+//! ## The plan's ranges
+//!
+//! A Latin hypercube of `K` cases puts one case in each of `K` equal strata of every axis, so
+//! its extreme cases lie within one stratum, `(hi − lo)/K`, of the plan's nominal ends (μ0 in
+//! `ln μ0`, the coordinate it is sampled in): a query between the extreme case and the end
+//! is no farther from the design than a query between two neighbouring strata inside it. The
+//! domain therefore reaches the plan's nominal end wherever the training cases come within
+//! one stratum of it ([`Domain::with_plan_ends`]), and keeps the cases' extreme where they do
+//! not (cases dropped at an edge, a subset that misses it). A model trained on a plan states
+//! the result in its file ([`PlanDomain`], in the model's training information), so the
+//! shipped model accepts `T = 1.4 … 2.6 mm`, the plan's range, not `1.4017 … 2.5973`, the
+//! span of its cases. `N` is never widened: only trained values are predicted.
+//!
+//! ## Tolerance at the ends
+//!
+//! A value beyond an end by at most [`BOUND_TOLERANCE`] of the range (in the coordinate the
+//! domain states it in: `μ0` in MPa) is inside: a calibrated set on a bound, printed to four
+//! decimals and typed back, is accepted. [`Domain::snap`] moves such a value onto the end and
+//! returns a note for each ([`BoundSnap`]); the prediction commands evaluate the snapped query.
+
+use serde::{Deserialize, Serialize};
 
 use super::data::CaseInputs;
 use super::query::Query;
 use super::regression::{raw_features, FeatureScaler};
 use crate::schema;
 use surrogate_predict::N_FEATURES;
+
+/// How far beyond an end of the domain a value is still inside, as a fraction of the range
+/// (see the [module docs](self)): `1e-4`, far below any resolution of the regression, and above
+/// the rounding of a set printed to four decimals (`α₂ = −1.9965` for the bound
+/// `−1.996454…`: `2.3e-5` of the range).
+pub const BOUND_TOLERANCE: f64 = 1e-4;
+
+/// Indices (in [`DOMAIN_INPUTS`]) of the material coordinates `μ0, s, α₁, α₂`.
+const MATERIAL_INPUTS: [usize; 4] = [3, 4, 5, 6];
 
 /// The checked inputs (name, unit, meaning), in the order violations are reported.
 pub use crate::schema::DOMAIN_INPUTS;
@@ -90,6 +121,58 @@ impl std::fmt::Display for DomainViolation {
     }
 }
 
+/// A value of a query beyond an end of the domain by at most [`BOUND_TOLERANCE`] of the
+/// range, moved onto the end ([`Domain::snap`]).
+#[derive(Debug, Clone, PartialEq)]
+pub struct BoundSnap {
+    /// Input name ([`DOMAIN_INPUTS`]).
+    pub name: String,
+    /// Value given.
+    pub value: f64,
+    /// The end it was moved onto.
+    pub bound: f64,
+    /// The range's width (the tolerance is [`BOUND_TOLERANCE`] of it).
+    pub width: f64,
+}
+
+impl std::fmt::Display for BoundSnap {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        write!(
+            f,
+            "{} = {} lies {:.1e} beyond the training domain's end {}, within the tolerance at \
+             the ends ({BOUND_TOLERANCE:e} of the range): predicted at the end",
+            self.name,
+            self.value,
+            (self.value - self.bound).abs(),
+            self.bound
+        )
+    }
+}
+
+/// The range of one input, by name, as a model file states it ([`PlanDomain`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct InputRange {
+    /// Input name ([`DOMAIN_INPUTS`]).
+    pub name: String,
+    /// Smallest value of the domain.
+    pub min: f64,
+    /// Largest value of the domain.
+    pub max: f64,
+}
+
+/// The domain of a model trained on a snapshot plan, as its file states it: for each input
+/// but `N` and the pressure, the plan's nominal end where the training cases come within one
+/// stratum of it, else the cases' extreme ([`Domain::with_plan_ends`]).
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct PlanDomain {
+    /// The plan: its file and hash.
+    pub plan: String,
+    /// Cases of the plan (one stratum is `1/cases` of a range).
+    pub plan_cases: usize,
+    /// The ranges, in [`DOMAIN_INPUTS`] order.
+    pub ranges: Vec<InputRange>,
+}
+
 /// The domain of a surrogate or of a plan (see the [module docs](self)).
 #[derive(Debug, Clone, PartialEq)]
 pub struct Domain {
@@ -147,12 +230,73 @@ impl Domain {
         })
     }
 
-    /// The inputs of `q` outside the domain, in [`DOMAIN_INPUTS`] order. An inadmissible
-    /// material (`μᵢαᵢ ≤ 0`, rejected by [`Surrogate::check_query`](super::Surrogate::check_query))
-    /// has no `μ0` or `s`: only its exponents are checked.
-    pub fn violations(&self, q: &Query) -> Vec<DomainViolation> {
+    /// This domain with the plan's nominal ends (`nominal`: [`Plan::domain`]'s box) wherever
+    /// this domain (the span of the cases) comes within one stratum of them, `1/plan_cases`
+    /// of the nominal range (in `ln μ0` for μ0); see the [module docs](self). `N`, the
+    /// pressure and an unconstrained or single-valued input are kept.
+    ///
+    /// [`Plan::domain`]: crate::snapshots::plan::Plan::domain
+    pub fn with_plan_ends(&self, nominal: &Domain, plan_cases: usize) -> Domain {
+        let mut out = self.clone();
+        let k = plan_cases.max(1) as f64;
+        for i in [1, 3, 4, 5, 6] {
+            let (Some([a, b]), Some([lo, hi])) = (self.ranges[i], nominal.ranges[i]) else {
+                continue;
+            };
+            if a >= b || lo >= hi {
+                continue;
+            }
+            // the sampling coordinate: μ0 is log-uniform
+            let c = |v: f64| if i == 3 { v.ln() } else { v };
+            let stratum = (c(hi) - c(lo)) / k;
+            let lower = if (0.0..=stratum).contains(&(c(a) - c(lo))) {
+                lo
+            } else {
+                a
+            };
+            let upper = if (0.0..=stratum).contains(&(c(hi) - c(b))) {
+                hi
+            } else {
+                b
+            };
+            out.ranges[i] = Some([lower, upper]);
+        }
+        out
+    }
+
+    /// The ranges of the inputs [`Self::with_plan_ends`] may change (`T` and the material
+    /// coordinates), by name, for a model file ([`PlanDomain`]).
+    pub fn stated_ranges(&self) -> Vec<InputRange> {
+        [1, 3, 4, 5, 6]
+            .into_iter()
+            .filter_map(|i| {
+                self.ranges[i].map(|[min, max]| InputRange {
+                    name: DOMAIN_INPUTS[i].name.into(),
+                    min,
+                    max,
+                })
+            })
+            .collect()
+    }
+
+    /// This domain with the ranges a model file states ([`PlanDomain::ranges`]) in place of
+    /// its own; a name that is not one of [`DOMAIN_INPUTS`] (or is `N`) is ignored.
+    pub fn with_stated(&self, ranges: &[InputRange]) -> Domain {
+        let mut out = self.clone();
+        for r in ranges {
+            if let Some(i) = DOMAIN_INPUTS.iter().position(|c| c.name == r.name) {
+                if i > 0 {
+                    out.ranges[i] = Some([r.min, r.max]);
+                }
+            }
+        }
+        out
+    }
+
+    /// The values of `q` in [`DOMAIN_INPUTS`] order (`μ0` and `s` are NaN-free only for an
+    /// admissible material) and whether the material is admissible.
+    fn values(q: &Query) -> ([f64; 7], bool) {
         let (k1, k2) = (q.mu1 * q.alpha1, q.mu2 * q.alpha2);
-        let admissible = k1 > 0.0 && k2 > 0.0;
         let mu0 = 0.5 * (k1 + k2);
         let values = [
             f64::from(q.n),
@@ -163,6 +307,70 @@ impl Domain {
             q.alpha1,
             q.alpha2,
         ];
+        (values, k1 > 0.0 && k2 > 0.0)
+    }
+
+    /// How far beyond the range `[lo, hi]` a value is still inside: [`BOUND_TOLERANCE`] of
+    /// the width, and at least round-off.
+    fn tolerance(lo: f64, hi: f64) -> f64 {
+        (1e-9 * (1.0 + lo.abs().max(hi.abs()))).max(BOUND_TOLERANCE * (hi - lo))
+    }
+
+    /// `q` with every input that lies beyond an end by at most the tolerance
+    /// ([`BOUND_TOLERANCE`] of the range) moved onto it, and a note for each. A material
+    /// coordinate moved (`μ0`, `s`, `α₁`, `α₂`) gives the set `μ₁ = 2 s μ0/α₁`,
+    /// `μ₂ = 2 (1 − s) μ0/α₂` of the moved coordinates. Inputs inside, or farther outside
+    /// (violations), are left as given; an inadmissible material is left as given.
+    pub fn snap(&self, q: &Query) -> (Query, Vec<BoundSnap>) {
+        let (mut v, admissible) = Self::values(q);
+        let mut notes = Vec::new();
+        for i in 1..7 {
+            let Some([lo, hi]) = self.ranges[i] else {
+                continue;
+            };
+            if MATERIAL_INPUTS.contains(&i) && !admissible {
+                continue;
+            }
+            let tol = Self::tolerance(lo, hi);
+            let bound = if v[i] < lo && v[i] >= lo - tol {
+                lo
+            } else if v[i] > hi && v[i] <= hi + tol {
+                hi
+            } else {
+                continue;
+            };
+            notes.push(BoundSnap {
+                name: DOMAIN_INPUTS[i].name.into(),
+                value: v[i],
+                bound,
+                width: hi - lo,
+            });
+            v[i] = bound;
+        }
+        let mut out = *q;
+        out.t_mm = v[1];
+        out.p_bar = v[2];
+        let moved = |name: &str| notes.iter().any(|n: &BoundSnap| n.name == name);
+        if MATERIAL_INPUTS
+            .iter()
+            .any(|&i| moved(DOMAIN_INPUTS[i].name))
+        {
+            let (mu0, s, a1, a2) = (v[3], v[4], v[5], v[6]);
+            out.mu1 = 2.0 * s * mu0 / a1;
+            out.alpha1 = a1;
+            out.mu2 = 2.0 * (1.0 - s) * mu0 / a2;
+            out.alpha2 = a2;
+        }
+        (out, notes)
+    }
+
+    /// The inputs of `q` outside the domain, in [`DOMAIN_INPUTS`] order; a value beyond an
+    /// end by at most [`BOUND_TOLERANCE`] of the range is inside ([`Self::snap`]). An
+    /// inadmissible material (`μᵢαᵢ ≤ 0`, rejected by
+    /// [`Surrogate::check_query`](super::Surrogate::check_query)) has no `μ0` or `s`: only its
+    /// exponents are checked.
+    pub fn violations(&self, q: &Query) -> Vec<DomainViolation> {
+        let (values, admissible) = Self::values(q);
         let mut out = Vec::new();
         if !self.n_bellows.contains(&q.n) {
             out.push(DomainViolation {
@@ -181,7 +389,7 @@ impl Domain {
                 continue;
             }
             let v = values[i];
-            let tol = 1e-9 * (1.0 + lo.abs().max(hi.abs()));
+            let tol = Self::tolerance(lo, hi);
             if !(v >= lo - tol && v <= hi + tol) {
                 out.push(DomainViolation {
                     name: DOMAIN_INPUTS[i].name.into(),

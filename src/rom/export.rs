@@ -246,7 +246,7 @@ pub fn c_symbol(p: Precision) -> String {
 /// See [`EmbeddedTables::from_surrogate`].
 pub fn rust_source(s: &Surrogate, p: Precision, checksum: &str) -> Result<String, RomError> {
     let mut out = format!(
-        "//! Surrogate model exported by `surrogate export` (model {checksum}, precision {}).\n//! Needs the `surrogate-predict` crate (a dependency of the crate this module is in); `core` only.\n//! Outputs (22): {}.\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse surrogate_predict::{{evaluate, BlockTables, EmbeddedModel, GpTables, PolyTables}};\n\n",
+        "//! Surrogate model exported by `surrogate export` (model {checksum}, precision {}).\n//! Needs the `surrogate-predict` crate (a dependency of the crate this module is in); `core` only.\n//! Outputs (22): {}; their indices are named in `surrogate_predict` (`TIP_UZ`, `ANGLE`, `FORCE`, `marker_uz(k)` …).\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse surrogate_predict::{{evaluate, BlockTables, EmbeddedModel, GpTables, PolyTables}};\n\n",
         p.ty(),
         QUANTITY_NAMES.join(", ")
     );
@@ -263,8 +263,23 @@ pub fn rust_source(s: &Surrogate, p: Precision, checksum: &str) -> Result<String
     Ok(out)
 }
 
-/// The output order, one line per quantity, inside a C comment.
+/// The C name of an output's index: `SURROGATE_` and the output's column without its unit
+/// suffix, in capitals (`tip_uz_mm` → `SURROGATE_TIP_UZ`, `m1_uz_mm` → `SURROGATE_M1_UZ`,
+/// `angle_deg` → `SURROGATE_ANGLE`): the names of the `surrogate-predict` crate's constants
+/// ([`surrogate_predict::TIP_UZ`] …) with the prefix.
+pub fn c_output_macro(column: &str) -> String {
+    let stem = column.rsplit_once('_').map_or(column, |(stem, _)| stem);
+    format!("SURROGATE_{}", stem.to_ascii_uppercase())
+}
+
+/// The named output indices (`#define SURROGATE_TIP_UZ 18` …, guarded so that a model's and a
+/// ramp's header can be included together), then the output order inside a C comment.
 fn c_output_order(out: &mut String) {
+    out.push_str("#ifndef SURROGATE_OUTPUT_INDICES\n#define SURROGATE_OUTPUT_INDICES\n/* Index of each output in `out` (markers 1 … 9 as in the columns m1 … m9; 9 is the tip). */\n");
+    for (i, q) in QUANTITY_NAMES.iter().enumerate() {
+        let _ = writeln!(out, "#define {} {i}", c_output_macro(q));
+    }
+    out.push_str("#endif\n/* Output order:\n");
     for (i, q) in QUANTITY_NAMES.iter().enumerate() {
         let _ = writeln!(out, " *  {i:2}: {q}");
     }
@@ -274,7 +289,7 @@ fn c_output_order(out: &mut String) {
 pub fn c_header(p: Precision, checksum: &str) -> String {
     let ty = p.c_ty();
     let mut out = format!(
-        "/* Surrogate model exported by `surrogate export` (model {checksum}). */\n#ifndef SURROGATE_MODEL_H\n#define SURROGATE_MODEL_H\n#include <stdint.h>\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n#define SURROGATE_N_OUTPUTS 22\n/* Output order:\n"
+        "/* Surrogate model exported by `surrogate export` (model {checksum}). */\n#ifndef SURROGATE_MODEL_H\n#define SURROGATE_MODEL_H\n#include <stdint.h>\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n#define SURROGATE_N_OUTPUTS 22\n"
     );
     c_output_order(&mut out);
     let _ = write!(
@@ -307,7 +322,7 @@ pub fn ramp_rust_source(
     let ty = p.ty();
     let domain = ramp_domain_lines(s, q);
     let mut out = format!(
-        "//! Pressure ramp exported by `surrogate export --ramp` (model {checksum}, precision {ty}):\n//! N = {}, T = {} mm, Ogden μ₁ = {} MPa, α₁ = {}, μ₂ = {} MPa, α₂ = {}.\n{}//! Needs the `surrogate-predict` crate (a dependency of the crate this module is in); `core` only.\n//! Outputs (22): {}.\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse surrogate_predict::{{evaluate_ramp, RampTables}};\n\n",
+        "//! Pressure ramp exported by `surrogate export --ramp` (model {checksum}, precision {ty}):\n//! N = {}, T = {} mm, Ogden μ₁ = {} MPa, α₁ = {}, μ₂ = {} MPa, α₂ = {}.\n{}//! Needs the `surrogate-predict` crate (a dependency of the crate this module is in); `core` only.\n//! Outputs (22): {}; their indices are named in `surrogate_predict` (`TIP_UZ`, `ANGLE`, `FORCE`, `marker_uz(k)` …).\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse surrogate_predict::{{evaluate_ramp, RampTables}};\n\n",
         q.n,
         q.t_mm,
         q.mu1,
@@ -373,7 +388,7 @@ pub fn ramp_c_header(s: &Surrogate, p: Precision, checksum: &str, q: &Query) -> 
         .map(|l| format!(" * {l}\n"))
         .collect();
     let mut out = format!(
-        "/* Pressure ramp exported by `surrogate export --ramp` (model {checksum}):\n * N = {}, T = {} mm, Ogden mu1 = {} MPa, alpha1 = {}, mu2 = {} MPa, alpha2 = {}.\n{domain} */\n#ifndef SURROGATE_RAMP_H\n#define SURROGATE_RAMP_H\n#include <stdint.h>\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n#define SURROGATE_N_OUTPUTS 22\n#define SURROGATE_RAMP_IN_DOMAIN {}\n#define SURROGATE_RAMP_P_MIN_BAR {:?}\n#define SURROGATE_RAMP_P_MAX_BAR {:?}\n/* Output order:\n",
+        "/* Pressure ramp exported by `surrogate export --ramp` (model {checksum}):\n * N = {}, T = {} mm, Ogden mu1 = {} MPa, alpha1 = {}, mu2 = {} MPa, alpha2 = {}.\n{domain} */\n#ifndef SURROGATE_RAMP_H\n#define SURROGATE_RAMP_H\n#include <stdint.h>\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n#define SURROGATE_N_OUTPUTS 22\n#define SURROGATE_RAMP_IN_DOMAIN {}\n#define SURROGATE_RAMP_P_MIN_BAR {:?}\n#define SURROGATE_RAMP_P_MAX_BAR {:?}\n",
         q.n,
         q.t_mm,
         q.mu1,

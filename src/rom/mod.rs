@@ -102,6 +102,7 @@ pub mod domain;
 pub mod export;
 pub mod fast;
 pub mod fidelity;
+pub mod material_spec;
 pub mod metrics;
 pub mod model;
 pub mod pod;
@@ -115,7 +116,7 @@ pub mod train;
 pub mod warp;
 
 pub use data::{CaseInputs, SnapshotSet};
-pub use domain::{Domain, DomainViolation};
+pub use domain::{BoundSnap, Domain, DomainViolation, PlanDomain};
 pub use model::FORMAT_VERSION;
 pub use query::Query;
 pub use ramp::Ramp;
@@ -128,14 +129,15 @@ use crate::schema;
 
 /// Names of the 22 predicted quantities, in storage order ([`schema::OUTPUTS`]).
 pub const QUANTITY_NAMES: [&str; 22] = schema::names(&schema::OUTPUTS);
-/// Index of `tip_uz_mm` among the quantities.
-pub const Q_TIP_UZ: usize = 18;
+/// Index of `tip_uz_mm` among the quantities ([`surrogate_predict::TIP_UZ`]; every output's
+/// index is named there: `M1_UZ` … `M9_UY`, `marker_uz(k)` for marker `k = 1 … 9`).
+pub const Q_TIP_UZ: usize = surrogate_predict::TIP_UZ;
 /// Index of `tip_uy_mm`.
-pub const Q_TIP_UY: usize = 19;
+pub const Q_TIP_UY: usize = surrogate_predict::TIP_UY;
 /// Index of `angle_deg`.
-pub const Q_ANGLE: usize = 20;
+pub const Q_ANGLE: usize = surrogate_predict::ANGLE;
 /// Index of `force_n`.
-pub const Q_FORCE: usize = 21;
+pub const Q_FORCE: usize = surrogate_predict::FORCE;
 /// Number of marker components (9 markers × (Uz, Uy)).
 pub const N_MARKER_COMPONENTS: usize = 18;
 

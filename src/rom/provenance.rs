@@ -3,6 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
+use super::domain::PlanDomain;
 use super::metrics::{ErrorStats, Validation};
 use super::warp::WarpInfo;
 
@@ -26,6 +27,11 @@ pub struct TrainingInfo {
     /// Multi-fidelity correction of the training set, if any ([`super::fidelity`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub correction: Option<CorrectionInfo>,
+    /// The training domain as the snapshot plan states it: the plan's nominal ranges where
+    /// its cases cover them ([`super::domain`]). Absent (a model trained without its plan,
+    /// or written before this field): the domain is the box of the training cases.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub plan_domain: Option<PlanDomain>,
 }
 
 /// How a training set was corrected (stored in the model's training information).

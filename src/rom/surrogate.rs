@@ -11,7 +11,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::data::CaseInputs;
-use super::domain::{Domain, DomainViolation};
+use super::domain::{BoundSnap, Domain, DomainViolation};
 use super::fast::{Derived, ScalarPath, Source, SCALARS};
 use super::metrics::Validation;
 use super::pod::PodBasis;
@@ -22,7 +22,7 @@ use super::regression::poly::Poly;
 use super::regression::{raw_features, FeatureScaler, Regressor, RegressorKind};
 use super::{RomError, QUANTITY_NAMES};
 use crate::schema;
-use surrogate_predict::{stencil, N_FEATURES};
+use surrogate_predict::{marker_uy, marker_uz, stencil, N_FEATURES};
 
 /// Number of differentiable inputs: `T, P, μ₁, α₁, μ₂, α₂` (N is discrete).
 pub const N_GRAD_INPUTS: usize = 6;
@@ -75,9 +75,38 @@ impl Prediction {
     pub fn force_n(&self) -> f64 {
         self.values[super::Q_FORCE]
     }
-    /// Marker `k` (0-based) as `(Uz, Uy)`, mm.
+    /// Marker `k` as `(Uz, Uy)`, mm; `k = 1 … 9` as in the columns `m1` … `m9` (9 is the tip).
+    ///
+    /// # Panics
+    /// `k` outside `1 … 9`.
     pub fn marker(&self, k: usize) -> (f64, f64) {
-        (self.values[2 * k], self.values[2 * k + 1])
+        let (z, y) = (marker_uz(k), marker_uy(k));
+        (self.values[z], self.values[y])
+    }
+    /// Standard deviation of tip Uz, mm (the surrogate's error against the FE values: filled by
+    /// [`Surrogate::predict_with_std_into`]).
+    pub fn std_tip_uz_mm(&self) -> f64 {
+        self.std[super::Q_TIP_UZ]
+    }
+    /// Standard deviation of tip Uy, mm.
+    pub fn std_tip_uy_mm(&self) -> f64 {
+        self.std[super::Q_TIP_UY]
+    }
+    /// Standard deviation of the bending angle, degrees.
+    pub fn std_angle_deg(&self) -> f64 {
+        self.std[super::Q_ANGLE]
+    }
+    /// Standard deviation of the blocked force, N.
+    pub fn std_force_n(&self) -> f64 {
+        self.std[super::Q_FORCE]
+    }
+    /// Standard deviations of marker `k`'s `(Uz, Uy)`, mm, `k = 1 … 9`.
+    ///
+    /// # Panics
+    /// `k` outside `1 … 9`.
+    pub fn std_marker(&self, k: usize) -> (f64, f64) {
+        let (z, y) = (marker_uz(k), marker_uy(k));
+        (self.std[z], self.std[y])
     }
 }
 
@@ -144,12 +173,12 @@ impl Jacobian {
     pub fn force(&self) -> Gradient {
         self.of(super::Q_FORCE)
     }
-    /// Gradients of marker `k` (0-based) as `(Uz, Uy)`.
+    /// Gradients of marker `k` as `(Uz, Uy)`, `k = 1 … 9` as in the columns `m1` … `m9`.
     ///
     /// # Panics
-    /// `k ≥ 9`.
+    /// `k` outside `1 … 9`.
     pub fn marker(&self, k: usize) -> (Gradient, Gradient) {
-        (self.of(2 * k), self.of(2 * k + 1))
+        (self.of(marker_uz(k)), self.of(marker_uy(k)))
     }
 }
 
@@ -308,10 +337,21 @@ impl Surrogate {
         Ok(())
     }
 
-    /// The training domain: the box of the training cases in the regression's coordinates
-    /// (`T, μ0, s, α₁, α₂`), the trained numbers of bellows and the pressure grid
-    /// ([`super::domain`]).
+    /// The training domain: the ranges the model file states from its snapshot plan
+    /// ([`TrainingInfo::plan_domain`]: the plan's nominal ends where its cases cover them),
+    /// else the box of the training cases ([`Self::sampled_domain`]); the trained numbers of
+    /// bellows and the pressure grid ([`super::domain`]).
     pub fn domain(&self) -> Domain {
+        let sampled = self.sampled_domain();
+        match &self.training.plan_domain {
+            Some(plan) => sampled.with_stated(&plan.ranges),
+            None => sampled,
+        }
+    }
+
+    /// The box of the training cases in the regression's coordinates (`T, μ0, s, α₁, α₂`),
+    /// the trained numbers of bellows and the pressure grid.
+    pub fn sampled_domain(&self) -> Domain {
         // a feature constant over the training cases is not in the scaler: its value follows
         // from the inputs' (equal) bounds, when the inputs it depends on are all constant
         let fixed = |i: usize| {
@@ -343,6 +383,13 @@ impl Surrogate {
     /// to the grid's nearer end; outside the feature box it extrapolates.
     pub fn domain_violations(&self, q: &Query) -> Vec<DomainViolation> {
         self.domain().violations(q)
+    }
+
+    /// `q` with every input beyond an end of the domain by at most
+    /// [`BOUND_TOLERANCE`](super::domain::BOUND_TOLERANCE) of its range moved onto the end,
+    /// and a note for each ([`Domain::snap`]).
+    pub fn snap_to_domain(&self, q: &Query) -> (Query, Vec<BoundSnap>) {
+        self.domain().snap(q)
     }
 
     /// The domain violations of `q`, refused unless `allow_extrapolation`.

@@ -734,6 +734,7 @@ pub fn train(
         code_version: env!("CARGO_PKG_VERSION").to_string(),
         n_treatment: "numeric regression input; predictions only at trained N".into(),
         correction: None,
+        plan_domain: None,
     };
     let surrogate = assemble(
         set,

@@ -31,15 +31,17 @@
 //!
 //! Both literature Ogden sets (`ogden_002`, `ogden_005`) lie inside these ranges (tested;
 //! [`Ranges::literature_inside`] lists them); `mooney_rivlin_5` is not an Ogden set. The
-//! domain a trained model accepts is the box its cases actually span
-//! ([`Plan::sampled_domain`]), which for a plan of few cases can be narrower than the ranges
-//! and leave a literature set outside (`ogden_005`'s `α₂` = −0.0054 lies near the range's end);
-//! `snapshots plan` reports both ([`Plan::literature_in_sampled_domain`]), and the model's
-//! domain check agrees with the second. `μ0` spans
+//! domain a trained model accepts ([`Plan::sampled_domain`]) is the box its cases actually
+//! span, reaching the plan's nominal end wherever the cases come within one stratum
+//! (`1/K` of the range) of it ([`crate::rom::domain`]); for a plan whose cases miss an end by
+//! more it stays narrower than the ranges and can leave a literature set outside (`ogden_005`'s
+//! `α₂` = −0.0054 lies near the range's end); `snapshots plan` reports both
+//! ([`Plan::literature_in_sampled_domain`]), and the model's domain check agrees with the
+//! second. `μ0` spans
 //! a factor 10 around the literature values and NinjaFlex's data-sheet modulus (E ≈ 12 MPa,
 //! μ0 ≈ 4 MPa), so a calibrated optimum near the experiments lies inside: the calibrator
-//! searches the training domain of a model trained on the plan
-//! ([`crate::calibrate::ParamSpace::Training`]), which lies inside this box.
+//! searches the box of the training cases of a model trained on the plan
+//! ([`crate::calibrate::ParamSpace::Training`]), which lies inside the model's domain.
 //!
 //! **Why all of 7..15 for `N`**: the SPEC's model range is 7..15 and the surrogate accepts only
 //! trained values of `N`; a case costs the same whatever its `N`, so covering every integer
@@ -93,7 +95,7 @@ use crate::fe::simulate::ContactSettings;
 use crate::fe::simulate::{validate_pressures, SimulateError};
 use crate::fe::solver::SolverSettings;
 use crate::rom::data::CaseInputs;
-use crate::rom::domain::{Domain, DomainViolation};
+use crate::rom::domain::{Domain, DomainViolation, PlanDomain};
 use crate::schema;
 
 /// Version of the plan format written and accepted.
@@ -604,9 +606,44 @@ pub(crate) fn unit_lhs(k: usize, dims: usize, seed: u64) -> Array2<f64> {
 
 impl Plan {
     /// The domain a surrogate trained on all cases of this plan accepts: the box its cases
-    /// span in the regression's coordinates, built exactly as the surrogate builds its own
-    /// ([`Domain::of_cases`]), so the two agree on every query.
+    /// span in the regression's coordinates ([`Domain::of_cases`], as the surrogate builds
+    /// its own), reaching the plan's nominal end wherever the cases come within one stratum
+    /// of it ([`Domain::with_plan_ends`]), as the model file states it
+    /// ([`Self::stated_domain`]), so the two agree on every query.
     pub fn sampled_domain(&self) -> Domain {
+        self.cases_domain()
+            .with_plan_ends(&self.ranges.domain(&[0.0]), self.cases.len())
+    }
+
+    /// What a model trained on this plan's cases states of its domain
+    /// ([`crate::rom::domain::PlanDomain`]): `sampled`, the box of its training cases
+    /// ([`crate::rom::Surrogate::sampled_domain`]), with the plan's nominal ends where the
+    /// cases come within one stratum of them; `label` names the plan (its file), to which the
+    /// plan's hash is added.
+    pub fn stated_domain(&self, sampled: &Domain, label: &str) -> PlanDomain {
+        PlanDomain {
+            plan: format!("{label} (plan {})", self.hash()),
+            plan_cases: self.cases.len(),
+            ranges: sampled
+                .with_plan_ends(&self.ranges.domain(&[0.0]), self.cases.len())
+                .stated_ranges(),
+        }
+    }
+
+    /// Whether this plan holds a case of id `case_id` (`case_000012`) with the design and
+    /// material `inputs` (a snapshot set's case, checked before the plan states its domain).
+    pub fn holds(&self, case_id: &str, inputs: &CaseInputs) -> bool {
+        self.cases.iter().any(|c| {
+            super::store::case_name(c.id) == case_id
+                && c.n_bellows as u32 == inputs.n_bellows
+                && c.wall_thickness_mm == inputs.wall_thickness_mm
+                && [c.mu1_mpa, c.alpha1, c.mu2_mpa, c.alpha2]
+                    == [inputs.mu1_mpa, inputs.alpha1, inputs.mu2_mpa, inputs.alpha2]
+        })
+    }
+
+    /// The box the cases span ([`Domain::of_cases`]).
+    fn cases_domain(&self) -> Domain {
         let cases: Vec<CaseInputs> = self
             .cases
             .iter()

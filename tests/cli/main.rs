@@ -12,6 +12,7 @@ mod calibrate_cli;
 mod diagnose_cli;
 mod fe_cli;
 mod figures;
+mod material_cli;
 mod readme_recipe;
 mod rom_cli;
 mod rom_fidelity;

@@ -266,7 +266,7 @@ fn c_entry_point_links_and_agrees() {
     .unwrap();
     std::fs::write(
         dir.join("main.c"),
-        "#include <stdio.h>\n#include \"model.h\"\n#include \"ramp.h\"\n/* the precompiled libcore refers to it even with panic=abort; never called */\nvoid rust_eh_personality(void) {}\nint main(void) {\n  float out[SURROGATE_N_OUTPUTS];\n  int rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  int bad = surrogate_predict_f32(12, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out + 0);\n  printf(\"%d %d\", rc, bad);\n  rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", out[i]);\n  float ramp[SURROGATE_N_OUTPUTS];\n  printf(\" %d\", surrogate_ramp_f32(1.5f, ramp));\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", ramp[i]);\n  printf(\"\\n\");\n  return 0;\n}\n",
+        "#include <stdio.h>\n#include \"model.h\"\n#include \"ramp.h\"\n/* the precompiled libcore refers to it even with panic=abort; never called */\nvoid rust_eh_personality(void) {}\nint main(void) {\n  float out[SURROGATE_N_OUTPUTS];\n  int rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  int bad = surrogate_predict_f32(12, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out + 0);\n  printf(\"%d %d\", rc, bad);\n  rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", out[i]);\n  float ramp[SURROGATE_N_OUTPUTS];\n  printf(\" %d\", surrogate_ramp_f32(1.5f, ramp));\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", ramp[i]);\n  /* the named indices, from both headers */\n  printf(\" %d %d %d %d %d\", SURROGATE_M1_UZ, SURROGATE_M9_UY, SURROGATE_TIP_UZ, SURROGATE_ANGLE, SURROGATE_FORCE);\n  printf(\"\\n\");\n  return 0;\n}\n",
     )
     .unwrap();
     let run = |cmd: &mut std::process::Command| {
@@ -319,6 +319,44 @@ fn c_entry_point_links_and_agrees() {
             "ramp output {k}: C {} vs library {}",
             v[25 + k],
             pred.values[k]
+        );
+    }
+    use surrogate::predict::{ANGLE, FORCE, M1_UZ, M9_UY, TIP_UZ};
+    let named = [M1_UZ, M9_UY, TIP_UZ, ANGLE, FORCE].map(|i| i as f64);
+    assert_eq!(v[47..], named, "the C names of the output indices");
+}
+
+/// Both headers define the index of every output under the name of the crate's constant
+/// (`SURROGATE_TIP_UZ 18` for `surrogate_predict::TIP_UZ`), and the crate, the library and
+/// the schema name the outputs alike.
+#[test]
+fn headers_name_every_output_index() {
+    use surrogate::predict::{marker_uy, marker_uz, OUTPUT_NAMES};
+    use surrogate::rom::export::c_output_macro;
+    use surrogate::rom::QUANTITY_NAMES;
+    assert_eq!(OUTPUT_NAMES, QUANTITY_NAMES);
+    let m = rom_common::small_model(None);
+    let sum = m.checksum().unwrap();
+    let q = Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
+    for header in [
+        c_header(Precision::F32, &sum),
+        ramp_c_header(&m, Precision::F64, &sum, &q),
+    ] {
+        for (i, name) in QUANTITY_NAMES.iter().enumerate() {
+            let line = format!("#define {} {i}\n", c_output_macro(name));
+            assert!(header.contains(&line), "{line}");
+        }
+        assert!(header.contains("#define SURROGATE_TIP_UZ 18\n"));
+        assert!(header.contains("#define SURROGATE_ANGLE 20\n"));
+        assert!(header.contains("#define SURROGATE_M1_UZ 0\n"));
+        assert!(header.contains("#define SURROGATE_M9_UY 17\n"));
+    }
+    for k in 1..=9 {
+        let uz = format!("SURROGATE_M{k}_UZ");
+        assert_eq!(c_output_macro(QUANTITY_NAMES[marker_uz(k)]), uz);
+        assert_eq!(
+            c_output_macro(QUANTITY_NAMES[marker_uy(k)]),
+            format!("SURROGATE_M{k}_UY")
         );
     }
 }

@@ -170,6 +170,42 @@ fn predictions_track_the_synthetic_truth_and_std_is_available() {
     );
 }
 
+/// The named accessors read the outputs and their standard deviations by the schema's
+/// columns, and markers are numbered 1 … 9 as the columns `m1` … `m9` (marker 9 is the tip).
+#[test]
+fn prediction_names_its_outputs_and_their_std() {
+    use surrogate::predict::{marker_uy, marker_uz, ANGLE, FORCE, TIP_UY, TIP_UZ};
+    use surrogate::rom::QUANTITY_NAMES;
+    let m = rom_common::small_model(None);
+    let q = Query::new(11, 2.0, 1.5, [1.13, 3.11, -13.17, -0.6]);
+    let mut p = m.new_prediction();
+    m.predict_with_std_into(&q, &mut p).unwrap();
+    let by_name = |name: &str| QUANTITY_NAMES.iter().position(|n| *n == name).unwrap();
+    assert_eq!(p.tip_uz_mm(), p.values[by_name("tip_uz_mm")]);
+    assert_eq!(p.angle_deg(), p.values[ANGLE]);
+    assert_eq!(p.std_tip_uz_mm(), p.std[by_name("tip_uz_mm")]);
+    assert_eq!(p.std_tip_uy_mm(), p.std[by_name("tip_uy_mm")]);
+    assert_eq!(p.std_angle_deg(), p.std[by_name("angle_deg")]);
+    assert_eq!(p.std_force_n(), p.std[by_name("force_n")]);
+    assert_eq!((TIP_UZ, TIP_UY, FORCE), (18, 19, 21));
+    for k in 1..=9 {
+        let (z, y) = (
+            by_name(&format!("m{k}_uz_mm")),
+            by_name(&format!("m{k}_uy_mm")),
+        );
+        assert_eq!((marker_uz(k), marker_uy(k)), (z, y));
+        assert_eq!(p.marker(k), (p.values[z], p.values[y]));
+        assert_eq!(p.std_marker(k), (p.std[z], p.std[y]));
+    }
+    assert!(p.std_angle_deg() > 0.0);
+    let mut j = surrogate::rom::Jacobian::default();
+    m.gradient_into(&q, &mut p, &mut j).unwrap();
+    assert_eq!(j.marker(1).0, j.of(by_name("m1_uz_mm")));
+    assert_eq!(j.marker(9).1, j.of(by_name("m9_uy_mm")));
+    assert!(std::panic::catch_unwind(|| p.marker(0)).is_err());
+    assert!(std::panic::catch_unwind(|| p.std_marker(10)).is_err());
+}
+
 #[test]
 fn training_does_not_depend_on_the_thread_count() {
     let cases = rom_common::synthetic_cases(24, 3);

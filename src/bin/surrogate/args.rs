@@ -61,8 +61,9 @@ pub struct IdentifyArgs {
         default_value = "mu1,alpha1,mu2,alpha2,gap,side_wall,base,plate_offset"
     )]
     pub unknowns: String,
-    /// Starting material: a name or mu1,alpha1,mu2,alpha2 (second-order Ogden).
-    #[arg(long, default_value = "ogden_002")]
+    /// Starting material: a name, mu1,alpha1,mu2,alpha2 (second-order Ogden) or a calibration
+    /// report DIR/report.json.
+    #[arg(long, default_value = "ogden_002", value_parser = material_spec)]
     pub material: String,
     /// Starting geometry: as_modelled or a preset file (.json).
     #[arg(long, default_value = "as_modelled")]
@@ -255,7 +256,7 @@ pub struct TwinArgs {
     #[arg(long, value_name = "NAME=VALUE", allow_hyphen_values = true)]
     pub effect: Vec<String>,
     /// Material (see `simulate --help`).
-    #[arg(long, allow_hyphen_values = true)]
+    #[arg(long, allow_hyphen_values = true, value_parser = material_spec)]
     pub material: String,
     /// Mesh level: coarse | standard | fine.
     #[arg(long, default_value = "standard")]
@@ -306,7 +307,9 @@ pub enum OnlyArg {
 /// `surrogate train`.
 #[derive(Debug, Args)]
 pub struct TrainArgs {
-    /// Snapshot CSV (see the snapshot contract).
+    /// Snapshot CSV (see the snapshot contract). The plan beside it (`<stem>.plan.json`,
+    /// written by `snapshots merge`), when present, gives the model's domain its nominal
+    /// ranges where the cases cover them (stated in the model file).
     #[arg(long, required_unless_present = "synthetic")]
     pub data: Option<PathBuf>,
     /// Train on a built-in synthetic set of this many cases instead of --data (demos, tests).
@@ -403,8 +406,9 @@ pub struct PredictArgs {
     /// Gauge pressure, bar.
     #[arg(long, required_unless_present_any = ["csv", "validation", "bench_fe"], allow_negative_numbers = true)]
     pub pressure: Option<f64>,
-    /// Material: a name (ogden_002, ogden_005) or `mu1,alpha1,mu2,alpha2`.
-    #[arg(long, required_unless_present_any = ["csv", "validation"], allow_hyphen_values = true)]
+    /// Material: a name (ogden_002, ogden_005), `mu1,alpha1,mu2,alpha2` or a calibration
+    /// report `DIR/report.json` (its calibrated set).
+    #[arg(long, required_unless_present_any = ["csv", "validation"], allow_hyphen_values = true, value_parser = material_spec)]
     pub material: Option<String>,
     /// Also output predictive standard deviations.
     #[arg(long)]
@@ -473,8 +477,9 @@ pub struct ExportArgs {
     /// Wall thickness of the exported ramp, mm.
     #[arg(long = "t", allow_negative_numbers = true)]
     pub t: Option<f64>,
-    /// Material of the exported ramp: a name (ogden_002, ogden_005) or `mu1,alpha1,mu2,alpha2`.
-    #[arg(long, allow_hyphen_values = true)]
+    /// Material of the exported ramp: a name (ogden_002, ogden_005), `mu1,alpha1,mu2,alpha2`
+    /// or a calibration report `DIR/report.json` (its calibrated set).
+    #[arg(long, allow_hyphen_values = true, value_parser = material_spec)]
     pub material: Option<String>,
     /// Export a ramp whose design or material lies outside the training domain (an error by
     /// default); the header then says which inputs are outside (`SURROGATE_RAMP_IN_DOMAIN 0`).
@@ -509,8 +514,9 @@ pub struct SimulateArgs {
     /// …, 3).
     #[arg(long, default_value = "0,1,2,3", allow_hyphen_values = true)]
     pub pressures: String,
-    /// Material: ogden_002 | ogden_005 | mooney_rivlin_5 | mu1,alpha1,mu2,alpha2 | neo_hookean:MU.
-    #[arg(long, default_value = "ogden_002")]
+    /// Material: ogden_002 | ogden_005 | mooney_rivlin_5 | mu1,alpha1,mu2,alpha2 | neo_hookean:MU
+    /// | DIR/report.json (the calibrated set of a `calibrate` report, at full precision).
+    #[arg(long, default_value = "ogden_002", allow_hyphen_values = true, value_parser = material_spec)]
     pub material: String,
     /// Bulk modulus as a multiple of the initial shear modulus.
     #[arg(long, default_value_t = surrogate::fe::material::DEFAULT_BULK_RATIO)]
@@ -620,7 +626,7 @@ pub struct ValidateArgs {
     #[arg(long, default_value = "as_modelled")]
     pub geometry: String,
     /// Material (see `simulate --help`).
-    #[arg(long, default_value = "ogden_002")]
+    #[arg(long, default_value = "ogden_002", allow_hyphen_values = true, value_parser = material_spec)]
     pub material: String,
     /// Mesh level.
     #[arg(long, default_value = "standard")]
@@ -670,7 +676,7 @@ pub struct DemoArgs {
     pub t: f64,
     /// Material of the live FE run: `calibrated` (the set the calibration finds) or a material
     /// spec (see `simulate --help`).
-    #[arg(long, default_value = "calibrated")]
+    #[arg(long, default_value = "calibrated", value_parser = material_spec)]
     pub material: String,
     /// Mesh level of the live FE run.
     #[arg(long, default_value = "coarse")]
@@ -691,4 +697,10 @@ pub struct DemoArgs {
         default_value = "fe_reference/calibration/standard/fe_standard_ramps"
     )]
     pub fe_cache: PathBuf,
+}
+
+/// A `--material` value with a calibration report (`DIR/report.json`) replaced by its
+/// calibrated set at full precision (`surrogate::rom::material_spec`); any other spec as given.
+fn material_spec(spec: &str) -> Result<String, String> {
+    surrogate::rom::material_spec::expand(spec).map_err(|e| e.to_string())
 }

@@ -478,9 +478,10 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
         ("literature", l, cal.chi2_literature),
         ("calibrated", b, cal.chi2),
     ] {
+        // the set at full precision (shortest round trip): it is typed back as a material
         let _ = writeln!(
             s,
-            "| {name} | {:.4} | {:.4} | {:.4} | {:.4} | {:.3} | {:.1} |",
+            "| {name} | {} | {} | {} | {} | {:.3} | {:.1} |",
             p.mu1_mpa,
             p.alpha1,
             p.mu2_mpa,
@@ -489,7 +490,12 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
             c
         );
     }
-    let _ = writeln!(s);
+    let _ = writeln!(
+        s,
+        "\nThe calibrated set as a material: `--material DIR/report.json` (this report's \
+         directory; any command that takes a material), or `--material {},{},{},{}`.\n",
+        b.mu1_mpa, b.alpha1, b.mu2_mpa, b.alpha2
+    );
     let ls = &cal.literature_summary;
     let cs = &cal.calibrated;
     let _ = writeln!(

@@ -21,6 +21,10 @@ pub fn run(a: ExportArgs) -> Result<()> {
         };
         let q = Query::new(n, t, model.pressures[0], material_params(material)?);
         model.check_query(&q)?;
+        let (q, snapped) = model.snap_to_domain(&q);
+        for s in &snapped {
+            eprintln!("note: {s}; the ramp is exported at the end");
+        }
         let outside = model.check_domain(&q, a.allow_extrapolation).map_err(|e| {
             anyhow::anyhow!(
                 "{e}; give --allow-extrapolation to export it anyway (the header then says which \

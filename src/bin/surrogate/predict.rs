@@ -6,6 +6,7 @@ use anyhow::{bail, Context, Result};
 use surrogate::rom::batch::{
     material_params, predict_table, read_queries, write_predictions, PredictionRecord,
 };
+use surrogate::rom::domain::BatchDomainReport;
 use surrogate::rom::{Query, RomError, Surrogate};
 
 use crate::args::PredictArgs;
@@ -47,6 +48,10 @@ pub fn run(a: PredictArgs) -> Result<()> {
     let m = material_params(mat)?;
     let q = Query::new(n, t, p, m);
     model.check_query(&q)?;
+    let (q, snapped) = model.snap_to_domain(&q);
+    for s in &snapped {
+        eprintln!("note: {s}");
+    }
     let outside = model
         .check_domain(&q, a.allow_extrapolation)
         .map_err(refused)?;
@@ -88,6 +93,26 @@ fn batch(
         .map_err(|e| refused(e).context(csv.display().to_string()))?;
     if predicted.domain.outside > 0 {
         eprintln!("warning: {}: {}", csv.display(), predicted.domain);
+    }
+    let snapped: Vec<_> = predicted
+        .rows
+        .iter()
+        .filter(|r| !r.snapped.is_empty())
+        .collect();
+    for r in snapped.iter().take(BatchDomainReport::LISTED) {
+        let notes: Vec<String> = r.snapped.iter().map(|s| s.to_string()).collect();
+        eprintln!(
+            "note: {} line {}: {}",
+            csv.display(),
+            r.row.line,
+            notes.join("; ")
+        );
+    }
+    if snapped.len() > BatchDomainReport::LISTED {
+        eprintln!(
+            "note: {} rows in all with an input moved onto an end of the domain",
+            snapped.len()
+        );
     }
     if out.as_os_str() == "-" {
         write_predictions(std::io::stdout().lock(), &predicted)?;

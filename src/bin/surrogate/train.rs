@@ -8,6 +8,8 @@ use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::train::HeldOutPoint;
 use surrogate::rom::{train, TrainConfig};
 use surrogate::schema;
+use surrogate::snapshots::merge::sidecar_path;
+use surrogate::snapshots::plan::Plan;
 
 use crate::args::{OnlyArg, TrainArgs};
 
@@ -52,6 +54,17 @@ fn learning_curve(
         println!("learning curve: {k} {}", rmse.join(" "));
     }
     Ok(())
+}
+
+/// The plan beside a snapshot file (`<stem>.plan.json`, written by `snapshots merge`), read,
+/// with its path; `None` when there is none.
+fn plan_beside(data: &std::path::Path) -> Option<Result<(Plan, std::path::PathBuf)>> {
+    let path = sidecar_path(data);
+    path.exists().then(|| {
+        Plan::read(&path)
+            .with_context(|| format!("reading the plan beside the data, {}", path.display()))
+            .map(|plan| (plan, path))
+    })
 }
 
 pub fn run(a: TrainArgs) -> Result<()> {
@@ -160,6 +173,39 @@ pub fn run(a: TrainArgs) -> Result<()> {
     bar.finish_and_clear();
     let mut report = report;
     report.surrogate.training.correction = correction;
+    let plan = match a.data.as_deref().and_then(plan_beside) {
+        Some(plan) => Some(plan?),
+        None => None,
+    };
+    let plan = plan.filter(|(plan, path)| {
+        let held = cases
+            .cases
+            .iter()
+            .all(|c| plan.holds(&c.case_id, &c.inputs));
+        if !held {
+            eprintln!(
+                "warning: {} does not hold every training case: the domain is the box of the \
+                 cases",
+                path.display()
+            );
+        }
+        held
+    });
+    if let Some((plan, path)) = plan {
+        let sampled = report.surrogate.sampled_domain();
+        let stated = plan.stated_domain(&sampled, &path.display().to_string());
+        let ranges: Vec<String> = stated
+            .ranges
+            .iter()
+            .map(|r| format!("{} {}..{}", r.name, r.min, r.max))
+            .collect();
+        println!(
+            "domain (the plan's nominal ends where its cases reach within one stratum, {}): {}",
+            stated.plan,
+            ranges.join(", ")
+        );
+        report.surrogate.training.plan_domain = Some(stated);
+    }
     let s = &report.surrogate;
     report
         .surrogate

@@ -1,0 +1,115 @@
+//! A material given as the calibration report that found it.
+//!
+//! Wherever a material spec is taken (`--material` of every command, the `material` column of
+//! a query CSV), a path ending in `.json` names a calibration report, `report.json` of
+//! `surrogate calibrate --out DIR`, and stands for its calibrated set `calibration.best`
+//! (`mu1_mpa, alpha1, mu2_mpa, alpha2`) at full precision:
+//!
+//! ```text
+//! surrogate predict --n 11 --t 2.0 --pressure 1.5 --material calibration/report.json
+//! ```
+//!
+//! [`expand`] turns such a spec into the four numbers `mu1,alpha1,mu2,alpha2`, written in
+//! shortest round-trip form (the set exactly as the report stores it); any other spec (a
+//! literature name, four numbers, `neo_hookean:MU`) is returned as given, for
+//! [`crate::fe::material::Material::from_spec`].
+
+use std::path::Path;
+
+use super::RomError;
+use crate::schema;
+
+/// What a spec naming a report file ends with (case-insensitive).
+const REPORT_SUFFIX: &str = ".json";
+
+/// Whether `spec` names a calibration report file (a path ending in `.json`).
+pub fn is_report(spec: &str) -> bool {
+    let spec = spec.trim();
+    spec.len() > REPORT_SUFFIX.len()
+        && spec[spec.len() - REPORT_SUFFIX.len()..].eq_ignore_ascii_case(REPORT_SUFFIX)
+}
+
+/// The calibrated Ogden set `[μ₁, α₁, μ₂, α₂]` of a calibration report
+/// (`calibration.best` of `report.json`).
+///
+/// # Errors
+/// The file cannot be read, is not JSON, or has no calibrated set of four finite numbers;
+/// each message names the file and what it should hold.
+pub fn report_material(path: &Path) -> Result<[f64; 4], RomError> {
+    let shown = path.display().to_string();
+    let text = std::fs::read_to_string(path).map_err(|source| RomError::Io {
+        path: shown.clone(),
+        source,
+    })?;
+    let expected = "a calibration report (`report.json` of `surrogate calibrate --out DIR`) \
+                    with the calibrated set calibration.best {mu1_mpa, alpha1, mu2_mpa, alpha2}";
+    let value: serde_json::Value = serde_json::from_str(&text)
+        .map_err(|e| RomError::invalid("material", &shown, &format!("{expected}; {e}")))?;
+    let best = &value["calibration"]["best"];
+    let mut set = [0.0; 4];
+    for (slot, column) in set.iter_mut().zip(schema::OGDEN_COLUMNS) {
+        *slot = best[column.name]
+            .as_f64()
+            .filter(|v| v.is_finite())
+            .ok_or_else(|| {
+                RomError::invalid(
+                    "material",
+                    &shown,
+                    &format!("{expected}; calibration.best.{} is missing", column.name),
+                )
+            })?;
+    }
+    Ok(set)
+}
+
+/// `spec` with a calibration report file replaced by its calibrated set as
+/// `mu1,alpha1,mu2,alpha2` (shortest round-trip digits: the set exactly); any other spec as
+/// given.
+///
+/// ```
+/// use surrogate::rom::material_spec::expand;
+/// assert_eq!(expand("ogden_002").unwrap(), "ogden_002");
+/// let set = expand("fe_reference/calibration/surrogate/report.json").unwrap();
+/// assert_eq!(set, "0.03821164173136228,5.99612765572898,-5.194862363697796,-1.996454844367204");
+/// ```
+///
+/// # Errors
+/// See [`report_material`].
+pub fn expand(spec: &str) -> Result<String, RomError> {
+    if !is_report(spec) {
+        return Ok(spec.to_string());
+    }
+    let set = report_material(Path::new(spec.trim()))?;
+    Ok(set.map(|v| v.to_string()).join(","))
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn only_json_paths_are_reports() {
+        for spec in ["dir/report.json", " R.JSON ", "a.Json"] {
+            assert!(is_report(spec), "{spec}");
+        }
+        for spec in ["ogden_002", "1,2,-3,-0.5", "neo_hookean:2", ".json", "json"] {
+            assert!(!is_report(spec), "{spec}");
+        }
+    }
+
+    #[test]
+    fn a_report_without_a_set_is_refused_by_name() {
+        let dir = std::env::temp_dir().join(format!("material_spec_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("report.json");
+        std::fs::write(&path, r#"{"calibration": {"best": {"mu1_mpa": 1.0}}}"#).unwrap();
+        let e = expand(path.to_str().unwrap()).unwrap_err().to_string();
+        assert!(e.contains("calibration.best.alpha1 is missing"), "{e}");
+        std::fs::write(&path, "not json").unwrap();
+        let e = expand(path.to_str().unwrap()).unwrap_err().to_string();
+        assert!(e.contains("calibration report"), "{e}");
+        let e = expand(dir.join("absent.json").to_str().unwrap()).unwrap_err();
+        assert!(e.to_string().contains("absent.json"), "{e}");
+        std::fs::remove_dir_all(&dir).unwrap();
+    }
+}
