@@ -39,6 +39,7 @@ fn main() -> surrogate::Result<()> {
         mesh: MeshOptions::level(MeshLevel::Coarse),
         max_sweeps,
         lambda0: 1e-2,
+        max_step: 0.1,
         cache: Some(PathBuf::from("identify_example/fe_ramps")),
     };
     let report = identify(&settings, &Recordings::shipped()?, |sweep, done, total| {

@@ -231,6 +231,9 @@ pub struct JointSettings {
     pub max_sweeps: usize,
     /// Initial damping `λ` (relative to `diag(JᵀJ)`).
     pub lambda0: f64,
+    /// Initial trust radius: the largest move of an unknown in one step, as a fraction of its
+    /// range ([`bounded_lm`]).
+    pub max_step: f64,
     /// Cache directory of the ramps (resumable).
     pub cache: Option<PathBuf>,
 }
@@ -383,7 +386,7 @@ fn held_out(e: &Evaluation, x: &[f64], bnds: &[(f64, f64)], k: usize) -> HeldOut
         let keep: Vec<usize> = (0..e.what.len()).filter(|&i| !held(&e.what[i])).collect();
         let rk = DVector::from_fn(keep.len(), |i, _| e.r[keep[i]]);
         let jk = DMatrix::from_fn(keep.len(), x.len(), |i, c| e.j[(keep[i], c)]);
-        let fit = bounded_lm(x, bnds, 1e-3, 50, |v| -> Result<_, ()> {
+        let fit = bounded_lm(x, bnds, 1e-3, 1.0, 50, |v| -> Result<_, ()> {
             let d = DVector::from_fn(v.len(), |i, _| v[i] - x[i]);
             Ok(Some((&rk + &jk * &d, jk.clone())))
         })
@@ -710,7 +713,7 @@ pub fn identify(
         Ok(p)
     };
     let mut evaluations: Vec<(JointPoint, Result<Evaluation, String>)> = Vec::new();
-    let trace = bounded_lm(&x0, &bnds, s.lambda0, s.max_sweeps, |v| {
+    let trace = bounded_lm(&x0, &bnds, s.lambda0, s.max_step, s.max_sweeps, |v| {
         let p = point_at(v)?;
         let k = evaluations.len() + 1;
         let e = evaluate(s, rec, &p, k, &|d, n| progress(k, d, n));
@@ -787,13 +790,19 @@ pub(crate) struct LmTrace {
 /// Bounded Levenberg–Marquardt for costly evaluations: `eval(x)` gives the residuals and their
 /// Jacobian, or `None` where the model fails there (a failed step). Coordinates on a bound
 /// whose gradient pushes out of the box are held for the step (the free set); the others
-/// solve `(JᵀJ + λ·diag(JᵀJ)) δ = −Jᵀr` and the trial is clipped to the box. Nielsen's
-/// damping update; stops after `max_evals` evaluations, when `χ²` falls by less than a
-/// relative 1e-3 over an accepted step, or when `λ > 1e8`.
+/// solve `(JᵀJ + λ·diag(JᵀJ)) δ = −Jᵀr`. The step is then shortened, keeping its direction,
+/// so that no coordinate moves by more than the trust radius `Δ` times its range (`Δ` starts
+/// at `radius0`, halves on a failed step and doubles, up to 1, on one the linearisation
+/// predicted well, `ρ > 0.75`), and the trial is clipped to the box: a contact problem's
+/// response is far from linear over a whole range (measured: the force rig's plate moved by
+/// its whole range in one step lowered every blocked force its derivative said would rise).
+/// Nielsen's damping update; stops after `max_evals` evaluations, when `χ²` falls by less
+/// than a relative 1e-3 over an accepted step, or when `λ > 1e8`.
 pub(crate) fn bounded_lm<E>(
     x0: &[f64],
     bnds: &[(f64, f64)],
     lambda0: f64,
+    radius0: f64,
     max_evals: usize,
     mut eval: impl FnMut(&[f64]) -> Result<Option<(DVector<f64>, DMatrix<f64>)>, E>,
 ) -> Result<LmTrace, E> {
@@ -819,6 +828,7 @@ pub(crate) fn bounded_lm<E>(
     };
     let mut best = 0;
     let (mut lambda, mut nu) = (lambda0, 2.0);
+    let mut radius = radius0.clamp(1e-6, 1.0);
     let stop = loop {
         if steps.len() >= max_evals {
             break JointStop::Budget;
@@ -856,8 +866,12 @@ pub(crate) fn bounded_lm<E>(
             nu *= 2.0;
             continue;
         };
+        let reach = (0..k)
+            .map(|i| delta[i].abs() / (bnds[i].1 - bnds[i].0).max(1e-300))
+            .fold(0.0, f64::max);
+        let shorten = if reach > radius { radius / reach } else { 1.0 };
         let trial: Vec<f64> = (0..k)
-            .map(|i| (x[i] + delta[i]).clamp(bnds[i].0, bnds[i].1))
+            .map(|i| (x[i] + shorten * delta[i]).clamp(bnds[i].0, bnds[i].1))
             .collect();
         let step = DVector::from_fn(k, |i, _| trial[i] - x[i]);
         let c_cur = r.norm_squared();
@@ -883,12 +897,16 @@ pub(crate) fn bounded_lm<E>(
             best = steps.len() - 1;
             lambda *= (1.0 / 3.0f64).max(1.0 - (2.0 * rho - 1.0).powi(3));
             nu = 2.0;
+            if rho > 0.75 {
+                radius = (2.0 * radius).min(1.0);
+            }
             if (c_cur - c_new) / c_cur < 1e-3 {
                 break JointStop::Converged;
             }
         } else {
             lambda *= nu;
             nu *= 2.0;
+            radius *= 0.5;
         }
     };
     Ok(LmTrace { steps, best, stop })
@@ -1150,7 +1168,7 @@ mod tests {
     #[test]
     fn bounded_lm_finds_an_interior_optimum_and_stops_on_a_bound() {
         let bnds = [(-2.0, 2.0), (-1.0, 3.0), (0.0, 2.0)];
-        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 200, rosenbrock).unwrap();
+        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 1.0, 200, rosenbrock).unwrap();
         let x = &t.steps[t.best].x;
         assert!(
             (x[0] - 1.0).abs() < 0.05 && (x[1] - 1.0).abs() < 0.1,
@@ -1173,10 +1191,27 @@ mod tests {
     }
 
     #[test]
+    fn no_unknown_moves_by_more_than_the_trust_radius_and_the_radius_adapts() {
+        let bnds = [(-2.0, 2.0), (-1.0, 3.0), (0.0, 2.0)];
+        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 0.05, 200, rosenbrock).unwrap();
+        // the first step: at most 5 % of every range
+        let (a, b) = (&t.steps[0].x, &t.steps[1].x);
+        for i in 0..3 {
+            assert!(
+                (b[i] - a[i]).abs() <= 0.05 * (bnds[i].1 - bnds[i].0) + 1e-12,
+                "{i}: {a:?} → {b:?}"
+            );
+        }
+        // the radius grows where the linearisation holds: it still gets there
+        let x = &t.steps[t.best].x;
+        assert!((x[0] - 1.0).abs() < 0.05 && x[2] == 2.0, "{x:?}");
+    }
+
+    #[test]
     fn bounded_lm_treats_a_failed_evaluation_as_a_failed_step_and_keeps_to_the_budget() {
         let bnds = [(-2.0, 2.0), (-1.0, 3.0), (0.0, 2.0)];
         let mut calls = 0;
-        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 6, |x| {
+        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 1.0, 6, |x| {
             calls += 1;
             // the model fails at every second trial
             if calls % 2 == 0 {

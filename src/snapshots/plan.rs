@@ -634,7 +634,7 @@ impl Plan {
     /// material `inputs` (a snapshot set's case, checked before the plan states its domain).
     pub fn holds(&self, case_id: &str, inputs: &CaseInputs) -> bool {
         self.cases.iter().any(|c| {
-            super::store::case_name(c.id) == case_id
+            case_name(c.id) == case_id
                 && c.n_bellows as u32 == inputs.n_bellows
                 && c.wall_thickness_mm == inputs.wall_thickness_mm
                 && [c.mu1_mpa, c.alpha1, c.mu2_mpa, c.alpha2]
@@ -949,4 +949,9 @@ impl Plan {
             .map(|(_, c)| c)
             .collect()
     }
+}
+
+/// The `case_id` of a plan case.
+pub fn case_name(id: usize) -> String {
+    format!("case_{id:06}")
 }

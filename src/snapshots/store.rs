@@ -133,10 +133,7 @@ fn effect_cells(case: &PlannedCase, settings: &PlanSettings) -> Vec<(Effect, f64
     all.iter().collect()
 }
 
-/// The `case_id` of a plan case.
-pub fn case_name(id: usize) -> String {
-    format!("case_{id:06}")
-}
+pub use super::plan::case_name;
 
 /// Shortest round-trip text of a float.
 fn num(x: f64) -> String {

@@ -86,6 +86,10 @@ pub struct IdentifyArgs {
     /// Initial Levenberg–Marquardt damping.
     #[arg(long, default_value_t = 1e-2)]
     pub lambda: f64,
+    /// Initial trust radius: the largest move of an unknown in one step, as a fraction of its
+    /// range (halved after a failed step, doubled after a well-predicted one).
+    #[arg(long, default_value_t = 0.1)]
+    pub max_step: f64,
     /// Output directory: report.json, summary.md, the identified geometry (geometry.json) and
     /// the FE cache (fe_ramps/; a rerun resumes from it).
     #[arg(long, default_value = "identify_output")]

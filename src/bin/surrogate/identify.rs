@@ -19,6 +19,20 @@ pub fn run(a: IdentifyArgs) -> Result<()> {
         .map(|n| Unknown::from_name(n.trim()))
         .collect::<Result<Vec<_>, _>>()
         .context("--unknowns")?;
+    anyhow::ensure!(
+        a.max_step > 0.0 && a.max_step <= 1.0,
+        "--max-step {}: expected a fraction of each unknown's range in (0, 1]",
+        a.max_step
+    );
+    anyhow::ensure!(
+        a.lambda.is_finite() && a.lambda > 0.0,
+        "--lambda {}: expected a positive damping",
+        a.lambda
+    );
+    anyhow::ensure!(
+        a.max_sweeps >= 1,
+        "--max-sweeps 0: expected at least 1 FE sweep"
+    );
     let material = Material::from_spec(&a.material, 1000.0).context("--material")?;
     let Some(ogden) = material.ogden_params() else {
         bail!(
@@ -68,6 +82,7 @@ pub fn run(a: IdentifyArgs) -> Result<()> {
         mesh: MeshOptions::level(level),
         max_sweeps: a.max_sweeps,
         lambda0: a.lambda,
+        max_step: a.max_step,
         cache: Some(cache),
     };
     let bar = ProgressBar::new(0);
