@@ -87,7 +87,8 @@ pub struct IdentifyArgs {
     #[arg(long, default_value_t = 1e-2)]
     pub lambda: f64,
     /// Initial trust radius: the largest move of an unknown in one step, as a fraction of its
-    /// range (halved after a failed step, doubled after a well-predicted one).
+    /// range (halved when a step it shortened fails, doubled when one it shortened succeeds and
+    /// was well predicted).
     #[arg(long, default_value_t = 0.1)]
     pub max_step: f64,
     /// Output directory: report.json, summary.md, the identified geometry (geometry.json) and
