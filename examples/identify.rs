@@ -9,7 +9,7 @@
 //! ```
 use std::path::PathBuf;
 
-use surrogate::calibrate::joint::{identify, JointPoint, JointSettings, Unknown};
+use surrogate::calibrate::joint::{identify, JointPoint, JointSettings, ModelSigma, Unknown};
 use surrogate::calibrate::Recordings;
 use surrogate::fe::effects::Effects;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
@@ -40,6 +40,8 @@ fn main() -> surrogate::Result<()> {
         max_sweeps,
         lambda0: 1e-2,
         max_step: 0.1,
+        // 2 mm on a tip coordinate, 0.15 N on the force, added to the recorded scatter
+        model_sigma: ModelSigma::default(),
         cache: Some(PathBuf::from("identify_example/fe_ramps")),
     };
     let report = identify(&settings, &Recordings::shipped()?, |sweep, done, total| {

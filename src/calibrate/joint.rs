@@ -13,9 +13,15 @@
 //!
 //! ## Objective
 //!
-//! The calibrator's noise model ([`super::objective`]): per recorded configuration the tip
-//! `Uz`, `Uy` with `σ = r·σ_α` (`r` the recorded chord, `σ_α` the recorded angle scatter) and
-//! the blocked force with its recorded `σ_F`; `r(θ) = (y_FE(θ) − y)/σ`, `χ² = Σ r²`.
+//! The calibrator's noise model ([`super::objective`]) with a model-form floor: per recorded
+//! configuration the tip `Uz`, `Uy` with `σ² = (r·σ_α)² + σ_tip²` (`r` the recorded chord,
+//! `σ_α` the recorded angle scatter) and the blocked force with `σ² = σ_F² + σ_force²`
+//! (`σ_F` its recorded scatter); `r(θ) = (y_FE(θ) − y)/σ`, `χ² = Σ r²`. The floor
+//! ([`ModelSigma`], default 2 mm and 0.15 N, the scale of the accuracy wanted) says how far
+//! the model may be trusted at best: without it, the forces' recorded scatter (0.03–0.09 N
+//! against about 3 mm on a tip) makes the force about ten times heavier than the tips in `χ²`,
+//! and the fit buys force with the force rig's plate while the tips stay where they are
+//! (measured: `fe_reference/identification/README.md`).
 //!
 //! ## Method: FE-direct Levenberg–Marquardt
 //!
@@ -27,14 +33,19 @@
 //! and the Jacobian `J`, and the step solves
 //!
 //! ```text
-//!   (JᵀJ + λ·diag(JᵀJ)) δ = −Jᵀr,     θ' = clip(θ + δ, bounds)
+//!   (JᵀJ + λ·diag(JᵀJ)) δ = −Jᵀr
 //! ```
 //!
-//! A step is taken when the FE at `θ'` lowers `χ²` (gain ratio `ρ` of actual to linearly
+//! solved inside a box: every unknown has its own trust radius (a fraction of its range), so
+//! the step is the damped Gauss–Newton step constrained to `|δᵢ| ≤ Δᵢ·rangeᵢ` and to the
+//! bounds (a rectangular trust region, as in the "dogbox" method of Voglis and Lagaris). A
+//! step is taken when the FE at `θ'` lowers `χ²` (gain ratio `ρ` of actual to linearly
 //! predicted decrease `> 0`); `λ` follows Nielsen's rule (`λ·max(1/3, 1 − (2ρ − 1)³)` on
-//! success, `λ·ν`, `ν ← 2ν` on failure). A sweep whose FE fails counts as a failed step. It
-//! stops when `χ²` falls by less than a relative `1e-3` over an accepted step, when `λ`
-//! exceeds `1e8`, or after the iteration budget ([`JointStop`]).
+//! success, `λ·ν`, `ν ← 2ν` on failure); the radii of the unknowns the box held halve when the
+//! step fails and double when it succeeds with `ρ > 0.5`. A sweep whose FE fails counts as a
+//! failed step. It stops when `χ²` falls by less than a relative `1e-3` over an accepted step
+//! the box did not hold, when `λ` exceeds `1e8`, or after the iteration budget
+//! ([`JointStop`]).
 //!
 //! Every sweep is cached (sweep `k` in `sweep_k/` of the cache, one file per ramp keyed by
 //! everything that defines it, the geometry's every dimension included), so an interrupted
@@ -234,8 +245,49 @@ pub struct JointSettings {
     /// Initial trust radius: the largest move of an unknown in one step, as a fraction of its
     /// range ([`bounded_lm`]).
     pub max_step: f64,
+    /// The model-form floor of the noise model.
+    pub model_sigma: ModelSigma,
     /// Cache directory of the ramps (resumable).
     pub cache: Option<PathBuf>,
+}
+
+/// The model-form floor of the identification's noise model: added in quadrature to each
+/// recorded scatter, so that no output's small recorded scatter lets it outweigh the others
+/// in `χ²` beyond the accuracy the model can have.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ModelSigma {
+    /// On each tip coordinate (mm).
+    pub tip_mm: f64,
+    /// On the blocked force (N).
+    pub force_n: f64,
+}
+
+impl Default for ModelSigma {
+    /// 2 mm on a tip coordinate (a 3 mm tip BE), 0.15 N on the force: the targets' scale.
+    fn default() -> Self {
+        ModelSigma {
+            tip_mm: 2.0,
+            force_n: 0.15,
+        }
+    }
+}
+
+impl ModelSigma {
+    /// Checks that both are finite and non-negative.
+    ///
+    /// # Errors
+    /// [`CalibrateError::Input`] naming the field.
+    pub fn validate(&self) -> Result<(), CalibrateError> {
+        for (name, v) in [
+            ("model sigma tip_mm", self.tip_mm),
+            ("model sigma force_n", self.force_n),
+        ] {
+            if !(v.is_finite() && v >= 0.0) {
+                return Err(CalibrateError::input(name, v, "a finite value ≥ 0"));
+            }
+        }
+        Ok(())
+    }
 }
 
 /// How the identification stopped.
@@ -317,6 +369,9 @@ pub struct JointEstimate {
 pub struct JointReport {
     /// The FE mesh level.
     pub mesh: String,
+    /// The model-form floor of the noise model.
+    #[serde(default)]
+    pub model_sigma: ModelSigma,
     /// The unknowns at the optimum.
     pub estimates: Vec<JointEstimate>,
     /// Correlations of the unknowns (row-major, in the order of `estimates`).
@@ -554,7 +609,7 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
             be_mm: f64::NAN,
         };
         let chord = (FREE_LENGTH_MM - b.tip_uz_mm).hypot(b.tip_uy_mm);
-        let st = chord * b.angle_std_deg.to_radians();
+        let st = (chord * b.angle_std_deg.to_radians()).hypot(s.model_sigma.tip_mm);
         match derivs(find(n, t, Mode::Bending), p, &params) {
             Some((v, d)) => {
                 row.uz_mm[1] = v.tip_uz_mm;
@@ -586,18 +641,15 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
                 Some((v, d)) => {
                     let fe = v.force_n.unwrap_or(f64::NAN);
                     row.force_n[1] = fe;
-                    r.push((fe - f.force_n) / f.force_std_n);
+                    let sf = f.force_std_n.hypot(s.model_sigma.force_n);
+                    r.push((fe - f.force_n) / sf);
                     what.push(Residual {
                         n,
                         t,
                         output: Recorded::Force,
-                        sigma: f.force_std_n,
+                        sigma: sf,
                     });
-                    jac.push(
-                        d.iter()
-                            .map(|o| o.force_n.unwrap_or(0.0) / f.force_std_n)
-                            .collect(),
-                    );
+                    jac.push(d.iter().map(|o| o.force_n.unwrap_or(0.0) / sf).collect());
                 }
                 None => errors.push(format!("force N = {n}, T = {t}, {p} bar")),
             }
@@ -788,17 +840,18 @@ pub(crate) struct LmTrace {
 }
 
 /// Bounded Levenberg–Marquardt for costly evaluations: `eval(x)` gives the residuals and their
-/// Jacobian, or `None` where the model fails there (a failed step). Coordinates on a bound
-/// whose gradient pushes out of the box are held for the step (the free set); the others
-/// solve `(JᵀJ + λ·diag(JᵀJ)) δ = −Jᵀr`. The step is then shortened, keeping its direction,
-/// so that no coordinate moves by more than the trust radius `Δ` times its range (`Δ` starts
-/// at `radius0`, halves when a step it shortened fails and doubles, up to 1, when one it
-/// shortened succeeds with `ρ > 0.5`; a failed unshortened step raises the damping instead),
-/// and the trial is clipped to the box: a contact problem's
-/// response is far from linear over a whole range (measured: the force rig's plate moved by
-/// its whole range in one step lowered every blocked force its derivative said would rise).
-/// Nielsen's damping update; stops after `max_evals` evaluations, when `χ²` falls by less
-/// than a relative 1e-3 over an accepted step the radius did not shorten, or when `λ > 1e8`.
+/// Jacobian, or `None` where the model fails there (a failed step).
+///
+/// Each coordinate has its own trust radius `Δᵢ` (a fraction of its range, starting at
+/// `radius0`): the step minimises the damped model `‖r + Jδ‖² + λ‖D δ‖²` (`D² = diag(JᵀJ)`)
+/// over the box `|δᵢ| ≤ Δᵢ·rangeᵢ`, `lo ≤ x + δ ≤ hi` ([`box_step`]), a rectangular trust
+/// region. When a trial fails, the radii of the coordinates the box held (at a trust face,
+/// not a bound) halve, or the damping rises when the box held none; when one succeeds with
+/// `ρ > 0.5`, those radii double (up to 1). One coordinate whose linearisation holds only over
+/// a short distance (measured: the force rig's plate, whose step over its whole range lowered
+/// every blocked force its derivative said would rise) so no longer shortens the steps of the
+/// others. Nielsen's damping update; stops after `max_evals` evaluations, when `χ²` falls by
+/// less than a relative 1e-3 over an accepted step the box did not hold, or when `λ > 1e8`.
 pub(crate) fn bounded_lm<E>(
     x0: &[f64],
     bnds: &[(f64, f64)],
@@ -827,9 +880,10 @@ pub(crate) fn bounded_lm<E>(
             stop: JointStop::NoDescent,
         });
     };
+    let span: Vec<f64> = bnds.iter().map(|b| (b.1 - b.0).max(1e-300)).collect();
     let mut best = 0;
     let (mut lambda, mut nu) = (lambda0, 2.0);
-    let mut radius = radius0.clamp(1e-6, 1.0);
+    let mut radius = vec![radius0.clamp(1e-6, 1.0); k];
     let stop = loop {
         if steps.len() >= max_evals {
             break JointStop::Budget;
@@ -837,42 +891,34 @@ pub(crate) fn bounded_lm<E>(
         if lambda > 1e8 {
             break JointStop::NoDescent;
         }
-        let jtj = j.transpose() * &j;
+        let mut a = j.transpose() * &j;
         let g = j.transpose() * &r;
-        let free: Vec<bool> = (0..k)
-            .map(|i| {
-                let (lo, hi) = bnds[i];
-                let span = (hi - lo).max(1e-300);
-                let out = (x[i] - lo <= 1e-9 * span && g[i] > 0.0)
-                    || (hi - x[i] <= 1e-9 * span && g[i] < 0.0);
-                !out
-            })
-            .collect();
-        let mut a = jtj.clone();
-        let mut b = -&g;
         for i in 0..k {
-            if free[i] {
-                a[(i, i)] += lambda * jtj[(i, i)].max(1e-12);
-            } else {
-                for c in 0..k {
-                    a[(i, c)] = 0.0;
-                    a[(c, i)] = 0.0;
-                }
-                a[(i, i)] = 1.0;
-                b[i] = 0.0;
-            }
+            a[(i, i)] += lambda * a[(i, i)].max(1e-12);
         }
-        let Some(delta) = a.cholesky().map(|c| c.solve(&b)) else {
+        // the box: the trust radius and the bounds, whichever is nearer
+        let lo: Vec<f64> = (0..k)
+            .map(|i| (-radius[i] * span[i]).max(bnds[i].0 - x[i]).min(0.0))
+            .collect();
+        let hi: Vec<f64> = (0..k)
+            .map(|i| (radius[i] * span[i]).min(bnds[i].1 - x[i]).max(0.0))
+            .collect();
+        let Some(delta) = box_step(&a, &g, &lo, &hi) else {
             lambda *= nu;
             nu *= 2.0;
             continue;
         };
-        let reach = (0..k)
-            .map(|i| delta[i].abs() / (bnds[i].1 - bnds[i].0).max(1e-300))
-            .fold(0.0, f64::max);
-        let shorten = if reach > radius { radius / reach } else { 1.0 };
+        // the coordinates the trust box (not a bound) held
+        let held: Vec<usize> = (0..k)
+            .filter(|&i| {
+                let face = radius[i] * span[i];
+                let tol = 1e-9 * span[i];
+                (delta[i] >= face - tol && hi[i] >= face - tol)
+                    || (delta[i] <= -face + tol && lo[i] <= -face + tol)
+            })
+            .collect();
         let trial: Vec<f64> = (0..k)
-            .map(|i| (x[i] + shorten * delta[i]).clamp(bnds[i].0, bnds[i].1))
+            .map(|i| (x[i] + delta[i]).clamp(bnds[i].0, bnds[i].1))
             .collect();
         let step = DVector::from_fn(k, |i, _| trial[i] - x[i]);
         let c_cur = r.norm_squared();
@@ -898,24 +944,103 @@ pub(crate) fn bounded_lm<E>(
             best = steps.len() - 1;
             lambda *= (1.0 / 3.0f64).max(1.0 - (2.0 * rho - 1.0).powi(3));
             nu = 2.0;
-            if shorten < 1.0 && rho > 0.5 {
-                radius = (2.0 * radius).min(1.0);
+            if rho > 0.5 {
+                for &i in &held {
+                    radius[i] = (2.0 * radius[i]).min(1.0);
+                }
             }
-            // a step the radius shortened is progress, not convergence
-            if shorten == 1.0 && (c_cur - c_new) / c_cur < 1e-3 {
+            // a step the box held is progress, not convergence
+            if held.is_empty() && (c_cur - c_new) / c_cur < 1e-3 {
                 break JointStop::Converged;
             }
+        } else if held.is_empty() {
+            lambda *= nu;
+            nu *= 2.0;
         } else {
-            // a step the radius shortened shrinks the radius; an unshortened one the damping
-            if shorten < 1.0 {
-                radius *= 0.5;
-            } else {
-                lambda *= nu;
-                nu *= 2.0;
+            for &i in &held {
+                radius[i] *= 0.5;
             }
         }
     };
     Ok(LmTrace { steps, best, stop })
+}
+
+/// Minimises the quadratic model `½δᵀAδ + gᵀδ` (`A` positive definite) over the box
+/// `lo ≤ δ ≤ hi` (`lo ≤ 0 ≤ hi`) by an active set: solve for the free coordinates, fix the
+/// one that leaves the box furthest (relative to its side) on the face it crosses, repeat;
+/// then free a fixed coordinate whose multiplier says the model decreases inwards, and
+/// repeat, for at most `4k` rounds. `None` when `A` restricted to the free set is not positive
+/// definite.
+pub(crate) fn box_step(
+    a: &DMatrix<f64>,
+    g: &DVector<f64>,
+    lo: &[f64],
+    hi: &[f64],
+) -> Option<DVector<f64>> {
+    let k = g.len();
+    let mut fixed: Vec<Option<f64>> = vec![None; k];
+    // a coordinate with an empty side towards which the gradient pushes starts fixed at 0
+    for i in 0..k {
+        if (hi[i] <= 0.0 && g[i] < 0.0) || (lo[i] >= 0.0 && g[i] > 0.0) {
+            fixed[i] = Some(0.0);
+        }
+    }
+    let mut delta = DVector::zeros(k);
+    for _ in 0..4 * k.max(1) {
+        let free: Vec<usize> = (0..k).filter(|&i| fixed[i].is_none()).collect();
+        for i in 0..k {
+            if let Some(v) = fixed[i] {
+                delta[i] = v;
+            }
+        }
+        if !free.is_empty() {
+            let m = free.len();
+            let af = DMatrix::from_fn(m, m, |p, q| a[(free[p], free[q])]);
+            let bf = DVector::from_fn(m, |p, _| {
+                let i = free[p];
+                -g[i]
+                    - (0..k)
+                        .filter_map(|c| fixed[c].map(|v| a[(i, c)] * v))
+                        .sum::<f64>()
+            });
+            let sol = af.cholesky()?.solve(&bf);
+            for (p, &i) in free.iter().enumerate() {
+                delta[i] = sol[p];
+            }
+        }
+        // the free coordinate furthest outside its side of the box
+        let worst = free
+            .iter()
+            .filter_map(|&i| {
+                let d = delta[i];
+                if d > hi[i] {
+                    Some((i, hi[i], d / hi[i].max(1e-300)))
+                } else if d < lo[i] {
+                    Some((i, lo[i], d / lo[i].min(-1e-300)))
+                } else {
+                    None
+                }
+            })
+            .max_by(|p, q| p.2.total_cmp(&q.2));
+        if let Some((i, face, _)) = worst {
+            fixed[i] = Some(face);
+            continue;
+        }
+        // every free coordinate inside: free a fixed one the model wants to move inwards
+        let grad = a * &delta + g;
+        let release = (0..k).find(|&i| match fixed[i] {
+            Some(v) => {
+                (v >= hi[i] && v > lo[i] && grad[i] > 0.0)
+                    || (v <= lo[i] && v < hi[i] && grad[i] < 0.0)
+            }
+            None => false,
+        });
+        match release {
+            Some(i) => fixed[i] = None,
+            None => return Some(delta),
+        }
+    }
+    Some(delta)
 }
 
 fn report(
@@ -976,6 +1101,7 @@ fn report(
         .collect();
     JointReport {
         mesh: s.mesh.level.name().to_string(),
+        model_sigma: s.model_sigma,
         estimates,
         correlations,
         optimum: x,
@@ -997,7 +1123,9 @@ impl JointReport {
         let mut s = String::new();
         s.push_str(&format!(
             "# Joint identification of the material and the unstated dimensions\n\n\
-             FE-direct Levenberg–Marquardt on the {} mesh: {} sweeps, stopped: {:?}.\n\n\
+             FE-direct Levenberg–Marquardt on the {} mesh: {} sweeps, stopped: {:?}. \
+             Model-form floor of the noise model: {} mm on a tip coordinate, {} N on the \
+             force.\n\n\
              | | value |\n|---|---|\n\
              | mean tip BE, all {} configurations | {:.2} mm |\n\
              | mean tip BE, the reference study's nine | {:.2} mm |\n\
@@ -1007,6 +1135,8 @@ impl JointReport {
             self.mesh,
             self.sweeps.len(),
             self.stop,
+            self.model_sigma.tip_mm,
+            self.model_sigma.force_n,
             self.rows.len(),
             self.mean_be_mm,
             self.mean_be_paper_nine_mm,
@@ -1216,6 +1346,68 @@ mod tests {
         // the radius grows where the linearisation holds: it still gets there
         let x = &t.steps[t.best].x;
         assert!((x[0] - 1.0).abs() < 0.05 && x[2] == 2.0, "{x:?}");
+    }
+
+    #[test]
+    fn the_box_step_is_the_minimum_of_the_model_over_the_box() {
+        use rand::{Rng, SeedableRng};
+        let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
+        for case in 0..200 {
+            let k = 1 + case % 4;
+            let m = DMatrix::from_fn(k + 2, k, |_, _| rng.gen_range(-1.0..1.0));
+            let a = m.transpose() * &m + DMatrix::identity(k, k) * 0.05;
+            let g = DVector::from_fn(k, |_, _| rng.gen_range(-2.0..2.0));
+            let lo: Vec<f64> = (0..k)
+                .map(|_| {
+                    if rng.gen_bool(0.2) {
+                        0.0
+                    } else {
+                        -rng.gen_range(0.01..1.0)
+                    }
+                })
+                .collect();
+            let hi: Vec<f64> = (0..k)
+                .map(|_| {
+                    if rng.gen_bool(0.2) {
+                        0.0
+                    } else {
+                        rng.gen_range(0.01..1.0)
+                    }
+                })
+                .collect();
+            let q = |d: &DVector<f64>| 0.5 * d.dot(&(&a * d)) + g.dot(d);
+            let d = box_step(&a, &g, &lo, &hi).unwrap();
+            assert!((0..k).all(|i| d[i] >= lo[i] - 1e-12 && d[i] <= hi[i] + 1e-12));
+            // projected gradient descent to the same minimum
+            let step = 1.0 / a.norm();
+            let mut e = DVector::zeros(k);
+            for _ in 0..20_000 {
+                let gr = &a * &e + &g;
+                for i in 0..k {
+                    e[i] = (e[i] - step * gr[i]).clamp(lo[i], hi[i]);
+                }
+            }
+            assert!(q(&d) <= q(&e) + 1e-9, "case {case}: {} > {}", q(&d), q(&e));
+        }
+    }
+
+    #[test]
+    fn a_coordinate_far_from_its_optimum_does_not_shorten_the_others_steps() {
+        // x₀ is 5 % of its range from its optimum, x₁ 50 %: a radius of 10 % holds x₁ only,
+        // and x₀ takes its whole Gauss–Newton step (a single radius keeping the step's
+        // direction would move it by a fifth of it)
+        let bnds = [(0.0, 10.0), (-1.0, 1.0)];
+        let f = |x: &[f64]| -> Result<Option<(DVector<f64>, DMatrix<f64>)>, ()> {
+            let r = DVector::from_vec(vec![x[0] - 0.5, 3.0 * (x[1] - 1.0)]);
+            Ok(Some((
+                r,
+                DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 3.0]),
+            )))
+        };
+        let t = bounded_lm(&[0.0, 0.0], &bnds, 1e-9, 0.1, 2, f).unwrap();
+        let x = &t.steps[1].x;
+        assert!((x[0] - 0.5).abs() < 1e-6, "{x:?}");
+        assert!((x[1] - 0.2).abs() < 1e-12, "{x:?}");
     }
 
     #[test]

@@ -91,6 +91,13 @@ pub struct IdentifyArgs {
     /// was well predicted).
     #[arg(long, default_value_t = 0.1)]
     pub max_step: f64,
+    /// Model-form floor on each tip coordinate (mm), added in quadrature to the recorded
+    /// scatter (chord × angle scatter).
+    #[arg(long, default_value_t = 2.0)]
+    pub model_sigma_tip: f64,
+    /// Model-form floor on the blocked force (N), added in quadrature to its recorded scatter.
+    #[arg(long, default_value_t = 0.15)]
+    pub model_sigma_force: f64,
     /// Output directory: report.json, summary.md, the identified geometry (geometry.json) and
     /// the FE cache (fe_ramps/; a rerun resumes from it).
     #[arg(long, default_value = "identify_output")]

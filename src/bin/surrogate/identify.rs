@@ -2,7 +2,7 @@
 //! ([`surrogate::calibrate::joint`]).
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
-use surrogate::calibrate::joint::{identify, JointPoint, JointSettings, Unknown};
+use surrogate::calibrate::joint::{identify, JointPoint, JointSettings, ModelSigma, Unknown};
 use surrogate::calibrate::Recordings;
 use surrogate::fe::effects::Effects;
 use surrogate::fe::material::Material;
@@ -33,6 +33,13 @@ pub fn run(a: IdentifyArgs) -> Result<()> {
         a.max_sweeps >= 1,
         "--max-sweeps 0: expected at least 1 FE sweep"
     );
+    let model_sigma = ModelSigma {
+        tip_mm: a.model_sigma_tip,
+        force_n: a.model_sigma_force,
+    };
+    model_sigma
+        .validate()
+        .context("--model-sigma-tip / --model-sigma-force")?;
     let material = Material::from_spec(&a.material, 1000.0).context("--material")?;
     let Some(ogden) = material.ogden_params() else {
         bail!(
@@ -83,6 +90,7 @@ pub fn run(a: IdentifyArgs) -> Result<()> {
         max_sweeps: a.max_sweeps,
         lambda0: a.lambda,
         max_step: a.max_step,
+        model_sigma,
         cache: Some(cache),
     };
     let bar = ProgressBar::new(0);
