@@ -1222,7 +1222,31 @@ impl JointReport {
         std::fs::create_dir_all(dir)?;
         let json = serde_json::to_string_pretty(self).map_err(std::io::Error::other)?;
         crate::io::write_atomic(&dir.join("report.json"), json.as_bytes())?;
-        crate::io::write_atomic(&dir.join("summary.md"), self.summary().as_bytes())
+        let text = format!(
+            "{}\n## Verify on the standard mesh\n\n```sh\n{}\n```\n",
+            self.summary(),
+            self.verification_command(dir)
+        );
+        crate::io::write_atomic(&dir.join("summary.md"), text.as_bytes())
+    }
+
+    /// The command that runs the FE at the optimum on the standard mesh over every recorded
+    /// design, in both rigs (`surrogate validate`), with the identified geometry written by
+    /// `surrogate identify` into `dir/geometry.json`.
+    pub fn verification_command(&self, dir: &Path) -> String {
+        let [m1, a1, m2, a2] = self.optimum.ogden;
+        let mut c = format!(
+            "cargo run --release -- validate --mesh standard --geometry {}/geometry.json \\\n    \
+             --material={m1},{a1},{m2},{a2}",
+            dir.display()
+        );
+        let mut effects: Vec<(Effect, f64)> = self.optimum.effects.iter().collect();
+        effects.sort_by_key(|(e, _)| e.name());
+        for (e, v) in effects {
+            c.push_str(&format!(" --effect={}={v}", e.name()));
+        }
+        c.push_str(&format!(" \\\n    --out {}/standard", dir.display()));
+        c
     }
 }
 
