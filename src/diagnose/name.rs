@@ -254,6 +254,11 @@ fn output_name(o: Output) -> String {
     }
 }
 
+/// Cells with FE sensitivities the Name stage needs at least: the material's four directions
+/// are projected out and each effect is tested against what is left, on one degree of freedom
+/// beside the material and at least two for the residual.
+pub const MIN_NAME_CELLS: usize = 7;
+
 /// Names the effect behind the residual of `cells` (see the [module docs](self)).
 ///
 /// # Errors
@@ -387,11 +392,15 @@ fn name_inner(
         }
     }
     let n = rows.len();
-    if n <= 6 {
+    if n < MIN_NAME_CELLS {
         return Err(DiagnoseError::input(
             "cells with sensitivities",
             n,
-            "more than 6 (the sweep must cover the recorded designs and pressures)",
+            &format!(
+                "at least {MIN_NAME_CELLS} (the sweep must cover the recorded designs and \
+                 pressures: {})",
+                super::sweep::COMPUTE_MISSING
+            ),
         ));
     }
     let whiten = whitening(s.error_spread.as_ref(), cells, &rows, &row_cell)?;

@@ -7,6 +7,7 @@ use super::locate::{locate, Localisation, LocateSettings};
 use super::mesh_error::{mesh_error, MeshError};
 use super::name::{name_refitted, NameSettings, Naming};
 use super::refit::{refit, Refit, RefitSettings};
+use super::sweep::SweepCoverage;
 use super::DiagnoseError;
 use crate::calibrate::fit::describe_exclusions;
 use crate::calibrate::inputs::InputFile;
@@ -126,6 +127,10 @@ pub struct Diagnosis {
     /// (none: not measured, [`Self::mesh_error_with`]).
     #[serde(default)]
     pub mesh_error: Option<MeshError>,
+    /// Which cells of the residual table the FE sensitivities of the Name and Model stages
+    /// cover (none: no sweep was given, [`Self::cover`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub sensitivity_coverage: Option<SweepCoverage>,
     /// Candidate effects ranked by their signatures.
     pub name: Stage,
     /// Refit with the chosen effect(s), held-out gain, FE confirmation.
@@ -147,6 +152,7 @@ impl Diagnosis {
             calibration: CalibrationSummary::of(cal),
             locate,
             mesh_error: None,
+            sensitivity_coverage: None,
             name: Stage::NotRun {
                 reason: "needs the FE sensitivities of the effect library at the calibrated \
                          state, which do not exist yet: no candidate is named or ranked"
@@ -158,18 +164,48 @@ impl Diagnosis {
         }
     }
 
+    /// Records which cells of the residual table the FE sensitivities `sens` cover
+    /// ([`SweepCoverage`]). When they cover fewer than the Name stage needs, the Name and
+    /// Model-and-show stages are recorded as not run, with the configurations that have no
+    /// sensitivities and what computes them; the report is complete without them.
+    pub fn cover(
+        &mut self,
+        sens: &crate::calibrate::baseline::SweepSensitivities,
+    ) -> &SweepCoverage {
+        let c = SweepCoverage::of(&self.locate.cells, sens);
+        if !c.enough() {
+            self.name = Stage::NotRun { reason: c.text() };
+            self.model_and_show = Stage::NotRun {
+                reason: "needs the Name stage's FE sensitivities at the recorded designs and \
+                         pressures"
+                    .into(),
+            };
+        }
+        self.sensitivity_coverage.insert(c)
+    }
+
     /// Runs the Name stage on this report's residual table with the FE sensitivities
     /// `sens`, after the material's nonlinear re-fit through `model` (the surrogate the
-    /// calibration used; see [`super::name::name_refitted`]), and records it.
+    /// calibration used; see [`super::name::name_refitted`]), and records it with the
+    /// coverage of the table by `sens` ([`Self::cover`]).
     ///
     /// # Errors
-    /// See [`name_refitted`].
+    /// See [`name_refitted`]; too few cells with sensitivities (the stage is then recorded
+    /// as not run, [`Self::cover`]).
     pub fn name_with(
         &mut self,
         sens: &crate::calibrate::baseline::SweepSensitivities,
         model: &Surrogate,
         settings: &NameSettings,
     ) -> Result<&Naming, DiagnoseError> {
+        let coverage = self.cover(sens);
+        if !coverage.enough() {
+            return Err(DiagnoseError::input(
+                "cells with sensitivities",
+                coverage.covered,
+                &format!("at least {}: {}", coverage.needed, coverage.text()),
+            ));
+        }
         let mut settings = settings.clone();
         if let Some(me) = &self.mesh_error {
             if !settings

@@ -65,13 +65,17 @@ pub(crate) fn sensitivity_step<'a>(
     step_of(sens, c)
 }
 
-fn step_of<'a>(sens: &'a SweepSensitivities, c: &Cell) -> Option<(&'a Sensitivities, usize)> {
-    let mode = if c.output == Output::Force {
+/// The rig that records `output`: the blocked force in the force rig, the rest in bending.
+pub(crate) fn rig(output: Output) -> Mode {
+    if output == Output::Force {
         Mode::Force
     } else {
         Mode::Bending
-    };
-    let s = sens.design(c.n_bellows as usize, c.wall_thickness_mm, mode)?;
+    }
+}
+
+fn step_of<'a>(sens: &'a SweepSensitivities, c: &Cell) -> Option<(&'a Sensitivities, usize)> {
+    let s = sens.design(c.n_bellows as usize, c.wall_thickness_mm, rig(c.output))?;
     let i = s
         .steps
         .iter()

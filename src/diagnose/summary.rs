@@ -52,6 +52,13 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
             }
         }
     }
+    if let Some(c) = d
+        .sensitivity_coverage
+        .as_ref()
+        .filter(|c| c.enough() && !c.complete())
+    {
+        let _ = writeln!(s, "- **FE sensitivities**: {}.", c.text());
+    }
     if let Stage::Named(n) = &d.name {
         naming(&mut s, n);
     }

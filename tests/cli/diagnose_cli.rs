@@ -326,3 +326,115 @@ fn runs_from_any_folder_and_names_the_defaults_it_read() {
         .all(|f| f["default"] == true));
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// The recordings of `tests/data/diagnose_outside_sweep`: configurations the committed FE
+/// sensitivities lack (T = 1.8 mm; 0.5 bar).
+const OUTSIDE_SWEEP: &str = "tests/data/diagnose_outside_sweep";
+
+#[test]
+fn recordings_outside_the_sweep_get_the_locate_stage_and_the_missing_cells() {
+    let dir = tmp("outside_sweep");
+    let out = dir.join("out");
+    let (ok, stdout, stderr) = run(&[
+        "diagnose",
+        "--recordings",
+        OUTSIDE_SWEEP,
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let r = report(&out);
+    // the Locate stage: every recorded number of the 8 rows
+    assert_eq!(r["locate"]["cells"].as_array().unwrap().len(), 8 * 3);
+    assert!(stdout.starts_with("Findings:\n"), "{stdout}");
+    // the coverage: only the shipped N = 11, T = 2 mm, 1 bar row has sensitivities
+    let c = &r["sensitivity_coverage"];
+    assert_eq!(
+        (c["cells"].as_u64(), c["covered"].as_u64()),
+        (Some(24), Some(3))
+    );
+    assert_eq!(c["uncovered"].as_array().unwrap().len(), 7);
+    let named = "the FE sensitivities cover 3 of the 24 cells of the residual table, fewer \
+                 than the 7 the Name stage needs, so it does not run; none at N = 9, T = 1.8 mm \
+                 at 1, 2 and 3 bar (bending); N = 11, T = 1.8 mm at 1, 2 and 3 bar (bending); \
+                 N = 11, T = 2 mm at 0.5 bar (bending); `--sensitivities calibrated` computes \
+                 them by FE";
+    assert_eq!(r["name"]["status"], "not_run");
+    let reason = r["name"]["reason"].as_str().unwrap();
+    assert!(reason.starts_with(named), "{reason}");
+    assert_eq!(r["model_and_show"]["status"], "not_run");
+    assert!(
+        stdout.contains(&format!("Name (candidate physics): not run ({named}")),
+        "{stdout}"
+    );
+    assert!(stderr.contains(&format!("warning: {named}")), "{stderr}");
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(md.contains("- **Locate**: run (this report)."), "{md}");
+    assert!(
+        md.contains(&format!("- **Name**: not run: {named}")),
+        "{md}"
+    );
+    assert!(md.contains("## Findings"), "{md}");
+    // an effect asked for by name cannot be refitted: the report is written, the run fails
+    let out2 = dir.join("refit");
+    let (ok, _, stderr) = run(&[
+        "diagnose",
+        "--recordings",
+        OUTSIDE_SWEEP,
+        "--refit",
+        "force_scale",
+        "--out",
+        out2.to_str().unwrap(),
+    ]);
+    assert!(!ok, "{stderr}");
+    assert!(
+        stderr.contains("--refit force_scale: not run, the FE sensitivities cover too few"),
+        "{stderr}"
+    );
+    assert_eq!(report(&out2)["name"]["status"], "not_run");
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+#[test]
+fn cells_outside_the_sweep_are_named_when_the_rest_suffice() {
+    let dir = tmp("partial_sweep");
+    let rec = dir.join("rec");
+    std::fs::create_dir_all(&rec).unwrap();
+    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let mut bending =
+        std::fs::read_to_string(root.join("training_data/bending_experiments.csv")).unwrap();
+    let extra =
+        std::fs::read_to_string(root.join(OUTSIDE_SWEEP).join("bending_experiments.csv")).unwrap();
+    // the shipped 27 rows and the 7 rows outside the sweep (its 1 bar row is a shipped one)
+    for line in extra.lines().skip(1).filter(|l| !l.starts_with("11,2,1,")) {
+        bending.push_str(line);
+        bending.push('\n');
+    }
+    std::fs::write(rec.join("bending_experiments.csv"), bending).unwrap();
+    let out = dir.join("out");
+    let (ok, _, stderr) = run(&[
+        "diagnose",
+        "--recordings",
+        rec.to_str().unwrap(),
+        "--refit",
+        "none",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    let r = report(&out);
+    assert_eq!(r["locate"]["cells"].as_array().unwrap().len(), 34 * 3);
+    assert_eq!(r["sensitivity_coverage"]["covered"], 27 * 3);
+    assert_eq!(r["name"]["status"], "named");
+    assert_eq!(r["name"]["n_cells"], 27 * 3);
+    let said = "the FE sensitivities cover 81 of the 102 cells of the residual table, the Name \
+                and Model stages leave the others out; none at N = 9, T = 1.8 mm at 1, 2 and 3 \
+                bar (bending)";
+    let md = std::fs::read_to_string(out.join("summary.md")).unwrap();
+    assert!(
+        md.contains(&format!("- **FE sensitivities**: {said}")),
+        "{md}"
+    );
+    assert!(stderr.contains(&format!("warning: {said}")), "{stderr}");
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -9,6 +9,7 @@ mod rom_common;
 mod snapshots_common;
 
 mod calibrate_cli;
+mod defaults_cli;
 mod diagnose_cli;
 mod fe_cli;
 mod figures;

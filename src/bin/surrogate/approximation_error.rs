@@ -5,7 +5,7 @@ use surrogate::calibrate::{ParamSpace, Recordings};
 use surrogate::diagnose::approx_error::{sample, spread_materials, SampleSettings};
 
 use crate::args::ApproximationErrorArgs;
-use crate::files::load_model;
+use crate::files::{given_or_announced, load_model, DEFAULT_MODEL};
 
 /// Runs the subcommand.
 pub fn run(a: ApproximationErrorArgs) -> Result<()> {
@@ -22,9 +22,12 @@ pub fn run(a: ApproximationErrorArgs) -> Result<()> {
             a.out.display()
         );
     }
-    let model = load_model(&a.model)?;
-    let rec = Recordings::read_dir(&a.recordings)
-        .with_context(|| format!("reading the recordings in {}", a.recordings.display()))?;
+    let (model_path, _) = given_or_announced("model", a.model.as_deref(), DEFAULT_MODEL);
+    let model = load_model(&model_path)?;
+    let (recordings, _) =
+        given_or_announced("recordings", a.recordings.as_deref(), "training_data");
+    let rec = Recordings::read_dir(&recordings)
+        .with_context(|| format!("reading the recordings in {}", recordings.display()))?;
     let materials = spread_materials(&ParamSpace::training_domain(&model)?, a.materials, a.seed)?;
     let cache = a.cache.clone().unwrap_or_else(|| {
         a.out
@@ -54,7 +57,7 @@ pub fn run(a: ApproximationErrorArgs) -> Result<()> {
     };
     let e = sample(
         &model,
-        &a.model.display().to_string(),
+        &model_path.display().to_string(),
         &settings,
         &rec,
         &|k, done, n| {

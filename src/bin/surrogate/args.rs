@@ -107,9 +107,10 @@ pub struct IdentifyArgs {
 /// `surrogate approximation-error`.
 #[derive(Debug, Args)]
 pub struct ApproximationErrorArgs {
-    /// The surrogate whose error is sampled.
-    #[arg(long, default_value = "models/actuator.json")]
-    pub model: PathBuf,
+    /// The surrogate whose error is sampled [default: models/actuator.json of the
+    /// repository the program was built from, from any working directory].
+    #[arg(long)]
+    pub model: Option<PathBuf>,
     /// The reference FE's mesh level: coarse | standard | fine.
     #[arg(long, default_value = "fine")]
     pub mesh: String,
@@ -127,9 +128,10 @@ pub struct ApproximationErrorArgs {
     #[arg(long, default_value_t = 2026)]
     pub seed: u64,
     /// Directory with the recordings whose designs and pressures are sampled (and whose
-    /// standard deviations scale the error in reports).
-    #[arg(long, default_value = "training_data")]
-    pub recordings: PathBuf,
+    /// standard deviations scale the error in reports) [default: training_data/ of the
+    /// repository the program was built from, from any working directory].
+    #[arg(long)]
+    pub recordings: Option<PathBuf>,
     /// FE cache (default: `approximation_fe_ramps/` beside `--out`; a rerun resumes).
     #[arg(long)]
     pub cache: Option<PathBuf>,
@@ -142,9 +144,10 @@ pub struct ApproximationErrorArgs {
 #[derive(Debug, Args)]
 pub struct TwinStudyArgs {
     /// Output directory: plan.json, fe_cache/, twins/, keys/, diagnoses/, results.json,
-    /// results.md.
-    #[arg(long, default_value = "fe_reference/diagnosis/blind")]
-    pub out: PathBuf,
+    /// results.md [default: fe_reference/diagnosis/blind/ of the repository the program was
+    /// built from, from any working directory].
+    #[arg(long)]
+    pub out: Option<PathBuf>,
     /// The plan (default `<out>/plan.json`; the standard plan is written there if absent).
     #[arg(long)]
     pub plan: Option<PathBuf>,
@@ -154,18 +157,19 @@ pub struct TwinStudyArgs {
     /// What to run: twins (the FE, resumable), diagnose (the twins made so far), or all.
     #[arg(long, default_value = "all")]
     pub stage: String,
-    /// The diagnosing surrogate.
-    #[arg(long, default_value = "models/actuator_coarse.json")]
-    pub model: PathBuf,
-    /// The FE sensitivities the Name and Model stages use.
-    #[arg(
-        long,
-        default_value = "fe_reference/sensitivities/ogden002_coarse/baseline_sensitivities.json"
-    )]
-    pub sensitivities: PathBuf,
-    /// Recordings whose designs, pressures and standard deviations the twins take.
-    #[arg(long, default_value = "training_data")]
-    pub noise_from: PathBuf,
+    /// The diagnosing surrogate [default: models/actuator_coarse.json of the repository the
+    /// program was built from, from any working directory].
+    #[arg(long)]
+    pub model: Option<PathBuf>,
+    /// The FE sensitivities the Name and Model stages use [default:
+    /// fe_reference/sensitivities/ogden002_coarse/baseline_sensitivities.json of the
+    /// repository].
+    #[arg(long)]
+    pub sensitivities: Option<PathBuf>,
+    /// Recordings whose designs, pressures and standard deviations the twins take [default:
+    /// training_data/ of the repository].
+    #[arg(long)]
+    pub noise_from: Option<PathBuf>,
     /// Diagnose with the twins' marker recordings (`yes`/`no`; default: the plan's
     /// `markers`); results with another setting than the plan's go to results_markers.* /
     /// results_no_markers.*.
@@ -280,9 +284,11 @@ pub struct TwinArgs {
     #[arg(long)]
     pub wall_elements: Option<usize>,
     /// Directory with the recordings whose designs, pressures and standard deviations the
-    /// twin takes (bending_experiments.csv, blocked_force_experiments.csv).
-    #[arg(long, default_value = "training_data")]
-    pub noise_from: PathBuf,
+    /// twin takes (bending_experiments.csv, blocked_force_experiments.csv) [default:
+    /// training_data/ of the repository the program was built from, from any working
+    /// directory].
+    #[arg(long)]
+    pub noise_from: Option<PathBuf>,
     /// Seed of the noise.
     #[arg(long)]
     pub seed: u64,
@@ -406,8 +412,9 @@ pub struct TrainArgs {
 /// `surrogate predict`.
 #[derive(Debug, Args)]
 pub struct PredictArgs {
-    /// Model file.
-    #[arg(long, default_value = "models/actuator.json")]
+    /// Model file (default: the shipped models/actuator.json of the repository the program
+    /// was built from, from any working directory).
+    #[arg(long, default_value_os_t = crate::files::repository_file(crate::files::DEFAULT_MODEL))]
     pub model: PathBuf,
     /// Number of bellows.
     #[arg(long, required_unless_present_any = ["csv", "validation"])]
@@ -696,19 +703,19 @@ pub struct DemoArgs {
     /// Where the plots, the calibration report and the JSON go.
     #[arg(long, default_value = "demo_output")]
     pub out_dir: PathBuf,
-    /// Surrogate the calibration runs through (standard-mesh values).
-    #[arg(long, default_value = "models/actuator.json")]
-    pub model: PathBuf,
+    /// Surrogate the calibration runs through (standard-mesh values) [default:
+    /// models/actuator.json of the repository the program was built from, from any working
+    /// directory].
+    #[arg(long)]
+    pub model: Option<PathBuf>,
     /// Surrogate compared with the live FE run (its mesh's values; skipped with a note if it
-    /// cannot be used).
-    #[arg(long, default_value = "models/actuator_coarse.json")]
-    pub live_model: PathBuf,
-    /// Committed FE ramps of the calibrated set on the standard mesh.
-    #[arg(
-        long,
-        default_value = "fe_reference/calibration/standard/fe_standard_ramps"
-    )]
-    pub fe_cache: PathBuf,
+    /// cannot be used) [default: models/actuator_coarse.json of the repository].
+    #[arg(long)]
+    pub live_model: Option<PathBuf>,
+    /// Committed FE ramps of the calibrated set on the standard mesh [default:
+    /// fe_reference/calibration/standard/fe_standard_ramps/ of the repository].
+    #[arg(long)]
+    pub fe_cache: Option<PathBuf>,
 }
 
 /// A `--material` value with a calibration report (`DIR/report.json`) replaced by its

@@ -20,10 +20,9 @@ use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::rom::Surrogate;
 
 use crate::calibrate_plots::write_plots;
-use crate::files::{given_or_default, input_file, load_model, repository_file, write_file};
-
-/// The model `calibrate` and `diagnose` read without `--model`, in the repository.
-pub const DEFAULT_MODEL: &str = "models/actuator.json";
+use crate::files::{
+    given_or_default, input_file, load_model, repository_file, write_file, DEFAULT_MODEL,
+};
 
 /// `surrogate calibrate`.
 #[derive(Debug, Args)]

@@ -36,8 +36,8 @@ use surrogate::schema;
 
 use crate::args::DemoArgs;
 use crate::calibrate::{summary_text, write_outputs};
+use crate::files::{given_or_announced, repository_file, DEFAULT_MODEL};
 
-/// The committed FE sensitivities of the effect library at the calibrated material.
 /// The committed adaptive refinements (`calibrate --refine`): what, where.
 const REFINEMENTS: [(&str, &str); 2] = [
     (
@@ -50,6 +50,11 @@ const REFINEMENTS: [(&str, &str); 2] = [
     ),
 ];
 
+/// The committed FE ramps of the calibrated set on the standard mesh, in the repository.
+const FE_CACHE: &str = "fe_reference/calibration/standard/fe_standard_ramps";
+
+/// The committed FE sensitivities of the effect library at the calibrated material, in the
+/// repository.
 const SENSITIVITIES: &str =
     "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json";
 
@@ -58,11 +63,13 @@ pub fn run(a: DemoArgs) -> Result<()> {
     let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
     std::fs::create_dir_all(&a.out_dir)
         .with_context(|| format!("creating {}", a.out_dir.display()))?;
+    let (model_path, _) = given_or_announced("model", a.model.as_deref(), DEFAULT_MODEL);
+    let (fe_cache, _) = given_or_announced("fe-cache", a.fe_cache.as_deref(), FE_CACHE);
     // 1. the surrogate
-    let model = Surrogate::load(&a.model)
-        .with_context(|| format!("loading the surrogate {}", a.model.display()))?;
+    let model = Surrogate::load(&model_path)
+        .with_context(|| format!("loading the surrogate {}", model_path.display()))?;
     println!("# 1. The surrogate\n");
-    describe_model(&model, &a.model);
+    describe_model(&model, &model_path);
     // 2. calibration through it
     println!("\n# 2. Calibration to the shipped experiments, through the surrogate\n");
     let rec = Recordings::shipped()?;
@@ -78,7 +85,7 @@ pub fn run(a: DemoArgs) -> Result<()> {
         &rec,
         &verified,
         MeshOptions::level(MeshLevel::Standard),
-        &a.fe_cache,
+        &fe_cache,
     )?;
     let fe_complete = fe.incomplete < fe.rows.len();
     let cal_dir = a.out_dir.join("calibration");
@@ -86,9 +93,9 @@ pub fn run(a: DemoArgs) -> Result<()> {
     let written = write_outputs(&cal_dir, &cal, fe_complete.then_some(&fe))?;
     print!("{}", summary_text(&cal, None));
     println!("\n# 3. FE verification of the calibrated set (standard mesh, committed)\n");
-    committed_fe(&fe, &cal, &a.fe_cache);
+    committed_fe(&fe, &cal, &fe_cache);
     for (what, dir) in REFINEMENTS {
-        committed_refinement(what, Path::new(dir));
+        committed_refinement(what, &repository_file(dir));
     }
     // 4. one design live
     println!(
@@ -111,18 +118,19 @@ pub fn run(a: DemoArgs) -> Result<()> {
         println!("- {}", f.text);
     }
     // the Name stage on the committed FE sensitivities (coarse mesh, calibrated material)
-    let sens_path = Path::new(SENSITIVITIES);
-    match SweepSensitivities::read(sens_path) {
+    let sens_path = repository_file(SENSITIVITIES);
+    match SweepSensitivities::read(&sens_path) {
         Ok(sens) => {
             println!(
                 "\nWhich effect of the library explains it (FE sensitivities of {} ramps at the \
-                 calibrated material, {} mesh, precomputed in {SENSITIVITIES}):\n",
+                 calibrated material, {} mesh, precomputed in {}):\n",
                 sens.designs.len(),
-                sens.mesh.level.name()
+                sens.mesh.level.name(),
+                sens_path.display()
             );
             // the model's own mesh error, measured against the other shipped mesh, is a
             // candidate too
-            if let Some((reference, name)) = crate::files::mesh_reference("auto", &a.model)? {
+            if let Some((reference, name)) = crate::files::mesh_reference("auto", &model_path)? {
                 let me = diagnosis.mesh_error_with(&model, &reference, &name)?;
                 println!(
                     "The model's own mesh error: {name} differs from it by {:.2} σ rms at the \
@@ -400,7 +408,12 @@ fn surrogate_comparison(
     steps: &[StepResult],
     fe_wall_s: &f64,
 ) -> Vec<(f64, f64, f64)> {
-    let model = match Surrogate::load(&a.live_model) {
+    let (live_model, _) = given_or_announced(
+        "live-model",
+        a.live_model.as_deref(),
+        "models/actuator_coarse.json",
+    );
+    let model = match Surrogate::load(&live_model) {
         Ok(m) => m,
         Err(e) => {
             println!("surrogate: skipped ({e})");
@@ -430,7 +443,7 @@ fn surrogate_comparison(
         .map_or(f64::NAN, |o| o.total.rmse);
     println!(
         "Surrogate {} ({} training cases from {}; held-out tip Uz RMSE {:.2} mm):",
-        a.live_model.display(),
+        live_model.display(),
         model.training.n_cases,
         model.training.source,
         tip_rmse

@@ -19,9 +19,11 @@ use surrogate::fe::effects::Effect;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 
 use crate::args::DiagnoseArgs;
-use crate::calibrate::DEFAULT_MODEL;
 use crate::diagnose_plots::write_plots;
-use crate::files::{given_or_default, input_file, load_model, mesh_reference, write_file};
+use crate::files::{
+    given_or_announced, given_or_default, input_file, load_model, mesh_reference, write_file,
+    DEFAULT_MODEL,
+};
 use surrogate::calibrate::inputs::InputFile;
 
 /// The FE sensitivities `diagnose` reads without `--sensitivities`, in the repository.
@@ -101,10 +103,7 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
     let s = settings(&a)?;
     let (dir, default) = given_or_default(a.recordings.as_deref(), "training_data");
     let mut rec = recordings(&dir, default)?;
-    let (model_path, default) = given_or_default(a.model.as_deref(), DEFAULT_MODEL);
-    if default {
-        eprintln!("no --model: reading {} (the default)", model_path.display());
-    }
+    let (model_path, default) = given_or_announced("model", a.model.as_deref(), DEFAULT_MODEL);
     let model = load_model(&model_path)?;
     let mut inputs = vec![input_file("model", &model_path, default)?];
     let approximation = match &a.approximation_error {
@@ -180,6 +179,13 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
             me.rms_sigma
         );
     }
+    // a sweep that lacks too many of the recorded cells: the Locate stage is reported, the
+    // cells without sensitivities named
+    let uncovered = sens.as_ref().is_some_and(|sens| !d.cover(sens).enough());
+    let sens = if uncovered { None } else { sens };
+    if let Some(c) = d.sensitivity_coverage.as_ref().filter(|c| !c.complete()) {
+        eprintln!("warning: {}", c.text());
+    }
     let naming = if let Some(sens) = &sens {
         eprintln!(
             "name: {} effects against the FE sensitivities of {} ramps ({} mesh)",
@@ -224,7 +230,7 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
                 d.set_refit(confirmed);
             }
         }
-    } else if a.refit != "none" && a.refit != "auto" {
+    } else if a.refit != "none" && a.refit != "auto" && !uncovered {
         anyhow::bail!(
             "--refit {}: needs the FE sensitivities (--sensitivities FILE, not none)",
             a.refit
@@ -242,7 +248,12 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
         }
     }
     match &naming {
-        None => println!("Name (candidate physics): not run (--sensitivities none)."),
+        None => match &d.name {
+            surrogate::diagnose::report::Stage::NotRun { reason } if uncovered => {
+                println!("Name (candidate physics): not run ({reason}).")
+            }
+            _ => println!("Name (candidate physics): not run (--sensitivities none)."),
+        },
         Some(n) => {
             println!("Name (candidate physics): {}", n.verdict);
             print_candidates(n, 5);
@@ -269,6 +280,14 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
     }
     for p in written {
         println!("wrote {}", p.display());
+    }
+    if uncovered && a.refit != "none" && a.refit != "auto" {
+        anyhow::bail!(
+            "--refit {}: not run, the FE sensitivities cover too few of the recorded cells (the \
+             report names the others); {}",
+            a.refit,
+            surrogate::diagnose::sweep::COMPUTE_MISSING
+        );
     }
     Ok(())
 }

@@ -13,6 +13,9 @@ pub fn repository_file(relative: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
 }
 
+/// The surrogate every command reads without `--model`, in the repository.
+pub const DEFAULT_MODEL: &str = "models/actuator.json";
+
 /// The file of an optional flag: as the user gave it (`false`), or the documented default
 /// `relative` of the repository (`true`).
 pub fn given_or_default(given: Option<&Path>, relative: &str) -> (PathBuf, bool) {
@@ -20,6 +23,26 @@ pub fn given_or_default(given: Option<&Path>, relative: &str) -> (PathBuf, bool)
         Some(p) => (p.to_path_buf(), false),
         None => (repository_file(relative), true),
     }
+}
+
+/// For a flag whose clap default is the repository's `relative` ([`repository_file`]): when
+/// `path` is that file, says so on stderr with its path, and returns whether it is.
+pub fn announce_default(flag: &str, path: &Path, relative: &str) -> bool {
+    let default = path == repository_file(relative);
+    if default {
+        eprintln!("--{flag}: reading {} (the default)", path.display());
+    }
+    default
+}
+
+/// [`given_or_default`] for the flag `--flag`, a default said on stderr with its path
+/// (`no --model: reading /…/models/actuator.json (the default)`).
+pub fn given_or_announced(flag: &str, given: Option<&Path>, relative: &str) -> (PathBuf, bool) {
+    let (path, default) = given_or_default(given, relative);
+    if default {
+        eprintln!("no --{flag}: reading {} (the default)", path.display());
+    }
+    (path, default)
 }
 
 /// The record of an input file for the reports (path, checksum, named or default).
@@ -61,9 +84,9 @@ pub fn load_model(path: &Path) -> Result<Surrogate> {
             anyhow::Error::from(e)
         } else {
             anyhow::anyhow!(
-                "{e}; give --model PATH (the shipped models are models/actuator.json and \
-                 models/actuator_coarse.json in the repository: run from its root, or give \
-                 the full path)"
+                "{e}; give --model PATH (the shipped models are {} and {})",
+                repository_file(DEFAULT_MODEL).display(),
+                repository_file("models/actuator_coarse.json").display()
             )
         }
     })

@@ -16,6 +16,7 @@ const ALLOW_HINT: &str = "give --allow-extrapolation to predict anyway (the outp
                           which inputs were outside and whether they were clamped)";
 
 pub fn run(a: PredictArgs) -> Result<()> {
+    crate::files::announce_default("model", &a.model, crate::files::DEFAULT_MODEL);
     let model = crate::files::load_model(&a.model)?;
     if a.validation {
         let mut text = model.validation.table();

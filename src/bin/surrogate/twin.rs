@@ -36,8 +36,10 @@ pub fn run(a: TwinArgs) -> Result<()> {
     let effects = Effects::parse(a.effect.iter().map(String::as_str))?;
     let material = Material::from_spec(&a.material, DEFAULT_BULK_RATIO)?;
     let mesh = crate::files::mesh_options(&a.mesh, a.element_size, a.wall_elements)?;
-    let noise_from = Recordings::read_dir(&a.noise_from)
-        .with_context(|| format!("reading the noise source {}", a.noise_from.display()))?;
+    let (noise_dir, _) =
+        crate::files::given_or_announced("noise-from", a.noise_from.as_deref(), "training_data");
+    let noise_from = Recordings::read_dir(&noise_dir)
+        .with_context(|| format!("reading the noise source {}", noise_dir.display()))?;
     let cache = a.cache.clone().unwrap_or_else(|| default_cache(&a.out));
     let settings = TwinSettings {
         key: a.key.clone(),

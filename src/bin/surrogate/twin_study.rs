@@ -8,7 +8,15 @@ use surrogate::diagnose::study::{
 };
 
 use crate::args::TwinStudyArgs;
-use crate::files::{load_model, mesh_reference, write_file};
+use crate::files::{given_or_announced, load_model, mesh_reference, write_file};
+
+/// The diagnosing surrogate of the study without `--model`, in the repository.
+const DEFAULT_MODEL: &str = "models/actuator_coarse.json";
+/// The FE sensitivities of the study without `--sensitivities`, in the repository.
+const DEFAULT_SENSITIVITIES: &str =
+    "fe_reference/sensitivities/ogden002_coarse/baseline_sensitivities.json";
+/// The study's directory without `--out`, in the repository (its committed results).
+const DEFAULT_OUT: &str = "fe_reference/diagnosis/blind";
 
 /// Runs the subcommand.
 pub fn run(a: TwinStudyArgs) -> Result<()> {
@@ -18,11 +26,14 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
         "all" => (true, true),
         other => anyhow::bail!("--stage {other}: expected twins, diagnose or all"),
     };
-    let model = load_model(&a.model)?;
-    let noise_from = Recordings::read_dir(&a.noise_from)
-        .with_context(|| format!("reading the noise source {}", a.noise_from.display()))?;
-    std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
-    let plan_path = a.plan.clone().unwrap_or_else(|| a.out.join("plan.json"));
+    let (model_path, _) = given_or_announced("model", a.model.as_deref(), DEFAULT_MODEL);
+    let model = load_model(&model_path)?;
+    let (noise_dir, _) = given_or_announced("noise-from", a.noise_from.as_deref(), "training_data");
+    let noise_from = Recordings::read_dir(&noise_dir)
+        .with_context(|| format!("reading the noise source {}", noise_dir.display()))?;
+    let (out, _) = given_or_announced("out", a.out.as_deref(), DEFAULT_OUT);
+    std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
+    let plan_path = a.plan.clone().unwrap_or_else(|| out.join("plan.json"));
     let mut plan = if plan_path.exists() {
         StudyPlan::read(&plan_path)?
     } else {
@@ -53,7 +64,7 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
         Some("no") => false,
         Some(other) => anyhow::bail!("--markers {other}: expected yes or no"),
     };
-    let dirs = StudyDirs::under(&a.out);
+    let dirs = StudyDirs::under(&out);
     eprintln!(
         "{} groups × {} seeds = {} twins; FE cached in {} (a rerun resumes)",
         plan.groups.len(),
@@ -65,9 +76,14 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
         make_twins(&plan, &noise_from, &dirs, &|line| eprintln!("{line}"))?;
     }
     if diagnoses {
-        let sens = SweepSensitivities::read(&a.sensitivities)
-            .with_context(|| format!("--sensitivities {}", a.sensitivities.display()))?;
-        let reference = mesh_reference(&a.mesh_reference, &a.model)?;
+        let (sens_path, _) = given_or_announced(
+            "sensitivities",
+            a.sensitivities.as_deref(),
+            DEFAULT_SENSITIVITIES,
+        );
+        let sens = SweepSensitivities::read(&sens_path)
+            .with_context(|| format!("--sensitivities {}", sens_path.display()))?;
+        let reference = mesh_reference(&a.mesh_reference, &model_path)?;
         let approximation = match a.approximation_error.as_str() {
             "none" => None,
             "nulls" => {
@@ -76,9 +92,9 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
                     &noise_from,
                     &dirs,
                     &model,
-                    &a.model.display().to_string(),
+                    &model_path.display().to_string(),
                 )?;
-                let p = a.out.join("approximation_error.json");
+                let p = out.join("approximation_error.json");
                 e.write(&p)?;
                 eprintln!(
                     "approximation error: {} samples ({}), written to {}",
@@ -116,10 +132,10 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
         } else {
             format!("{stem}_no_approx")
         };
-        let p = a.out.join(format!("{stem}.json"));
+        let p = out.join(format!("{stem}.json"));
         write_file(&p, serde_json::to_string_pretty(&results)?.as_bytes())?;
         let md = study_markdown(&plan, &results);
-        let q = a.out.join(format!("{stem}.md"));
+        let q = out.join(format!("{stem}.md"));
         write_file(&q, md.as_bytes())?;
         print!("{md}");
         eprintln!("wrote {} and {}", p.display(), q.display());
