@@ -10,6 +10,11 @@
 //! For each trained N, the wall thickness is optimised by Gauss–Newton on
 //! `((angle − a*)/1°)² + ((F − F*)/0.05 N)²` with the surrogate's analytic derivative in T
 //! (clamped to the model's range of T), from a scan of 13 starting values.
+//!
+//! The pick is reported with its two errors: the surrogate's standard deviation (its error
+//! against the FE model) and the model-form error the model file carries (how far the
+//! calibrated model misses the recorded actuators, `surrogate::rom::model_form`), which is the
+//! one to read as the prediction's accuracy.
 use std::path::Path;
 
 use surrogate::calibrate::{calibrate, CalibrationSettings, Recordings};
@@ -92,5 +97,27 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
     println!(
         "best design: N = {n}, T = {t:.2} mm (angle {a:.2}°, force {f:.3} N at {pressure} bar)"
     );
+    let q = Query::new(n, t, pressure, material);
+    model.predict_with_std_into(&q, &mut pred)?;
+    println!(
+        "  surrogate vs FE (std): angle ±{:.2}°, force ±{:.3} N",
+        pred.std_angle_deg(),
+        pred.std_force_n()
+    );
+    match model.model_form_error(&q) {
+        Some(e) => println!(
+            "  {} at {pressure} bar: angle ±{:.2}°, force ±{:.3} N (rms; from {})",
+            surrogate::rom::model_form::LABEL,
+            e.angle_deg().unwrap_or(f64::NAN),
+            e.force_n().unwrap_or(f64::NAN),
+            model
+                .model_form()
+                .map_or("", |m| m.calibration.report.as_str())
+        ),
+        None => println!(
+            "  {}: none in the model file; the accuracy against real actuators is not known",
+            surrogate::rom::model_form::LABEL
+        ),
+    }
     Ok(())
 }

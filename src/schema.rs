@@ -11,7 +11,7 @@
 //! |---|---|---|
 //! | snapshots | snapshot CSV (`surrogate snapshots`, `training_data/snapshots_*.csv`): the training data | [`SNAPSHOT_COLUMNS`] (the trainer's contract), then [`PROVENANCE_COLUMNS`] (ignored by the trainer), then for a plan with effects one [`effect_column`] per effect |
 //! | query | `surrogate predict --csv`: the query | [`QUERY_COLUMNS`] and either [`MATERIAL`] or [`OGDEN_COLUMNS`], in any order; other columns are passed through |
-//! | prediction | `surrogate predict --csv --out`: the predictions | the passed-through columns, [`PREDICTION_INPUT_COLUMNS`], [`OUTPUTS`], with `--std` each output with [`STD_SUFFIX`], [`IN_DOMAIN`], [`OUTSIDE_DOMAIN`] |
+//! | prediction | `surrogate predict --csv --out`: the predictions | the passed-through columns, [`PREDICTION_INPUT_COLUMNS`], [`OUTPUTS`], with `--std` each output with [`STD_SUFFIX`] (the surrogate against the FE model), for a model with a model-form error each output it covers with [`MODEL_FORM_SUFFIX`], [`IN_DOMAIN`], [`OUTSIDE_DOMAIN`] |
 //! | model | model JSON (`models/*.json`) | `inputs[]`: [`PREDICTION_INPUT_COLUMNS`] with units; `outputs`: [`OUTPUTS`]; `validation.outputs[]` and the end-to-end check: [`VALIDATION_GROUPS`] |
 //! | domain | training domain: violations (`outside_domain`), plan `ranges` | [`DOMAIN_INPUTS`] |
 //! | calibration | calibration reports: parameter names | [`OGDEN_COLUMNS`] (raw space), [`OGDEN_COORDINATES`] (training space) |
@@ -296,8 +296,13 @@ pub const OUTSIDE_DOMAIN: Quantity = q(
     "",
     "the inputs outside the domain, `;`-separated, clamped or extrapolated",
 );
-/// Suffix of the column holding an output's standard deviation (`tip_uz_mm_std`).
+/// Suffix of the column holding an output's standard deviation (`tip_uz_mm_std`): the
+/// surrogate's error against the FE model it was trained on, not against real actuators.
 pub const STD_SUFFIX: &str = "_std";
+/// Suffix of the column holding an output's model-form error (`angle_deg_model_form`): the
+/// rms residual of the calibrated model against the recordings it was calibrated on, at the
+/// row's pressure, in the output's unit (`surrogate::rom::model_form`).
+pub const MODEL_FORM_SUFFIX: &str = "_model_form";
 
 // ---- effects ----------------------------------------------------------------------------
 

@@ -44,6 +44,12 @@
 //! assert_eq!(evaluate_ramp(&RAMP, f32::NAN, &mut out), Err(EmbeddedError::NonFinite(2)));
 //! # Ok::<(), EmbeddedError>(())
 //! ```
+//!
+//! Beside the tables, an exported file carries the model-form error learned from a calibration
+//! (`pub static MODEL_FORM: Option<ModelFormTables>`, [`ModelFormTables::error`]): how far the
+//! calibrated model misses the recorded actuators, per output and pressure. The surrogate's
+//! own error against the FE model is much smaller; the model-form error is the one a designer
+//! should read as the prediction's accuracy.
 #![no_std]
 #![forbid(unsafe_code)]
 #![warn(missing_docs)]
@@ -51,6 +57,9 @@
 #![allow(clippy::needless_range_loop)]
 
 use core::ops::{Add, Div, Mul, Neg, Sub};
+
+mod model_form;
+pub use model_form::{model_form_at, ModelFormTables};
 
 /// Number of raw regression features: `N, T, ln μ0, α₁, s, α₂`.
 pub const N_FEATURES: usize = 6;

@@ -17,12 +17,18 @@
 //! A prediction is written in the same form as a step of `surrogate simulate`
 //! ([`PredictionRecord`]): `pressure_bar, tip_uz_mm, tip_uy_mm, angle_deg, force_n` and
 //! `markers` as `[{"uz_mm", "uy_mm"}, …]` ([`Marker`]).
+//!
+//! Two errors come with it, each labelled: the surrogate's standard deviation (asked for,
+//! `std`: the surrogate against the FE model) and, when the model file carries one, the
+//! model-form error ([`super::model_form`]: the calibrated model against the recordings),
+//! always.
 
 use std::io::{Read, Write};
 
 use serde::Serialize;
 
 use super::domain::{BatchDomainReport, BoundSnap, DomainViolation};
+use super::model_form::ModelFormEstimate;
 use super::query::Query;
 use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES};
@@ -80,9 +86,10 @@ const MATERIAL: &str = schema::MATERIAL.name;
 fn is_output_column(name: &str) -> bool {
     INPUT_COLUMNS.contains(&name)
         || QUANTITY_NAMES.contains(&name)
-        || QUANTITY_NAMES
-            .iter()
-            .any(|q| name == format!("{q}{}", schema::STD_SUFFIX))
+        || QUANTITY_NAMES.iter().any(|q| {
+            name == format!("{q}{}", schema::STD_SUFFIX)
+                || name == format!("{q}{}", schema::MODEL_FORM_SUFFIX)
+        })
         || name == schema::IN_DOMAIN.name
         || name == schema::OUTSIDE_DOMAIN.name
 }
@@ -290,8 +297,42 @@ impl From<&DomainViolation> for OutsideInput {
     }
 }
 
+/// The model-form error of a prediction as JSON ([`super::model_form`]), labelled.
+#[derive(Debug, Clone, PartialEq, Serialize)]
+pub struct ModelFormRecord {
+    /// What it is: [`super::model_form::LABEL`].
+    pub what: &'static str,
+    /// The calibration report it was learned from.
+    pub calibration: String,
+    /// Tip Uz, mm (`null`: not recorded in the calibration).
+    pub tip_uz_mm: Option<f64>,
+    /// Tip Uy, mm.
+    pub tip_uy_mm: Option<f64>,
+    /// Bending angle, degrees.
+    pub angle_deg: Option<f64>,
+    /// Blocked force, N.
+    pub force_n: Option<f64>,
+}
+
+impl ModelFormRecord {
+    /// The record of `model`'s model-form error at `q`'s pressure; `None` when it has none.
+    pub fn of(model: &Surrogate, q: &Query) -> Option<Self> {
+        let m = model.model_form()?;
+        let e = m.at(q.p_bar);
+        Some(ModelFormRecord {
+            what: super::model_form::LABEL,
+            calibration: m.calibration.report.clone(),
+            tip_uz_mm: e.tip_uz_mm(),
+            tip_uy_mm: e.tip_uy_mm(),
+            angle_deg: e.angle_deg(),
+            force_n: e.force_n(),
+        })
+    }
+}
+
 /// One prediction as JSON: the pressure as given, the outputs (the form of a `simulate` step),
-/// their standard deviations if asked for, and the domain flags.
+/// their standard deviations if asked for, the model-form error when the model carries one,
+/// and the domain flags.
 #[derive(Debug, Clone, PartialEq, Serialize)]
 pub struct PredictionRecord {
     /// Pressure as given, bar.
@@ -299,9 +340,15 @@ pub struct PredictionRecord {
     /// The outputs.
     #[serde(flatten)]
     pub outputs: OutputRecord,
-    /// Standard deviations of the outputs.
+    /// Standard deviations of the outputs: the surrogate against the FE model only.
     #[serde(skip_serializing_if = "Option::is_none")]
     pub std: Option<OutputRecord>,
+    /// What `std` is ([`super::model_form::STD_LABEL`]), when present.
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub std_is: Option<&'static str>,
+    /// The model-form error at this pressure ([`PredictionRecord::with_model_form`]).
+    #[serde(skip_serializing_if = "Option::is_none")]
+    pub model_form_error: Option<ModelFormRecord>,
     /// Whether every input lies in the training domain.
     pub in_domain: bool,
     /// The inputs outside it (empty when in the domain).
@@ -321,9 +368,18 @@ impl PredictionRecord {
             pressure_bar: q.p_bar,
             outputs: OutputRecord::from_values(values),
             std: std.map(OutputRecord::from_values),
+            std_is: std.map(|_| super::model_form::STD_LABEL),
+            model_form_error: None,
             in_domain: outside.is_empty(),
             outside_domain: outside.iter().map(OutsideInput::from).collect(),
         }
+    }
+
+    /// The record with `model`'s model-form error at its pressure (none when the model
+    /// carries none).
+    pub fn with_model_form(mut self, model: &Surrogate, q: &Query) -> Self {
+        self.model_form_error = ModelFormRecord::of(model, q);
+        self
     }
 }
 
@@ -341,6 +397,8 @@ pub struct PredictedRow {
     /// The inputs beyond an end of the domain within the tolerance, predicted at the end
     /// ([`Surrogate::snap_to_domain`]; the row's query holds the moved values).
     pub snapped: Vec<BoundSnap>,
+    /// The model-form error at the row's pressure, when the model carries one.
+    pub model_form: Option<ModelFormEstimate>,
 }
 
 /// A predicted batch.
@@ -352,6 +410,9 @@ pub struct PredictedTable {
     pub rows: Vec<PredictedRow>,
     /// The domain summary of the batch.
     pub domain: BatchDomainReport,
+    /// The outputs (indices among the 22) the model's model-form error covers: a
+    /// [`schema::MODEL_FORM_SUFFIX`] column each.
+    pub model_form_outputs: Vec<usize>,
 }
 
 /// Predicts every row of a query table. The domain is checked for every row first: with rows
@@ -392,24 +453,34 @@ pub fn predict_table(
         } else {
             model.predict_into(&row.query, &mut pred)?;
         }
+        let model_form = model.model_form_error(&row.query);
         rows.push(PredictedRow {
             row,
             values: pred.values,
             std: with_std.then_some(pred.std),
             outside,
             snapped,
+            model_form,
         });
     }
+    let model_form_outputs = model.model_form().map_or_else(Vec::new, |m| {
+        (0..QUANTITY_NAMES.len())
+            .filter(|&q| m.error(q, 0.0).is_some())
+            .collect()
+    });
     Ok(PredictedTable {
         extra_columns: table.extra_columns,
         rows,
         domain: report,
+        model_form_outputs,
     })
 }
 
 /// Writes a predicted batch as CSV: the passed-through columns, the inputs, the 22 outputs,
-/// their standard deviations when computed, `in_domain` and `outside_domain` (the inputs
-/// outside, `;`-separated, each `name=value (clamped to x)` or `name=value (extrapolated)`).
+/// their standard deviations when computed (`_std`: the surrogate against the FE model), the
+/// model-form error of each output it covers (`_model_form`), `in_domain` and
+/// `outside_domain` (the inputs outside, `;`-separated, each `name=value (clamped to x)` or
+/// `name=value (extrapolated)`).
 ///
 /// # Errors
 /// Write failures.
@@ -430,6 +501,12 @@ pub fn write_predictions<W: Write>(out: W, table: &PredictedTable) -> Result<(),
                 .map(|s| format!("{s}{}", schema::STD_SUFFIX)),
         );
     }
+    header.extend(
+        table
+            .model_form_outputs
+            .iter()
+            .map(|&q| format!("{}{}", QUANTITY_NAMES[q], schema::MODEL_FORM_SUFFIX)),
+    );
     header.push(schema::IN_DOMAIN.name.into());
     header.push(schema::OUTSIDE_DOMAIN.name.into());
     w.write_record(&header).map_err(err)?;
@@ -446,6 +523,11 @@ pub fn write_predictions<W: Write>(out: W, table: &PredictedTable) -> Result<(),
         if let Some(std) = &r.std {
             cells.extend(std.iter().map(|v| v.to_string()));
         }
+        cells.extend(table.model_form_outputs.iter().map(|&q| {
+            r.model_form
+                .and_then(|m| m.values[q])
+                .map_or_else(String::new, |v| v.to_string())
+        }));
         cells.push(r.outside.is_empty().to_string());
         let outside: Vec<String> = r.outside.iter().map(DomainViolation::short).collect();
         cells.push(outside.join("; "));

@@ -5,9 +5,12 @@
 //!
 //! The exported file is a module of the controller's crate, which depends on
 //! `surrogate-predict` (`no_std`, no dependencies); it refers to it as `surrogate_predict`.
+//! Beside the tables, the file and the header carry the model's model-form error
+//! ([`super::model_form`]; [`model_form_rust`], [`model_form_c`]).
 
 use std::fmt::Write as _;
 
+use super::model_form::{ModelFormError, LABEL};
 use super::query::Query;
 use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES};
@@ -246,7 +249,7 @@ pub fn c_symbol(p: Precision) -> String {
 /// See [`EmbeddedTables::from_surrogate`].
 pub fn rust_source(s: &Surrogate, p: Precision, checksum: &str) -> Result<String, RomError> {
     let mut out = format!(
-        "//! Surrogate model exported by `surrogate export` (model {checksum}, precision {}).\n//! Needs the `surrogate-predict` crate (a dependency of the crate this module is in); `core` only.\n//! Outputs (22): {}; their indices are named in `surrogate_predict` (`TIP_UZ`, `ANGLE`, `FORCE`, `marker_uz(k)` …).\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse surrogate_predict::{{evaluate, BlockTables, EmbeddedModel, GpTables, PolyTables}};\n\n",
+        "//! Surrogate model exported by `surrogate export` (model {checksum}, precision {}).\n//! Needs the `surrogate-predict` crate (a dependency of the crate this module is in); `core` only.\n//! Outputs (22): {}; their indices are named in `surrogate_predict` (`TIP_UZ`, `ANGLE`, `FORCE`, `marker_uz(k)` …).\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse surrogate_predict::{{evaluate, BlockTables, EmbeddedModel, GpTables, ModelFormTables, PolyTables}};\n\n",
         p.ty(),
         QUANTITY_NAMES.join(", ")
     );
@@ -254,6 +257,7 @@ pub fn rust_source(s: &Surrogate, p: Precision, checksum: &str) -> Result<String
         Precision::F32 => rust_body(&EmbeddedTables::<f32>::from_surrogate(s)?, p, &mut out),
         Precision::F64 => rust_body(&EmbeddedTables::<f64>::from_surrogate(s)?, p, &mut out),
     }
+    model_form_rust(s, &mut out);
     let ty = p.ty();
     let _ = write!(
         out,
@@ -285,12 +289,14 @@ fn c_output_order(out: &mut String) {
     }
 }
 
-/// C header declaring the entry point of [`rust_source`].
-pub fn c_header(p: Precision, checksum: &str) -> String {
+/// C header declaring the entry point of [`rust_source`], with the model-form error
+/// ([`model_form_c`]).
+pub fn c_header(s: &Surrogate, p: Precision, checksum: &str) -> String {
     let ty = p.c_ty();
     let mut out = format!(
         "/* Surrogate model exported by `surrogate export` (model {checksum}). */\n#ifndef SURROGATE_MODEL_H\n#define SURROGATE_MODEL_H\n#include <stdint.h>\n#ifdef __cplusplus\nextern \"C\" {{\n#endif\n\n#define SURROGATE_N_OUTPUTS 22\n"
     );
+    model_form_c(s, &mut out);
     c_output_order(&mut out);
     let _ = write!(
         out,
@@ -298,6 +304,80 @@ pub fn c_header(p: Precision, checksum: &str) -> String {
         c_symbol(p)
     );
     out
+}
+
+/// The model-form error's description, one line per output with its value at each level.
+fn model_form_lines(m: &ModelFormError) -> Vec<String> {
+    let c = &m.calibration;
+    let mut lines = vec![
+        format!(
+            "{LABEL}: rms of the calibrated model minus the recordings of {} (objective {}, {} configurations),",
+            c.report, c.objective, c.configurations
+        ),
+        "per recorded pressure, linear in P between the levels and held at the ends; the \
+         surrogate's own error against the FE model is far smaller."
+            .into(),
+    ];
+    for o in &m.outputs {
+        let at: Vec<String> = m
+            .pressures
+            .iter()
+            .zip(&o.at_levels)
+            .map(|(p, e)| format!("{e:.4} at {p} bar"))
+            .collect();
+        lines.push(format!("  {}: {}", o.name, at.join(", ")));
+    }
+    lines
+}
+
+/// The model-form error of an exported model or ramp as Rust: `pub static MODEL_FORM:
+/// Option<ModelFormTables>` ([`surrogate_predict::ModelFormTables::error`]), `None` when the
+/// model file carries none.
+pub fn model_form_rust(s: &Surrogate, out: &mut String) {
+    let Some(m) = s.model_form() else {
+        out.push_str("/// The model-form error (calibration residuals): none, the model file carries none; how far\n/// the model misses real actuators is not known here.\npub static MODEL_FORM: Option<ModelFormTables<'static>> = None;\n\n");
+        return;
+    };
+    let (pressures, outputs, values) = m.tables();
+    array(out, "MODEL_FORM_PRESSURES", "f64", &pressures);
+    array(out, "MODEL_FORM_OUTPUTS", "u8", &outputs);
+    array(out, "MODEL_FORM_VALUES", "f64", &values);
+    for l in model_form_lines(m) {
+        let _ = writeln!(out, "/// {l}");
+    }
+    out.push_str("/// `MODEL_FORM.unwrap().error(ANGLE, p_bar)`: the error of one output at a pressure.\npub static MODEL_FORM: Option<ModelFormTables<'static>> = Some(ModelFormTables { pressures: &MODEL_FORM_PRESSURES, outputs: &MODEL_FORM_OUTPUTS, values: &MODEL_FORM_VALUES });\n\n");
+}
+
+/// The model-form error in a C header: a comment with its values, and (guarded, so that a
+/// model's and a ramp's header can be included together) `SURROGATE_MODEL_FORM_N_LEVELS`, the
+/// levels `SURROGATE_MODEL_FORM_P_BAR` and per output `SURROGATE_MODEL_FORM_TIP_UZ` … as
+/// initialiser lists (`static const double e[] = SURROGATE_MODEL_FORM_ANGLE;`); with no
+/// model-form error, `SURROGATE_MODEL_FORM_N_LEVELS 0`.
+pub fn model_form_c(s: &Surrogate, out: &mut String) {
+    out.push_str("#ifndef SURROGATE_MODEL_FORM_TABLES\n#define SURROGATE_MODEL_FORM_TABLES\n");
+    let Some(m) = s.model_form() else {
+        let _ = write!(out, "/* {LABEL}: none, the model file carries none. */\n#define SURROGATE_MODEL_FORM_N_LEVELS 0\n#endif\n");
+        return;
+    };
+    out.push_str("/*\n");
+    for l in model_form_lines(m) {
+        let _ = writeln!(out, " * {l}");
+    }
+    let list = |v: &[f64]| {
+        let items: Vec<String> = v.iter().map(|x| format!("{x:?}")).collect();
+        format!("{{{}}}", items.join(", "))
+    };
+    let _ = write!(
+        out,
+        " */\n#define SURROGATE_MODEL_FORM_N_LEVELS {}\n#define SURROGATE_MODEL_FORM_P_BAR {}\n",
+        m.pressures.len(),
+        list(&m.pressures)
+    );
+    for o in &m.outputs {
+        let name = c_output_macro(&o.name).replacen("SURROGATE_", "SURROGATE_MODEL_FORM_", 1);
+        let _ = writeln!(out, "#define {name} {}", list(&o.at_levels));
+    }
+    out.push_str("#endif\n");
 }
 
 /// Name of the C entry point of an exported ramp ([`ramp_rust_source`]).
@@ -322,7 +402,7 @@ pub fn ramp_rust_source(
     let ty = p.ty();
     let domain = ramp_domain_lines(s, q);
     let mut out = format!(
-        "//! Pressure ramp exported by `surrogate export --ramp` (model {checksum}, precision {ty}):\n//! N = {}, T = {} mm, Ogden μ₁ = {} MPa, α₁ = {}, μ₂ = {} MPa, α₂ = {}.\n{}//! Needs the `surrogate-predict` crate (a dependency of the crate this module is in); `core` only.\n//! Outputs (22): {}; their indices are named in `surrogate_predict` (`TIP_UZ`, `ANGLE`, `FORCE`, `marker_uz(k)` …).\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse surrogate_predict::{{evaluate_ramp, RampTables}};\n\n",
+        "//! Pressure ramp exported by `surrogate export --ramp` (model {checksum}, precision {ty}):\n//! N = {}, T = {} mm, Ogden μ₁ = {} MPa, α₁ = {}, μ₂ = {} MPa, α₂ = {}.\n{}//! Needs the `surrogate-predict` crate (a dependency of the crate this module is in); `core` only.\n//! Outputs (22): {}; their indices are named in `surrogate_predict` (`TIP_UZ`, `ANGLE`, `FORCE`, `marker_uz(k)` …).\n#![allow(clippy::all, clippy::excessive_precision, missing_docs)]\n\nuse surrogate_predict::{{evaluate_ramp, ModelFormTables, RampTables}};\n\n",
         q.n,
         q.t_mm,
         q.mu1,
@@ -340,6 +420,7 @@ pub fn ramp_rust_source(
         outside.is_empty(),
         listed.join("; ")
     );
+    model_form_rust(s, &mut out);
     array(&mut out, "PRESSURES", "f64", ramp.pressures());
     match p {
         Precision::F32 => {
@@ -399,6 +480,7 @@ pub fn ramp_c_header(s: &Surrogate, p: Precision, checksum: &str, q: &Query) -> 
         s.pressures[0],
         s.pressures[s.pressures.len() - 1]
     );
+    model_form_c(s, &mut out);
     c_output_order(&mut out);
     let _ = write!(
         out,

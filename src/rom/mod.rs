@@ -105,6 +105,7 @@ pub mod fidelity;
 pub mod material_spec;
 pub mod metrics;
 pub mod model;
+pub mod model_form;
 pub mod pod;
 pub mod provenance;
 pub mod query;
@@ -118,6 +119,7 @@ pub mod warp;
 pub use data::{CaseInputs, SnapshotSet};
 pub use domain::{BoundSnap, Domain, DomainViolation, PlanDomain};
 pub use model::FORMAT_VERSION;
+pub use model_form::{ModelFormError, ModelFormEstimate};
 pub use query::Query;
 pub use ramp::Ramp;
 pub use surrogate::{Gradient, Jacobian, Prediction, Surrogate};
@@ -202,6 +204,18 @@ pub enum RomError {
         path: String,
         /// What is wrong.
         message: String,
+    },
+    /// A calibration report that cannot give a model-form error ([`model_form`]).
+    #[error("calibration report {path}: {field} = {value}: expected {expected}")]
+    CalibrationReport {
+        /// File involved.
+        path: String,
+        /// The field of the report.
+        field: String,
+        /// Its value.
+        value: String,
+        /// What was expected.
+        expected: String,
     },
     /// Inputs outside the training domain where extrapolation was not allowed (the message
     /// names the inputs, their values and the training ranges; a batch: how many rows, the

@@ -1,27 +1,39 @@
 //! Model files: portable, versioned JSON with a checksum.
 //!
 //! ```text
-//! {"format":"surrogate-rom","format_version":2,"checksum":"crc32:1a2b3c4d","model":{…}}
+//! {"format":"surrogate-rom","format_version":3,"checksum":"crc32:1a2b3c4d","model":{…},
+//!  "model_form":{"checksum":"crc32:5e6f7a8b","content":{…}}}
 //! ```
 //! `model` is the serialised [`Surrogate`] (inputs with units and training bounds, scalers,
 //! POD bases, regression weights, validation errors, provenance). The checksum is the CRC-32
-//! of the exact text of `model`. Floats are written in shortest round-trip form and parsed
-//! exactly (`serde_json/float_roundtrip`), so save → load gives a bit-identical model.
-//! Loading rejects: unparsable JSON, another `format`, another `format_version`, a checksum
-//! mismatch and an internally inconsistent model, each with a message naming the problem.
+//! of the exact text of `model`: the model's identity, which calibration reports quote.
+//! `model_form` (version 3, optional) is the model-form error learned from a calibration
+//! through that model ([`super::model_form`], `surrogate model-form`), with the CRC-32 of the
+//! exact text of its `content`; it lies outside the model's checksum, so attaching it leaves
+//! the model's identity as the calibration quoted it. Version 2 files (no `model_form`) are
+//! still read, as models without a model-form error.
+//!
+//! Floats are written in shortest round-trip form and parsed exactly
+//! (`serde_json/float_roundtrip`), so save → load gives a bit-identical model. Loading
+//! rejects: unparsable JSON, another `format`, a `format_version` other than 2 or 3, a
+//! checksum mismatch (of either part), a `model_form` in a version 2 file, and an internally
+//! inconsistent model or model-form error, each with a message naming the problem.
 
 use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
 
+use super::model_form::ModelFormError;
 use super::surrogate::Surrogate;
 use super::RomError;
 
 /// Format name written in every model file.
 pub const FORMAT_NAME: &str = "surrogate-rom";
-/// Format version this build writes and reads.
-pub const FORMAT_VERSION: u32 = 2;
+/// Format version this build writes (and reads).
+pub const FORMAT_VERSION: u32 = 3;
+/// The earlier format version this build still reads: version 3 without `model_form`.
+pub const FORMAT_VERSION_WITHOUT_MODEL_FORM: u32 = 2;
 
 #[derive(Serialize)]
 struct EnvelopeOut<'a> {
@@ -29,6 +41,16 @@ struct EnvelopeOut<'a> {
     format_version: u32,
     checksum: String,
     model: &'a RawValue,
+    #[serde(skip_serializing_if = "Option::is_none")]
+    model_form: Option<Part<'a>>,
+}
+
+/// A checksummed part of the file beside the model.
+#[derive(Serialize, Deserialize)]
+struct Part<'a> {
+    checksum: String,
+    #[serde(borrow)]
+    content: &'a RawValue,
 }
 
 #[derive(Deserialize)]
@@ -38,6 +60,8 @@ struct EnvelopeIn<'a> {
     checksum: String,
     #[serde(borrow)]
     model: &'a RawValue,
+    #[serde(borrow, default)]
+    model_form: Option<Part<'a>>,
 }
 
 fn checksum(text: &str) -> String {
@@ -56,16 +80,27 @@ impl Surrogate {
         };
         let model = serde_json::to_string(self).map_err(err)?;
         let raw = RawValue::from_string(model).map_err(err)?;
+        let model_form = match &self.model_form {
+            Some(m) => {
+                Some(RawValue::from_string(serde_json::to_string(m).map_err(err)?).map_err(err)?)
+            }
+            None => None,
+        };
         let env = EnvelopeOut {
             format: FORMAT_NAME,
             format_version: FORMAT_VERSION,
             checksum: checksum(raw.get()),
             model: &raw,
+            model_form: model_form.as_deref().map(|content| Part {
+                checksum: checksum(content.get()),
+                content,
+            }),
         };
         serde_json::to_string(&env).map_err(err)
     }
 
-    /// The checksum (`crc32:…`) the model file of this model carries.
+    /// The checksum (`crc32:…`) the model file of this model carries (of the model alone: a
+    /// model-form error beside it has its own).
     ///
     /// # Errors
     /// Serialisation failure.
@@ -97,21 +132,38 @@ impl Surrogate {
                 env.format
             )));
         }
-        if env.format_version != FORMAT_VERSION {
-            return Err(fail(format!("format version {} is not supported: this build reads version {FORMAT_VERSION} (retrain or convert the model)", env.format_version)));
+        if env.format_version != FORMAT_VERSION
+            && env.format_version != FORMAT_VERSION_WITHOUT_MODEL_FORM
+        {
+            return Err(fail(format!("format version {} is not supported: this build reads versions {FORMAT_VERSION_WITHOUT_MODEL_FORM} and {FORMAT_VERSION} (retrain or convert the model)", env.format_version)));
         }
         let actual = checksum(env.model.get());
         if actual != env.checksum {
             return Err(fail(format!("checksum mismatch: file says {}, content gives {actual} (file modified or corrupt)", env.checksum)));
         }
-        let model: Surrogate = serde_json::from_str(env.model.get()).map_err(|e| {
+        let mut model: Surrogate = serde_json::from_str(env.model.get()).map_err(|e| {
             fail(format!(
-                "model content does not match format {FORMAT_VERSION}: {e}"
+                "model content does not match format {}: {e}",
+                env.format_version
             ))
         })?;
         model
             .check_consistency()
             .map_err(|m| fail(format!("inconsistent model: {m}")))?;
+        if let Some(part) = env.model_form {
+            if env.format_version == FORMAT_VERSION_WITHOUT_MODEL_FORM {
+                return Err(fail(format!("model_form in a format version {FORMAT_VERSION_WITHOUT_MODEL_FORM} file: expected version {FORMAT_VERSION} (a version 2 file has no model-form error)")));
+            }
+            let actual = checksum(part.content.get());
+            if actual != part.checksum {
+                return Err(fail(format!("model_form checksum mismatch: file says {}, content gives {actual} (file modified or corrupt)", part.checksum)));
+            }
+            let m: ModelFormError = serde_json::from_str(part.content.get())
+                .map_err(|e| fail(format!("model_form content: {e}")))?;
+            m.check()
+                .map_err(|m| fail(format!("inconsistent model-form error: {m}")))?;
+            model.model_form = Some(m);
+        }
         Ok(model)
     }
 

@@ -51,7 +51,9 @@ struct Workspace {
 pub struct Prediction {
     /// The 22 quantities in [`QUANTITY_NAMES`] order.
     pub values: [f64; 22],
-    /// Their standard deviations (filled by [`Surrogate::predict_with_std_into`]).
+    /// Their standard deviations (filled by [`Surrogate::predict_with_std_into`]): the
+    /// surrogate against the FE model only, not the model against real actuators
+    /// ([`Surrogate::model_form_error`]).
     pub std: [f64; 22],
     /// Whether `std` is filled.
     pub has_std: bool,
@@ -83,8 +85,9 @@ impl Prediction {
         let (z, y) = (marker_uz(k), marker_uy(k));
         (self.values[z], self.values[y])
     }
-    /// Standard deviation of tip Uz, mm (the surrogate's error against the FE values: filled by
-    /// [`Surrogate::predict_with_std_into`]).
+    /// Standard deviation of tip Uz, mm: the surrogate's error against the FE values only
+    /// (filled by [`Surrogate::predict_with_std_into`]). How far the model misses real
+    /// actuators is the model-form error, [`Surrogate::model_form_error`].
     pub fn std_tip_uz_mm(&self) -> f64 {
         self.std[super::Q_TIP_UZ]
     }
@@ -246,6 +249,11 @@ pub struct Surrogate {
     pub validation: Validation,
     /// Provenance.
     pub training: TrainingInfo,
+    /// The model-form error learned from a calibration through this model
+    /// ([`super::model_form`]); stored in the model file beside the model, outside its
+    /// checksum (attaching it does not change the model's identity).
+    #[serde(skip)]
+    pub model_form: Option<super::model_form::ModelFormError>,
     /// Tables derived from the above on first use (the scalar fast path); not stored.
     #[serde(skip)]
     pub derived: Derived,

@@ -666,6 +666,7 @@ fn assemble(
         std_scale,
         validation,
         training,
+        model_form: None,
         derived: Default::default(),
     }
 }

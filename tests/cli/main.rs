@@ -14,6 +14,7 @@ mod diagnose_cli;
 mod fe_cli;
 mod figures;
 mod material_cli;
+mod model_form_cli;
 mod readme_recipe;
 mod rom_cli;
 mod rom_fidelity;

@@ -605,7 +605,8 @@ fn export_ramp_writes_one_design_and_needs_it_named() {
         src.contains("pub static RAMP: RampTables<'static, f32>")
             && src.contains("extern \"C\" fn surrogate_ramp_f32(p_bar: f32, out: *mut f32)")
             && src.contains("N = 11, T = 2 mm")
-            && src.contains("use surrogate_predict::{evaluate_ramp, RampTables};"),
+            && src.contains("use surrogate_predict::{evaluate_ramp, ModelFormTables, RampTables};")
+            && src.contains("pub static MODEL_FORM: Option<ModelFormTables<'static>> = None;"),
         "{src}"
     );
     assert!(std::fs::read_to_string(rs.with_extension("h"))

@@ -9,6 +9,7 @@ mod rom_common;
 
 mod domain;
 mod fuzz_parsers;
+mod model_form;
 mod output_schema;
 mod rom_alloc;
 mod rom_data;

@@ -136,7 +136,8 @@ fn cargo_build(dir: &std::path::Path) {
 /// `surrogate-predict` by path, as a controller's crate does.
 #[test]
 fn no_std_crate_compiles() {
-    let m = rom_common::small_model(None);
+    let bare = rom_common::small_model(None);
+    let m = with_model_form(&bare);
     let dir = scratch_crate(
         "rom_no_std_check",
         "#![no_std]\n//! no_std check of the embedded predictor and exported models\npub mod model32;\npub mod model64;\npub mod ramp32;\npub mod ramp64;\n",
@@ -151,17 +152,21 @@ fn no_std_crate_compiles() {
     .unwrap();
     std::fs::write(
         src.join("model64.rs"),
-        rust_source(&m, Precision::F64, &sum).unwrap(),
+        rust_source(&bare, Precision::F64, &sum).unwrap(),
     )
     .unwrap();
     let q = Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
-    for (file, p) in [("ramp32.rs", Precision::F32), ("ramp64.rs", Precision::F64)] {
-        let text = ramp_rust_source(&m, &q, p, &sum).unwrap();
+    for (file, p, model) in [
+        ("ramp32.rs", Precision::F32, &m),
+        ("ramp64.rs", Precision::F64, &bare),
+    ] {
+        let text = ramp_rust_source(model, &q, p, &sum).unwrap();
+        assert!(text.contains("pub static MODEL_FORM"));
         assert!(text.contains("Needs the `surrogate-predict` crate"));
         std::fs::write(src.join(file), text).unwrap();
     }
     cargo_build(&dir);
-    let header = c_header(Precision::F32, &sum);
+    let header = c_header(&m, Precision::F32, &sum);
     assert!(header.contains("int32_t surrogate_predict_f32(uint32_t n, float t_mm, float p_bar"));
     let header = ramp_c_header(&m, Precision::F64, &sum, &q);
     assert!(header.contains("int32_t surrogate_ramp_f64(double p_bar, double *out);"));
@@ -231,7 +236,7 @@ fn c_entry_point_links_and_agrees() {
         eprintln!("skipped: no C compiler ({cc})");
         return;
     }
-    let m = rom_common::small_model(None);
+    let m = with_model_form(&rom_common::small_model(None));
     let dir = scratch_crate(
         "rom_c_check",
         "#![no_std]\npub mod model32;\npub mod ramp32;\n#[panic_handler]\nfn panic(_: &core::panic::PanicInfo) -> ! {\n    loop {}\n}\n",
@@ -243,7 +248,7 @@ fn c_entry_point_links_and_agrees() {
         rust_source(&m, Precision::F32, &sum).unwrap(),
     )
     .unwrap();
-    std::fs::write(dir.join("model.h"), c_header(Precision::F32, &sum)).unwrap();
+    std::fs::write(dir.join("model.h"), c_header(&m, Precision::F32, &sum)).unwrap();
     // the same design and material exported as a ramp
     let q_ramp = Query {
         n: 11,
@@ -266,7 +271,7 @@ fn c_entry_point_links_and_agrees() {
     .unwrap();
     std::fs::write(
         dir.join("main.c"),
-        "#include <stdio.h>\n#include \"model.h\"\n#include \"ramp.h\"\n/* the precompiled libcore refers to it even with panic=abort; never called */\nvoid rust_eh_personality(void) {}\nint main(void) {\n  float out[SURROGATE_N_OUTPUTS];\n  int rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  int bad = surrogate_predict_f32(12, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out + 0);\n  printf(\"%d %d\", rc, bad);\n  rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", out[i]);\n  float ramp[SURROGATE_N_OUTPUTS];\n  printf(\" %d\", surrogate_ramp_f32(1.5f, ramp));\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", ramp[i]);\n  /* the named indices, from both headers */\n  printf(\" %d %d %d %d %d\", SURROGATE_M1_UZ, SURROGATE_M9_UY, SURROGATE_TIP_UZ, SURROGATE_ANGLE, SURROGATE_FORCE);\n  printf(\"\\n\");\n  return 0;\n}\n",
+        "#include <stdio.h>\n#include \"model.h\"\n#include \"ramp.h\"\n/* the precompiled libcore refers to it even with panic=abort; never called */\nvoid rust_eh_personality(void) {}\nint main(void) {\n  float out[SURROGATE_N_OUTPUTS];\n  int rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  int bad = surrogate_predict_f32(12, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out + 0);\n  printf(\"%d %d\", rc, bad);\n  rc = surrogate_predict_f32(11, 2.0f, 1.5f, 1.13f, 3.11f, -13.17f, -0.6f, out);\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", out[i]);\n  float ramp[SURROGATE_N_OUTPUTS];\n  printf(\" %d\", surrogate_ramp_f32(1.5f, ramp));\n  for (int i = 0; i < SURROGATE_N_OUTPUTS; i++) printf(\" %.9g\", ramp[i]);\n  /* the named indices, from both headers */\n  printf(\" %d %d %d %d %d\", SURROGATE_M1_UZ, SURROGATE_M9_UY, SURROGATE_TIP_UZ, SURROGATE_ANGLE, SURROGATE_FORCE);\n  /* the model-form error, from both headers (guarded) */\n  static const double mf_p[SURROGATE_MODEL_FORM_N_LEVELS] = SURROGATE_MODEL_FORM_P_BAR;\n  static const double mf_angle[SURROGATE_MODEL_FORM_N_LEVELS] = SURROGATE_MODEL_FORM_ANGLE;\n  printf(\" %.17g %.17g\", mf_p[1], mf_angle[1]);\n  printf(\"\\n\");\n  return 0;\n}\n",
     )
     .unwrap();
     let run = |cmd: &mut std::process::Command| {
@@ -323,7 +328,14 @@ fn c_entry_point_links_and_agrees() {
     }
     use surrogate::predict::{ANGLE, FORCE, M1_UZ, M9_UY, TIP_UZ};
     let named = [M1_UZ, M9_UY, TIP_UZ, ANGLE, FORCE].map(|i| i as f64);
-    assert_eq!(v[47..], named, "the C names of the output indices");
+    assert_eq!(v[47..52], named, "the C names of the output indices");
+    let e = m.model_form().unwrap();
+    assert_eq!(v[52], e.pressures[1]);
+    assert_eq!(
+        Some(v[53]),
+        e.error(ANGLE, e.pressures[1]),
+        "the model-form error of the header"
+    );
 }
 
 /// Both headers define the index of every output under the name of the crate's constant
@@ -339,7 +351,7 @@ fn headers_name_every_output_index() {
     let sum = m.checksum().unwrap();
     let q = Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
     for header in [
-        c_header(Precision::F32, &sum),
+        c_header(&m, Precision::F32, &sum),
         ramp_c_header(&m, Precision::F64, &sum, &q),
     ] {
         for (i, name) in QUANTITY_NAMES.iter().enumerate() {
@@ -359,4 +371,30 @@ fn headers_name_every_output_index() {
             format!("SURROGATE_M{k}_UY")
         );
     }
+}
+
+/// `m` with a model-form error of the angle and tip Uz at 1, 2 and 3 bar.
+fn with_model_form(m: &surrogate::rom::Surrogate) -> surrogate::rom::Surrogate {
+    use surrogate::rom::model_form::{CalibrationSource, ModelFormError, Residual};
+    let source = CalibrationSource {
+        report: "report.json".into(),
+        report_checksum: "crc32:00000000".into(),
+        model: m.checksum().unwrap(),
+        objective: "tip=1".into(),
+        material: [1.13, 3.11, -13.17, -0.6],
+        configurations: 15,
+    };
+    let residuals: Vec<Residual> = (0..15)
+        .flat_map(|k| {
+            let p = [1.0, 2.0, 3.0][k % 3];
+            [surrogate::predict::ANGLE, surrogate::predict::TIP_UZ].map(|output| Residual {
+                pressure_bar: p,
+                output,
+                value: p * (1.0 + k as f64 / 10.0),
+            })
+        })
+        .collect();
+    let mut m = m.clone();
+    m.model_form = Some(ModelFormError::from_residuals(source, &residuals).unwrap());
+    m
 }

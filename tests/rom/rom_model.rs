@@ -43,7 +43,7 @@ fn assert_bit_identical_predictions(m: &Surrogate, back: &Surrogate) {
 fn load_rejects_version_corruption_and_checksum_mismatch() {
     let m = rom_common::small_model(None);
     let text = m.to_json().unwrap();
-    let wrong_version = text.replacen("\"format_version\":2", "\"format_version\":99", 1);
+    let wrong_version = text.replacen("\"format_version\":3", "\"format_version\":99", 1);
     let e = Surrogate::from_json(&wrong_version, "m.json")
         .unwrap_err()
         .to_string();

@@ -16,7 +16,11 @@
 #    the whole pipeline is also checked against standard-mesh cases it never saw
 #    (--check-high-fidelity, stored in the model);
 # 3. writes every held-out prediction (models/actuator_held_out.csv) and the plot of
-#    the held-out errors (models/actuator_held_out.svg).
+#    the held-out errors (models/actuator_held_out.svg);
+# 4. stores in models/actuator.json its model-form error, learned from the residuals of the
+#    committed calibration through it (fe_reference/calibration/surrogate/report.json;
+#    `surrogate model-form` refuses a report whose predictions are not the model's: after a
+#    retraining that moves them, calibrate again first).
 #
 # SURROGATE=path/to/surrogate overrides the binary (default: cargo run --release).
 set -euo pipefail
@@ -60,3 +64,8 @@ time run train --data "${sets}_coarse.csv" \
     --folds 5 --repeats 3 \
     --held-out "${model}_held_out.csv" --plot "${model}_held_out.svg" \
     --out "${model}.json" --force
+if [[ ${#partial[@]} == 0 ]]; then
+    run model-form --model "${model}.json" \
+        --calibration fe_reference/calibration/surrogate/report.json \
+        --out "${model}.json" --force
+fi

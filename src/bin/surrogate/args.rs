@@ -25,6 +25,9 @@ pub enum Command {
     Predict(PredictArgs),
     /// Export a surrogate for the embedded predictor (Rust tables + C header).
     Export(ExportArgs),
+    /// Learn the model-form error (how far the calibrated model misses the recordings) from a
+    /// calibration report and store it in the model file.
+    ModelForm(crate::model_form::ModelFormArgs),
     /// The literature baseline: FE with contact vs every experimental configuration.
     Validate(ValidateArgs),
     /// Fit one Ogden set to the recordings through the surrogate; identifiability, FE verification.
@@ -429,7 +432,9 @@ pub struct PredictArgs {
     /// report `DIR/report.json` (its calibrated set).
     #[arg(long, required_unless_present_any = ["csv", "validation"], allow_hyphen_values = true, value_parser = material_spec)]
     pub material: Option<String>,
-    /// Also output predictive standard deviations.
+    /// Also output the surrogate's predictive standard deviations: its error against the FE
+    /// model it was trained on, not the model's error against real actuators (that is the
+    /// model-form error, printed whenever the model file carries one).
     #[arg(long)]
     pub std: bool,
     /// Batch mode: query CSV.

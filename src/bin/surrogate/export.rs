@@ -45,7 +45,7 @@ pub fn run(a: ExportArgs) -> Result<()> {
         );
         (
             rust_source(&model, precision, &sum)?,
-            c_header(precision, &sum),
+            c_header(&model, precision, &sum),
         )
     };
     crate::files::write_file(&a.rust, src.as_bytes())

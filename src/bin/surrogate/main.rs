@@ -12,6 +12,7 @@ mod export;
 mod figure;
 mod files;
 mod identify;
+mod model_form;
 mod predict;
 mod simulate;
 mod snapshots;
@@ -33,6 +34,7 @@ fn main() -> ExitCode {
         args::Command::Train(a) => train::run(a),
         args::Command::Predict(a) => predict::run(a),
         args::Command::Export(a) => export::run(a),
+        args::Command::ModelForm(a) => model_form::run(a),
         args::Command::Validate(a) => validate::run(a),
         args::Command::Calibrate(a) => calibrate::run(*a),
         args::Command::Snapshots(a) => snapshots::run(*a),

@@ -1,4 +1,6 @@
 //! `surrogate predict`: one query → JSON on stdout, or a CSV batch → CSV (`--out -`: stdout).
+//! Beside the prediction, the model-form error when the model carries one (labelled, in the
+//! JSON and the CSV, and a line on stderr), and `--std` labelled as the surrogate vs FE.
 use std::fs::File;
 use std::io::Write as _;
 
@@ -7,7 +9,7 @@ use surrogate::rom::batch::{
     material_params, predict_table, read_queries, write_predictions, PredictionRecord,
 };
 use surrogate::rom::domain::BatchDomainReport;
-use surrogate::rom::{Query, RomError, Surrogate};
+use surrogate::rom::{model_form, Query, RomError, Surrogate};
 
 use crate::args::PredictArgs;
 
@@ -30,6 +32,10 @@ pub fn run(a: PredictArgs) -> Result<()> {
             if let Some(e) = &c.end_to_end {
                 text.push_str(&format!("\n{}", e.table()));
             }
+        }
+        match model.model_form() {
+            Some(m) => text.push_str(&format!("\n{}", m.table())),
+            None => text.push_str(&format!("\n{}\n", no_model_form())),
         }
         writeln!(std::io::stdout(), "{text}")?;
     }
@@ -65,13 +71,50 @@ pub fn run(a: PredictArgs) -> Result<()> {
     } else {
         model.predict_into(&q, &mut pred)?;
     }
-    let record = PredictionRecord::new(&q, &pred.values, a.std.then_some(&pred.std), &outside);
+    let record = PredictionRecord::new(&q, &pred.values, a.std.then_some(&pred.std), &outside)
+        .with_model_form(&model, &q);
+    eprintln!("{}", model_form_line(&model, &q));
     writeln!(
         std::io::stdout(),
         "{}",
         serde_json::to_string_pretty(&record)?
     )?;
     Ok(())
+}
+
+/// What a model without a model-form error says about it.
+fn no_model_form() -> String {
+    format!(
+        "note: the model file carries no {}: how far the model misses real actuators is not \
+         known here (--std is the {} only); `surrogate model-form` attaches one",
+        model_form::LABEL,
+        model_form::STD_LABEL
+    )
+}
+
+/// The model-form error of a prediction in one line, labelled, beside what `--std` is.
+fn model_form_line(model: &Surrogate, q: &Query) -> String {
+    let Some(m) = model.model_form() else {
+        return no_model_form();
+    };
+    let e = m.at(q.p_bar);
+    let parts: Vec<String> = [
+        ("tip Uz", e.tip_uz_mm(), "mm"),
+        ("tip Uy", e.tip_uy_mm(), "mm"),
+        ("angle", e.angle_deg(), "deg"),
+        ("force", e.force_n(), "N"),
+    ]
+    .iter()
+    .filter_map(|(name, v, unit)| v.map(|v| format!("{name} ±{v:.3} {unit}")))
+    .collect();
+    format!(
+        "{} at {} bar (rms, from {}): {}; --std is the {} only",
+        model_form::LABEL,
+        q.p_bar,
+        m.calibration.report,
+        parts.join(", "),
+        model_form::STD_LABEL
+    )
 }
 
 /// A refused extrapolation gets the flag that allows it.
@@ -92,6 +135,9 @@ fn batch(
     let table = read_queries(file, &csv.display().to_string(), model)?;
     let predicted = predict_table(model, table, a.std, a.allow_extrapolation)
         .map_err(|e| refused(e).context(csv.display().to_string()))?;
+    if model.model_form().is_none() {
+        eprintln!("{}", no_model_form());
+    }
     if predicted.domain.outside > 0 {
         eprintln!("warning: {}: {}", csv.display(), predicted.domain);
     }
