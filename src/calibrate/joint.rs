@@ -1421,14 +1421,12 @@ mod tests {
         // and x₀ takes its whole Gauss–Newton step (a single radius keeping the step's
         // direction would move it by a fifth of it)
         let bnds = [(0.0, 10.0), (-1.0, 1.0)];
-        let f = |x: &[f64]| -> Result<Option<(DVector<f64>, DMatrix<f64>)>, ()> {
+        let t = bounded_lm(&[0.0, 0.0], &bnds, 1e-9, 0.1, 2, |x| {
             let r = DVector::from_vec(vec![x[0] - 0.5, 3.0 * (x[1] - 1.0)]);
-            Ok(Some((
-                r,
-                DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 3.0]),
-            )))
-        };
-        let t = bounded_lm(&[0.0, 0.0], &bnds, 1e-9, 0.1, 2, f).unwrap();
+            let j = DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 3.0]);
+            Ok::<_, ()>(Some((r, j)))
+        })
+        .unwrap();
         let x = &t.steps[1].x;
         assert!((x[0] - 0.5).abs() < 1e-6, "{x:?}");
         assert!((x[1] - 0.2).abs() < 1e-12, "{x:?}");

@@ -745,13 +745,17 @@ fn train_refuses_to_overwrite_without_force() {
 
 /// A missing default model says where it was looked for, once (no repeated cause).
 #[test]
-fn missing_default_model_says_where_it_was_looked_for() {
+fn a_missing_named_model_says_where_it_was_looked_for() {
+    // the default model resolves against the repository from any folder
+    // (`defaults_cli`); a relative path the user names starts from the current one
     let cwd = dir().join("empty_cwd");
     std::fs::create_dir_all(&cwd).unwrap();
     let o = bin()
         .current_dir(&cwd)
         .args([
             "predict",
+            "--model",
+            "models/actuator.json",
             "--n",
             "11",
             "--t",
