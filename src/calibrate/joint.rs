@@ -1245,7 +1245,7 @@ impl JointReport {
         for (e, v) in effects {
             c.push_str(&format!(" --effect={}={v}", e.name()));
         }
-        c.push_str(&format!(" \\\n    --out {}/standard", dir.display()));
+        c.push_str(&format!(" \\\n    --out {}/standard.csv", dir.display()));
         c
     }
 }
