@@ -9,7 +9,8 @@
 //!        └──────────────── seed ──► noise (synthetic) ──► DIR/bending_experiments.csv ◄───┘
 //!                                                         DIR/blocked_force_experiments.csv
 //!                                                         DIR/marker_experiments.csv
-//!   KEYFILE (optional, outside DIR): effects, material, mesh, seed, code version and commit
+//!   KEYFILE (optional, outside DIR): effects, material, mesh, seed (and how it was derived),
+//!                                    code version and commit
 //! ```
 //!
 //! **Designs and pressures** are those of the noise source's bending rows (the 9 experimental
@@ -118,6 +119,8 @@ pub struct TwinSettings {
     pub material_spec: String,
     /// Seed of the noise.
     pub seed: u64,
+    /// How `seed` was derived, for the key, when it was (a study's twin); `None`: given.
+    pub seed_origin: Option<String>,
     /// Root of the FE cache (outside the output directory).
     pub cache: PathBuf,
     /// Where the key goes (outside the output directory); `None`: no key file.
@@ -144,6 +147,7 @@ impl TwinSettings {
             },
             material_spec: material_spec.to_string(),
             seed,
+            seed_origin: None,
             cache: cache.to_path_buf(),
             key: None,
             commit: None,
@@ -182,6 +186,12 @@ pub struct TwinKey {
     pub contact: ContactSettings,
     /// Seed of the noise.
     pub seed: u64,
+    /// How `seed` was derived, when a study derived it from the twin's place in its plan
+    /// (`surrogate.twin-study-plan noise seeds 2: draw seed 2026, group null_1, replicate
+    /// 1`, [`crate::diagnose::study::NOISE_SEEDS`]); absent for a seed given as such, and in
+    /// study keys written before the derivation was recorded.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub seed_origin: Option<String>,
     /// Where the standard deviations came from.
     pub noise_from: String,
     /// Version of the program ([`crate::snapshots::code_version`]).
@@ -297,6 +307,7 @@ pub fn write_twin(
         mesh: s.mesh,
         contact: s.contact,
         seed: settings.seed,
+        seed_origin: settings.seed_origin.clone(),
         noise_from: noise_from.bending_source.clone(),
         code_version: crate::snapshots::code_version(),
         commit: settings.commit.clone(),

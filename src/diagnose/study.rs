@@ -21,6 +21,12 @@
 //! discretisation of the coarse mesh (6 mm) that the diagnosing surrogate and the
 //! sensitivities come from.
 //!
+//! **Noise** ([`StudyPlan::noise_seed`]): a twin's noise seed is a function of its identity
+//! in the whole plan, `s = m(m(h ⊕ |id|) ⊕ replicate)`, `m` the SplitMix64 finaliser and `h`
+//! the draw seed and the bytes of the group's id folded through it, so every twin draws its own noise and a run given only some groups
+//! (`--groups`, to split the FE between processes) draws exactly what one run of the whole
+//! plan draws. The derivation is versioned ([`NOISE_SEEDS`], in the plan and every key).
+//!
 //! **Scoring** ([`score_twin`]): a twin's effect *moves the tip* by `max |(ΔUz, ΔUy)| / σ_tip`
 //! over its configurations, the difference between its noise-free FE tip and the
 //! diagnosing surrogate's prediction at the twin's true material (what the effect adds, up
@@ -37,7 +43,7 @@ use super::approx_error::{lhs, sample, ApproximationError, SampleSettings};
 use super::refit::RefitSettings;
 use super::report::{diagnose, DiagnoseSettings, Diagnosis};
 use super::DiagnoseError;
-use crate::calibrate::baseline::{cached_ramps, recorded_designs, SweepSensitivities};
+use crate::calibrate::baseline::{cached_ramps, recorded_designs, RampSource, SweepSensitivities};
 use crate::calibrate::objective::Output;
 use crate::calibrate::twin::{write_twin, TwinKey, TwinSettings};
 use crate::calibrate::{OgdenSet, ParamSpace, Recordings};
@@ -53,6 +59,13 @@ pub const PLAN_FORMAT: &str = "surrogate.twin-study-plan";
 pub const RESULTS_FORMAT: &str = "surrogate.twin-study-results";
 /// The version this code writes and reads.
 pub const VERSION: u32 = 1;
+/// The derivation of the twins' noise seeds this code uses ([`StudyPlan::noise_seed`]),
+/// recorded in the plan (`noise_seeds`) and in every key (`seed_origin`).
+///
+/// Earlier derivations: 1 mixed the draw seed with the group's *index among the groups a run
+/// was given*, so runs split by `--groups` gave their first groups the same seeds; 0 used
+/// the replicate alone, the same noise in every group.
+pub const NOISE_SEEDS: u32 = 2;
 
 /// The effects and sizes of the standard plan (value of the effect, not offset).
 pub const STANDARD_EFFECTS: [(&str, [f64; 2]); 6] = [
@@ -93,10 +106,10 @@ pub struct StudyPlan {
     pub groups: Vec<TwinGroup>,
     /// The seed the materials were drawn with.
     pub draw_seed: u64,
-    /// Whether every twin draws its own noise ([`Self::noise_seed`]); otherwise the twins
-    /// of one seed share their standardised noise across the groups.
-    #[serde(default)]
-    pub independent_noise: bool,
+    /// The derivation of the twins' noise seeds the twins were made with ([`NOISE_SEEDS`]
+    /// for this code); plans written before it was recorded read as 1 when they hold
+    /// `"independent_noise": true`, else 0.
+    pub noise_seeds: u32,
 }
 
 impl StudyPlan {
@@ -140,7 +153,7 @@ impl StudyPlan {
             markers: false,
             groups,
             draw_seed: seed,
-            independent_noise: true,
+            noise_seeds: NOISE_SEEDS,
         })
     }
 
@@ -151,7 +164,7 @@ impl StudyPlan {
     pub fn read(path: &Path) -> Result<Self, DiagnoseError> {
         let text = std::fs::read_to_string(path)
             .map_err(|e| DiagnoseError::input("plan", path.display(), &e.to_string()))?;
-        let v: serde_json::Value = serde_json::from_str(&text)?;
+        let mut v: serde_json::Value = serde_json::from_str(&text)?;
         let format = v.get("format").and_then(|f| f.as_str()).unwrap_or("");
         if format != PLAN_FORMAT {
             return Err(DiagnoseError::input(
@@ -167,6 +180,13 @@ impl StudyPlan {
                 version,
                 &VERSION.to_string(),
             ));
+        }
+        if let Some(o) = v.as_object_mut().filter(|o| !o.contains_key("noise_seeds")) {
+            let independent = o.remove("independent_noise").and_then(|b| b.as_bool());
+            o.insert(
+                "noise_seeds".into(),
+                u32::from(independent == Some(true)).into(),
+            );
         }
         let plan: StudyPlan = serde_json::from_value(v)?;
         for g in &plan.groups {
@@ -185,20 +205,91 @@ impl StudyPlan {
             .map_err(|e| DiagnoseError::input("plan", path.display(), &e.to_string()))
     }
 
-    /// The noise seed of the twin of group `group` (index) and seed `seed`: `seed` itself
-    /// when the noise is not independent, else a SplitMix64 mix of the draw seed, the group
-    /// and `seed`, so that no two twins of the study share their noise.
-    pub fn noise_seed(&self, group: usize, seed: u64) -> u64 {
-        if !self.independent_noise {
-            return seed;
+    /// The noise seed of replicate `replicate` of the group with id `group`: the SplitMix64
+    /// finaliser applied to the draw seed, then to each byte of the id and its length, then
+    /// to the replicate. It depends on the twin's identity in the plan only, not on the
+    /// groups a run is given, nor on their order.
+    pub fn noise_seed(&self, group: &str, replicate: u64) -> u64 {
+        let id = group.bytes().fold(splitmix64(self.draw_seed), |h, b| {
+            splitmix64(h ^ u64::from(b))
+        });
+        splitmix64(splitmix64(id ^ group.len() as u64) ^ replicate)
+    }
+
+    /// How [`Self::noise_seed`] of `group`, `replicate` was derived, in words, for the key.
+    pub fn seed_origin(&self, group: &str, replicate: u64) -> String {
+        format!(
+            "{PLAN_FORMAT} noise seeds {}: draw seed {}, group {group}, replicate {replicate}",
+            self.noise_seeds, self.draw_seed
+        )
+    }
+
+    /// The plan's twins must be made, or scored, with this code's noise seeds.
+    ///
+    /// # Errors
+    /// A plan of another derivation ([`NOISE_SEEDS`]): its twins are not those this code
+    /// makes, and runs split by `--groups` may have shared their noise.
+    pub fn check_noise_seeds(&self) -> Result<(), DiagnoseError> {
+        if self.noise_seeds == NOISE_SEEDS {
+            return Ok(());
         }
-        let mix = |mut z: u64| {
-            z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-            z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-            z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-            z ^ (z >> 31)
-        };
-        mix(mix(self.draw_seed) ^ ((group as u64) << 32 | seed))
+        Err(DiagnoseError::input(
+            "plan noise_seeds",
+            self.noise_seeds,
+            &format!(
+                "{NOISE_SEEDS} (the twins of an older derivation share noise across groups; \
+                 set it to {NOISE_SEEDS} and remake the twins with --stage twins, which reads \
+                 the FE from the cache)"
+            ),
+        ))
+    }
+
+    /// A twin's key must hold the seed this plan gives replicate `replicate` of group `group`.
+    ///
+    /// # Errors
+    /// Another seed: the twin was made by an older noise-seed derivation or another plan.
+    pub fn check_key(
+        &self,
+        group: &str,
+        replicate: u64,
+        key: &TwinKey,
+    ) -> Result<(), DiagnoseError> {
+        let seed = self.noise_seed(group, replicate);
+        if key.seed == seed {
+            return Ok(());
+        }
+        Err(DiagnoseError::input(
+            &format!("seed of {group}_s{replicate}"),
+            key.seed,
+            &format!(
+                "{seed}, the plan's (the twin was made by an older noise-seed derivation or \
+                 another plan: remake it with --stage twins)"
+            ),
+        ))
+    }
+
+    /// The plan with only the groups `ids` (in plan order; all when `ids` is empty): what a
+    /// run given `--groups` makes. The twins keep their noise seeds.
+    ///
+    /// # Errors
+    /// An id that is not a group of the plan.
+    pub fn only(&self, ids: &[String]) -> Result<Self, DiagnoseError> {
+        if let Some(bad) = ids
+            .iter()
+            .find(|id| !self.groups.iter().any(|g| &g.id == *id))
+        {
+            let all: Vec<&str> = self.groups.iter().map(|g| g.id.as_str()).collect();
+            return Err(DiagnoseError::input(
+                "group",
+                bad,
+                &format!("a group of the plan (its groups: {})", all.join(", ")),
+            ));
+        }
+        let mut plan = self.clone();
+        if !ids.is_empty() {
+            plan.groups.retain(|g| ids.contains(&g.id));
+        }
+        Ok(plan)
     }
 
     /// The twins' names, `<id>_s<seed>`, in plan order.
@@ -213,6 +304,15 @@ impl StudyPlan {
             })
             .collect()
     }
+}
+
+/// The SplitMix64 finaliser (Steele, Lea and Flood 2014): a bijection of `u64` whose
+/// outputs for neighbouring inputs look independent.
+fn splitmix64(mut z: u64) -> u64 {
+    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
+    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
+    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
+    z ^ (z >> 31)
 }
 
 impl TwinGroup {
@@ -272,21 +372,53 @@ impl StudyDirs {
     }
 }
 
-/// Makes every twin of `plan` (FE runs cached and resumable; a group's seeds share them);
+/// The FE ramps of `plan`'s groups that are not in the cache of `dirs`, by group (`id`,
+/// ramps missing), groups with all their ramps cached left out: what [`make_twins`] would
+/// run. Reads the cache only.
+///
+/// # Errors
+/// A group whose effects or material do not parse, an invalid design.
+pub fn ramps_to_run(
+    plan: &StudyPlan,
+    noise_from: &Recordings,
+    dirs: &StudyDirs,
+) -> Result<Vec<(String, usize)>, DiagnoseError> {
+    let designs = recorded_designs(&noise_from.bending);
+    let mut out = Vec::new();
+    for g in &plan.groups {
+        let s = g.settings(plan, 0, &dirs.cache)?;
+        let missing = cached_ramps(&s.sweep, &designs, &s.ramp_dir())
+            .map_err(crate::calibrate::CalibrateError::from)?
+            .iter()
+            .filter(|r| r.source == RampSource::Missing)
+            .count();
+        if missing > 0 {
+            out.push((g.id.clone(), missing));
+        }
+    }
+    Ok(out)
+}
+
+/// Makes every twin of `plan` (FE runs cached and resumable; a group's seeds share them),
+/// each with its noise seed [`StudyPlan::noise_seed`] and the seed's origin in its key;
 /// `progress` gets a line per twin.
 ///
 /// # Errors
-/// A twin error (a design out of range, an unwritable cache).
+/// A plan of another noise-seed derivation ([`StudyPlan::check_noise_seeds`]); a twin error
+/// (a design out of range, an unwritable cache).
 pub fn make_twins(
     plan: &StudyPlan,
     noise_from: &Recordings,
     dirs: &StudyDirs,
     progress: &(dyn Fn(&str) + Sync),
 ) -> Result<(), DiagnoseError> {
+    plan.check_noise_seeds()?;
     let all = plan.twins();
-    for (k, (g, seed, name)) in all.iter().enumerate() {
+    for (k, (g, replicate, name)) in all.iter().enumerate() {
         let group = &plan.groups[*g];
-        let mut s = group.settings(plan, plan.noise_seed(*g, *seed), &dirs.cache)?;
+        let seed = plan.noise_seed(&group.id, *replicate);
+        let mut s = group.settings(plan, seed, &dirs.cache)?;
+        s.seed_origin = Some(plan.seed_origin(&group.id, *replicate));
         s.key = Some(dirs.keys.join(format!("{name}.json")));
         let out = dirs.twins.join(name);
         let o = write_twin(&s, noise_from, &out, |done, total| {
@@ -712,7 +844,9 @@ pub fn summarise(twins: &[TwinScore]) -> StudySummary {
 /// pending. `progress` gets a line per twin.
 ///
 /// # Errors
-/// A diagnosis error, an unreadable key.
+/// A plan of another noise-seed derivation ([`StudyPlan::check_noise_seeds`]); a key whose
+/// seed is not the plan's for its twin (a twin made by an older derivation or another
+/// plan: remake the twins); a diagnosis error, an unreadable key.
 pub fn run_diagnoses(
     plan: &StudyPlan,
     noise_from: &Recordings,
@@ -720,10 +854,11 @@ pub fn run_diagnoses(
     by: &Diagnoser<'_>,
     progress: &dyn Fn(&str),
 ) -> Result<StudyResults, DiagnoseError> {
+    plan.check_noise_seeds()?;
     let (model, markers) = (by.model, by.markers);
     let mut twins = Vec::new();
     let mut pending = Vec::new();
-    for (g, _seed, name) in plan.twins() {
+    for (g, replicate, name) in plan.twins() {
         let dir = dirs.twins.join(&name);
         let key_path = dirs.keys.join(format!("{name}.json"));
         if !dir.is_dir() || !key_path.exists() {
@@ -756,6 +891,7 @@ pub fn run_diagnoses(
             &std::fs::read_to_string(&key_path)
                 .map_err(|e| DiagnoseError::input("key", key_path.display(), &e.to_string()))?,
         )?;
+        plan.check_key(&plan.groups[g].id, replicate, &key)?;
         let tips = truth_tips(plan, &plan.groups[g], noise_from, dirs)?;
         let lookup = |n: u32, t: f64, p: f64| {
             tips.iter()
@@ -1067,19 +1203,114 @@ mod tests {
             g.settings(&a, 1, Path::new("/tmp")).unwrap();
         }
         assert_eq!(a.groups.iter().filter(|g| g.effects.is_empty()).count(), 6);
-        // every twin draws its own noise; an old plan keeps one noise per seed
-        let mut seeds: Vec<u64> = a
-            .twins()
+        assert_eq!(a.noise_seeds, NOISE_SEEDS);
+    }
+
+    /// The README's two processes: the effect groups in one, the null groups in the other.
+    fn readme_split(plan: &StudyPlan) -> [Vec<String>; 2] {
+        let (nulls, effects): (Vec<&TwinGroup>, Vec<&TwinGroup>) =
+            plan.groups.iter().partition(|g| g.effects.is_empty());
+        [effects, nulls].map(|gs| gs.iter().map(|g| g.id.clone()).collect())
+    }
+
+    fn seeds(plan: &StudyPlan) -> Vec<(String, u64)> {
+        plan.twins()
+            .into_iter()
+            .map(|(g, r, name)| (name, plan.noise_seed(&plan.groups[g].id, r)))
+            .collect()
+    }
+
+    #[test]
+    fn every_twin_draws_its_own_noise_whichever_groups_a_run_is_given() {
+        let model = Surrogate::load(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator_coarse.json"),
+        )
+        .unwrap();
+        let plan =
+            StudyPlan::standard(&ParamSpace::training_domain(&model).unwrap(), 2026).unwrap();
+        let all = seeds(&plan);
+        let mut distinct: Vec<u64> = all.iter().map(|s| s.1).collect();
+        distinct.sort_unstable();
+        distinct.dedup();
+        assert_eq!(distinct.len(), 54);
+        // two runs split by `--groups`, and one run per group: the seeds of the whole plan
+        let [effects, nulls] = readme_split(&plan);
+        assert_eq!((effects.len(), nulls.len()), (12, 6));
+        let mut split: Vec<(String, u64)> = [effects, nulls]
             .iter()
-            .map(|(g, s, _)| a.noise_seed(*g, *s))
+            .flat_map(|ids| seeds(&plan.only(ids).unwrap()))
             .collect();
-        seeds.sort_unstable();
-        seeds.dedup();
-        assert_eq!(seeds.len(), 54);
-        let old = StudyPlan {
-            independent_noise: false,
-            ..a.clone()
+        split.sort();
+        let mut whole = all.clone();
+        whole.sort();
+        assert_eq!(split, whole);
+        for g in &plan.groups {
+            let one = seeds(&plan.only(std::slice::from_ref(&g.id)).unwrap());
+            assert!(one.iter().all(|s| all.contains(s)), "{}", g.id);
+        }
+        // the groups given in another order: the plan's order, the same seeds
+        let reversed: Vec<String> = plan.groups.iter().rev().map(|g| g.id.clone()).collect();
+        assert_eq!(seeds(&plan.only(&reversed).unwrap()), all);
+        // another draw seed, other noise
+        let other = StudyPlan {
+            draw_seed: 2027,
+            ..plan.clone()
         };
-        assert_eq!(old.noise_seed(5, 2), 2);
+        assert!(seeds(&other).iter().all(|s| !distinct.contains(&s.1)));
+        // a group the plan lacks is named with the plan's groups
+        let e = plan.only(&["null_9".to_string()]).unwrap_err().to_string();
+        assert!(e.contains("null_9") && e.contains("null_6"), "{e}");
+    }
+
+    #[test]
+    fn a_plan_of_an_older_noise_seed_derivation_reads_as_such_and_makes_no_twins() {
+        let dir = std::env::temp_dir().join(format!("surrogate_study_plan_{}", std::process::id()));
+        std::fs::create_dir_all(&dir).unwrap();
+        let path = dir.join("plan.json");
+        let committed = std::fs::read_to_string(
+            Path::new(env!("CARGO_MANIFEST_DIR")).join("fe_reference/diagnosis/blind/plan.json"),
+        )
+        .unwrap();
+        let plan = StudyPlan::read(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("fe_reference/diagnosis/blind/plan.json"),
+        )
+        .unwrap();
+        assert_eq!(plan.noise_seeds, NOISE_SEEDS);
+        plan.check_noise_seeds().unwrap();
+        let field = format!("\"noise_seeds\": {NOISE_SEEDS}");
+        assert!(committed.contains(&field));
+        for (old, scheme) in [
+            ("\"independent_noise\": true", 1),
+            ("\"independent_noise\": false", 0),
+        ] {
+            std::fs::write(&path, committed.replace(&field, old)).unwrap();
+            let p = StudyPlan::read(&path).unwrap();
+            assert_eq!(p.noise_seeds, scheme);
+            let e = p.check_noise_seeds().unwrap_err().to_string();
+            assert!(
+                e.contains(&format!(
+                    "plan noise_seeds = {scheme}: expected {NOISE_SEEDS}"
+                )),
+                "{e}"
+            );
+            let dirs = StudyDirs::under(&dir);
+            let shipped = Recordings::shipped().unwrap();
+            assert!(make_twins(&p, &shipped, &dirs, &|_| {}).is_err());
+            assert!(!dirs.twins.exists() && !dirs.keys.exists());
+        }
+        // a key holds the plan's seed; one of another derivation is refused, named
+        let key_path = Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("fe_reference/diagnosis/blind/keys/null_1_s1.json");
+        let mut key: TwinKey =
+            serde_json::from_str(&std::fs::read_to_string(key_path).unwrap()).unwrap();
+        plan.check_key("null_1", 1, &key).unwrap();
+        assert!(plan.check_key("null_1", 2, &key).is_err());
+        key.seed = 18_273_785_850_258_396_930; // derivation 1, the first group of a run
+        let e = plan.check_key("null_1", 1, &key).unwrap_err().to_string();
+        assert!(
+            e.starts_with("seed of null_1_s1 = 18273785850258396930: expected"),
+            "{e}"
+        );
+        std::fs::remove_dir_all(&dir).unwrap();
     }
 }

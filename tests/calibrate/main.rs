@@ -1,7 +1,7 @@
 //! The calibrator (`surrogate::calibrate`) on recordings made by the FE model, the recording
 //! readers on bad files (`tests/data/bad_recordings/`) and random ones, and the diagnoser's
-//! Locate stage (`surrogate::diagnose`) on recordings with a planted residual. The
-//! command-line tests are in `tests/cli/`.
+//! Locate stage (`surrogate::diagnose`) on recordings with a planted residual, and the blind
+//! study's noise (`study_noise`). The command-line tests are in `tests/cli/`.
 
 mod approx_error;
 mod bad_recordings;
@@ -11,6 +11,7 @@ mod fuzz_recordings;
 mod mesh_error;
 mod refine;
 mod refit;
+mod study_noise;
 mod twin;
 
 /// The diagnoser's settings of the Model-and-show and mesh-error tests: the `tip` objective,

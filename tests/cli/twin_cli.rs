@@ -125,7 +125,9 @@ fn twin_study_refuses_bad_flags_and_plans() {
         "null_9",
     ]);
     assert!(
-        !ok && stderr.contains("--groups null_9: not a group of") && stderr.contains("null_6"),
+        !ok && stderr.contains("--groups of")
+            && stderr.contains("group = null_9: expected a group of the plan")
+            && stderr.contains("null_6"),
         "{stderr}"
     );
     let plan = std::fs::read_to_string(out.join("plan.json")).unwrap();

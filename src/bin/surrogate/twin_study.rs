@@ -3,8 +3,8 @@ use anyhow::{Context, Result};
 use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::{ParamSpace, Recordings};
 use surrogate::diagnose::study::{
-    make_twins, null_approximation_error, run_diagnoses, study_markdown, Diagnoser, StudyDirs,
-    StudyPlan,
+    make_twins, null_approximation_error, ramps_to_run, run_diagnoses, study_markdown, Diagnoser,
+    StudyDirs, StudyPlan,
 };
 
 use crate::args::TwinStudyArgs;
@@ -34,7 +34,7 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
     let (out, _) = given_or_announced("out", a.out.as_deref(), DEFAULT_OUT);
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
     let plan_path = a.plan.clone().unwrap_or_else(|| out.join("plan.json"));
-    let mut plan = if plan_path.exists() {
+    let plan = if plan_path.exists() {
         StudyPlan::read(&plan_path)?
     } else {
         let p = StudyPlan::standard(&ParamSpace::training_domain(&model)?, a.draw_seed)?;
@@ -42,22 +42,9 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
         eprintln!("wrote the standard plan to {}", plan_path.display());
         p
     };
-    if !a.groups.is_empty() {
-        for g in &a.groups {
-            if !plan.groups.iter().any(|x| &x.id == g) {
-                anyhow::bail!(
-                    "--groups {g}: not a group of {} (its groups: {})",
-                    plan_path.display(),
-                    plan.groups
-                        .iter()
-                        .map(|x| x.id.as_str())
-                        .collect::<Vec<_>>()
-                        .join(", ")
-                );
-            }
-        }
-        plan.groups.retain(|x| a.groups.contains(&x.id));
-    }
+    let plan = plan
+        .only(&a.groups)
+        .with_context(|| format!("--groups of {}", plan_path.display()))?;
     let markers = match a.markers.as_deref() {
         None => plan.markers,
         Some("yes") => true,
@@ -73,6 +60,19 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
         dirs.cache.display()
     );
     if twins {
+        let to_run = ramps_to_run(&plan, &noise_from, &dirs)?;
+        eprintln!(
+            "FE ramps to run: {}",
+            if to_run.is_empty() {
+                "none (every ramp is in the cache: only the noise is drawn)".to_string()
+            } else {
+                to_run
+                    .iter()
+                    .map(|(id, n)| format!("{id} {n}"))
+                    .collect::<Vec<_>>()
+                    .join(", ")
+            }
+        );
         make_twins(&plan, &noise_from, &dirs, &|line| eprintln!("{line}"))?;
     }
     if diagnoses {
