@@ -227,6 +227,17 @@ pub fn shipped_files() -> Result<(Loaded<BendingRecord>, Loaded<ForceRecord>), E
     ))
 }
 
+/// Whether `file` is one of the shipped experiment files (bending or blocked force), by its
+/// checksum: a copy read from another folder is too, an edited one is not.
+pub fn is_shipped(file: &InputFile) -> bool {
+    let shipped = match file.role.as_str() {
+        "bending" => BENDING_CSV,
+        "force" => FORCE_CSV,
+        _ => return false,
+    };
+    file.checksum == super::inputs::checksum(shipped.as_bytes())
+}
+
 /// Rows read from a recording file, and the file's record (path, checksum, rows, conversions).
 #[derive(Clone, Debug)]
 pub struct Loaded<T> {

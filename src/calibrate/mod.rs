@@ -48,6 +48,7 @@ pub mod study;
 pub mod synthetic;
 pub mod twin;
 pub mod units;
+pub mod verdict;
 pub mod verify;
 
 pub use fit::{calibrate, Calibration, CalibrationSettings};

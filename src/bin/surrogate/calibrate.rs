@@ -12,6 +12,7 @@ use surrogate::calibrate::inputs::{self, InputFile};
 use surrogate::calibrate::objective::Exclusion;
 use surrogate::calibrate::optimise::MultistartSettings;
 use surrogate::calibrate::refine::{refine, RefineEvent, RefineSettings, TrainingSet};
+use surrogate::calibrate::verdict;
 use surrogate::calibrate::verify::{verify_fe, FeVerification};
 use surrogate::calibrate::{
     calibrate, Calibration, CalibrationSettings, OgdenSet, Recordings, Selection, Weights,
@@ -467,6 +468,11 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
     let _ = writeln!(s, "# Calibration\n");
     let _ = writeln!(
         s,
+        "{}\n",
+        verdict::fit_verdict(cal.chi2, cal.identifiability.dof)
+    );
+    let _ = writeln!(
+        s,
         "Objective `{}`: {} observations at {} configurations, model {}.\n",
         cal.objective, cal.n_observations, cal.n_configurations, cal.model
     );
@@ -526,10 +532,10 @@ pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
             x.mean_abs_force_error_n
         );
     }
-    let _ = writeln!(
-        s,
-        "\nThe reference study (Ansys, 9 configurations): mean BE 2.51 mm with Ogden 002, 1.58 mm with a set per configuration.\n"
-    );
+    if let Some(line) = verdict::reference_study_line(&cal.inputs) {
+        let _ = writeln!(s, "\n{line}");
+    }
+    let _ = writeln!(s);
     let _ = writeln!(
         s,
         "{} starts reached {} distinct minima (every end point is in report.json).",

@@ -6,7 +6,7 @@ use anyhow::Result;
 use plotters::prelude::*;
 use surrogate::calibrate::objective::Output;
 use surrogate::calibrate::refine::Refinement;
-use surrogate::calibrate::verify::FeVerification;
+use surrogate::calibrate::verify::{FeCheckRow, FeVerification};
 use surrogate::calibrate::Calibration;
 
 use crate::figure::{axis_range, colour};
@@ -58,6 +58,17 @@ pub fn write_plots(
 
 const LF: f64 = 92.0;
 
+/// The caption's promise of FE markers: made only when the FE ran and gave at least one
+/// finite value of the plotted output.
+fn fe_legend(fe: Option<&FeVerification>, value: impl Fn(&FeCheckRow) -> f64) -> &'static str {
+    let ran = fe.is_some_and(|v| v.rows.iter().any(|r| value(r).is_finite()));
+    if ran {
+        ", FE at the optimum (□)"
+    } else {
+        ""
+    }
+}
+
 fn tips(cal: &Calibration, fe: Option<&FeVerification>, path: &Path) -> Result<()> {
     let rows = &cal.configurations;
     let ts = levels(rows.iter().map(|r| r.wall_thickness_mm));
@@ -79,7 +90,10 @@ fn tips(cal: &Calibration, fe: Option<&FeVerification>, path: &Path) -> Result<(
     root.fill(&WHITE)?;
     let mut ch = ChartBuilder::on(&root)
         .caption(
-            "Tip positions, all configurations: measured (×), literature set (○), calibrated (●), FE at the optimum (□)",
+            format!(
+                "Tip positions, all configurations: measured (×), literature set (○), calibrated (●){}",
+                fe_legend(fe, |r| r.fe.uz_sim_mm)
+            ),
             ("sans-serif", 16),
         )
         .margin(15)
@@ -161,7 +175,10 @@ fn forces(cal: &Calibration, fe: Option<&FeVerification>, path: &Path) -> Result
     root.fill(&WHITE)?;
     let mut ch = ChartBuilder::on(&root)
         .caption(
-            "Blocked force: literature set (○), calibrated (●), FE at the optimum (□) against measured",
+            format!(
+                "Blocked force: literature set (○), calibrated (●){} against measured",
+                fe_legend(fe, |r| r.fe.force_sim_n)
+            ),
             ("sans-serif", 16),
         )
         .margin(15)
