@@ -254,10 +254,7 @@ fn output_name(o: Output) -> String {
     }
 }
 
-/// Cells with FE sensitivities the Name stage needs at least: the material's four directions
-/// are projected out and each effect is tested against what is left, on one degree of freedom
-/// beside the material and at least two for the residual.
-pub const MIN_NAME_CELLS: usize = 7;
+pub use super::sweep::MIN_NAME_CELLS;
 
 /// Names the effect behind the residual of `cells` (see the [module docs](self)).
 ///

@@ -20,6 +20,11 @@ use crate::fe::mesh::MeshOptions;
 use crate::fe::sensitivity::Parameter;
 use crate::fe::simulate::Mode;
 
+/// Cells with FE sensitivities the Name stage needs at least: the material's four directions
+/// are projected out and each effect is tested against what is left, on one degree of freedom
+/// beside the material and at least two for the residual.
+pub const MIN_NAME_CELLS: usize = 7;
+
 /// Largest pressure increment of the sweep's load steps (bar), four times the solver's
 /// default: only the states at the recorded pressures are used, and a converged state does
 /// not depend on the path to it. Measured on the coarse N = 11, T = 2.0 actuator, 0 → 3 bar
@@ -100,7 +105,7 @@ pub struct SweepCoverage {
     /// Cells with sensitivities in the sweep.
     pub covered: usize,
     /// Cells with sensitivities the Name stage needs at least
-    /// ([`super::name::MIN_NAME_CELLS`]).
+    /// ([`MIN_NAME_CELLS`]).
     pub needed: usize,
     /// The configurations without sensitivities, by design, rig and pressure.
     pub uncovered: Vec<Uncovered>,
@@ -142,7 +147,7 @@ impl SweepCoverage {
         SweepCoverage {
             cells: cells.len(),
             covered,
-            needed: super::name::MIN_NAME_CELLS,
+            needed: MIN_NAME_CELLS,
             uncovered,
         }
     }

@@ -106,6 +106,7 @@ pub mod material_spec;
 pub mod metrics;
 pub mod model;
 pub mod model_form;
+pub mod model_form_report;
 pub mod pod;
 pub mod provenance;
 pub mod query;

@@ -4,9 +4,8 @@
 use std::path::{Path, PathBuf};
 
 use surrogate::predict::{ModelFormTables, ANGLE, FORCE, TIP_UY, TIP_UZ};
-use surrogate::rom::model_form::{
-    from_calibration_report, CalibrationSource, ModelFormError, Residual,
-};
+use surrogate::rom::model_form::{CalibrationSource, ModelFormError, Residual};
+use surrogate::rom::model_form_report::from_calibration_report;
 use surrogate::rom::{Query, RomError, Surrogate};
 
 use crate::rom_common;

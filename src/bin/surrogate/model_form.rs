@@ -4,7 +4,7 @@ use std::path::PathBuf;
 
 use anyhow::{Context, Result};
 use clap::Args;
-use surrogate::rom::model_form::from_calibration_report;
+use surrogate::rom::model_form_report::from_calibration_report;
 
 /// `surrogate model-form`.
 #[derive(Debug, Args)]
