@@ -68,10 +68,7 @@ pub fn reference_study_line(inputs: &[InputFile]) -> Option<&'static str> {
     let bending: Vec<_> = inputs.iter().filter(|f| f.role == "bending").collect();
     let shipped = !bending.is_empty()
         && bending.iter().all(|f| is_shipped(f))
-        && inputs
-            .iter()
-            .filter(|f| f.role == "force")
-            .all(|f| is_shipped(f));
+        && inputs.iter().filter(|f| f.role == "force").all(is_shipped);
     shipped.then_some(REFERENCE_STUDY)
 }
 
