@@ -212,7 +212,11 @@ fn parse_query(
         Some(_) => {
             return Err(cell_err(
                 0,
-                &format!("a trained number of bellows {:?}", model.n_allowed),
+                &format!(
+                    "a trained number of bellows {:?} ({})",
+                    model.n_allowed,
+                    super::surrogate::N_NOT_EXTRAPOLATED
+                ),
             ))
         }
         None => return Err(cell_err(0, "a positive integer (9 or 9.0)")),

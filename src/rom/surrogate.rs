@@ -36,6 +36,12 @@ pub const GRAD_INPUT_NAMES: [&str; N_GRAD_INPUTS] = [
     schema::ALPHA2.name,
 ];
 
+/// Why an untrained number of bellows is refused, whatever the caller allows: `N` is a
+/// discrete input, neither interpolated nor extrapolated.
+pub const N_NOT_EXTRAPOLATED: &str =
+    "N is neither interpolated nor extrapolated, not even with --allow-extrapolation: train a \
+     model that includes it";
+
 /// Buffers reused across predictions (so that `*_into` calls do not allocate).
 #[derive(Debug, Clone, Default)]
 struct Workspace {
@@ -325,7 +331,10 @@ impl Surrogate {
             return Err(RomError::invalid(
                 "n",
                 q.n,
-                &format!("one of the trained numbers of bellows {:?}", self.n_allowed),
+                &format!(
+                    "one of the trained numbers of bellows {:?} ({N_NOT_EXTRAPOLATED})",
+                    self.n_allowed
+                ),
             ));
         }
         if q.mu1 * q.alpha1 <= 0.0 {

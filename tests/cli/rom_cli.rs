@@ -388,6 +388,56 @@ fn unknown_material_and_untrained_n_are_clear_errors() {
     fails_with(&o, &["invalid n = 10", "[9, 11, 13]"]);
 }
 
+/// An untrained N is refused even with `--allow-extrapolation` (one query, a batch, an exported
+/// ramp), and the message says that the flag does not apply to N.
+#[test]
+fn untrained_n_is_refused_even_with_allow_extrapolation() {
+    const WHY: &str = "not even with --allow-extrapolation";
+    let o = predict(&[
+        "--n",
+        "10",
+        "--t",
+        "2.0",
+        "--pressure",
+        "1",
+        "--material",
+        "ogden_002",
+        "--allow-extrapolation",
+    ]);
+    fails_with(&o, &["invalid n = 10", "[9, 11, 13]", WHY]);
+    let csv = dir().join("untrained_n.csv");
+    std::fs::write(
+        &csv,
+        "n_bellows,wall_thickness_mm,pressure_bar,material\n10,2.0,1.5,ogden_002\n",
+    )
+    .unwrap();
+    let out = dir().join("untrained_n_out.csv");
+    let o = predict(&[
+        "--csv",
+        csv.to_str().unwrap(),
+        "--out",
+        out.to_str().unwrap(),
+        "--allow-extrapolation",
+    ]);
+    fails_with(&o, &["line 2", "n_bellows", "[9, 11, 13]", WHY]);
+    let rs = dir().join("untrained_n_ramp.rs");
+    let o = bin()
+        .args(["export", "--ramp", "--n", "10", "--t", "2.0"])
+        .args([
+            "--material",
+            "ogden_002",
+            "--allow-extrapolation",
+            "--model",
+        ])
+        .arg(model())
+        .arg("--rust")
+        .arg(&rs)
+        .output()
+        .unwrap();
+    fails_with(&o, &["invalid n = 10", WHY]);
+    assert!(!rs.exists());
+}
+
 #[test]
 fn batch_csv_round_trip_and_bad_rows() {
     let d = dir();
