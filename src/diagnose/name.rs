@@ -35,9 +35,10 @@
 //!
 //! Two candidates whose projected signatures are nearly collinear (`|cos| ≥ 0.95`) explain
 //! the residual the same way on these recordings and are reported as indistinguishable,
-//! with the output the sweep computes but the recordings lack (markers, force, other
-//! pressures) where their two explanations (`θ̂_a ∂y/∂θ_a` against `θ̂_b ∂y/∂θ_b`) differ
-//! most: the extra measurement that would separate them. So is a pair of the first (or the
+//! with the one output the sweep computes but the recordings lack (markers, force, other
+//! pressures and designs, [`super::measurements`]) that would separate them most by the
+//! T-optimality criterion, the material refitted ([`super::discrimination`]; the plan of up
+//! to three such measurements for the whole tie set is [`super::measure_design`]). So is a pair of the first (or the
 //! named) candidate with another that it does not beat significantly: when the fit with
 //! both is not significantly better than the fit with the other alone (F test, 1 and
 //! `n − 6` degrees of freedom, at the level α), or when neither of the two non-nested fits
@@ -55,13 +56,13 @@ use statrs::distribution::{ContinuousCDF, FisherSnedecor, Normal};
 
 use super::approx_error::ErrorSpread;
 use super::cells::Cell;
+use super::discrimination::{orthonormal, Discrimination};
+use super::measurements::{self, Measurement};
 use super::mesh_error::{ErrorDirection, MODEL_ERROR_UNIT, PLAUSIBLE_MODEL_ERROR};
 use super::signature::{cell_spike, derivative_of, sensitivity_step, LocalMaterial};
 use super::DiagnoseError;
 use crate::calibrate::baseline::SweepSensitivities;
-use crate::calibrate::objective::Output;
 use crate::fe::sensitivity::{OgdenParameter, Parameter};
-use crate::fe::simulate::Mode;
 
 /// Settings of [`name`].
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -232,7 +233,7 @@ impl Naming {
 }
 
 /// Every parameter's derivative of `c`'s output in the sweep, σ-scaled.
-fn derivs_of(sens: &SweepSensitivities, c: &Cell) -> Option<Vec<f64>> {
+pub(crate) fn derivs_of(sens: &SweepSensitivities, c: &Cell) -> Option<Vec<f64>> {
     sensitivity_step(sens, c).and_then(|(se, i)| {
         se.steps[i]
             .derivatives
@@ -240,18 +241,6 @@ fn derivs_of(sens: &SweepSensitivities, c: &Cell) -> Option<Vec<f64>> {
             .map(|d| derivative_of(d, c.output).map(|v| v / c.sigma))
             .collect::<Option<Vec<f64>>>()
     })
-}
-
-/// The name of an output as [`Outputs::named`] writes it.
-fn output_name(o: Output) -> String {
-    match o {
-        Output::TipUz => "tip_uz_mm".into(),
-        Output::TipUy => "tip_uy_mm".into(),
-        Output::Angle => "angle_deg".into(),
-        Output::Force => "force_n".into(),
-        Output::MarkerUz(k) => format!("marker{k}_uz_mm"),
-        Output::MarkerUy(k) => format!("marker{k}_uy_mm"),
-    }
 }
 
 pub use super::sweep::MIN_NAME_CELLS;
@@ -430,7 +419,7 @@ fn name_inner(
             .expect("a Cholesky factor of I + DDᵀ is regular"),
         None => sm,
     };
-    let q = orthonormal_basis(&sm);
+    let q = orthonormal(&sm);
     let project = |v: &DVector<f64>| -> DVector<f64> { v - &q * (q.transpose() * v) };
     let r = project(&z_fit);
     let chi2 = z.norm_squared();
@@ -537,17 +526,20 @@ fn name_inner(
     }
     holm(&mut candidates, s.alpha);
     candidates.sort_by(|a, b| b.delta_chi2.total_cmp(&a.delta_chi2));
-    let recorded: Vec<(u32, f64, f64, String)> = rows
+    // what separates a tied pair: the sweep's unrecorded outputs, the material refitted
+    let effects: Vec<Parameter> = params
         .iter()
-        .map(|(c, _)| {
-            (
-                c.n_bellows,
-                c.wall_thickness_mm,
-                c.pressure_bar,
-                output_name(c.output),
-            )
-        })
+        .copied()
+        .filter(|p| matches!(p, Parameter::Effect(_)))
         .collect();
+    let items = measurements::candidates(cells, sens, &params);
+    let design = measurements::discrimination(
+        &z,
+        |p| params.iter().position(|q| *q == p).map(|j| w(column(j))),
+        &params,
+        &effects,
+        &items,
+    );
     let fit = PairFit {
         residual: &r,
         chi2_material,
@@ -555,7 +547,10 @@ fn name_inner(
         alpha: s.alpha,
         collinear: s.collinear,
     };
-    let indistinguishable = pairs(&projected, &candidates, sens, &recorded, &fit);
+    let separating = design
+        .as_ref()
+        .map(|d| (d, effects.as_slice(), items.as_slice()));
+    let indistinguishable = pairs(&projected, &candidates, separating, &fit);
     let verdict = verdict(&candidates, &indistinguishable, chi2_material);
     Ok(Naming {
         refitted_material: None,
@@ -573,7 +568,7 @@ fn name_inner(
 
 /// The lower Cholesky factor `L` of `I + D̃D̃ᵀ` over the used cells (`D̃` the spread's
 /// deviations over each cell's σ), or none without a spread; `L⁻¹` whitens.
-fn whitening(
+pub(crate) fn whitening(
     spread: Option<&ErrorSpread>,
     cells: &[Cell],
     rows: &[(&Cell, Vec<f64>)],
@@ -602,23 +597,6 @@ fn whitening(
         )
     })?;
     Ok(Some(chol.l()))
-}
-
-/// Orthonormal basis of the column span of `a` (thin SVD, directions below 10⁻¹⁰ of the
-/// largest singular value dropped).
-fn orthonormal_basis(a: &DMatrix<f64>) -> DMatrix<f64> {
-    let svd = a.clone().svd(true, false);
-    let u = svd.u.expect("u was asked for");
-    let smax = svd.singular_values.max();
-    let keep: Vec<usize> = (0..svd.singular_values.len())
-        .filter(|&i| svd.singular_values[i] > 1e-10 * smax)
-        .collect();
-    DMatrix::from_columns(
-        &keep
-            .iter()
-            .map(|&i| u.column(i).into_owned())
-            .collect::<Vec<_>>(),
-    )
 }
 
 /// Holm's step-down correction at level `alpha` over every candidate.
@@ -710,6 +688,13 @@ impl PairFit<'_> {
     }
 }
 
+/// The criterion's problem, its candidates' parameters and the measurements it can add.
+type Separating<'a> = (
+    &'a Discrimination,
+    &'a [Parameter],
+    &'a [(Measurement, Vec<f64>)],
+);
+
 /// Pairs the recordings cannot tell apart, with the unrecorded output that separates them:
 /// nearly collinear pairs among the significant candidates (or the two best when none is),
 /// and pairs of the first or the named candidate with another whose fit it does not beat
@@ -717,8 +702,7 @@ impl PairFit<'_> {
 fn pairs(
     projected: &[(String, f64, DVector<f64>, Option<Parameter>)],
     ranked: &[Candidate],
-    sens: &SweepSensitivities,
-    recorded: &[(u32, f64, f64, String)],
+    separating: Option<Separating>,
     fit: &PairFit,
 ) -> Vec<Indistinguishable> {
     let mut interesting: Vec<&str> = ranked
@@ -739,8 +723,8 @@ fn pairs(
         .map(|c| c.effect.as_str())
         .collect();
     let mut out = Vec::new();
-    for (a, (na, ta, sa, pa)) in projected.iter().enumerate() {
-        for (nb, tb, sb, pb) in projected.iter().skip(a + 1) {
+    for (a, (na, _, sa, pa)) in projected.iter().enumerate() {
+        for (nb, _, sb, pb) in projected.iter().skip(a + 1) {
             if !interesting.contains(&na.as_str()) && !interesting.contains(&nb.as_str()) {
                 continue;
             }
@@ -757,8 +741,10 @@ fn pairs(
                 cosine: cos,
                 p_separation: tests.map(|t| t.0),
                 vuong_z: tests.map(|t| t.1),
-                separated_by: match (pa, pb) {
-                    (Some(pa), Some(pb)) => separation(sens, recorded, (*pa, *ta), (*pb, *tb)),
+                separated_by: match (pa, pb, separating) {
+                    (Some(pa), Some(pb), Some((d, effects, items))) => {
+                        separation(d, effects, items, *pa, *pb)
+                    }
                     _ => None,
                 },
             });
@@ -767,57 +753,29 @@ fn pairs(
     out
 }
 
-/// Where `θ̂_a ∂y/∂θ_a` and `θ̂_b ∂y/∂θ_b` differ most over the outputs of the sweep that
-/// are not `recorded` (markers, force, tip, angle at other designs and pressures), in words.
+/// The single unrecorded measurement that separates `a` from `b` most
+/// ([`Discrimination::best_single`]: the T-optimality criterion, the material refitted), in
+/// words; `effects` the design's candidates in order.
 fn separation(
-    sens: &SweepSensitivities,
-    recorded: &[(u32, f64, f64, String)],
-    a: (Parameter, f64),
-    b: (Parameter, f64),
+    design: &Discrimination,
+    effects: &[Parameter],
+    items: &[(Measurement, Vec<f64>)],
+    a: Parameter,
+    b: Parameter,
 ) -> Option<String> {
-    let mut best: Option<(f64, String)> = None;
-    for d in &sens.designs {
-        let params = &d.sensitivities.parameters;
-        let ia = params.iter().position(|p| p.parameter == a.0)?;
-        let ib = params.iter().position(|p| p.parameter == b.0)?;
-        for st in &d.sensitivities.steps {
-            let (da, db) = (st.derivatives[ia].named(), st.derivatives[ib].named());
-            for ((name, va), (_, vb)) in da.iter().zip(&db) {
-                // marker 9 is the tip
-                let same = |o: &str| {
-                    o == name
-                        || (o == "tip_uz_mm" && name == "marker9_uz_mm")
-                        || (o == "tip_uy_mm" && name == "marker9_uy_mm")
-                };
-                let is_recorded = recorded.iter().any(|(n, t, p, o)| {
-                    *n as usize == d.n_bellows
-                        && *t == d.wall_thickness_mm
-                        && (*p - st.pressure_bar).abs() < 1e-9
-                        && same(o)
-                });
-                // the force of a bending ramp and the bending of a force ramp are not outputs
-                let foreign = match d.mode {
-                    Mode::Bending => name == "force_n",
-                    Mode::Force => name != "force_n",
-                };
-                if is_recorded || foreign {
-                    continue;
-                }
-                let diff = (a.1 * va - b.1 * vb).abs();
-                if diff > 0.0 && best.as_ref().is_none_or(|(v, _)| diff > *v) {
-                    best = Some((
-                        diff,
-                        format!(
-                            "{name} at N = {}, T = {} mm, {} bar ({:?}): the two explanations \
-                             differ by {diff:.3}",
-                            d.n_bellows, d.wall_thickness_mm, st.pressure_bar, d.mode
-                        ),
-                    ));
-                }
-            }
-        }
-    }
-    best.map(|(_, s)| s)
+    let ia = effects.iter().position(|p| *p == a)?;
+    let ib = effects.iter().position(|p| *p == b)?;
+    let before = design.separation(ia, ib, &[]);
+    let (item, after) = design.best_single(ia, ib)?;
+    Some(format!(
+        "{}, σ = {:.3}: the two expected {:.2} σ apart (log Bayes factor {:.2}), {:.2} σ on \
+         these recordings",
+        items[item].0.text(),
+        items[item].0.sigma,
+        after.sqrt(),
+        after / 2.0,
+        before.sqrt()
+    ))
 }
 
 /// The verdict in words: the best significant candidate at a plausible size is named; a
@@ -945,12 +903,14 @@ mod tests {
 
     use super::*;
     use crate::calibrate::baseline::{DesignSensitivities, SWEEP_SENSITIVITY_FORMAT};
+    use crate::calibrate::objective::Output;
     use crate::fe::effects::{Effect, Effects};
     use crate::fe::material::Material;
     use crate::fe::mesh::{MeshLevel, MeshOptions};
     use crate::fe::sensitivity::{
         Outputs, ParameterInfo, Sensitivities, SensitivityCost, StepSensitivities,
     };
+    use crate::fe::simulate::Mode;
 
     const DESIGNS: [(usize, f64); 9] = [
         (9, 1.6),
@@ -1408,7 +1368,7 @@ mod tests {
         assert!(
             pair.separated_by
                 .as_deref()
-                .is_some_and(|s| s.starts_with("marker")),
+                .is_some_and(|s| s.starts_with('m') && s.contains("_uy_mm at N = ")),
             "{pair:?}"
         );
         assert!(n.verdict.contains("cannot be told apart"), "{}", n.verdict);

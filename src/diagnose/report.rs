@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::locate::{locate, Localisation, LocateSettings};
+use super::measure_design::{plan, MeasurementPlan, PlanSettings};
 use super::mesh_error::{mesh_error, MeshError};
 use super::name::{name_refitted, NameSettings, Naming};
 use super::refit::{refit, Refit, RefitSettings};
@@ -135,6 +136,10 @@ pub struct Diagnosis {
     pub name: Stage,
     /// Refit with the chosen effect(s), held-out gain, FE confirmation.
     pub model_and_show: Stage,
+    /// What to measure next to separate the candidates the Name stage found tied (none: not
+    /// planned, [`Self::plan_with`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub measurement_plan: Option<MeasurementPlan>,
 }
 
 impl Diagnosis {
@@ -161,6 +166,7 @@ impl Diagnosis {
             model_and_show: Stage::NotRun {
                 reason: "needs a named effect".into(),
             },
+            measurement_plan: None,
         }
     }
 
@@ -254,6 +260,28 @@ impl Diagnosis {
             &self.calibration.best,
         )?;
         Ok(self.mesh_error.insert(me))
+    }
+
+    /// Plans the measurements that would best separate the candidates the Name stage found
+    /// tied ([`super::measure_design::plan`]), with the FE sensitivities `sens` the stage ran
+    /// with, and records the plan.
+    ///
+    /// # Errors
+    /// The Name stage has not run; see [`plan`].
+    pub fn plan_with(
+        &mut self,
+        sens: &crate::calibrate::baseline::SweepSensitivities,
+        settings: &PlanSettings,
+    ) -> Result<&MeasurementPlan, DiagnoseError> {
+        let naming = self.naming().ok_or_else(|| {
+            DiagnoseError::input(
+                "measurement plan",
+                "no Name stage",
+                "a diagnosis named first",
+            )
+        })?;
+        let p = plan(&self.locate.cells, sens, naming, settings)?;
+        Ok(self.measurement_plan.insert(p))
     }
 
     /// The Name stage's result, if it ran.

@@ -59,6 +59,9 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
     {
         let _ = writeln!(s, "- **FE sensitivities**: {}.", c.text());
     }
+    if let Some(p) = &d.measurement_plan {
+        let _ = write!(s, "\n## What to measure next\n\n{}", p.markdown());
+    }
     if let Stage::Named(n) = &d.name {
         naming(&mut s, n);
     }

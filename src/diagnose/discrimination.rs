@@ -1,0 +1,541 @@
+//! How well a set of measurements would tell two candidate effects apart: the T-optimality
+//! criterion of model discrimination (Atkinson and Fedorov, Biometrika 62, 1975, 57–70 for
+//! two models, 289–303 for several), for linear models that share the material as nuisance
+//! parameters.
+//!
+//! Every number is in its own σ (and, for the recorded cells, whitened as the Name stage
+//! whitens them, [`super::name`]). The recorded cells give the residual `z` (n), the material's
+//! columns `M` (n × 4) and each candidate's signature `a` (n); an added measurement `x` gives
+//! its rows `m_x` (4) and `a_x`, its derivatives over its own σ. Candidate `a` is first fitted
+//! jointly with the material on the recorded cells,
+//!
+//! ```text
+//!   θ̂_a = ã ᵀ z̃ / ã ᵀ ã,      ã = P⊥_M a,  z̃ = P⊥_M z
+//! ```
+//!
+//! (only `|θ̂_a|` matters below). If `a` is the truth at that size, the material plus candidate
+//! `b` fit the expected recordings of a design `ξ` (the recorded cells and the added
+//! measurements) no better than
+//!
+//! ```text
+//!   T_ab(ξ) = min over β, θ_b of ‖ θ̂_a a − M β − b θ_b ‖²_ξ  =  θ̂_a² ‖ P⊥_[M b] a ‖²_ξ
+//! ```
+//!
+//! the expected increase of `χ²` of the wrong model: the non-centrality of the F test that
+//! rejects `b`, and twice the Kullback–Leibler divergence from the truth to the best fit of
+//! `b` (Gaussian noise of unit variance), so `T_ab / 2` is the expected log Bayes factor
+//! (log-likelihood ratio) in favour of `a`. Which of the two is the truth is not known, so a
+//! pair is scored by the symmetric
+//!
+//! ```text
+//!   δ_ab(ξ) = min(T_ab(ξ), T_ba(ξ)),      separation in σ: √δ_ab
+//! ```
+//!
+//! and a tie set (the first candidate `ℓ` and the rivals the recordings cannot separate from
+//! it) by the separations `δ_ℓj` of every rival `j`, compared leximin (the smallest first,
+//! then the next: Atkinson and Fedorov's maximin for several models, with its ties broken).
+//! `k` measurements are chosen greedily: each step adds the candidate measurement that
+//! raises the sorted separations most. Adding rows never lowers a `T` (the minimum over more
+//! rows is at least that over fewer), so `k` greedy measurements are never worse than the
+//! best single one.
+//!
+//! `T` is invariant to rescaling a signature: `c·a` has the size `θ̂_a / c`, and `P⊥_[M b]` does
+//! not depend on the scale of `b`. The Hunter–Reiner criterion `(θ̂_a a_x − θ̂_b b_x)²` is the
+//! single-measurement case without the refit of the rival; the refit matters here because the
+//! material absorbs much of every signature.
+//!
+//! Computation: on the recorded cells `[M b] = U S Vᵀ` (thin SVD, directions below 10⁻¹⁰ of
+//! the largest dropped); in the coordinates `c = S Vᵀ β` the recorded rows are orthonormal and
+//! an added row is `h_x = V S⁻¹ [m_x, b_x]`, so that with `v = θ̂_a a`
+//!
+//! ```text
+//!   T_ab = vᵀv + Σ v_x² − wᵀ (I + Σ h_x h_xᵀ)⁻¹ w,      w = Uᵀv + Σ h_x v_x
+//! ```
+//!
+//! a small positive-definite solve per design.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::DiagnoseError;
+
+/// An added measurement's rows: its derivatives by the material (the nuisance parameters)
+/// and by every candidate, each over the measurement's σ.
+#[derive(Clone, Debug, PartialEq)]
+pub struct ItemRow {
+    /// `∂y/∂θ_m / σ`, one per nuisance parameter.
+    pub nuisance: Vec<f64>,
+    /// `∂y/∂θ_j / σ`, one per candidate.
+    pub candidates: Vec<f64>,
+}
+
+/// The recorded cells and the measurements that could be added, for the candidates' pairs.
+#[derive(Clone, Debug)]
+pub struct Discrimination {
+    nuisance: DMatrix<f64>,
+    signatures: Vec<DVector<f64>>,
+    sizes: Vec<f64>,
+    items: Vec<ItemRow>,
+}
+
+/// One direction of a pair (`truth` true at its fitted size, `rival` refitted), reduced to
+/// the coordinates of the module docs.
+struct Direction {
+    /// `V S⁻¹` (columns of the nuisance and the rival → reduced coordinates).
+    to_reduced: DMatrix<f64>,
+    /// `Uᵀ v` over the recorded cells.
+    w0: DVector<f64>,
+    /// `vᵀ v` over the recorded cells.
+    vv0: f64,
+    truth: usize,
+    rival: usize,
+}
+
+/// One step of [`Discrimination::greedy`].
+#[derive(Clone, Debug, PartialEq)]
+pub struct Pick {
+    /// Index of the measurement added.
+    pub item: usize,
+    /// `δ_ℓj` of every rival after adding it (and the picks before it), in the rivals' order.
+    pub separations: Vec<f64>,
+}
+
+impl Discrimination {
+    /// The problem of `residual` (n), the nuisance columns (n × q) and the candidates'
+    /// signatures (n each) on the recorded cells, with the rows of the measurements that
+    /// could be added; each candidate's size is fitted jointly with the nuisance.
+    ///
+    /// # Errors
+    /// [`DiagnoseError::Input`] for lengths that do not match.
+    pub fn new(
+        residual: &DVector<f64>,
+        nuisance: DMatrix<f64>,
+        signatures: Vec<DVector<f64>>,
+        items: Vec<ItemRow>,
+    ) -> Result<Self, DiagnoseError> {
+        let n = residual.len();
+        if nuisance.nrows() != n || signatures.iter().any(|s| s.len() != n) {
+            return Err(DiagnoseError::input(
+                "discrimination rows",
+                format!(
+                    "{} nuisance rows, signatures of {:?}",
+                    nuisance.nrows(),
+                    signatures.iter().map(|s| s.len()).collect::<Vec<_>>()
+                ),
+                &format!("one row per recorded cell ({n})"),
+            ));
+        }
+        if let Some(i) = items.iter().find(|i| {
+            i.nuisance.len() != nuisance.ncols() || i.candidates.len() != signatures.len()
+        }) {
+            return Err(DiagnoseError::input(
+                "measurement row",
+                format!("{} + {} values", i.nuisance.len(), i.candidates.len()),
+                &format!(
+                    "{} nuisance and {} candidate derivatives",
+                    nuisance.ncols(),
+                    signatures.len()
+                ),
+            ));
+        }
+        let q = orthonormal(&nuisance);
+        let perp = |v: &DVector<f64>| v - &q * (q.transpose() * v);
+        let r = perp(residual);
+        let sizes = signatures
+            .iter()
+            .map(|s| {
+                let st = perp(s);
+                let ss = st.norm_squared();
+                if ss > 0.0 {
+                    st.dot(&r) / ss
+                } else {
+                    0.0
+                }
+            })
+            .collect();
+        Ok(Discrimination {
+            nuisance,
+            signatures,
+            sizes,
+            items,
+        })
+    }
+
+    /// Number of measurements that could be added.
+    pub fn items(&self) -> usize {
+        self.items.len()
+    }
+
+    /// Candidate `j`'s size fitted with the nuisance on the recorded cells.
+    pub fn size(&self, j: usize) -> f64 {
+        self.sizes[j]
+    }
+
+    fn direction(&self, truth: usize, rival: usize) -> Direction {
+        let mut g = self
+            .nuisance
+            .clone()
+            .insert_column(self.nuisance.ncols(), 0.0);
+        let last = g.ncols() - 1;
+        g.set_column(last, &self.signatures[rival]);
+        let svd = g.clone().svd(true, true);
+        let (u, vt) = (
+            svd.u.expect("u was asked for"),
+            svd.v_t.expect("v was asked for"),
+        );
+        let smax = svd.singular_values.max();
+        let keep: Vec<usize> = (0..svd.singular_values.len())
+            .filter(|&i| svd.singular_values[i] > 1e-10 * smax)
+            .collect();
+        let u = if keep.is_empty() {
+            DMatrix::zeros(g.nrows(), 0)
+        } else {
+            DMatrix::from_columns(&keep.iter().map(|&i| u.column(i)).collect::<Vec<_>>())
+        };
+        let to_reduced = DMatrix::from_fn(vt.ncols(), keep.len(), |r, c| {
+            vt[(keep[c], r)] / svd.singular_values[keep[c]]
+        });
+        let v = &self.signatures[truth] * self.sizes[truth];
+        Direction {
+            to_reduced,
+            w0: u.transpose() * &v,
+            vv0: v.norm_squared(),
+            truth,
+            rival,
+        }
+    }
+
+    /// `(h_x, v_x)` of measurement `i` in a direction's coordinates.
+    fn reduced_row(&self, d: &Direction, i: usize) -> (DVector<f64>, f64) {
+        let it = &self.items[i];
+        let g = DVector::from_iterator(
+            it.nuisance.len() + 1,
+            it.nuisance.iter().copied().chain([it.candidates[d.rival]]),
+        );
+        (
+            d.to_reduced.transpose() * g,
+            self.sizes[d.truth] * it.candidates[d.truth],
+        )
+    }
+
+    fn lack_of_fit_in(&self, d: &Direction, chosen: &[usize]) -> f64 {
+        let k = d.w0.len();
+        let mut a = DMatrix::identity(k, k);
+        let mut w = d.w0.clone();
+        let mut vv = d.vv0;
+        for &i in chosen {
+            let (h, v) = self.reduced_row(d, i);
+            a += &h * h.transpose();
+            w += &h * v;
+            vv += v * v;
+        }
+        let explained = a.cholesky().map_or(0.0, |c| w.dot(&c.solve(&w)));
+        (vv - explained).max(0.0)
+    }
+
+    /// `T_ab` of the recorded cells plus the measurements `chosen` (module docs).
+    pub fn lack_of_fit(&self, truth: usize, rival: usize, chosen: &[usize]) -> f64 {
+        self.lack_of_fit_in(&self.direction(truth, rival), chosen)
+    }
+
+    /// `δ_ab = min(T_ab, T_ba)` of the recorded cells plus the measurements `chosen`.
+    pub fn separation(&self, a: usize, b: usize, chosen: &[usize]) -> f64 {
+        self.lack_of_fit(a, b, chosen)
+            .min(self.lack_of_fit(b, a, chosen))
+    }
+
+    /// The single measurement that separates `a` from `b` most, with `δ_ab` once it is added
+    /// (none without measurements, or when none raises `δ_ab`).
+    pub fn best_single(&self, a: usize, b: usize) -> Option<(usize, f64)> {
+        let (ab, ba) = (self.direction(a, b), self.direction(b, a));
+        let before = self
+            .lack_of_fit_in(&ab, &[])
+            .min(self.lack_of_fit_in(&ba, &[]));
+        (0..self.items.len())
+            .map(|i| {
+                let d = self
+                    .lack_of_fit_in(&ab, &[i])
+                    .min(self.lack_of_fit_in(&ba, &[i]));
+                (i, d)
+            })
+            .filter(|(_, d)| *d > before * (1.0 + 1e-9) + 1e-12)
+            .max_by(|x, y| x.1.total_cmp(&y.1))
+    }
+
+    /// Up to `k` measurements chosen greedily to separate `leader` from every one of
+    /// `rivals` (leximin over `δ_ℓj`, module docs); stops early when no measurement raises the
+    /// separations.
+    pub fn greedy(&self, leader: usize, rivals: &[usize], k: usize) -> Vec<Pick> {
+        let dirs: Vec<(Direction, Direction)> = rivals
+            .iter()
+            .map(|&j| (self.direction(leader, j), self.direction(j, leader)))
+            .collect();
+        let score = |chosen: &[usize]| -> Vec<f64> {
+            dirs.iter()
+                .map(|(ab, ba)| {
+                    self.lack_of_fit_in(ab, chosen)
+                        .min(self.lack_of_fit_in(ba, chosen))
+                })
+                .collect()
+        };
+        let mut chosen: Vec<usize> = Vec::new();
+        let mut picks = Vec::new();
+        let mut current = score(&chosen);
+        for _ in 0..k {
+            let mut best: Option<(usize, Vec<f64>)> = None;
+            for i in (0..self.items.len()).filter(|i| !chosen.contains(i)) {
+                let mut trial = chosen.clone();
+                trial.push(i);
+                let s = score(&trial);
+                if best.as_ref().is_none_or(|(_, b)| leximin_greater(&s, b)) {
+                    best = Some((i, s));
+                }
+            }
+            let Some((i, s)) = best.filter(|(_, s)| leximin_greater(s, &current)) else {
+                break;
+            };
+            chosen.push(i);
+            current = s.clone();
+            picks.push(Pick {
+                item: i,
+                separations: s,
+            });
+        }
+        picks
+    }
+}
+
+/// Whether `a` beats `b` leximin: sorted ascending, the first entry that differs (beyond a
+/// relative 10⁻⁹) is larger in `a`.
+pub fn leximin_greater(a: &[f64], b: &[f64]) -> bool {
+    let sorted = |v: &[f64]| {
+        let mut v = v.to_vec();
+        v.sort_by(f64::total_cmp);
+        v
+    };
+    let (a, b) = (sorted(a), sorted(b));
+    for (x, y) in a.iter().zip(&b) {
+        let tol = 1e-9 * x.abs().max(y.abs()) + 1e-12;
+        if (x - y).abs() > tol {
+            return x > y;
+        }
+    }
+    false
+}
+
+/// Orthonormal basis of the column span of `a` (thin SVD, directions below 10⁻¹⁰ of the
+/// largest singular value dropped; no column for a matrix of zeros).
+pub(crate) fn orthonormal(a: &DMatrix<f64>) -> DMatrix<f64> {
+    if a.ncols() == 0 {
+        return DMatrix::zeros(a.nrows(), 0);
+    }
+    let svd = a.clone().svd(true, false);
+    let u = svd.u.expect("u was asked for");
+    let smax = svd.singular_values.max();
+    let keep: Vec<DVector<f64>> = (0..svd.singular_values.len())
+        .filter(|&i| svd.singular_values[i] > 1e-10 * smax)
+        .map(|i| u.column(i).into_owned())
+        .collect();
+    if keep.is_empty() {
+        return DMatrix::zeros(a.nrows(), 0);
+    }
+    DMatrix::from_columns(&keep)
+}
+
+#[cfg(test)]
+mod tests {
+    use rand::{Rng, SeedableRng};
+    use rand_xoshiro::Xoshiro256PlusPlus;
+
+    use super::*;
+
+    struct Parts {
+        residual: DVector<f64>,
+        nuisance: DMatrix<f64>,
+        signatures: Vec<DVector<f64>>,
+        items: Vec<ItemRow>,
+    }
+
+    impl Parts {
+        fn build(&self) -> Discrimination {
+            Discrimination::new(
+                &self.residual,
+                self.nuisance.clone(),
+                self.signatures.clone(),
+                self.items.clone(),
+            )
+            .unwrap()
+        }
+    }
+
+    /// `n` recorded rows, 4 nuisance columns, `m` candidates and `k` measurements, all
+    /// random; the residual along candidate 0 with noise.
+    fn random_parts(seed: u64, n: usize, m: usize, k: usize) -> Parts {
+        let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
+        let mut g = move || rng.gen_range(-1.0..1.0);
+        let nuisance = DMatrix::from_fn(n, 4, |_, _| g());
+        let signatures: Vec<DVector<f64>> =
+            (0..m).map(|_| DVector::from_fn(n, |_, _| g())).collect();
+        let residual = &signatures[0] * 0.8 + DVector::from_fn(n, |_, _| 0.3 * g());
+        let items = (0..k)
+            .map(|_| ItemRow {
+                nuisance: (0..4).map(|_| g()).collect(),
+                candidates: (0..m).map(|_| g()).collect(),
+            })
+            .collect();
+        Parts {
+            residual,
+            nuisance,
+            signatures,
+            items,
+        }
+    }
+
+    /// `T_ab` by brute force: the rows stacked, the rival and the nuisance fitted by SVD.
+    fn brute_force(p: &Parts, d: &Discrimination, a: usize, b: usize, chosen: &[usize]) -> f64 {
+        let n = p.residual.len();
+        let rows = n + chosen.len();
+        let g = DMatrix::from_fn(rows, 5, |i, j| match (i < n, j < 4) {
+            (true, true) => p.nuisance[(i, j)],
+            (true, false) => p.signatures[b][i],
+            (false, true) => p.items[chosen[i - n]].nuisance[j],
+            (false, false) => p.items[chosen[i - n]].candidates[b],
+        });
+        let v = DVector::from_fn(rows, |i, _| {
+            d.size(a)
+                * if i < n {
+                    p.signatures[a][i]
+                } else {
+                    p.items[chosen[i - n]].candidates[a]
+                }
+        });
+        let beta = g.clone().svd(true, true).solve(&v, 1e-12).unwrap();
+        (v - g * beta).norm_squared()
+    }
+
+    #[test]
+    fn the_lack_of_fit_is_that_of_the_rival_refitted_on_the_stacked_rows() {
+        let p = random_parts(1, 40, 3, 12);
+        let d = p.build();
+        for chosen in [vec![], vec![2], vec![0, 5, 11]] {
+            for (a, b) in [(0, 1), (1, 0), (2, 0)] {
+                let fast = d.lack_of_fit(a, b, &chosen);
+                let slow = brute_force(&p, &d, a, b, &chosen);
+                assert!(
+                    (fast - slow).abs() <= 1e-9 * slow.max(1e-12),
+                    "{a} {b} {chosen:?}: {fast} against {slow}"
+                );
+            }
+        }
+        // the size is the joint fit with the nuisance: the residual along candidate 0 at 0.8
+        assert!((d.size(0) - 0.8).abs() < 0.2, "{}", d.size(0));
+    }
+
+    /// Candidates 0 and 1 coincide on the recorded rows (1 is twice 0) and at every
+    /// measurement but `odd`, where 1 moves by one σ more.
+    fn coinciding(odd: usize) -> Parts {
+        let mut p = random_parts(2, 50, 2, 30);
+        p.signatures[1] = &p.signatures[0] * 2.0;
+        for (i, it) in p.items.iter_mut().enumerate() {
+            it.candidates[1] = 2.0 * it.candidates[0] + if i == odd { 1.0 } else { 0.0 };
+        }
+        p
+    }
+
+    #[test]
+    fn the_measurement_where_two_coinciding_signatures_differ_is_chosen() {
+        for odd in [3, 17, 29] {
+            let d = coinciding(odd).build();
+            let before = d.separation(0, 1, &[]);
+            assert!(before < 1e-10, "{before}");
+            assert_eq!(d.best_single(0, 1).map(|b| b.0), Some(odd));
+            let picks = d.greedy(0, &[1], 3);
+            assert_eq!(picks[0].item, odd, "{picks:?}");
+            assert!(picks[0].separations[0] > 1e-3, "{picks:?}");
+        }
+    }
+
+    #[test]
+    fn the_gain_falls_as_the_noise_grows() {
+        let gain = |sigma: f64| {
+            let mut p = random_parts(3, 40, 3, 20);
+            for it in &mut p.items {
+                it.nuisance.iter_mut().for_each(|v| *v /= sigma);
+                it.candidates.iter_mut().for_each(|v| *v /= sigma);
+            }
+            let d = p.build();
+            let (_, after) = d.best_single(0, 1).expect("a measurement separates them");
+            after - d.separation(0, 1, &[])
+        };
+        let gains: Vec<f64> = [0.25, 0.5, 1.0, 2.0, 4.0].map(gain).to_vec();
+        assert!(gains.windows(2).all(|w| w[1] < w[0]), "{gains:?}");
+        // the same with the coinciding pair: the single separating measurement, noisier
+        let sep = |sigma: f64| {
+            let mut p = coinciding(17);
+            p.items[17].nuisance.iter_mut().for_each(|v| *v /= sigma);
+            p.items[17].candidates.iter_mut().for_each(|v| *v /= sigma);
+            p.build().separation(0, 1, &[17])
+        };
+        assert!(
+            sep(0.5) > sep(1.0) && sep(1.0) > sep(3.0),
+            "{} {} {}",
+            sep(0.5),
+            sep(1.0),
+            sep(3.0)
+        );
+    }
+
+    #[test]
+    fn k_greedy_measurements_are_never_worse_than_any_single_one() {
+        for seed in [4, 5, 6] {
+            let d = random_parts(seed, 30, 4, 25).build();
+            let rivals = [1, 2, 3];
+            let picks = d.greedy(0, &rivals, 3);
+            assert_eq!(picks.len(), 3, "{picks:?}");
+            let worst = |s: &[f64]| s.iter().copied().fold(f64::INFINITY, f64::min);
+            let three = worst(&picks[2].separations);
+            for i in 0..d.items() {
+                let single: Vec<f64> = rivals.iter().map(|&j| d.separation(0, j, &[i])).collect();
+                assert!(three >= worst(&single) * (1.0 - 1e-12), "item {i}");
+            }
+            // each pick raises the weakest separation or leaves it, never lowers one
+            for w in picks.windows(2) {
+                assert!(w[1]
+                    .separations
+                    .iter()
+                    .zip(&w[0].separations)
+                    .all(|(b, a)| *b >= a * (1.0 - 1e-12)));
+            }
+            // the separations reported are those of the chosen set
+            let chosen: Vec<usize> = picks.iter().map(|p| p.item).collect();
+            assert!((d.separation(0, 2, &chosen) - picks[2].separations[1]).abs() < 1e-9);
+        }
+    }
+
+    #[test]
+    fn rescaling_a_signature_changes_nothing() {
+        let base = random_parts(7, 35, 3, 20);
+        let d = base.build();
+        let picks = d.greedy(0, &[1, 2], 3);
+        for c in [-0.37, 12.5] {
+            let mut p = random_parts(7, 35, 3, 20);
+            p.signatures[1] *= c;
+            p.items.iter_mut().for_each(|it| it.candidates[1] *= c);
+            let scaled = p.build();
+            assert!((scaled.size(1) * c - d.size(1)).abs() < 1e-9 * d.size(1).abs());
+            let again = scaled.greedy(0, &[1, 2], 3);
+            assert_eq!(
+                again.iter().map(|p| p.item).collect::<Vec<_>>(),
+                picks.iter().map(|p| p.item).collect::<Vec<_>>()
+            );
+            for (x, y) in again.iter().zip(&picks) {
+                for (a, b) in x.separations.iter().zip(&y.separations) {
+                    assert!((a - b).abs() <= 1e-8 * b.abs().max(1e-12), "{a} {b}");
+                }
+            }
+            assert!(
+                (scaled.lack_of_fit(1, 0, &[4]) - d.lack_of_fit(1, 0, &[4])).abs()
+                    <= 1e-8 * d.lack_of_fit(1, 0, &[4])
+            );
+        }
+    }
+}
