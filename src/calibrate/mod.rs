@@ -34,6 +34,7 @@ use thiserror::Error;
 
 pub mod baseline;
 pub mod checks;
+pub mod coverage;
 pub mod experiments;
 pub mod fit;
 pub mod identify;

@@ -13,6 +13,8 @@
 //! (σ_α in radians) for each component, from an independent stream of the same seed (the
 //! generator's long jump), so adding markers changes no bending or force value.
 
+use std::path::{Path, PathBuf};
+
 use rand::{RngCore, SeedableRng};
 use rand_xoshiro::Xoshiro256Plus;
 use serde::{Deserialize, Serialize};
@@ -39,6 +41,73 @@ pub struct TrueOutputs {
     /// Blocked force (N); NaN when not simulated.
     pub force_n: f64,
 }
+
+impl TrueOutputs {
+    /// The rows at `pressures` (bar) of every snapshot case file (`*.csv`, the columns of
+    /// `surrogate snapshots run`) in `dir`, in file-name order: FE outputs at a known material,
+    /// such as `fe_reference/calibration/synthetic_coarse/cases/cases/`.
+    ///
+    /// # Errors
+    /// [`CalibrateError::Record`] for an unreadable file, a missing column or a bad number,
+    /// naming the file, line and column.
+    pub fn read_cases(dir: &Path, pressures: &[f64]) -> Result<Vec<Self>, CalibrateError> {
+        let bad = |file: &Path, line: usize, column: &str, reason: String| CalibrateError::Record {
+            source_name: file.display().to_string(),
+            line,
+            column: column.to_string(),
+            reason,
+        };
+        let mut files: Vec<PathBuf> = std::fs::read_dir(dir)
+            .map_err(|e| bad(dir, 0, "", e.to_string()))?
+            .filter_map(|e| e.ok().map(|e| e.path()))
+            .filter(|p| p.extension().is_some_and(|e| e == "csv"))
+            .collect();
+        files.sort();
+        let mut out = Vec::new();
+        for f in &files {
+            let mut r = csv::Reader::from_path(f).map_err(|e| bad(f, 0, "", e.to_string()))?;
+            let header = r
+                .headers()
+                .map_err(|e| bad(f, 1, "", e.to_string()))?
+                .clone();
+            let cols = CASE_COLUMNS.map(|name| header.iter().position(|c| c == name));
+            for (i, rec) in r.records().enumerate() {
+                let rec = rec.map_err(|e| bad(f, i + 2, "", e.to_string()))?;
+                let mut v = [0.0; 7];
+                for (k, name) in CASE_COLUMNS.iter().enumerate() {
+                    let text = cols[k].and_then(|c| rec.get(c));
+                    v[k] = text.and_then(|t| t.parse().ok()).ok_or_else(|| {
+                        bad(f, i + 2, name, format!("expected a number, got {text:?}"))
+                    })?;
+                }
+                if pressures.contains(&v[2]) {
+                    out.push(TrueOutputs {
+                        n_bellows: v[0] as usize,
+                        wall_thickness_mm: v[1],
+                        pressure_bar: v[2],
+                        tip_uz_mm: v[3],
+                        tip_uy_mm: v[4],
+                        angle_deg: v[5],
+                        force_n: v[6],
+                    });
+                }
+            }
+        }
+        Ok(out)
+    }
+}
+
+/// The columns of a snapshot case file that [`TrueOutputs::read_cases`] reads, in the order of
+/// the fields of [`TrueOutputs`].
+const CASE_COLUMNS: [&str; 7] = [
+    "n_bellows",
+    "wall_thickness_mm",
+    "pressure_bar",
+    "tip_uz_mm",
+    "tip_uy_mm",
+    "angle_deg",
+    "force_n",
+];
 
 fn normal(rng: &mut Xoshiro256Plus) -> f64 {
     // Box–Muller on two uniforms in (0, 1]

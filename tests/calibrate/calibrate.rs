@@ -5,57 +5,22 @@
 
 use std::path::Path;
 
+use surrogate::calibrate::coverage::{interval_coverage, CoverageSettings};
 use surrogate::calibrate::identify::Determinacy;
 use surrogate::calibrate::objective::{Exclusion, Selection};
 use surrogate::calibrate::optimise::MultistartSettings;
 use surrogate::calibrate::synthetic::{noisy_recordings, TrueOutputs};
-use surrogate::calibrate::{calibrate, CalibrationSettings, OgdenSet, Recordings, Weights};
+use surrogate::calibrate::{
+    calibrate, CalibrationSettings, OgdenSet, ParamSpace, Recordings, Weights,
+};
 use surrogate::rom::Surrogate;
 
 const CASES: &str = "fe_reference/calibration/synthetic_coarse/cases/cases";
 
 /// The FE outputs at 1, 2 and 3 bar of the 9 designs.
 fn truth() -> Vec<TrueOutputs> {
-    let mut out = Vec::new();
-    let mut files: Vec<_> = std::fs::read_dir(CASES)
-        .expect("synthetic FE cases")
-        .map(|e| e.unwrap().path())
-        .filter(|p| p.extension().is_some_and(|e| e == "csv"))
-        .collect();
-    files.sort();
-    assert_eq!(files.len(), 9, "all 9 synthetic FE cases are committed");
-    for f in files {
-        let mut r = csv::Reader::from_path(&f).unwrap();
-        let h = r.headers().unwrap().clone();
-        let col = |name: &str| h.iter().position(|c| c == name).unwrap();
-        let (n, t, p) = (
-            col("n_bellows"),
-            col("wall_thickness_mm"),
-            col("pressure_bar"),
-        );
-        let (uz, uy, a, fo) = (
-            col("tip_uz_mm"),
-            col("tip_uy_mm"),
-            col("angle_deg"),
-            col("force_n"),
-        );
-        for rec in r.records() {
-            let rec = rec.unwrap();
-            let v = |i: usize| rec[i].parse::<f64>().unwrap();
-            if [1.0, 2.0, 3.0].contains(&v(p)) {
-                out.push(TrueOutputs {
-                    n_bellows: v(n) as usize,
-                    wall_thickness_mm: v(t),
-                    pressure_bar: v(p),
-                    tip_uz_mm: v(uz),
-                    tip_uy_mm: v(uy),
-                    angle_deg: v(a),
-                    force_n: v(fo),
-                });
-            }
-        }
-    }
-    assert_eq!(out.len(), 27);
+    let out = TrueOutputs::read_cases(Path::new(CASES), &[1.0, 2.0, 3.0]).unwrap();
+    assert_eq!(out.len(), 27, "all 9 synthetic FE cases are committed");
     out
 }
 
@@ -145,6 +110,49 @@ fn synthetic_fe_recordings_are_recovered_within_the_reported_intervals() {
             cal.best.mu0_mpa()
         );
     }
+}
+
+/// The coverage study (`examples/interval_coverage.rs`) on two seeds: each seed checked with
+/// both intervals, the projection of the joint region never narrower than the pointwise
+/// interval, and the counts those of the seeds.
+#[test]
+fn interval_coverage_checks_both_intervals_of_every_seed() {
+    let settings = CoverageSettings {
+        seeds: vec![1, 2],
+        ..CoverageSettings::default()
+    };
+    let study = interval_coverage(
+        &model(),
+        &truth(),
+        true_coords()[0],
+        &Recordings::shipped().unwrap(),
+        &settings,
+        &|_| {},
+    )
+    .unwrap();
+    assert_eq!(
+        study.seeds.iter().map(|s| s.seed).collect::<Vec<_>>(),
+        [1, 2]
+    );
+    for s in &study.seeds {
+        assert!(
+            s.projection[0] <= s.pointwise[0] + 1e-9 && s.pointwise[1] <= s.projection[1] + 1e-9,
+            "seed {}: projection {:?} inside pointwise {:?}",
+            s.seed,
+            s.projection,
+            s.pointwise
+        );
+        assert!(s.projection[0] <= s.mu0_mpa && s.mu0_mpa <= s.projection[1]);
+        let covers = |i: [f64; 2]| i[0] <= 4.5 && 4.5 <= i[1];
+        assert_eq!(s.projection_covers, covers(s.projection));
+        assert_eq!(s.pointwise_covers, covers(s.pointwise));
+    }
+    let count = |f: fn(&surrogate::calibrate::coverage::SeedCoverage) -> bool| {
+        study.seeds.iter().filter(|s| f(s)).count()
+    };
+    assert_eq!(study.projection_covered, count(|s| s.projection_covers));
+    assert_eq!(study.pointwise_covered, count(|s| s.pointwise_covers));
+    assert_eq!((study.level, study.objective.as_str()), (0.95, "tip,force"));
 }
 
 #[test]
@@ -246,7 +254,6 @@ fn objectives_parse_and_reject_bad_terms() {
 #[test]
 fn residual_jacobian_matches_finite_differences() {
     use surrogate::calibrate::objective::{Evaluator, ObservationSet};
-    use surrogate::calibrate::ParamSpace;
     let model = model();
     let rec = Recordings::shipped().unwrap();
     let set = ObservationSet::build(
