@@ -18,6 +18,7 @@ pub mod sensitivity;
 pub mod simulate;
 pub mod solver;
 pub mod vtk;
+pub mod warm_start;
 
 use thiserror::Error;
 

@@ -20,8 +20,11 @@ use super::geometry::{Design, GeometryError, Region};
 use super::material::Material;
 use super::mesh::{ActuatorMesh, GapSide, MeshOptions};
 use super::solver::{
-    solve_path_from, PathState, SolverError, SolverKind, SolverSettings, StepReport,
+    solve_path_from, solve_path_guided, PathState, SolverError, SolverKind, SolverSettings,
+    StepReport,
 };
+pub use super::warm_start::ConvergedState;
+use super::warm_start::WarmStart;
 
 /// TPU density (t/mm³).
 pub const DENSITY: f64 = 1.19e-9;
@@ -308,6 +311,9 @@ pub struct StepResult {
     pub markers: Vec<[f64; 2]>,
     /// Newton iterations to reach this step.
     pub newton_iterations: usize,
+    /// The step was solved directly from a neighbouring case's state ([`run_warm`]).
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub warm_start: bool,
     /// Load substeps.
     pub substeps: usize,
     /// Cut-backs.
@@ -809,25 +815,6 @@ pub fn simulate_with(
     Ok(run(case, progress, on_result, false)?.response)
 }
 
-/// A converged state of a ramp, kept for what is computed after it (the sensitivities,
-/// [`super::sensitivity`]): the displacement with everything it was in equilibrium with.
-#[derive(Clone, Debug)]
-pub struct ConvergedState {
-    /// Gauge pressure (bar) as requested (0 for the self-weight state).
-    pub pressure_bar: f64,
-    /// The load level it is in equilibrium at (the effective pressure, MPa).
-    pub level: LoadLevel,
-    /// Full displacement vector.
-    pub u: Vec<f64>,
-    /// The contact gap shifts it was solved with ([`FeModel::contact_shifts`]).
-    pub shifts: Vec<f64>,
-    /// The force plate's height (mm), in [`Mode::Force`].
-    pub plate_y: Option<f64>,
-    /// Whether it is one of the reported steps ([`Response::steps`]); the self-weight state
-    /// of a ramp that does not start at 0 bar is kept but not reported.
-    pub reported: bool,
-}
-
 /// A finished ramp with its model and converged states ([`run`]).
 pub struct Ran {
     /// The results.
@@ -847,6 +834,24 @@ pub struct Ran {
 /// See [`simulate_with_progress`].
 pub fn run(
     case: &Case,
+    progress: impl FnMut(usize, usize),
+    on_result: impl FnMut(&ActuatorModel, &StepResult, &[f64]),
+    keep_states: bool,
+) -> Result<Ran, SimulateError> {
+    run_warm(case, None, progress, on_result, keep_states)
+}
+
+/// [`run`], each output level started from the matching state of `warm` (a neighbouring
+/// case on the same mesh, [`super::warm_start`]) where there is one: same answers to the
+/// solver's tolerance, fewer Newton iterations. Levels without a matching state, a warm start
+/// of another mesh, the compliant plate's ramp and the minimisation solver take the load path
+/// as [`run`] does; [`StepResult::warm_start`] says which levels started warm.
+///
+/// # Errors
+/// See [`simulate_with_progress`].
+pub fn run_warm(
+    case: &Case,
+    warm: Option<&WarmStart>,
     mut progress: impl FnMut(usize, usize),
     mut on_result: impl FnMut(&ActuatorModel, &StepResult, &[f64]),
     keep_states: bool,
@@ -880,15 +885,18 @@ pub fn run(
         ..Default::default()
     }));
     let total = levels.len();
+    let guesses = warm.map_or_else(Vec::new, |w| w.guesses(&case.pressures_bar[skip..]));
+    let guess = |i: usize| guesses.get(i).and_then(Option::as_ref);
     let lf = design.free_length();
     let mut steps = Vec::new();
     let mut state = PathState::new(&model.fe);
     // Stage 1: self-weight (the state reported at P = 0).
-    let mut reports = solve_path_from(
+    let mut reports = solve_path_guided(
         &model.fe,
         case.solver.clone(),
         &mut state,
         &levels[..1],
+        &[guess(0)],
         |_, state, rep| {
             progress(1, total);
             if first_is_zero {
@@ -946,11 +954,13 @@ pub fn run(
             &mut record,
         )?
     } else {
-        solve_path_from(
+        let ramp_guesses: Vec<_> = (1..levels.len()).map(guess).collect();
+        solve_path_guided(
             &model.fe,
             case.solver.clone(),
             &mut state,
             &levels[1..],
+            &ramp_guesses,
             |i, state, rep| record(i, &model, state, rep),
         )
     };
@@ -1155,6 +1165,7 @@ fn measure(
         angle_deg: (-y_tip).atan2(z_tip).to_degrees(),
         markers,
         newton_iterations: rep.newton_iterations,
+        warm_start: rep.warm_start,
         substeps: rep.substeps,
         cutbacks: rep.cutbacks,
         residual: rep.residual,
@@ -1170,4 +1181,8 @@ fn measure(
 
 fn sub(a: [f64; 3], b: [f64; 3]) -> [f64; 3] {
     [a[0] - b[0], a[1] - b[1], a[2] - b[2]]
+}
+
+fn is_false(v: &bool) -> bool {
+    !*v
 }

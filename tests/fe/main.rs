@@ -23,3 +23,4 @@ mod verification_cook;
 mod verification_cylinder;
 mod verification_homogeneous;
 mod verification_patch;
+mod warm_start;

@@ -14,6 +14,7 @@ fn step() -> StepResult {
         angle_deg: 30.0,
         markers: (1..=9).map(|k| [k as f64, -(k as f64)]).collect(),
         newton_iterations: 5,
+        warm_start: false,
         substeps: 1,
         cutbacks: 0,
         residual: 1e-10,

@@ -82,10 +82,11 @@ use crate::fe::geometry::{Design, GeometryError};
 use crate::fe::material::{Material, MaterialError, MaterialLaw, Ogden2};
 use crate::fe::mesh::MeshMoveError;
 use crate::fe::simulate::{
-    marker_list, run, ActuatorModel, Case, ConvergedState, Mode, Ran, Response, SimulateError,
-    StepResult, BAR,
+    marker_list, run, run_warm, ActuatorModel, Case, ConvergedState, Mode, Ran, Response,
+    SimulateError, StepResult, BAR,
 };
 use crate::fe::solver::{LinearSolver, NonlinearProblem, SolverError};
+use crate::fe::warm_start::{FieldSensitivities, WarmStart, WarmStartError};
 
 /// Format name of the sensitivity file ([`Sensitivities`]).
 pub const SENSITIVITY_FORMAT: &str = "surrogate-sensitivities";
@@ -404,8 +405,57 @@ pub fn sensitivities_with(
     check(case, parameters)?;
     let ran = run(case, progress, on_result, true)?;
     let response = ran.response.clone();
-    let sens = differentiate(case, ran, parameters)?;
+    let (sens, _) = differentiate(case, ran, parameters, false)?;
     Ok((response, sens))
+}
+
+/// A ramp with its sensitivities, its converged states and their displacement sensitivities:
+/// what a neighbouring case needs to start from ([`WarmStart::moved`]).
+pub struct WithFields {
+    /// The results.
+    pub response: Response,
+    /// The outputs' sensitivities.
+    pub sensitivities: Sensitivities,
+    /// The converged states (self-weight first, then one per pressure level).
+    pub states: Vec<ConvergedState>,
+    /// `∂u/∂θ` of every differentiated state, the parameters in the order asked for.
+    pub fields: FieldSensitivities,
+}
+
+impl WithFields {
+    /// A warm start for the same design at parameters moved by `delta` (in the order of the
+    /// parameters asked for): these states moved by their first-order sensitivities.
+    ///
+    /// # Errors
+    /// A step per parameter of the wrong length, or not finite.
+    pub fn warm_start(&self, delta: &[f64]) -> Result<WarmStart, WarmStartError> {
+        WarmStart::moved(self.states.clone(), &self.fields, delta)
+    }
+}
+
+/// [`sensitivities_with`] started from `warm` ([`run_warm`]), keeping the converged states
+/// and their displacement sensitivities for the next case.
+///
+/// # Errors
+/// See [`simulate_with_sensitivities`].
+pub fn sensitivities_with_fields(
+    case: &Case,
+    parameters: &[Parameter],
+    warm: Option<&WarmStart>,
+    progress: impl FnMut(usize, usize),
+    on_result: impl FnMut(&ActuatorModel, &StepResult, &[f64]),
+) -> Result<WithFields, SensitivityError> {
+    check(case, parameters)?;
+    let ran = run_warm(case, warm, progress, on_result, true)?;
+    let response = ran.response.clone();
+    let (sensitivities, kept) = differentiate(case, ran, parameters, true)?;
+    let (states, fields) = kept.unwrap_or_default();
+    Ok(WithFields {
+        response,
+        sensitivities,
+        states,
+        fields,
+    })
 }
 
 /// Refuses what cannot be differentiated, before the ramp.
@@ -595,11 +645,21 @@ fn outputs(model: &ActuatorModel, u: &[f64], lf: f64, scale: f64) -> Outputs {
 }
 
 /// Differentiates the kept states of a finished ramp.
+/// The sensitivities of a finished ramp; with `keep_fields`, also its states and their
+/// displacement sensitivities.
+#[allow(clippy::type_complexity)]
 fn differentiate(
     case: &Case,
     ran: Ran,
     parameters: &[Parameter],
-) -> Result<Sensitivities, SensitivityError> {
+    keep_fields: bool,
+) -> Result<
+    (
+        Sensitivities,
+        Option<(Vec<ConvergedState>, FieldSensitivities)>,
+    ),
+    SensitivityError,
+> {
     let start = Instant::now();
     let Ran {
         response,
@@ -642,10 +702,17 @@ fn differentiate(
         }
     }
     let mut steps = Vec::new();
+    let mut fields = keep_fields.then(|| FieldSensitivities {
+        parameters: parameters.iter().map(|p| p.name().to_string()).collect(),
+        du: vec![Vec::new(); states.len()],
+    });
     for (si, st) in states.iter().enumerate() {
         let self_weight = si == 0;
         if !(st.reported || force_rig && self_weight) {
             continue;
+        }
+        if let Some(f) = &mut fields {
+            f.du[si] = vec![Vec::new(); perturbed.len()];
         }
         set_plate(&mut base, st, 0.0);
         let shifts = if stiffen {
@@ -674,7 +741,7 @@ fn differentiate(
         let y0 = outputs(&base, &st.u, lf, scale);
         let raw_force = y0.force_n.map_or(0.0, |f| f / scale);
         let mut derivatives = Vec::with_capacity(perturbed.len());
-        for p in &mut perturbed {
+        for (pj, p) in perturbed.iter_mut().enumerate() {
             let d = match p.points.first().map(|q| &q.how) {
                 None => Outputs::zero(&y0),
                 Some(How::ForceScale) => Outputs {
@@ -736,6 +803,9 @@ fn differentiate(
                     for (d, s) in du.iter_mut().zip(&du_s) {
                         *d += s;
                     }
+                    if let Some(f) = &mut fields {
+                        f.du[si][pj].clone_from(&du);
+                    }
                     // the outputs along (du/dθ, θ), at the first point
                     let q = &mut p.points[0];
                     for ((a, &u), &d) in u2.iter_mut().zip(&st.u).zip(&du) {
@@ -778,14 +848,15 @@ fn differentiate(
             how: p.describe().to_string(),
         })
         .collect();
-    Ok(Sensitivities {
+    let sens = Sensitivities {
         format: SENSITIVITY_FORMAT.to_string(),
         version: SENSITIVITY_FORMAT_VERSION,
         mode: case.mode,
         parameters,
         steps,
         cost,
-    })
+    };
+    Ok((sens, fields.map(|f| (states, f))))
 }
 
 /// The model of a point at state `st` (gap shifts `shifts`, plate moved by `plate_dy`) and

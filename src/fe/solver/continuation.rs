@@ -5,7 +5,7 @@
 //! ([`super::stabilization`]).
 
 use super::problem::NonlinearProblem;
-use super::settings::{SolverError, SolverKind, SolverSettings, StepReport};
+use super::settings::{SolverError, SolverSettings, StepReport};
 use super::state::{PathState, STABILIZED_INCREMENT};
 use super::Solver;
 use crate::fe::assembly::LoadLevel;
@@ -45,6 +45,7 @@ impl<P: NonlinearProblem> Solver<'_, P> {
             augmented_failed: false,
             factorizations: 0,
             stabilized: false,
+            warm_start: false,
         };
         let (f0, a0) = (self.factor_seconds, self.assembly_seconds);
         let n0 = self.linear.factorizations;
@@ -199,28 +200,7 @@ pub fn solve_path_from<P: NonlinearProblem>(
     settings: SolverSettings,
     state: &mut PathState,
     levels: &[LoadLevel],
-    mut observe: impl FnMut(usize, &PathState, &StepReport),
+    observe: impl FnMut(usize, &PathState, &StepReport),
 ) -> Result<Vec<StepReport>, SolverError> {
-    if let SolverKind::Minimise(_) = settings.kind {
-        return super::minimise::solve_path_from(model, settings, state, levels, observe);
-    }
-    let augmented = settings.augmented_updates > 0;
-    let mut solver = Solver::new(model, settings)?;
-    let mut reports = Vec::with_capacity(levels.len());
-    for (i, level) in levels.iter().enumerate() {
-        let step = solver.advance(state, *level).and_then(|mut rep| {
-            if augmented {
-                solver.augment(state, *level, &mut rep)?;
-            }
-            Ok(rep)
-        });
-        match step {
-            Ok(rep) => {
-                observe(i, state, &rep);
-                reports.push(rep);
-            }
-            Err(e) => return Err(e.after(reports)),
-        }
-    }
-    Ok(reports)
+    super::warm::solve_path_guided(model, settings, state, levels, &[], observe)
 }

@@ -17,6 +17,7 @@
 //! | [`minimise`] | the other solver ([`SolverKind::Minimise`]): minimisation of the total potential with barrier contact |
 //! | [`settings`] | settings, step reports, errors |
 //! | [`state`] | the path state and the stabilisation's viscous term |
+//! | [`warm`] | warm starts: a level solved directly from a neighbouring case's converged state |
 //!
 //! Why it is built this way:
 //!
@@ -54,6 +55,7 @@ pub mod problem;
 pub mod settings;
 pub mod stabilization;
 pub mod state;
+pub mod warm;
 
 pub use continuation::{solve_path, solve_path_from};
 pub use linear::{LinearSolver, Ordering};
@@ -63,6 +65,7 @@ pub use settings::{
     DEFAULT_STABILIZATION, REUSE_CONTRACTION,
 };
 pub use state::PathState;
+pub use warm::{solve_path_guided, LevelGuess};
 
 use super::assembly::{FeModel, LoadLevel};
 use super::element::ElementError;

@@ -299,6 +299,10 @@ pub struct StepReport {
     /// ([`SolverSettings::stabilization`]); its final state is an undamped equilibrium.
     #[serde(default, skip_serializing_if = "is_false")]
     pub stabilized: bool,
+    /// The step was solved directly from a neighbouring case's state
+    /// ([`super::warm`]), not along the path from the previous level.
+    #[serde(default, skip_serializing_if = "is_false")]
+    pub warm_start: bool,
 }
 
 /// Why a solve stopped.

@@ -193,6 +193,7 @@ impl<'m, P: NonlinearProblem> Minimiser<'m, P> {
             augmented_failed: false,
             factorizations: 0,
             stabilized: false,
+            warm_start: false,
         };
         let (f0, a0, n0) = (
             self.factor_seconds,

@@ -1,0 +1,146 @@
+//! A ramp's converged states, and warm starts of another ramp from them.
+//!
+//! A [`WarmStart`] holds a neighbouring case's converged states (the same design, mesh and rig
+//! at another material, effect or nearby dimension), optionally moved to the new parameters
+//! by their first-order displacement sensitivities, `u(θ + Δθ) ≈ u(θ) + (∂u/∂θ) Δθ`
+//! ([`FieldSensitivities`], from [`crate::fe::sensitivity::sensitivities_with_fields`]).
+//! [`crate::fe::simulate::run_warm`] then starts each output level's Newton iteration from the
+//! matching state ([`crate::fe::solver::warm`]): same tolerances, same answers, fewer
+//! iterations. A state of another mesh (another number of unknowns) is not used: those levels
+//! take the load path as usual.
+
+use crate::fe::assembly::LoadLevel;
+use crate::fe::solver::LevelGuess;
+
+/// A converged state of a ramp, kept for what is computed after it (the sensitivities,
+/// [`crate::fe::sensitivity`], and warm starts): the displacement with everything it was in
+/// equilibrium with.
+#[derive(Clone, Debug)]
+pub struct ConvergedState {
+    /// Gauge pressure (bar) as requested (0 for the self-weight state).
+    pub pressure_bar: f64,
+    /// The load level it is in equilibrium at (the effective pressure, MPa).
+    pub level: LoadLevel,
+    /// Full displacement vector.
+    pub u: Vec<f64>,
+    /// The contact gap shifts it was solved with
+    /// ([`FeModel::contact_shifts`](crate::fe::assembly::FeModel::contact_shifts)).
+    pub shifts: Vec<f64>,
+    /// The force plate's height (mm), in the blocked-force rig.
+    pub plate_y: Option<f64>,
+    /// Whether it is one of the reported steps; the self-weight state of a ramp that does not
+    /// start at 0 bar is kept but not reported.
+    pub reported: bool,
+}
+
+/// Displacement sensitivities `∂u/∂θⱼ` of a ramp's converged states.
+#[derive(Clone, Debug, Default)]
+pub struct FieldSensitivities {
+    /// The parameters' names, in the order of `du`'s inner index.
+    pub parameters: Vec<String>,
+    /// `du[s][j]`: `∂u/∂θⱼ` (all dofs) at converged state `s` (the order of the ramp's states);
+    /// empty where it was not computed (a state that is not differentiated, a parameter that
+    /// does not move the displacement).
+    pub du: Vec<Vec<Vec<f64>>>,
+}
+
+/// Why a warm start cannot be built.
+#[derive(Clone, Debug, thiserror::Error, PartialEq)]
+pub enum WarmStartError {
+    /// The sensitivities do not belong to the states.
+    #[error(
+        "the displacement sensitivities have {fields} states and {parameters} parameters, the \
+         warm start {states} states and {deltas} parameter steps"
+    )]
+    Mismatch {
+        /// States of the sensitivities.
+        fields: usize,
+        /// Parameters of the sensitivities.
+        parameters: usize,
+        /// States given.
+        states: usize,
+        /// Steps given.
+        deltas: usize,
+    },
+    /// A parameter step is not finite.
+    #[error("parameter step {index} ({name}) is {value}: expected a finite number")]
+    NotFinite {
+        /// Its index.
+        index: usize,
+        /// Its name.
+        name: String,
+        /// Its value.
+        value: f64,
+    },
+}
+
+/// The converged states of a neighbouring case, to start a ramp's levels from.
+#[derive(Clone, Debug, Default)]
+pub struct WarmStart {
+    /// The self-weight state first, then one per pressure level (as
+    /// [`Ran::states`](crate::fe::simulate::Ran::states)).
+    pub states: Vec<ConvergedState>,
+}
+
+impl WarmStart {
+    /// The neighbour's states as they are (zeroth order).
+    pub fn new(states: Vec<ConvergedState>) -> Self {
+        Self { states }
+    }
+
+    /// The neighbour's states moved by `Σⱼ (∂u/∂θⱼ) Δθⱼ` (first order), `delta` in the order
+    /// of `fields.parameters` (the new case's parameters minus the neighbour's).
+    ///
+    /// # Errors
+    /// Sensitivities of another number of states or parameters; a step that is not finite.
+    pub fn moved(
+        mut states: Vec<ConvergedState>,
+        fields: &FieldSensitivities,
+        delta: &[f64],
+    ) -> Result<Self, WarmStartError> {
+        if fields.du.len() != states.len() || fields.parameters.len() != delta.len() {
+            return Err(WarmStartError::Mismatch {
+                fields: fields.du.len(),
+                parameters: fields.parameters.len(),
+                states: states.len(),
+                deltas: delta.len(),
+            });
+        }
+        if let Some((index, &value)) = delta.iter().enumerate().find(|(_, d)| !d.is_finite()) {
+            return Err(WarmStartError::NotFinite {
+                index,
+                name: fields.parameters[index].clone(),
+                value,
+            });
+        }
+        for (st, du) in states.iter_mut().zip(&fields.du) {
+            for (d, &step) in du.iter().zip(delta) {
+                if d.len() == st.u.len() && step != 0.0 {
+                    for (u, v) in st.u.iter_mut().zip(d) {
+                        *u += step * v;
+                    }
+                }
+            }
+        }
+        Ok(Self { states })
+    }
+
+    /// The guess for each level of a ramp: `levels_bar[0]` is the self-weight state, the
+    /// others the pressure levels (bar) matched to the neighbour's states of the same
+    /// requested pressure. `None` where the neighbour has no such state.
+    pub fn guesses(&self, pressure_levels_bar: &[f64]) -> Vec<Option<LevelGuess>> {
+        let guess = |st: &ConvergedState| LevelGuess {
+            u_full: st.u.clone(),
+            shifts: st.shifts.clone(),
+        };
+        let mut out = vec![self.states.first().map(guess)];
+        out.extend(pressure_levels_bar.iter().map(|&p| {
+            self.states
+                .iter()
+                .skip(1)
+                .find(|st| st.pressure_bar == p)
+                .map(guess)
+        }));
+        out
+    }
+}
