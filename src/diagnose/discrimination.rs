@@ -53,6 +53,10 @@
 //! ```
 //!
 //! a small positive-definite solve per design.
+//!
+//! Where the model misses the recordings by more than their σ, the Name stage tests against
+//! the scatter left by the fit ([`Discrimination::scale`], `ŝ²`); the separations reported
+//! are then `δ / ŝ²`, in the units of that test.
 
 use nalgebra::{DMatrix, DVector};
 
@@ -71,6 +75,7 @@ pub struct ItemRow {
 /// The recorded cells and the measurements that could be added, for the candidates' pairs.
 #[derive(Clone, Debug)]
 pub struct Discrimination {
+    residual: DVector<f64>,
     nuisance: DMatrix<f64>,
     signatures: Vec<DVector<f64>>,
     sizes: Vec<f64>,
@@ -153,11 +158,33 @@ impl Discrimination {
             })
             .collect();
         Ok(Discrimination {
+            residual: residual.clone(),
             nuisance,
             signatures,
             sizes,
             items,
         })
+    }
+
+    /// The variance factor of the fit of candidate `j` with the nuisance on the recorded
+    /// cells, `ŝ² = ‖P⊥_[M a] z‖² / (n − rank − 1)`, floored at 1: the scale the Name stage
+    /// tests against (a model that misses the recordings by several σ is judged against its
+    /// own scatter, never against less than the recordings' σ). `T / ŝ²` is then the expected
+    /// non-centrality of that test.
+    pub fn scale(&self, j: usize) -> f64 {
+        let mut g = self
+            .nuisance
+            .clone()
+            .insert_column(self.nuisance.ncols(), 0.0);
+        let last = g.ncols() - 1;
+        g.set_column(last, &self.signatures[j]);
+        let q = orthonormal(&g);
+        let r = &self.residual - &q * (q.transpose() * &self.residual);
+        let dof = self.residual.len() as f64 - q.ncols() as f64 - 1.0;
+        if dof < 1.0 {
+            return 1.0;
+        }
+        (r.norm_squared() / dof).max(1.0)
     }
 
     /// Number of measurements that could be added.

@@ -16,7 +16,10 @@
 //!   T_ab(ξ) = θ̂_a² ‖ P⊥_[M b] a ‖²_ξ,      δ_ab = min(T_ab, T_ba)
 //! ```
 //!
-//! (in σ², the expected increase of the wrong candidate's `χ²`). Up to `k ≤ 3` measurements
+//! (in σ², the expected increase of the wrong candidate's `χ²`; over `ŝ²`, the scatter the
+//! leading candidate's fit leaves, where that exceeds the recordings' σ, as the Name stage's
+//! tests measure it: [`Discrimination::scale`](super::discrimination::Discrimination::scale)).
+//! Up to `k ≤ 3` measurements
 //! are added greedily, each raising the separations `δ_ℓj` of every rival `j` most (leximin:
 //! the weakest first). Each planned item reports, for the two leading candidates (`ℓ` and the
 //! first rival of the ranking), the expected separation `√δ` in σ and the expected log Bayes
@@ -108,6 +111,9 @@ pub struct MeasurementPlan {
     pub left_out: Vec<String>,
     /// Measurements considered.
     pub considered: usize,
+    /// `ŝ`: the scatter, in the recordings' σ, that the separations are measured in (the
+    /// leading candidate's fit on the recorded cells, at least 1).
+    pub scale: f64,
     /// `√δ` of the two leading candidates on the recordings alone (σ).
     pub separation_sigma: f64,
     /// `δ/2` on the recordings alone.
@@ -243,8 +249,12 @@ pub fn plan(
         )
     })?;
     let others: Vec<usize> = (1..effects.len()).collect();
-    let picks = d.greedy(0, &others, s.k);
-    let before = d.separation(0, 1, &[]);
+    let scale = d.scale(0);
+    let mut picks = d.greedy(0, &others, s.k);
+    picks
+        .iter_mut()
+        .for_each(|p| p.separations.iter_mut().for_each(|v| *v /= scale));
+    let before = d.separation(0, 1, &[]) / scale;
     let planned = planned(&picks, &items, &rivals, before);
     let note = if planned.len() < s.k {
         format!(
@@ -261,6 +271,7 @@ pub fn plan(
         rivals,
         left_out,
         considered: items.len(),
+        scale: scale.sqrt(),
         separation_sigma: before.sqrt(),
         log_bayes_factor: before / 2.0,
         items: planned,
@@ -275,6 +286,7 @@ fn empty(leader: &str, note: String) -> MeasurementPlan {
         rivals: Vec::new(),
         left_out: Vec::new(),
         considered: 0,
+        scale: 1.0,
         separation_sigma: 0.0,
         log_bayes_factor: 0.0,
         items: Vec::new(),
@@ -325,13 +337,15 @@ impl MeasurementPlan {
         let _ = writeln!(
             s,
             "The recordings cannot tell {} from {}. On them, {} and {first} are {:.2} σ apart \
-             (expected log Bayes factor {:.2}). Measured with the σ given, these {} of the {} \
-             measurements the FE sensitivities can evaluate would separate them most:\n",
+             (expected log Bayes factor {:.2}; σ the recordings' σ times the scatter {:.2} the \
+             fit leaves). Measured with the σ given, these {} of the {} measurements the FE \
+             sensitivities can evaluate would separate them most:\n",
             self.leader,
             super::wording::and_list(self.rivals.clone()),
             self.leader,
             self.separation_sigma,
             self.log_bayes_factor,
+            self.scale,
             self.items.len(),
             self.considered
         );

@@ -755,7 +755,7 @@ fn pairs(
 
 /// The single unrecorded measurement that separates `a` from `b` most
 /// ([`Discrimination::best_single`]: the T-optimality criterion, the material refitted), in
-/// words; `effects` the design's candidates in order.
+/// words, in the scatter of the better fit ([`Discrimination::scale`]); `effects` the design's candidates in order.
 fn separation(
     design: &Discrimination,
     effects: &[Parameter],
@@ -765,8 +765,10 @@ fn separation(
 ) -> Option<String> {
     let ia = effects.iter().position(|p| *p == a)?;
     let ib = effects.iter().position(|p| *p == b)?;
-    let before = design.separation(ia, ib, &[]);
+    let scale = design.scale(ia).min(design.scale(ib));
+    let before = design.separation(ia, ib, &[]) / scale;
     let (item, after) = design.best_single(ia, ib)?;
+    let after = after / scale;
     Some(format!(
         "{}, σ = {:.3}: the two expected {:.2} σ apart (log Bayes factor {:.2}), {:.2} σ on \
          these recordings",

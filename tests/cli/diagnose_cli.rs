@@ -102,6 +102,31 @@ fn diagnoses_the_shipped_experiments() {
     );
     assert!(md.contains(&format!("| sensitivities | `{s}` | ")), "{md}");
     assert!(md.contains("- **Name**: ") && md.contains("## Name: candidate effects"));
+    // ties with the first candidate get a plan of up to 3 measurements (the default)
+    let plan = &r["measurement_plan"];
+    let leader = plan["leader"].as_str().unwrap();
+    let tied = r["name"]["indistinguishable"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|p| p["a"] == leader || p["b"] == leader);
+    let items = plan["items"].as_array().unwrap();
+    assert_eq!(tied, !items.is_empty(), "{plan}");
+    assert!(items.len() <= 3);
+    if tied {
+        assert!(md.contains("## What to measure next"), "{md}");
+        assert!(
+            stdout.contains("What to measure next (to tell "),
+            "{stdout}"
+        );
+        let lbf: Vec<f64> = items
+            .iter()
+            .map(|i| i["log_bayes_factor"].as_f64().unwrap())
+            .collect();
+        assert!(lbf
+            .iter()
+            .all(|v| *v >= plan["log_bayes_factor"].as_f64().unwrap()));
+    }
     // the named effect is refitted (`--refit auto`): its size, the fit before and after,
     // every design held out
     let named = r["name"]["candidates"]
@@ -241,7 +266,7 @@ fn bad_input_is_named_before_anything_runs() {
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     let empty_s = empty.to_str().unwrap();
-    let cases: [(&[&str], String); 11] = [
+    let cases: [(&[&str], String); 12] = [
         (
             &["--recordings", "no_such_recordings"],
             "--recordings no_such_recordings: not a directory".into(),
@@ -280,6 +305,10 @@ fn bad_input_is_named_before_anything_runs() {
         (
             &["--approximation-error", "models/actuator.json"],
             "--approximation-error models/actuator.json".into(),
+        ),
+        (
+            &["--plan-measurements", "4"],
+            "--plan-measurements 4: measurements to plan = 4: expected 1 to 3".into(),
         ),
     ];
     for (extra, want) in cases {

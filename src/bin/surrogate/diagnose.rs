@@ -7,6 +7,7 @@ use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::experiments::{BENDING_FILE, FORCE_FILE, MARKERS_FILE};
 use surrogate::calibrate::objective::Exclusion;
 use surrogate::calibrate::{CalibrationSettings, Recordings, Selection, Weights};
+use surrogate::diagnose::measure_design::{MeasurementPlan, PlanSettings};
 use surrogate::diagnose::name::NameSettings;
 use surrogate::diagnose::summary::summary_markdown;
 use surrogate::diagnose::{diagnose, DiagnoseSettings, Diagnosis, LocateSettings};
@@ -130,6 +131,7 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
         inputs.push(input_file("mesh reference", Path::new(name), auto)?);
     }
     refit_effects(&a.refit, None)?;
+    let plan = plan_settings(a.plan_measurements)?;
     let confirm: Option<MeshLevel> = match a.confirm_fe.as_str() {
         "none" => None,
         other => Some(
@@ -199,7 +201,16 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
             error_spread: approximation.as_ref().map(|e| e.spread(&d.locate.cells)),
             ..NameSettings::default()
         };
-        Some(d.name_with(sens, &model, &ns)?.clone())
+        let naming = d.name_with(sens, &model, &ns)?.clone();
+        if let Some(mut ps) = plan.clone() {
+            ps.error_spread = ns.error_spread.clone();
+            eprintln!(
+                "plan: up to {} measurements to separate the tied candidates",
+                ps.k
+            );
+            d.plan_with(sens, &ps)?;
+        }
+        Some(naming)
     } else {
         None
     };
@@ -270,6 +281,9 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
             }
         }
     }
+    if let Some(p) = &d.measurement_plan {
+        print_plan(p);
+    }
     match d.refitted() {
         Some(r) => println!("Model and show: {}", r.verdict),
         None => {
@@ -304,6 +318,44 @@ pub fn write_outputs(dir: &Path, d: &Diagnosis) -> Result<Vec<PathBuf>> {
     written.push(p);
     written.extend(write_plots(&d.locate, dir)?);
     Ok(written)
+}
+
+/// The settings of `--plan-measurements K` (none for 0).
+fn plan_settings(k: usize) -> Result<Option<PlanSettings>> {
+    if k == 0 {
+        return Ok(None);
+    }
+    let s = PlanSettings::new(k);
+    s.validate()
+        .map_err(|e| anyhow::anyhow!("--plan-measurements {k}: {e} (or 0: no plan)"))?;
+    Ok(Some(s))
+}
+
+/// The measurement plan, a line per item.
+fn print_plan(p: &MeasurementPlan) {
+    if p.items.is_empty() {
+        println!("What to measure next: no plan ({}).", p.note);
+        return;
+    }
+    println!(
+        "What to measure next (to tell {} from {}; now {:.2} σ apart):",
+        p.leader,
+        p.rivals.join(", "),
+        p.separation_sigma
+    );
+    for it in &p.items {
+        println!(
+            "- {} (σ = {:.3}): {:.2} σ apart, expected log Bayes factor {:.2} (+{:.2}); least \
+             separated: {} at {:.2} σ",
+            it.measurement.text(),
+            it.measurement.sigma,
+            it.separation_sigma,
+            it.log_bayes_factor,
+            it.gain,
+            it.weakest,
+            it.weakest_separation_sigma
+        );
+    }
 }
 
 /// The `top` candidates of the Name stage, a line each.
