@@ -4,6 +4,7 @@
 //! (elements from [`element`], loads from [`loads`], material from [`material`]) →
 //! [`solver`] (load stepping + Newton) → [`simulate`] (markers, tip, angle).
 pub mod assembly;
+pub mod campaign;
 pub mod contact;
 pub mod contact_cp;
 pub mod effects;

@@ -80,12 +80,18 @@ pub struct WarmStart {
     /// The self-weight state first, then one per pressure level (as
     /// [`Ran::states`](crate::fe::simulate::Ran::states)).
     pub states: Vec<ConvergedState>,
+    /// The displacements before [`WarmStart::moved`] moved them (one per state), tried where
+    /// Newton fails from the moved ones.
+    pub unmoved: Option<Vec<Vec<f64>>>,
 }
 
 impl WarmStart {
     /// The neighbour's states as they are (zeroth order).
     pub fn new(states: Vec<ConvergedState>) -> Self {
-        Self { states }
+        Self {
+            states,
+            unmoved: None,
+        }
     }
 
     /// The neighbour's states moved by `Σⱼ (∂u/∂θⱼ) Δθⱼ` (first order), `delta` in the order
@@ -113,6 +119,7 @@ impl WarmStart {
                 value,
             });
         }
+        let unmoved = states.iter().map(|st| st.u.clone()).collect();
         for (st, du) in states.iter_mut().zip(&fields.du) {
             for (d, &step) in du.iter().zip(delta) {
                 if d.len() == st.u.len() && step != 0.0 {
@@ -122,23 +129,28 @@ impl WarmStart {
                 }
             }
         }
-        Ok(Self { states })
+        Ok(Self {
+            states,
+            unmoved: Some(unmoved),
+        })
     }
 
     /// The guess for each level of a ramp: `levels_bar[0]` is the self-weight state, the
     /// others the pressure levels (bar) matched to the neighbour's states of the same
     /// requested pressure. `None` where the neighbour has no such state.
     pub fn guesses(&self, pressure_levels_bar: &[f64]) -> Vec<Option<LevelGuess>> {
-        let guess = |st: &ConvergedState| LevelGuess {
-            u_full: st.u.clone(),
-            shifts: st.shifts.clone(),
+        let guess = |k: usize| {
+            let st = &self.states[k];
+            LevelGuess {
+                u_full: st.u.clone(),
+                shifts: st.shifts.clone(),
+                fallback: self.unmoved.as_ref().and_then(|u| u.get(k).cloned()),
+            }
         };
-        let mut out = vec![self.states.first().map(guess)];
+        let mut out = vec![(!self.states.is_empty()).then(|| guess(0))];
         out.extend(pressure_levels_bar.iter().map(|&p| {
-            self.states
-                .iter()
-                .skip(1)
-                .find(|st| st.pressure_bar == p)
+            (1..self.states.len())
+                .find(|&k| self.states[k].pressure_bar == p)
                 .map(guess)
         }));
         out

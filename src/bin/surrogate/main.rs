@@ -4,6 +4,7 @@ mod approximation_error;
 mod args;
 mod calibrate;
 mod calibrate_plots;
+mod campaign;
 mod demo;
 mod diagnose;
 mod diagnose_plots;
@@ -31,6 +32,7 @@ fn main() -> ExitCode {
     let result = match cli.command {
         args::Command::Demo(a) => demo::run(a),
         args::Command::Simulate(a) => simulate::run(a),
+        args::Command::Campaign(a) => campaign::run(a),
         args::Command::Train(a) => train::run(a),
         args::Command::Predict(a) => predict::run(a),
         args::Command::Export(a) => export::run(a),

@@ -49,7 +49,7 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
             predictor: !a.no_predictor,
             grow_below_iterations: a.grow_below,
             augmented_updates: a.augmented,
-            reuse_factor: a.reuse_factor,
+            reuse_factor: !a.no_reuse_factor,
             kind: match a.solver {
                 SolverArg::Newton => SolverKind::Newton,
                 SolverArg::Minimise => SolverKind::Minimise(MinimiseSettings {

@@ -33,6 +33,9 @@ pub struct LevelGuess {
     pub u_full: Vec<f64>,
     /// The contact gap shifts (augmented-Lagrangian multipliers) to start with.
     pub shifts: Vec<f64>,
+    /// A second start tried if Newton fails from `u_full` (the neighbour's state as it is,
+    /// when `u_full` was extrapolated from it), before the load path.
+    pub fallback: Option<Vec<f64>>,
 }
 
 impl LevelGuess {
@@ -137,6 +140,20 @@ pub fn solve_path_guided<P: NonlinearProblem>(
                 match solver.jump(state, *level, g)? {
                     Ok(rep) => return Ok(rep),
                     Err(iterations) => spent = iterations,
+                }
+                if let Some(u) = &g.fallback {
+                    let second = LevelGuess {
+                        u_full: u.clone(),
+                        shifts: g.shifts.clone(),
+                        fallback: None,
+                    };
+                    match solver.jump(state, *level, &second)? {
+                        Ok(mut rep) => {
+                            rep.newton_iterations += spent;
+                            return Ok(rep);
+                        }
+                        Err(iterations) => spent += iterations,
+                    }
                 }
             }
             let mut rep = solver.advance(state, *level)?;
