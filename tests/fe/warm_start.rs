@@ -160,3 +160,79 @@ fn a_first_order_start_checks_its_parameter_steps() {
     let err = WarmStart::moved(Vec::new(), &FieldSensitivities::default(), &[0.1]).unwrap_err();
     assert!(matches!(err, WarmStartError::Mismatch { deltas: 1, .. }));
 }
+
+mod order {
+    use super::*;
+    use surrogate::fe::campaign::{Campaign, CampaignCase, CampaignError, WarmOrder};
+
+    fn campaign(points: &[(usize, f64)], warm: WarmOrder) -> Campaign {
+        Campaign {
+            cases: points
+                .iter()
+                .map(|&(n, x)| CampaignCase {
+                    case: case(n, ogden002(), Mode::Bending, vec![0.0]),
+                    point: vec![x],
+                })
+                .collect(),
+            parameters: vec![Parameter::Material(OgdenParameter::Mu1)],
+            scales: vec![1.0],
+            warm,
+        }
+    }
+
+    /// Every case runs after its parent, a parent is of the same design, and on a line the
+    /// tree links each point to a neighbour on the line (the minimum spanning tree of points on
+    /// a line is the path through them in order).
+    #[test]
+    fn each_case_starts_from_a_nearest_neighbour_of_its_own_model_run_before_it() {
+        let pts = [
+            (9, 0.0),
+            (11, 5.0),
+            (9, 3.0),
+            (9, 1.0),
+            (11, 0.0),
+            (9, 10.0),
+            (11, 2.0),
+        ];
+        let c = campaign(&pts, WarmOrder::Zeroth);
+        let order = c.order();
+        assert_eq!(order.len(), pts.len());
+        let mut seen = vec![false; pts.len()];
+        let mut roots = 0;
+        for l in &order {
+            match l.parent {
+                None => roots += 1,
+                Some(p) => {
+                    assert!(seen[p], "case {} before its parent {p}", l.case);
+                    assert_eq!(pts[p].0, pts[l.case].0, "a parent of another design");
+                    // the parent is the nearest on the line among those of its design
+                    // on the side towards the root, i.e. no same-design point lies between
+                    let (a, b) = (pts[p].1.min(pts[l.case].1), pts[p].1.max(pts[l.case].1));
+                    assert!(!pts.iter().any(|q| q.0 == pts[p].0 && q.1 > a && q.1 < b));
+                }
+            }
+            seen[l.case] = true;
+        }
+        assert_eq!(roots, 2, "one root per design");
+        // the root is the case nearest its group's centroid: (0+3+1+10)/4 = 3.5 → x = 3
+        assert!(order.iter().any(|l| l.case == 2 && l.parent.is_none()));
+        let cold = campaign(&pts, WarmOrder::Cold).order();
+        assert!(cold.iter().all(|l| l.parent.is_none()));
+    }
+
+    #[test]
+    fn a_bad_campaign_is_refused_naming_the_field() {
+        let mut c = campaign(&[(9, 0.0), (9, 1.0)], WarmOrder::Zeroth);
+        c.scales = vec![0.0];
+        assert!(
+            matches!(c.validate(), Err(CampaignError::Value { what, .. }) if what == "scales[0]")
+        );
+        let mut c = campaign(&[(9, 0.0), (9, 1.0)], WarmOrder::Zeroth);
+        c.cases[1].point = vec![1.0, 2.0];
+        assert!(
+            matches!(c.validate(), Err(CampaignError::Dimensions { what, got: 2, .. }) if what == "cases[1].point")
+        );
+        c.cases[1].point = vec![f64::NAN];
+        assert!(c.run(|_, _, _| {}).is_err());
+    }
+}
