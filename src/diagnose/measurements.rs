@@ -239,11 +239,11 @@ fn kind_of(cells: &[Cell], n: u32, t: f64, p: f64, output: Output) -> Option<Mea
 }
 
 /// The recorded cell nearest `(n, t, p)` among those `keep` accepts.
-fn nearest<'a>(
-    cells: &'a [Cell],
+fn nearest(
+    cells: &[Cell],
     (n, t, p): (u32, f64, f64),
     keep: impl Fn(&Cell) -> bool,
-) -> Option<&'a Cell> {
+) -> Option<&Cell> {
     let dist = |c: &Cell| {
         (f64::from(c.n_bellows) - f64::from(n)).abs() / 2.0
             + (c.wall_thickness_mm - t).abs() / 0.4
