@@ -43,6 +43,8 @@ fn main() -> surrogate::Result<()> {
         // 2 mm on a tip coordinate, 0.15 N on the force, added to the recorded scatter
         model_sigma: ModelSigma::default(),
         cache: Some(PathBuf::from("identify_example/fe_ramps")),
+        // each sweep's ramps start from the previous sweep's converged states
+        warm_start: true,
     };
     let report = identify(&settings, &Recordings::shipped()?, |sweep, done, total| {
         eprintln!("sweep {sweep}: {done}/{total} FE ramps")

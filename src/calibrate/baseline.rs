@@ -23,13 +23,15 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use super::experiments::{bending_error, BendingRecord, ForceRecord};
+use crate::fe::campaign::WarmPool;
 use crate::fe::effects::Effects;
 use crate::fe::geometry::DesignParams;
 use crate::fe::material::Material;
 use crate::fe::mesh::MeshOptions;
 use crate::fe::preset::Geometry;
 use crate::fe::sensitivity::{
-    sensitivities_with, Parameter, Sensitivities, SENSITIVITY_FORMAT_VERSION, SENSITIVITY_METHOD,
+    sensitivities_with, sensitivities_with_fields, Parameter, Sensitivities,
+    SENSITIVITY_FORMAT_VERSION, SENSITIVITY_METHOD,
 };
 use crate::fe::simulate::{
     simulate_with, Case, ContactSettings, Mode, SimulateError, StepResult, FORCE_MODEL_REVISION,
@@ -398,6 +400,15 @@ pub struct SweepSettings {
     /// ([`crate::fe::sensitivity`]; none by default). Such ramps are cached apart from the
     /// plain ones (their key names the parameters).
     pub sensitivities: Vec<Parameter>,
+    /// Start each ramp that is not in the cache from the pool's ramp of the same design and
+    /// rig (an earlier iteration of a calibration), moved to [`Self::warm_point`] by its
+    /// displacement sensitivities ([`crate::fe::campaign::WarmPool`]), and keep it there for
+    /// the next; `None`: every ramp starts cold. Not part of the cache key: a warm ramp gives
+    /// the cold one's answers to the solver's tolerance.
+    pub warm: Option<WarmPool>,
+    /// The sweep's parameter point, one value per entry of [`Self::sensitivities`] (the step
+    /// of a warm start is this minus the pooled ramp's point).
+    pub warm_point: Vec<f64>,
 }
 
 impl SweepSettings {
@@ -413,6 +424,8 @@ impl SweepSettings {
             solver: SolverSettings::default(),
             gravity: true,
             sensitivities: Vec::new(),
+            warm: None,
+            warm_point: Vec::new(),
         }
     }
 
@@ -624,7 +637,10 @@ fn sweep(
                         RampSource::Missing,
                     ),
                     None => {
-                        let r = run_ramp(&case, &settings.sensitivities);
+                        let r = match &settings.warm {
+                            Some(pool) => run_warm_ramp(&case, settings, pool),
+                            None => run_ramp(&case, &settings.sensitivities),
+                        };
                         if let Some(c) = &cached {
                             c.store(&r)?;
                         }
@@ -711,6 +727,27 @@ fn run_ramp(case: &Case, parameters: &[Parameter]) -> RampOutcome {
     }
     match sensitivities_with(case, parameters, |_, _| {}, |_, r, _| steps.push(r.clone())) {
         Ok((_, sens)) => (steps, String::new(), Some(sens)),
+        Err(e) => (steps, e.to_string(), None),
+    }
+}
+
+/// [`run_ramp`] started from `pool`'s ramp of the same design and rig, kept there for the
+/// next iteration.
+fn run_warm_ramp(case: &Case, settings: &SweepSettings, pool: &WarmPool) -> RampOutcome {
+    let warm = pool.start_for(case, &settings.warm_point);
+    let mut steps = Vec::new();
+    match sensitivities_with_fields(
+        case,
+        &settings.sensitivities,
+        warm.as_ref(),
+        |_, _| {},
+        |_, r, _| steps.push(r.clone()),
+    ) {
+        Ok(ran) => {
+            let sens = (!settings.sensitivities.is_empty()).then(|| ran.sensitivities.clone());
+            pool.keep(case, settings.warm_point.clone(), ran);
+            (steps, String::new(), sens)
+        }
         Err(e) => (steps, e.to_string(), None),
     }
 }

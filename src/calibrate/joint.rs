@@ -66,6 +66,7 @@ use super::baseline::{run_ramps, SweepDesign, SweepRamp, SweepSettings};
 use super::experiments::bending_error;
 use super::objective::{Recordings, FREE_LENGTH_MM};
 use super::CalibrateError;
+use crate::fe::campaign::WarmPool;
 use crate::fe::effects::{Effect, Effects};
 use crate::fe::geometry::PRINTED_WALL_RANGE;
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
@@ -249,6 +250,11 @@ pub struct JointSettings {
     pub model_sigma: ModelSigma,
     /// Cache directory of the ramps (resumable).
     pub cache: Option<PathBuf>,
+    /// Start each sweep's ramps from the previous sweep's converged states of the same design
+    /// and rig, moved by their displacement sensitivities ([`crate::fe::campaign::WarmPool`]):
+    /// the same answers to the solver's tolerance in a fraction of the Newton iterations. The
+    /// first sweep, and the ramps of a sweep that follows one read from the cache, start cold.
+    pub warm_start: bool,
 }
 
 /// The model-form floor of the identification's noise model: added in quadrature to each
@@ -544,7 +550,11 @@ enum Recorded {
 }
 
 /// The sweep settings of a point.
-fn sweep_settings(s: &JointSettings, x: &JointPoint) -> Result<SweepSettings, CalibrateError> {
+fn sweep_settings(
+    s: &JointSettings,
+    x: &JointPoint,
+    pool: Option<&WarmPool>,
+) -> Result<SweepSettings, CalibrateError> {
     let [m1, a1, m2, a2] = x.ogden;
     let material = Material::from_spec(&format!("{m1},{a1},{m2},{a2}"), DEFAULT_BULK_RATIO)
         .map_err(|e| CalibrateError::input("material", format!("{:?}", x.ogden), &e.to_string()))?;
@@ -555,6 +565,8 @@ fn sweep_settings(s: &JointSettings, x: &JointPoint) -> Result<SweepSettings, Ca
         geometry: x.geometry.clone(),
         effects: x.effects.clone(),
         sensitivities: s.unknowns.iter().map(|u| u.parameter()).collect(),
+        warm: pool.cloned(),
+        warm_point: s.unknowns.iter().map(|&u| x.get(u)).collect(),
         ..SweepSettings::new(material, s.mesh)
     };
     settings.solver.max_pressure_increment = crate::diagnose::sweep::SWEEP_MAX_PRESSURE_INCREMENT;
@@ -574,9 +586,10 @@ fn evaluate(
     rec: &Recordings,
     x: &JointPoint,
     k: usize,
+    pool: Option<&WarmPool>,
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Evaluation, CalibrateError> {
-    let settings = sweep_settings(s, x)?;
+    let settings = sweep_settings(s, x, pool)?;
     let cache = s.cache.as_ref().map(|c| c.join(format!("sweep_{k:02}")));
     let ramps = run_ramps(&settings, &designs(rec), cache.as_deref(), progress)?;
     Ok(residuals(s, rec, &ramps))
@@ -765,10 +778,11 @@ pub fn identify(
         Ok(p)
     };
     let mut evaluations: Vec<(JointPoint, Result<Evaluation, String>)> = Vec::new();
+    let pool = s.warm_start.then(WarmPool::new);
     let trace = bounded_lm(&x0, &bnds, s.lambda0, s.max_step, s.max_sweeps, |v| {
         let p = point_at(v)?;
         let k = evaluations.len() + 1;
-        let e = evaluate(s, rec, &p, k, &|d, n| progress(k, d, n));
+        let e = evaluate(s, rec, &p, k, pool.as_ref(), &|d, n| progress(k, d, n));
         if k == 1 {
             if let Ok(e) = &e {
                 if !e.error.is_empty() {

@@ -96,6 +96,11 @@ pub struct IdentifyArgs {
     /// was well predicted).
     #[arg(long, default_value_t = 0.1)]
     pub max_step: f64,
+    /// Start every ramp from the undeformed actuator. By default each sweep's ramps start from
+    /// the previous sweep's converged states, moved by their sensitivities (same answers to
+    /// the solver's tolerance, a fraction of the Newton iterations).
+    #[arg(long)]
+    pub cold: bool,
     /// Model-form floor on each tip coordinate (mm), added in quadrature to the recorded
     /// scatter (chord × angle scatter).
     #[arg(long, default_value_t = 2.0)]

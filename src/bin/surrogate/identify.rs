@@ -92,6 +92,7 @@ pub fn run(a: IdentifyArgs) -> Result<()> {
         max_step: a.max_step,
         model_sigma,
         cache: Some(cache),
+        warm_start: !a.cold,
     };
     let bar = ProgressBar::new(0);
     bar.set_style(ProgressStyle::with_template(
