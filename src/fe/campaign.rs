@@ -426,6 +426,25 @@ pub struct BenchRow {
     pub max_tip_difference: f64,
     /// Largest blocked-force difference from the cold ramp (N).
     pub max_force_difference_n: f64,
+    /// Each ramp: its case, the case it started from, its Newton iterations and wall time.
+    #[serde(default)]
+    pub each: Vec<RampRow>,
+}
+
+/// One ramp of a benchmark row.
+#[derive(Clone, Debug, serde::Serialize, serde::Deserialize)]
+pub struct RampRow {
+    /// Its index in the campaign (designs outer, materials inner).
+    pub case: usize,
+    /// The case it started from (`None`: cold).
+    pub parent: Option<usize>,
+    /// Newton iterations per output level.
+    pub newton_iterations: Vec<usize>,
+    /// Wall time of the ramp (sensitivities included) (s).
+    pub wall_s: f64,
+    /// Why it stopped, if it did not finish.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub error: Option<String>,
 }
 
 /// The materials of the benchmark: `count` points of a seeded Latin hypercube around `centre`
@@ -574,6 +593,19 @@ fn measure(
         wall_ratio: 1.0,
         max_tip_difference: tip,
         max_force_difference_n: force,
+        each: ramps
+            .iter()
+            .map(|r| RampRow {
+                case: r.case,
+                parent: r.parent,
+                newton_iterations: r.response.as_ref().map_or_else(
+                    |_| Vec::new(),
+                    |x| x.steps.iter().map(|s| s.newton_iterations).collect(),
+                ),
+                wall_s: r.wall_s,
+                error: r.response.as_ref().err().cloned(),
+            })
+            .collect(),
     }
 }
 

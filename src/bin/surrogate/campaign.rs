@@ -37,6 +37,10 @@ pub struct CampaignArgs {
     /// Seed of the materials' Latin hypercube.
     #[arg(long, default_value_t = 1)]
     pub seed: u64,
+    /// Instead of the Latin hypercube: two materials, Ogden 002 and Ogden 002 with μ0 (μ₁ and
+    /// μ₂) scaled by 1 + this (a calibration's step; 0.05 for 5 %).
+    #[arg(long)]
+    pub mu0_step: Option<f64>,
     /// Designs as N:T pairs (default: the reference study's nine, N 9, 11, 13 × T 1.6, 2.0, 2.4).
     #[arg(long, value_delimiter = ',')]
     pub designs: Vec<String>,
@@ -123,7 +127,14 @@ pub fn run(a: CampaignArgs) -> Result<()> {
     let centre = Material::from_spec("ogden_002", DEFAULT_BULK_RATIO)?
         .ogden_params()
         .context("ogden_002 is an Ogden set")?;
-    let materials = bench_materials(centre, a.materials, a.span, a.seed);
+    let materials = match a.mu0_step {
+        Some(step) if step.is_finite() && step > -1.0 && step != 0.0 => {
+            let f = 1.0 + step;
+            vec![centre, [centre[0] * f, centre[1], centre[2] * f, centre[3]]]
+        }
+        Some(step) => bail!("--mu0-step: {step} is not a relative step in (-1, 0) or (0, ∞)"),
+        None => bench_materials(centre, a.materials, a.span, a.seed),
+    };
     let total = materials.len() * designs.len();
     let bar = ProgressBar::new((total * orders.len()) as u64).with_style(
         ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} ramps, {elapsed} ({eta} left)")
