@@ -1,20 +1,33 @@
-//! The study's results in Markdown.
+//! The study's results in Markdown: the header, the targets, the confusion matrix, every
+//! twin.
+
+use std::fmt::Write;
 
 use super::plan::StudyPlan;
-use super::results::StudyResults;
+use super::results::{StudyResults, StudySummary};
 
 /// The results in Markdown: the targets, the confusion matrix, every twin.
 pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
-    use std::fmt::Write;
-    let s = &r.summary;
     let mut o = String::new();
-    let pct = |a: usize, b: usize| {
-        if b == 0 {
-            "—".to_string()
-        } else {
-            format!("{a} of {b} ({:.0} %)", 100.0 * a as f64 / b as f64)
-        }
-    };
+    header(&mut o, plan, r);
+    targets(&mut o, r);
+    confusion(&mut o, &r.summary);
+    every_twin(&mut o, r);
+    o
+}
+
+/// `a of b (p %)`, or a dash when `b` is 0.
+fn pct(a: usize, b: usize) -> String {
+    if b == 0 {
+        "—".to_string()
+    } else {
+        format!("{a} of {b} ({:.0} %)", 100.0 * a as f64 / b as f64)
+    }
+}
+
+/// The title, what was diagnosed and how (mesh, seeds, markers, the model's own errors).
+fn header(o: &mut String, plan: &StudyPlan, r: &StudyResults) {
+    let s = &r.summary;
     let _ = writeln!(o, "# Blind twin study: results\n");
     let _ = writeln!(
         o,
@@ -50,6 +63,11 @@ pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
             None => "No approximation error: the recordings' σ alone weigh the residual.".into(),
         }
     );
+}
+
+/// The targets' table and what "indistinguishable" counts.
+fn targets(o: &mut String, r: &StudyResults) {
+    let s = &r.summary;
     let _ = writeln!(o, "| target | result |\n|---|---|");
     let rows = [
         (
@@ -99,6 +117,10 @@ pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
          that they single it out.",
         s.visible_mean_tied.0, s.visible_mean_tied.1
     );
+}
+
+/// The confusion matrix: rows concealed, columns named.
+fn confusion(o: &mut String, s: &StudySummary) {
     let _ = writeln!(
         o,
         "\n## Confusion matrix (rows: concealed, columns: named)\n"
@@ -123,6 +145,10 @@ pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
             .collect();
         let _ = writeln!(o, "| {row} | {} |", cells.join(" | "));
     }
+}
+
+/// Every twin's row, and the pending ones.
+fn every_twin(o: &mut String, r: &StudyResults) {
     let _ = writeln!(
         o,
         "\n## Every twin\n\n| twin | concealed | true value | tip move (σ) | named | first | rank | Name estimate | refit value [interval] | held-out BE before → after (noise) mm |"
@@ -152,5 +178,4 @@ pub fn study_markdown(plan: &StudyPlan, r: &StudyResults) -> String {
     if !r.pending.is_empty() {
         let _ = writeln!(o, "\nPending (FE not run yet): {}.", r.pending.join(", "));
     }
-    o
 }
