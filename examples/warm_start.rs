@@ -113,14 +113,24 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         t.elapsed().as_secs_f64(),
     );
 
+    // the step: μ₁ + 5 % by default; `-- mu0 0.15` scales μ0 (μ₁ and μ₂) by 1.15 instead
+    let args: Vec<String> = std::env::args().skip(1).collect();
     let mut moved = base;
-    moved[0] *= 1.05;
+    match args.as_slice() {
+        [what, step] if what == "mu0" => {
+            let f = 1.0 + step.parse::<f64>()?;
+            moved[0] *= f;
+            moved[2] *= f;
+        }
+        [] => moved[0] *= 1.05,
+        _ => return Err("usage: warm_start [mu0 STEP]".into()),
+    }
     let delta: Vec<f64> = moved.iter().zip(&base).map(|(a, b)| a - b).collect();
     let target = case(moved, Mode::Bending)?;
 
     let t = Instant::now();
     let cold = run_warm(&target, None, |_, _| {}, |_, _, _| {}, false)?.response;
-    describe("cold, mu1 +5 %", &cold, None, t.elapsed().as_secs_f64());
+    describe("cold, stepped", &cold, None, t.elapsed().as_secs_f64());
 
     let zeroth = WarmStart::new(neighbour.states.clone());
     let t = Instant::now();
