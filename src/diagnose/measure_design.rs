@@ -38,7 +38,7 @@ use super::approx_error::ErrorSpread;
 use super::cells::Cell;
 use super::discrimination::Pick;
 use super::measurements::{candidates, discrimination, Measurement};
-use super::name::{derivs_of, whitening, Naming};
+use super::name::{derivs_of, sweep_parameters, whitening, Naming};
 use super::DiagnoseError;
 use crate::calibrate::baseline::SweepSensitivities;
 use crate::fe::effects::Effect;
@@ -209,17 +209,7 @@ pub fn plan(
     s: &PlanSettings,
 ) -> Result<MeasurementPlan, DiagnoseError> {
     s.validate()?;
-    let params: Vec<Parameter> = sens
-        .designs
-        .first()
-        .map(|d| {
-            d.sensitivities
-                .parameters
-                .iter()
-                .map(|p| p.parameter)
-                .collect()
-        })
-        .unwrap_or_default();
+    let params: Vec<Parameter> = sweep_parameters(sens);
     let Some((leader, rivals, left_out)) = tie_set(naming) else {
         return Ok(empty("", "the Name stage has no candidate effect".into()));
     };

@@ -26,7 +26,7 @@ use std::collections::BTreeMap;
 use std::sync::{Condvar, Mutex};
 use std::time::Instant;
 
-use super::sensitivity::{sensitivities_with_fields, Parameter, SensitivityError, WithFields};
+use super::sensitivity::{sensitivities_with_fields, Parameter, WithFields};
 use super::simulate::{Case, Response};
 use super::warm_start::WarmStart;
 
@@ -356,17 +356,13 @@ impl Campaign {
                 CampaignRamp {
                     case: i,
                     parent,
-                    response: Err(describe(&e)),
+                    response: Err(e.to_string()),
                     wall_s,
                 },
                 None,
             ),
         }
     }
-}
-
-fn describe(e: &SensitivityError) -> String {
-    e.to_string()
 }
 
 /// The cases that share a model (the same unknowns and contact points): design, mesh, rig,

@@ -90,12 +90,7 @@ pub fn run(a: CampaignArgs) -> Result<()> {
     if !a.bench {
         bail!("surrogate campaign: only --bench is available (the material-sweep benchmark)");
     }
-    let mesh = match a.mesh.as_str() {
-        "coarse" => MeshLevel::Coarse,
-        "standard" => MeshLevel::Standard,
-        "fine" => MeshLevel::Fine,
-        m => bail!("--mesh: `{m}` is not one of coarse, standard, fine"),
-    };
+    let mesh: MeshLevel = a.mesh.parse().map_err(|e| anyhow::anyhow!("--mesh: {e}"))?;
     let mode = match a.mode.as_str() {
         "bending" => Mode::Bending,
         "force" => Mode::Force,

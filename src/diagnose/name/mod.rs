@@ -191,7 +191,7 @@ fn check_settings(s: &NameSettings) -> Result<(), DiagnoseError> {
 }
 
 /// The sweep's parameters, in the order of its derivatives.
-fn sweep_parameters(sens: &SweepSensitivities) -> Vec<Parameter> {
+pub(crate) fn sweep_parameters(sens: &SweepSensitivities) -> Vec<Parameter> {
     sens.designs
         .first()
         .map(|d| {
