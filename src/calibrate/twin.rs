@@ -57,6 +57,7 @@ use super::CalibrateError;
 use crate::fe::effects::Effects;
 use crate::fe::material::Material;
 use crate::fe::mesh::MeshOptions;
+use crate::fe::preset::Geometry;
 use crate::fe::simulate::{ContactSettings, Mode};
 use crate::schema;
 
@@ -158,7 +159,7 @@ impl TwinSettings {
     /// that differ only in their seed or noise source share it.
     pub fn ramp_dir(&self) -> PathBuf {
         let s = &self.sweep;
-        let key = serde_json::json!({
+        let mut key = serde_json::json!({
             "material": s.material,
             "mesh": s.mesh,
             "contact": s.contact,
@@ -166,6 +167,10 @@ impl TwinSettings {
             "solver": s.solver,
             "gravity": s.gravity,
         });
+        // another geometry, another folder; the geometry as modelled keeps the old names
+        if !s.geometry.is_as_modelled() {
+            key["geometry"] = serde_json::json!(s.geometry);
+        }
         let hash = crc32fast::hash(key.to_string().as_bytes());
         self.cache.join(format!("twin_{hash:08x}"))
     }
@@ -184,6 +189,10 @@ pub struct TwinKey {
     pub mesh: MeshOptions,
     /// Contact settings.
     pub contact: ContactSettings,
+    /// The dimensions the reference study leaves unstated, as simulated; absent for the
+    /// geometry as modelled (so keys written before it keep their bytes).
+    #[serde(default, skip_serializing_if = "Geometry::is_as_modelled")]
+    pub geometry: Geometry,
     /// Seed of the noise.
     pub seed: u64,
     /// How `seed` was derived, when a study derived it from the twin's place in its plan
@@ -306,6 +315,7 @@ pub fn write_twin(
         material_parameters: s.material.clone(),
         mesh: s.mesh,
         contact: s.contact,
+        geometry: s.geometry.clone(),
         seed: settings.seed,
         seed_origin: settings.seed_origin.clone(),
         noise_from: noise_from.bending_source.clone(),
@@ -549,6 +559,15 @@ mod tests {
         s.seed = 2;
         assert_eq!(s.ramp_dir(), a);
         s.sweep.effects = Effects::parse(["wall_bias=0.1"]).unwrap();
+        assert_ne!(s.ramp_dir(), a);
+        // nor does another geometry; the geometry as modelled keeps the folder's old name
+        s.sweep.effects = Effects::default();
+        assert_eq!(s.ramp_dir(), a);
+        s.sweep.geometry = Geometry {
+            name: "identified".into(),
+            gap_mm: 0.5,
+            ..Geometry::as_modelled()
+        };
         assert_ne!(s.ramp_dir(), a);
     }
 }

@@ -92,6 +92,18 @@ pub struct DesignParams {
     /// need not follow `T` ([`Geometry`]). Not written when `None`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub side_wall_thickness: Option<f64>,
+    /// Height above the base of the gaps' floor (mm): below it, the gap between two
+    /// neighbouring bellows is solid, so their facing walls are one fused partition from the
+    /// base up to this height; above it they stand apart. `None` (or 0): every gap reaches
+    /// down to the base. Not written when `None`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gap_floor: Option<f64>,
+    /// Size of the solid corner blocks at the cavities' floor (mm): each cavity's two bottom
+    /// corners, where the walls facing the gaps meet the base, are solid over this height and
+    /// this length along z (a fillet on the grid). A cavity shorter than twice the size has its
+    /// whole floor raised by it. `None` (or 0): sharp corners. Not written when `None`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cavity_fillet: Option<f64>,
 }
 
 impl Default for DesignParams {
@@ -110,6 +122,8 @@ impl Default for DesignParams {
             bellow_wall_thickness: None,
             skin_thickness: None,
             side_wall_thickness: None,
+            gap_floor: None,
+            cavity_fillet: None,
         }
     }
 }
@@ -185,6 +199,18 @@ impl DesignParams {
         }
         let t = p.bellow_wall_thickness.unwrap_or(p.wall_thickness);
         let ts = p.skin_thickness.unwrap_or(p.wall_thickness);
+        if let Some(f) = p.gap_floor {
+            // the gaps stay open over at least the top skin's height
+            check_range("gap_floor", f, 0.0, p.height - p.base_thickness - ts)?;
+        }
+        if let Some(r) = p.cavity_fillet {
+            check_range(
+                "cavity_fillet",
+                r,
+                0.0,
+                (p.height - p.base_thickness - ts) / 2.0,
+            )?;
+        }
         let tx = p.side_wall_thickness.unwrap_or(ts);
         let pitch = p.free_length / n as f64;
         let length = pitch - p.gap - 2.0 * t;
@@ -294,6 +320,16 @@ impl Design {
     pub fn base_thickness(&self) -> f64 {
         self.params.base_thickness
     }
+    /// Height of the gaps' floor above the base (mm): 0 unless the gaps are fused at their
+    /// root ([`DesignParams::gap_floor`]).
+    pub fn gap_floor(&self) -> f64 {
+        self.params.gap_floor.unwrap_or(0.0)
+    }
+    /// Size of the solid blocks in the cavities' bottom corners (mm): 0 unless set
+    /// ([`DesignParams::cavity_fillet`]).
+    pub fn cavity_fillet(&self) -> f64 {
+        self.params.cavity_fillet.unwrap_or(0.0)
+    }
     /// Bellow pitch p = Lf / N (mm).
     pub fn pitch(&self) -> f64 {
         self.params.free_length / self.params.n_bellows as f64
@@ -369,21 +405,26 @@ impl Design {
         let pitch = self.pitch();
         let i = ((x[2] / pitch).floor().max(0.0) as usize).min(p.n_bellows - 1);
         let bellow = self.bellow(i);
+        let fused = x[1] < p.base_thickness + self.gap_floor();
         if x[2] < bellow.lo[2] {
-            return if i == 0 {
-                Region::ClampGap
-            } else {
-                Region::Gap(i - 1)
+            return match i {
+                0 => Region::ClampGap,
+                _ if fused => Region::Solid,
+                _ => Region::Gap(i - 1),
             };
         }
         if x[2] > bellow.hi[2] {
-            return if i + 1 < p.n_bellows {
-                Region::Gap(i)
-            } else {
-                Region::Exterior
+            return match i + 1 < p.n_bellows {
+                true if fused => Region::Solid,
+                true => Region::Gap(i),
+                false => Region::Exterior,
             };
         }
-        if self.cavity(i).contains(x) {
+        let cavity = self.cavity(i);
+        let r = self.cavity_fillet();
+        let in_corner =
+            x[1] < cavity.lo[1] + r && (x[2] < cavity.lo[2] + r || x[2] > cavity.hi[2] - r);
+        if cavity.contains(x) && !in_corner {
             Region::Cavity(i)
         } else {
             Region::Solid
@@ -450,5 +491,56 @@ mod tests {
         let mut p = DesignParams::new(11, 2.0);
         p.gap = f64::NAN;
         assert!(p.validate().is_err());
+        let mut p = DesignParams::new(11, 2.0);
+        p.gap_floor = Some(17.0);
+        let e = p.validate().unwrap_err().to_string();
+        assert!(e.contains("gap_floor") && e.contains("17"), "{e}");
+        let mut p = DesignParams::new(11, 2.0);
+        p.cavity_fillet = Some(-0.5);
+        let e = p.validate().unwrap_err().to_string();
+        assert!(e.contains("cavity_fillet") && e.contains("-0.5"), "{e}");
+    }
+
+    #[test]
+    fn a_gap_floor_fuses_the_facing_walls_below_it() {
+        let mut p = DesignParams::new(11, 2.0);
+        p.gap_floor = Some(3.0);
+        let d = p.validate().unwrap();
+        let z = d.pitch(); // the middle of gap 0
+        assert_eq!(d.region([8.0, 4.0 + 2.9, z]), Region::Solid);
+        assert_eq!(d.region([8.0, 4.0 + 3.1, z]), Region::Gap(0));
+        // the clamp gap and the cavities are left as they are
+        assert_eq!(d.region([8.0, 5.0, 0.2]), Region::ClampGap);
+        assert_eq!(d.region([8.0, 5.0, 0.5 * z]), Region::Cavity(0));
+        // no floor, or a floor of 0: the gap reaches down to the base
+        let open = DesignParams::new(11, 2.0).validate().unwrap();
+        assert_eq!(open.region([8.0, 4.1, z]), Region::Gap(0));
+        assert_eq!(open.gap_floor(), 0.0);
+    }
+
+    #[test]
+    fn cavity_fillets_fill_the_floor_corners_and_a_short_cavity_floor() {
+        let mut p = DesignParams::new(11, 2.0);
+        p.cavity_fillet = Some(1.0);
+        let d = p.validate().unwrap();
+        let c = d.cavity(0);
+        let y = c.lo[1];
+        // the corners are solid, the middle of the floor and the corners above r are not
+        assert_eq!(d.region([8.0, y + 0.5, c.lo[2] + 0.5]), Region::Solid);
+        assert_eq!(d.region([8.0, y + 0.5, c.hi[2] - 0.5]), Region::Solid);
+        assert_eq!(d.region([8.0, y + 1.5, c.lo[2] + 0.5]), Region::Cavity(0));
+        assert_eq!(
+            d.region([8.0, y + 0.5, 0.5 * (c.lo[2] + c.hi[2])]),
+            Region::Cavity(0)
+        );
+        // N = 13, T = 2.4: a cavity 1.28 mm long, shorter than 2r: its whole floor raised
+        let mut p = DesignParams::new(13, 2.4);
+        p.cavity_fillet = Some(1.0);
+        let d = p.validate().unwrap();
+        let c = d.cavity(3);
+        assert!(c.hi[2] - c.lo[2] < 2.0);
+        let mid = 0.5 * (c.lo[2] + c.hi[2]);
+        assert_eq!(d.region([8.0, c.lo[1] + 0.9, mid]), Region::Solid);
+        assert_eq!(d.region([8.0, c.lo[1] + 1.1, mid]), Region::Cavity(3));
     }
 }

@@ -489,6 +489,13 @@ impl Breaks {
             xb.push(d.lo[0]);
         }
         let mut yb = vec![0.0, p.base_thickness, p.height - ts, p.height];
+        if design.gap_floor() > 0.0 {
+            yb.push(p.base_thickness + design.gap_floor());
+        }
+        let fillet = design.cavity_fillet();
+        if fillet > 0.0 {
+            yb.push(p.base_thickness + fillet);
+        }
         if duct.is_some() {
             yb.extend([p.duct_bottom, p.duct_top]);
         }
@@ -499,6 +506,10 @@ impl Breaks {
             zb.extend([b.lo[2], b.lo[2] + t, b.hi[2] - t, b.hi[2]]);
             walls.push((b.lo[2], b.lo[2] + t));
             walls.push((b.hi[2] - t, b.hi[2]));
+            let c = design.cavity(i);
+            if fillet > 0.0 && c.hi[2] - c.lo[2] > 2.0 * fillet {
+                zb.extend([c.lo[2] + fillet, c.hi[2] - fillet]);
+            }
         }
         if let Some(d) = duct {
             zb.push(d.hi[2]);
@@ -790,5 +801,48 @@ mod tests {
                 }
             }
         }
+    }
+    #[test]
+    fn fused_gaps_and_filleted_cavities_are_meshed_on_their_lines() {
+        let mut p = DesignParams::new(13, 2.4);
+        p.gap_floor = Some(3.0);
+        p.cavity_fillet = Some(1.0);
+        let d = p.validate().unwrap();
+        let m = ActuatorMesh::new(&d, &MeshOptions::level(MeshLevel::Coarse));
+        let nodes = &m.mesh().nodes;
+        // contact faces of the gaps between bellows lie above the gaps' floor only
+        let floor = d.base_thickness() + 3.0;
+        for (side, faces) in &m.gap_faces {
+            if *side == GapSide::Clamp {
+                continue;
+            }
+            for f in faces {
+                let lowest = f
+                    .nodes
+                    .iter()
+                    .map(|&n| nodes[n][1])
+                    .fold(f64::MAX, f64::min);
+                assert!(
+                    lowest >= floor - 1e-9,
+                    "{side:?}: a face reaches y = {lowest}"
+                );
+            }
+        }
+        // the raised floor of a short cavity is a grid line: its pressurised faces start there
+        let c = d.cavity(5);
+        let faces = &m.pressure_faces[&PressureSurface::Cavity(5)];
+        let lowest = faces
+            .iter()
+            .flat_map(|f| f.nodes.iter().map(|&n| nodes[n][1]))
+            .fold(f64::MAX, f64::min);
+        assert!((lowest - (c.lo[1] + 1.0)).abs() < 1e-9, "{lowest}");
+        // without them, the gap faces reach the base
+        let plain = DesignParams::new(13, 2.4).validate().unwrap();
+        let m = ActuatorMesh::new(&plain, &MeshOptions::level(MeshLevel::Coarse));
+        let lowest = m.gap_faces[&GapSide::Back(0)]
+            .iter()
+            .flat_map(|f| f.nodes.iter().map(|&n| m.mesh().nodes[n][1]))
+            .fold(f64::MAX, f64::min);
+        assert!((lowest - plain.base_thickness()).abs() < 1e-9);
     }
 }

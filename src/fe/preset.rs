@@ -13,8 +13,13 @@
 //! identification ([`crate::calibrate::joint`]) writes the values it finds as a preset of
 //! its own.
 //!
+//! Two more are optional (absent in every preset written before them): the depth of the gaps
+//! between the bellows, as the height of their floor above the base (the facing walls fused
+//! below it), and solid blocks in the cavities' floor corners (a fillet on the grid).
+//!
 //! Physical ranges (mm), refused outside with a named error: gap 0.2 … 2, base 3.2 … 7, duct
-//! half-width 0.5 … 4, side wall 0.6 … 3.4, free length 86 … 98. A preset that leaves some
+//! half-width 0.5 … 4, side wall 0.6 … 3.4, free length 86 … 98, gap floor 0 … 9, cavity
+//! fillet 0 … 3. A preset that leaves some
 //! design without a valid actuator (a closed cavity) is refused by [`Geometry::design`].
 
 use std::path::Path;
@@ -32,6 +37,11 @@ pub const BASE_RANGE: (f64, f64) = (3.2, 7.0);
 pub const DUCT_HALF_WIDTH_RANGE: (f64, f64) = (0.5, 4.0);
 /// Physical range of the free length (mm).
 pub const FREE_LENGTH_RANGE: (f64, f64) = (86.0, 98.0);
+/// Physical range of the gaps' floor above the base (mm): from gaps open down to the base to
+/// gaps fused over half the bellows' height.
+pub const GAP_FLOOR_RANGE: (f64, f64) = (0.0, 9.0);
+/// Physical range of the cavities' corner blocks (mm).
+pub const CAVITY_FILLET_RANGE: (f64, f64) = (0.0, 3.0);
 
 /// Errors of a geometry preset.
 #[derive(Debug, Error)]
@@ -93,6 +103,14 @@ pub struct Geometry {
     /// `T` thick like the other walls.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub side_wall_mm: Option<f64>,
+    /// Height above the base of the gaps' floor: neighbouring bellows fused below it
+    /// ([`DesignParams::gap_floor`]); `None`: the gaps reach down to the base.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gap_floor_mm: Option<f64>,
+    /// Solid blocks in the cavities' bottom corners ([`DesignParams::cavity_fillet`]);
+    /// `None`: sharp corners.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub cavity_fillet_mm: Option<f64>,
 }
 
 impl Default for Geometry {
@@ -112,6 +130,8 @@ impl Geometry {
             duct_half_width_mm: d.duct_half_width,
             free_length_mm: d.free_length,
             side_wall_mm: None,
+            gap_floor_mm: None,
+            cavity_fillet_mm: None,
         }
     }
 
@@ -123,6 +143,8 @@ impl Geometry {
             && self.duct_half_width_mm == m.duct_half_width_mm
             && self.free_length_mm == m.free_length_mm
             && self.side_wall_mm.is_none()
+            && self.gap_floor_mm.is_none()
+            && self.cavity_fillet_mm.is_none()
     }
 
     /// A named preset (`as_modelled`) or a preset file (a path ending in `.json`).
@@ -182,6 +204,12 @@ impl Geometry {
         if let Some(s) = self.side_wall_mm {
             check("side_wall_mm", s, PRINTED_WALL_RANGE)?;
         }
+        if let Some(f) = self.gap_floor_mm {
+            check("gap_floor_mm", f, GAP_FLOOR_RANGE)?;
+        }
+        if let Some(r) = self.cavity_fillet_mm {
+            check("cavity_fillet_mm", r, CAVITY_FILLET_RANGE)?;
+        }
         Ok(())
     }
 
@@ -197,6 +225,8 @@ impl Geometry {
         p.duct_half_width = self.duct_half_width_mm;
         p.free_length = self.free_length_mm;
         p.side_wall_thickness = self.side_wall_mm;
+        p.gap_floor = self.gap_floor_mm;
+        p.cavity_fillet = self.cavity_fillet_mm;
         p
     }
 
@@ -255,6 +285,24 @@ mod tests {
             .to_string()
             .contains("side_wall_mm"));
         assert!(Geometry::from_name("nominal").is_err());
+        let mut g = Geometry::as_modelled();
+        g.gap_floor_mm = Some(9.5);
+        let e = g.design(11, 2.0).unwrap_err().to_string();
+        assert!(
+            e.contains("gap_floor_mm = 9.5") && e.contains("9 mm"),
+            "{e}"
+        );
+        g.gap_floor_mm = Some(3.0);
+        g.cavity_fillet_mm = Some(3.5);
+        let e = g.design(11, 2.0).unwrap_err().to_string();
+        assert!(e.contains("cavity_fillet_mm = 3.5"), "{e}");
+        g.cavity_fillet_mm = Some(1.0);
+        let d = g.design(11, 2.0).unwrap();
+        assert_eq!((d.gap_floor(), d.cavity_fillet()), (3.0, 1.0));
+        assert!(!g.is_as_modelled());
+        // a preset without them reads as before, and writes no key for them
+        let text = serde_json::to_string(&Geometry::as_modelled()).unwrap();
+        assert!(!text.contains("gap_floor") && !text.contains("cavity_fillet"));
     }
 
     #[test]

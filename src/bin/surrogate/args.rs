@@ -300,6 +300,10 @@ pub struct TwinArgs {
     /// Minimum number of elements through a wall (overrides the level's).
     #[arg(long)]
     pub wall_elements: Option<usize>,
+    /// The dimensions the reference study leaves unstated: as_modelled, or a geometry preset
+    /// file such as `surrogate identify` writes (geometry.json); in the key.
+    #[arg(long, default_value = "as_modelled")]
+    pub geometry: String,
     /// Directory with the recordings whose designs, pressures and standard deviations the
     /// twin takes (bending_experiments.csv, blocked_force_experiments.csv) [default:
     /// training_data/ of the repository the program was built from, from any working

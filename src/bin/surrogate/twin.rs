@@ -7,6 +7,7 @@ use surrogate::calibrate::twin::{write_twin, TwinSettings};
 use surrogate::calibrate::Recordings;
 use surrogate::fe::effects::Effects;
 use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
+use surrogate::fe::preset::Geometry;
 
 use crate::args::TwinArgs;
 
@@ -41,11 +42,12 @@ pub fn run(a: TwinArgs) -> Result<()> {
     let noise_from = Recordings::read_dir(&noise_dir)
         .with_context(|| format!("reading the noise source {}", noise_dir.display()))?;
     let cache = a.cache.clone().unwrap_or_else(|| default_cache(&a.out));
-    let settings = TwinSettings {
+    let mut settings = TwinSettings {
         key: a.key.clone(),
         commit: source_commit(),
         ..TwinSettings::new(material, &a.material, mesh, effects, a.seed, &cache)
     };
+    settings.sweep.geometry = Geometry::from_name(&a.geometry)?;
     eprintln!(
         "twin of {} recorded configurations, FE ramps cached in {} (a rerun resumes; another \
          seed runs no FE)",
