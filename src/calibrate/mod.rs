@@ -46,6 +46,7 @@ pub mod params;
 mod recording_csv;
 pub mod refine;
 pub mod study;
+pub mod summary;
 pub mod synthetic;
 pub mod twin;
 pub mod units;

@@ -6,13 +6,11 @@ use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::calibrate::experiments::{SHIPPED_BENDING, SHIPPED_FORCE};
-use surrogate::calibrate::fit::describe_exclusions;
 use surrogate::calibrate::identify::IdentifySettings;
-use surrogate::calibrate::inputs::{self, InputFile};
+use surrogate::calibrate::inputs::InputFile;
 use surrogate::calibrate::objective::Exclusion;
 use surrogate::calibrate::optimise::MultistartSettings;
-use surrogate::calibrate::refine::{refine, RefineEvent, RefineSettings, TrainingSet};
-use surrogate::calibrate::verdict;
+use surrogate::calibrate::refine::{refine, RefineEvent, RefineSettings, Refinement, TrainingSet};
 use surrogate::calibrate::verify::{verify_fe, FeVerification};
 use surrogate::calibrate::{
     calibrate, Calibration, CalibrationSettings, OgdenSet, Recordings, Selection, Weights,
@@ -24,6 +22,9 @@ use crate::calibrate_plots::write_plots;
 use crate::files::{
     given_or_default, input_file, load_model, repository_file, write_file, DEFAULT_MODEL,
 };
+
+/// The report a person reads first (Markdown).
+pub use surrogate::calibrate::summary::summary_markdown as summary_text;
 
 /// `surrogate calibrate`.
 #[derive(Debug, Args)]
@@ -232,18 +233,7 @@ fn run_refine(
         a.threads != Some(0),
         "--threads 0: expected at least 1 FE case at a time"
     );
-    let training = match &a.training {
-        Some(csv) => TrainingSet::read(csv, &surrogate::snapshots::merge::sidecar_path(csv))?,
-        // the model's training source, relative to the repository for the default model
-        None => TrainingSet::of_model(
-            model,
-            &if a.model.is_none() {
-                repository_file("")
-            } else {
-                PathBuf::from(".")
-            },
-        )?,
-    };
+    let training = training_set(a, model)?;
     let settings = RefineSettings {
         max_rounds: a.refine,
         calibration,
@@ -253,23 +243,10 @@ fn run_refine(
     };
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let dir = a.out.join("refine");
-    let meshes = match &training.high {
-        Some(h) => format!(
-            "the {} mesh of {} and the {} mesh of {}",
-            training.plan.settings.mesh.level.name(),
-            training.snapshots.source,
-            h.plan.settings.mesh.level.name(),
-            h.snapshots.source
-        ),
-        None => format!(
-            "the {} mesh of {}",
-            training.plan.settings.mesh.level.name(),
-            training.snapshots.source
-        ),
-    };
     eprintln!(
-        "adaptive refinement: up to {} rounds on {meshes} (FE cached in {}; a rerun resumes)",
+        "adaptive refinement: up to {} rounds on {} (FE cached in {}; a rerun resumes)",
         a.refine,
+        meshes(&training),
         dir.display()
     );
     let bar = ProgressBar::hidden();
@@ -278,51 +255,92 @@ fn run_refine(
     )?);
     let runner = surrogate::snapshots::fe_runner::fe_runner;
     let mut r = refine(model, &training, rec, &settings, &runner, &dir, &|ev| {
-        match ev {
-            RefineEvent::Stage(s) => bar.suspend(|| eprintln!("{s}")),
-            RefineEvent::Fe { round, progress } => {
-                if progress.done == 0 {
-                    bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-                    bar.reset();
-                }
-                bar.set_message(round.to_string());
-                bar.set_length(progress.total as u64);
-                bar.set_position(progress.done as u64);
-                if progress.done == progress.total {
-                    bar.finish_and_clear();
-                }
-            }
-            RefineEvent::Round(r) => bar.suspend(|| {
-                eprintln!(
-                    "round {}: FE mean BE {:.2} mm; surrogate − FE max |Δ| {:.2}, {:.2} mm, {:.3} N; {} configurations beyond 2σ",
-                    r.round,
-                    r.verification.summary.mean_be_mm,
-                    r.verification.max_abs_sur_fe[0],
-                    r.verification.max_abs_sur_fe[1],
-                    r.verification.max_abs_sur_fe[2],
-                    r.verification.disagreements
-                )
-            }),
-        }
+        show_refine_event(&bar, ev)
     })?;
     r.last.inputs.insert(0, model_file.clone());
     let mut written = write_outputs(&a.out, &r.last, Some(r.final_verification()))?;
     let md = r.summary_markdown();
-    let p = a.out.join("refinement.md");
-    write_file(&p, md.as_bytes())?;
-    written.push(p);
-    let p = a.out.join("refinement.json");
-    write_file(&p, serde_json::to_string_pretty(&r)?.as_bytes())?;
-    written.push(p);
-    let p = a.out.join("refinement.svg");
-    crate::calibrate_plots::refinement(&r, &p)?;
-    written.push(p);
+    written.extend(write_refinement(&a.out, &r, &md)?);
     print!("{}", summary_text(&r.last, Some(r.final_verification())));
     print!("\n{md}");
     for p in written {
         println!("wrote {}", p.display());
     }
     Ok(())
+}
+
+/// The refined model's training set: `--training` (its plan beside it), or the source the
+/// model records (relative to the repository for the default model).
+fn training_set(a: &CalibrateArgs, model: &Surrogate) -> Result<TrainingSet> {
+    Ok(match &a.training {
+        Some(csv) => TrainingSet::read(csv, &surrogate::snapshots::merge::sidecar_path(csv))?,
+        None => TrainingSet::of_model(
+            model,
+            &if a.model.is_none() {
+                repository_file("")
+            } else {
+                PathBuf::from(".")
+            },
+        )?,
+    })
+}
+
+/// The meshes the refinement runs on, in words.
+fn meshes(training: &TrainingSet) -> String {
+    let low = format!(
+        "the {} mesh of {}",
+        training.plan.settings.mesh.level.name(),
+        training.snapshots.source
+    );
+    match &training.high {
+        Some(h) => format!(
+            "{low} and the {} mesh of {}",
+            h.plan.settings.mesh.level.name(),
+            h.snapshots.source
+        ),
+        None => low,
+    }
+}
+
+/// A refinement event on stderr: stages and rounds as lines, FE cases on the progress bar.
+fn show_refine_event(bar: &ProgressBar, ev: RefineEvent) {
+    match ev {
+        RefineEvent::Stage(s) => bar.suspend(|| eprintln!("{s}")),
+        RefineEvent::Fe { round, progress } => {
+            if progress.done == 0 {
+                bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+                bar.reset();
+            }
+            bar.set_message(round.to_string());
+            bar.set_length(progress.total as u64);
+            bar.set_position(progress.done as u64);
+            if progress.done == progress.total {
+                bar.finish_and_clear();
+            }
+        }
+        RefineEvent::Round(r) => bar.suspend(|| {
+            eprintln!(
+                "round {}: FE mean BE {:.2} mm; surrogate − FE max |Δ| {:.2}, {:.2} mm, {:.3} N; {} configurations beyond 2σ",
+                r.round,
+                r.verification.summary.mean_be_mm,
+                r.verification.max_abs_sur_fe[0],
+                r.verification.max_abs_sur_fe[1],
+                r.verification.max_abs_sur_fe[2],
+                r.verification.disagreements
+            )
+        }),
+    }
+}
+
+/// Writes `refinement.md` (the account `md`), `refinement.json` and `refinement.svg`.
+fn write_refinement(out: &Path, r: &Refinement, md: &str) -> Result<Vec<PathBuf>> {
+    let p = out.join("refinement.md");
+    write_file(&p, md.as_bytes())?;
+    let q = out.join("refinement.json");
+    write_file(&q, serde_json::to_string_pretty(r)?.as_bytes())?;
+    let v = out.join("refinement.svg");
+    crate::calibrate_plots::refinement(r, &v)?;
+    Ok(vec![p, q, v])
 }
 
 fn run_fe(
@@ -457,297 +475,4 @@ fn configurations_csv(cal: &Calibration, fe: Option<&FeVerification>) -> Result<
         w.write_record(&rec)?;
     }
     Ok(w.into_inner()?)
-}
-
-/// The report a person reads first (Markdown).
-pub fn summary_text(cal: &Calibration, fe: Option<&FeVerification>) -> String {
-    use std::fmt::Write;
-    let mut s = String::new();
-    let b = &cal.best;
-    let l = &cal.literature;
-    let _ = writeln!(s, "# Calibration\n");
-    let _ = writeln!(
-        s,
-        "{}\n",
-        verdict::fit_verdict(cal.chi2, cal.identifiability.dof)
-    );
-    let _ = writeln!(
-        s,
-        "Objective `{}`: {} observations at {} configurations, model {}.\n",
-        cal.objective, cal.n_observations, cal.n_configurations, cal.model
-    );
-    let _ = writeln!(s, "{}", inputs::markdown(&cal.inputs));
-    let _ = writeln!(s, "| set | μ1 (MPa) | α1 | μ2 (MPa) | α2 | μ0 (MPa) | χ² |");
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|");
-    for (name, p, c) in [
-        ("literature", l, cal.chi2_literature),
-        ("calibrated", b, cal.chi2),
-    ] {
-        // the set at full precision (shortest round trip): it is typed back as a material
-        let _ = writeln!(
-            s,
-            "| {name} | {} | {} | {} | {} | {:.3} | {:.1} |",
-            p.mu1_mpa,
-            p.alpha1,
-            p.mu2_mpa,
-            p.alpha2,
-            p.mu0_mpa(),
-            c
-        );
-    }
-    let _ = writeln!(
-        s,
-        "\nThe calibrated set as a material: `--material DIR/report.json` (this report's \
-         directory; any command that takes a material), or `--material {},{},{},{}`.\n",
-        b.mu1_mpa, b.alpha1, b.mu2_mpa, b.alpha2
-    );
-    let ls = &cal.literature_summary;
-    let cs = &cal.calibrated;
-    let _ = writeln!(
-        s,
-        "| through the surrogate | mean BE (mm) | median BE (mm) | the study's nine: mean BE (mm) | mean F error (N) | mean |F error| (N) |"
-    );
-    let _ = writeln!(s, "|---|---|---|---|---|---|");
-    for (name, x) in [("literature", ls), ("calibrated", cs)] {
-        let _ = writeln!(
-            s,
-            "| {name} | {:.2} | {:.2} | {:.2} | {:+.3} | {:.3} |",
-            x.mean_be_mm,
-            x.median_be_mm,
-            x.paper_nine_mean_be_mm,
-            x.mean_force_error_n,
-            x.mean_abs_force_error_n
-        );
-    }
-    if let Some(v) = fe {
-        let x = &v.summary;
-        let _ = writeln!(
-            s,
-            "| calibrated, FE ({} mesh) | {:.2} | {:.2} | {:.2} | {:+.3} | {:.3} |",
-            v.mesh,
-            x.mean_be_mm,
-            x.median_be_mm,
-            x.paper_nine_mean_be_mm,
-            x.mean_force_error_n,
-            x.mean_abs_force_error_n
-        );
-    }
-    if let Some(line) = verdict::reference_study_line(&cal.inputs) {
-        let _ = writeln!(s, "\n{line}");
-    }
-    let _ = writeln!(s);
-    let _ = writeln!(
-        s,
-        "{} starts reached {} distinct minima (every end point is in report.json).",
-        cal.starts.len(),
-        cal.minima
-    );
-    let _ = writeln!(
-        s,
-        "\n| minimum | starts | χ² | μ1 (MPa) | α1 | μ2 (MPa) | α2 | on a bound |"
-    );
-    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|");
-    for k in 0..cal.minima {
-        let starts: Vec<_> = cal.starts.iter().filter(|st| st.minimum == k).collect();
-        if let Some(f) = starts.first() {
-            let e = &f.end;
-            let _ = writeln!(
-                s,
-                "| {} | {} | {:.1} | {:.4} | {:.4} | {:.4} | {:.4} | {} |",
-                k + 1,
-                starts.len(),
-                f.chi2,
-                e.mu1_mpa,
-                e.alpha1,
-                e.mu2_mpa,
-                e.alpha2,
-                f.active_bounds.len()
-            );
-        }
-    }
-    let _ = writeln!(s);
-    if cal.active_bounds.is_empty() {
-        let _ = writeln!(
-            s,
-            "No bound of the training domain is active at the optimum."
-        );
-    } else {
-        let _ = writeln!(
-            s,
-            "**The training box truncates this optimum**: it ends on {} (the fit would move \
-             further if the box let it, and the surrogate does not know what lies there). The \
-             numbers above are the best inside the box, not the best material; `surrogate \
-             identify` fits straight on the FE model, without the box, and with the unstated \
-             dimensions.",
-            cal.active_bounds.join("; ")
-        );
-    }
-    let id = &cal.identifiability;
-    let _ = writeln!(
-        s,
-        "\n## What the data determine\n\nχ²/dof = {:.2} ({} observations − 4 parameters); covariance scaled by ŝ² = {:.2}.\n",
-        cal.chi2 / id.dof as f64,
-        cal.n_observations,
-        id.variance_scale
-    );
-    let _ = writeln!(
-        s,
-        "| parameter | estimate | std error | 95 % profile interval | |"
-    );
-    let _ = writeln!(s, "|---|---|---|---|---|");
-    for (k, p) in id.profiles.iter().enumerate() {
-        let _ = writeln!(
-            s,
-            "| {} | {:.4} | {:.3} | [{:.4}, {:.4}] | {} |",
-            p.name,
-            p.optimum,
-            id.std_errors[k],
-            p.interval[0],
-            p.interval[1],
-            p.determinacy.describe()
-        );
-    }
-    let _ = writeln!(
-        s,
-        "\nEigen-directions of the information (unit box; std as a fraction of the box):\n"
-    );
-    for d in &id.directions {
-        let v: Vec<String> = d
-            .vector
-            .iter()
-            .filter(|(_, c)| c.abs() > 0.1)
-            .map(|(n, c)| format!("{c:+.2} {n}"))
-            .collect();
-        let _ = writeln!(s, "- {} : std {:.3}", v.join(" "), d.std_fraction);
-    }
-    if !id.extra_measurements.is_empty() {
-        let _ = writeln!(
-            s,
-            "\nExtra measurements (linearised; each row: the standard errors of {} with it added, as a fraction of today's):\n",
-            id.names.join(" / ")
-        );
-        for m in &id.extra_measurements {
-            let _ = writeln!(
-                s,
-                "- {}: × {}",
-                m.measurement,
-                m.ratio
-                    .iter()
-                    .map(|r| format!("{r:.2}"))
-                    .collect::<Vec<_>>()
-                    .join(" / ")
-            );
-        }
-        for (k, p) in id.profiles.iter().enumerate() {
-            if p.determinacy == surrogate::calibrate::identify::Determinacy::Determined {
-                continue;
-            }
-            if let Some(m) = id
-                .extra_measurements
-                .iter()
-                .min_by(|a, b| a.ratio[k].total_cmp(&b.ratio[k]))
-            {
-                let _ = writeln!(
-                    s,
-                    "\n{} is {}; the measurement that sharpens it most: {} (its standard error × {:.2}).",
-                    p.name,
-                    p.determinacy.describe(),
-                    m.measurement,
-                    m.ratio[k]
-                );
-            }
-        }
-    }
-    if !cal.flags.is_empty() {
-        let _ = writeln!(s, "\n## Data checks\n");
-        for f in &cal.flags {
-            let _ = writeln!(s, "- {} ({}): {}", f.config.label(), f.source, f.message);
-        }
-    }
-    if !cal.excluded.is_empty() {
-        let _ = writeln!(s, "\n## Excluded\n");
-        for e in describe_exclusions(&cal.excluded) {
-            let _ = writeln!(s, "- {e}");
-        }
-    }
-    if let Some(st) = &cal.per_configuration {
-        let _ = writeln!(
-            s,
-            "\n## The study's procedure: one set per configuration (±{:.0} % of the literature set)\n",
-            100.0 * st.fraction
-        );
-        let _ = writeln!(
-            s,
-            "| | literature | per configuration | one set, same box |"
-        );
-        let _ = writeln!(s, "|---|---|---|---|");
-        for (name, v) in [
-            ("all, mean BE (mm)", &st.all),
-            ("the study's nine, mean BE (mm)", &st.paper_nine),
-        ] {
-            let _ = writeln!(
-                s,
-                "| {name} | {:.2} | {:.2} | {:.2} |",
-                v[0].mean_mm, v[1].mean_mm, v[2].mean_mm
-            );
-        }
-        for (name, v) in [
-            ("all, median BE (mm)", &st.all),
-            ("the study's nine, median BE (mm)", &st.paper_nine),
-        ] {
-            let _ = writeln!(
-                s,
-                "| {name} | {:.2} | {:.2} | {:.2} |",
-                v[0].median_mm, v[1].median_mm, v[2].median_mm
-            );
-        }
-        let _ = writeln!(s, "\nSpread of the per-configuration sets:\n");
-        let _ = writeln!(
-            s,
-            "| parameter | mean | std | CV | min | max | on the box |"
-        );
-        let _ = writeln!(s, "|---|---|---|---|---|---|---|");
-        for p in &st.spread {
-            let _ = writeln!(
-                s,
-                "| {} | {:.4} | {:.4} | {:.1} % | {:.4} | {:.4} | {} of {} |",
-                p.name,
-                p.mean,
-                p.std,
-                100.0 * p.cv,
-                p.min,
-                p.max,
-                p.on_box,
-                st.fits.len()
-            );
-        }
-    }
-    if let Some(v) = fe {
-        let _ = writeln!(
-            s,
-            "\n## FE verification ({} mesh)\n\nSurrogate vs FE at the optimum: mean |Δ| tip Uz {:.2} mm, tip Uy {:.2} mm, force {:.3} N (max {:.2} / {:.2} / {:.3}); {} configurations outside the surrogate's 2σ band.",
-            v.mesh,
-            v.mean_abs_sur_fe[0],
-            v.mean_abs_sur_fe[1],
-            v.mean_abs_sur_fe[2],
-            v.max_abs_sur_fe[0],
-            v.max_abs_sur_fe[1],
-            v.max_abs_sur_fe[2],
-            v.disagreements
-        );
-        if !v.designs_to_refine.is_empty() {
-            let d: Vec<String> = v
-                .designs_to_refine
-                .iter()
-                .map(|(n, t)| format!("N={n} T={t}"))
-                .collect();
-            let _ = writeln!(
-                s,
-                "Designs to add as high-fidelity cases before refitting: {}.",
-                d.join(", ")
-            );
-        }
-    }
-    let _ = writeln!(s, "\nCalibration time: {:.2} s.", cal.wall_time_s);
-    s
 }
