@@ -561,142 +561,17 @@ impl ObservationSet {
         weights: &Weights,
         sel: &Selection,
     ) -> Result<Self, CalibrateError> {
-        let mut obs = Vec::new();
-        let mut used = vec![false; sel.exclude.len()];
-        let mut excluded_here = |c: &Config, r: Recording| -> bool {
-            let mut hit = false;
-            for (i, e) in sel.exclude.iter().enumerate() {
-                if e.applies(c, r) {
-                    used[i] = true;
-                    hit = true;
-                }
-            }
-            hit
-        };
-        let mut outside: Vec<(Config, CalibrateError)> = Vec::new();
-        let mut domain = |c: &Config, source: &str, line: usize| -> Result<(), CalibrateError> {
-            if let Err(e) = check_domain(model, c, source, line) {
-                outside.push((*c, e));
-            }
-            Ok(())
-        };
+        let mut b = ObservationBuilder::new(model, rec, weights, sel);
         if weights.tip > 0.0 || weights.angle > 0.0 {
-            for (i, r) in rec.bending.iter().enumerate() {
-                let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
-                if !sel.keeps(&c) || excluded_here(&c, Recording::Bending) {
-                    continue;
-                }
-                domain(&c, &rec.bending_source, i + 2)?;
-                let source = format!("{}, line {}", rec.bending_source, i + 2);
-                let sa = r.angle_std_deg;
-                if weights.tip > 0.0 {
-                    let chord = (FREE_LENGTH_MM - r.tip_uz_mm).hypot(r.tip_uy_mm);
-                    let st = chord * sa.to_radians();
-                    for (o, v) in [(Output::TipUz, r.tip_uz_mm), (Output::TipUy, r.tip_uy_mm)] {
-                        obs.push(Observation {
-                            config: c,
-                            output: o,
-                            value: v,
-                            sigma_meas: st,
-                            sigma_model: model_rmse(model, o),
-                            weight: weights.tip,
-                            source: source.clone(),
-                        });
-                    }
-                }
-                if weights.angle > 0.0 {
-                    obs.push(Observation {
-                        config: c,
-                        output: Output::Angle,
-                        value: r.angle_deg,
-                        sigma_meas: sa,
-                        sigma_model: model_rmse(model, Output::Angle),
-                        weight: weights.angle,
-                        source,
-                    });
-                }
-            }
+            b.bending();
         }
         if weights.force > 0.0 {
-            if rec.force.is_empty() {
-                return Err(CalibrateError::input(
-                    "objective",
-                    "force",
-                    "blocked-force recordings (none were given)",
-                ));
-            }
-            for (i, r) in rec.force.iter().enumerate() {
-                let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
-                if !sel.keeps(&c) || excluded_here(&c, Recording::Force) {
-                    continue;
-                }
-                domain(&c, &rec.force_source, i + 2)?;
-                obs.push(Observation {
-                    config: c,
-                    output: Output::Force,
-                    value: r.force_n,
-                    sigma_meas: r.force_std_n,
-                    sigma_model: model_rmse(model, Output::Force),
-                    weight: weights.force,
-                    source: format!("{}, line {}", rec.force_source, i + 2),
-                });
-            }
+            b.force()?;
         }
         if weights.markers > 0.0 {
-            if rec.markers.is_empty() {
-                return Err(CalibrateError::input(
-                    "objective",
-                    "markers",
-                    "marker recordings (none were given)",
-                ));
-            }
-            for (i, r) in rec.markers.iter().enumerate() {
-                let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
-                if !sel.keeps(&c) || excluded_here(&c, Recording::Bending) {
-                    continue;
-                }
-                domain(&c, &rec.markers_source, i + 2)?;
-                let k = r.marker as u8;
-                for (o, v) in [
-                    (Output::MarkerUz(k), r.uz_mm),
-                    (Output::MarkerUy(k), r.uy_mm),
-                ] {
-                    obs.push(Observation {
-                        config: c,
-                        output: o,
-                        value: v,
-                        sigma_meas: r.std_mm,
-                        sigma_model: model_rmse(model, o),
-                        weight: weights.markers,
-                        source: format!("{}, line {}", rec.markers_source, i + 2),
-                    });
-                }
-            }
+            b.markers()?;
         }
-        if outside.len() == 1 {
-            return Err(outside.remove(0).1);
-        }
-        if !outside.is_empty() {
-            return Err(outside_domain(outside));
-        }
-        if let Some(i) = used.iter().position(|u| !u) {
-            let e = &sel.exclude[i];
-            return Err(CalibrateError::input(
-                "--exclude",
-                e.config.label(),
-                "a configuration present in the recordings of the fitted terms",
-            ));
-        }
-        if obs.is_empty() {
-            return Err(CalibrateError::input(
-                "selection",
-                "no observation left",
-                "at least one recorded value after the selection and exclusions",
-            ));
-        }
-        let mut set = Self::from_observations(obs);
-        set.excluded = sel.exclude.clone();
-        Ok(set)
+        b.finish()
     }
 
     /// A set from given observations (grouped by configuration; nothing excluded).
@@ -729,6 +604,185 @@ impl ObservationSet {
     /// Whether there are none.
     pub fn is_empty(&self) -> bool {
         self.obs.is_empty()
+    }
+}
+
+/// The steps of [`ObservationSet::build`]: the observations of each recording in turn, the
+/// exclusions that matched and the rows outside the model's domain noted as they go, then
+/// the errors in order (outside the domain, an unused exclusion, nothing left).
+struct ObservationBuilder<'a> {
+    model: &'a Surrogate,
+    rec: &'a Recordings,
+    weights: &'a Weights,
+    sel: &'a Selection,
+    obs: Vec<Observation>,
+    /// Whether each exclusion of `sel` matched a row.
+    used: Vec<bool>,
+    /// The kept rows outside the model's domain, each with its error.
+    outside: Vec<(Config, CalibrateError)>,
+}
+
+impl<'a> ObservationBuilder<'a> {
+    fn new(
+        model: &'a Surrogate,
+        rec: &'a Recordings,
+        weights: &'a Weights,
+        sel: &'a Selection,
+    ) -> Self {
+        ObservationBuilder {
+            model,
+            rec,
+            weights,
+            sel,
+            obs: Vec::new(),
+            used: vec![false; sel.exclude.len()],
+            outside: Vec::new(),
+        }
+    }
+
+    /// Whether the row of `r` at `c` is selected and not excluded (every exclusion that
+    /// matches it is marked used); a kept row outside the model's domain is noted, naming
+    /// `source`, line `line`.
+    fn keeps(&mut self, c: &Config, r: Recording, source: &str, line: usize) -> bool {
+        if !self.sel.keeps(c) || self.excluded(c, r) {
+            return false;
+        }
+        if let Err(e) = check_domain(self.model, c, source, line) {
+            self.outside.push((*c, e));
+        }
+        true
+    }
+
+    /// Whether an exclusion applies to the row of `r` at `c`, marking every one that does.
+    fn excluded(&mut self, c: &Config, r: Recording) -> bool {
+        let mut hit = false;
+        for (i, e) in self.sel.exclude.iter().enumerate() {
+            if e.applies(c, r) {
+                self.used[i] = true;
+                hit = true;
+            }
+        }
+        hit
+    }
+
+    /// One observation of `output` at `config`, its weight its term's.
+    fn push(
+        &mut self,
+        config: Config,
+        output: Output,
+        value: f64,
+        sigma_meas: f64,
+        source: String,
+    ) {
+        self.obs.push(Observation {
+            config,
+            output,
+            value,
+            sigma_meas,
+            sigma_model: model_rmse(self.model, output),
+            weight: self.weights.of(output.term()),
+            source,
+        });
+    }
+
+    /// Tip Uz and Uy (weight `tip`; σ from the angle's over the chord) and the angle (weight
+    /// `angle`) of every bending row.
+    fn bending(&mut self) {
+        let rec = self.rec;
+        for (i, r) in rec.bending.iter().enumerate() {
+            let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
+            if !self.keeps(&c, Recording::Bending, &rec.bending_source, i + 2) {
+                continue;
+            }
+            let source = format!("{}, line {}", rec.bending_source, i + 2);
+            let sa = r.angle_std_deg;
+            if self.weights.tip > 0.0 {
+                let chord = (FREE_LENGTH_MM - r.tip_uz_mm).hypot(r.tip_uy_mm);
+                let st = chord * sa.to_radians();
+                self.push(c, Output::TipUz, r.tip_uz_mm, st, source.clone());
+                self.push(c, Output::TipUy, r.tip_uy_mm, st, source.clone());
+            }
+            if self.weights.angle > 0.0 {
+                self.push(c, Output::Angle, r.angle_deg, sa, source);
+            }
+        }
+    }
+
+    /// The blocked force of every force row.
+    fn force(&mut self) -> Result<(), CalibrateError> {
+        let rec = self.rec;
+        if rec.force.is_empty() {
+            return Err(CalibrateError::input(
+                "objective",
+                "force",
+                "blocked-force recordings (none were given)",
+            ));
+        }
+        for (i, r) in rec.force.iter().enumerate() {
+            let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
+            if !self.keeps(&c, Recording::Force, &rec.force_source, i + 2) {
+                continue;
+            }
+            let source = format!("{}, line {}", rec.force_source, i + 2);
+            self.push(c, Output::Force, r.force_n, r.force_std_n, source);
+        }
+        Ok(())
+    }
+
+    /// Uz and Uy of every marker row.
+    fn markers(&mut self) -> Result<(), CalibrateError> {
+        let rec = self.rec;
+        if rec.markers.is_empty() {
+            return Err(CalibrateError::input(
+                "objective",
+                "markers",
+                "marker recordings (none were given)",
+            ));
+        }
+        for (i, r) in rec.markers.iter().enumerate() {
+            let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
+            if !self.keeps(&c, Recording::Bending, &rec.markers_source, i + 2) {
+                continue;
+            }
+            let k = r.marker as u8;
+            for (o, v) in [
+                (Output::MarkerUz(k), r.uz_mm),
+                (Output::MarkerUy(k), r.uy_mm),
+            ] {
+                let source = format!("{}, line {}", rec.markers_source, i + 2);
+                self.push(c, o, v, r.std_mm, source);
+            }
+        }
+        Ok(())
+    }
+
+    /// The set, or the first error: rows outside the domain, an exclusion that matched no
+    /// row, no observation left.
+    fn finish(mut self) -> Result<ObservationSet, CalibrateError> {
+        if self.outside.len() == 1 {
+            return Err(self.outside.remove(0).1);
+        }
+        if !self.outside.is_empty() {
+            return Err(outside_domain(self.outside));
+        }
+        if let Some(i) = self.used.iter().position(|u| !u) {
+            let e = &self.sel.exclude[i];
+            return Err(CalibrateError::input(
+                "--exclude",
+                e.config.label(),
+                "a configuration present in the recordings of the fitted terms",
+            ));
+        }
+        if self.obs.is_empty() {
+            return Err(CalibrateError::input(
+                "selection",
+                "no observation left",
+                "at least one recorded value after the selection and exclusions",
+            ));
+        }
+        let mut set = ObservationSet::from_observations(self.obs);
+        set.excluded = self.sel.exclude.clone();
+        Ok(set)
     }
 }
 
