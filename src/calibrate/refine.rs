@@ -48,11 +48,11 @@ use super::params::{OgdenSet, ParamSpace};
 use super::verify::{compare_fe, FeVerification};
 use super::CalibrateError;
 use crate::fe::mesh::MeshOptions;
-use crate::rom::data::SnapshotSet;
+use crate::rom::data::{SnapshotRow, SnapshotSet};
 use crate::rom::{train, Surrogate, TrainConfig, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
 use crate::snapshots::merge::merge;
 use crate::snapshots::plan::{Plan, PlannedCase};
-use crate::snapshots::run::{run_shard, CaseRunner, Progress, RunOptions};
+use crate::snapshots::run::{run_shard, CaseRunner, Progress, RunOptions, RunSummary};
 use crate::snapshots::shard::Shard;
 
 /// Settings of [`refine`].
@@ -511,8 +511,8 @@ pub fn baseline_rows(fe: &SnapshotSet, rec: &Recordings) -> Vec<BaselineRow> {
 /// (`low` and `high`: every row so far), as the original was trained.
 fn retrain(
     training: &TrainingSet,
-    low: &[crate::rom::data::SnapshotRow],
-    high: &[crate::rom::data::SnapshotRow],
+    low: &[SnapshotRow],
+    high: &[SnapshotRow],
     skipped: usize,
     k: usize,
     settings: &RefineSettings,
@@ -585,50 +585,95 @@ pub fn refine(
     dir: &Path,
     progress: &(dyn Fn(RefineEvent) + Sync),
 ) -> Result<Refinement, CalibrateError> {
-    if settings.max_rounds == 0 {
-        return Err(CalibrateError::input(
-            "max_rounds",
-            0,
-            "at least 1 FE round",
-        ));
-    }
-    if !(settings.data_tolerance.is_finite() && settings.data_tolerance >= 0.0) {
-        return Err(CalibrateError::input(
-            "data_tolerance",
-            settings.data_tolerance,
-            "a finite number of standard deviations ≥ 0 (0: the test is off)",
-        ));
-    }
-    let stage = |s: String| progress(RefineEvent::Stage(s));
-    // the FE the surrogate is compared with: the high fidelity of a multi-fidelity set
-    let (verify_plan, high) = match &training.high {
-        Some(h) => (&h.plan, true),
-        None => (&training.plan, false),
-    };
-    let mesh: MeshOptions = verify_plan.settings.mesh;
-    let designs = recorded_designs(rec);
-    let mut current = model.clone();
-    let mut cal = calibrate(&current, rec, &settings.calibration, &|s| stage(s.into()))?;
-    let mut low_rows = training.snapshots.rows.clone();
-    let mut high_rows = training
-        .high
-        .as_ref()
-        .map(|h| h.snapshots.rows.clone())
-        .unwrap_or_default();
-    let mut skipped = training.snapshots.skipped_unconverged;
-    let mut rounds: Vec<RefineRound> = Vec::new();
-    let mut models = Vec::new();
-    let mut last_rows: Vec<BaselineRow>;
-    let mut final_check = None;
-    let mut shifts = Vec::new();
-    let opts = RunOptions {
-        shard: Shard::ALL,
+    settings.validate()?;
+    let fe = RoundFe {
+        training,
+        designs: recorded_designs(rec),
+        runner,
+        dir,
         threads: settings.threads,
-        retry_failed: false,
+        progress,
     };
-    let run_round = |plan: &Plan, fe_dir: &Path, csv: &Path, k: usize| {
-        let summary = run_shard(plan, fe_dir, &opts, runner, &|p| {
-            progress(RefineEvent::Fe {
+    let mut r = Refining::start(model, &fe, rec, settings)?;
+    let stop = loop {
+        let k = r.rounds.len() + 1;
+        let (last_rows, agree) = r.verify(&fe, k)?;
+        if agree {
+            break RefineStop::Agree;
+        }
+        if k == settings.max_rounds {
+            break RefineStop::MaxRounds;
+        }
+        r.retrain(&fe, k)?;
+        if let Some(stop) = r.settled(&fe, k, last_rows)? {
+            break stop;
+        }
+    };
+    Ok(r.finish(stop))
+}
+
+impl RefineSettings {
+    /// At least one round; a finite, non-negative data tolerance.
+    fn validate(&self) -> Result<(), CalibrateError> {
+        if self.max_rounds == 0 {
+            return Err(CalibrateError::input(
+                "max_rounds",
+                0,
+                "at least 1 FE round",
+            ));
+        }
+        if !(self.data_tolerance.is_finite() && self.data_tolerance >= 0.0) {
+            return Err(CalibrateError::input(
+                "data_tolerance",
+                self.data_tolerance,
+                "a finite number of standard deviations ≥ 0 (0: the test is off)",
+            ));
+        }
+        Ok(())
+    }
+}
+
+/// How the FE cases of a round are run: every recorded design, with the training plans'
+/// settings, by `runner` into `dir`.
+struct RoundFe<'a> {
+    training: &'a TrainingSet,
+    designs: Vec<(usize, f64)>,
+    runner: &'a dyn CaseRunner,
+    dir: &'a Path,
+    threads: Option<usize>,
+    progress: &'a (dyn Fn(RefineEvent<'_>) + Sync),
+}
+
+impl RoundFe<'_> {
+    /// A stage, in words, to `progress`.
+    fn stage(&self, s: String) {
+        (self.progress)(RefineEvent::Stage(s));
+    }
+
+    /// The plan the surrogate is compared with: the high fidelity's of a multi-fidelity set.
+    fn verify_plan(&self) -> &Plan {
+        match &self.training.high {
+            Some(h) => &h.plan,
+            None => &self.training.plan,
+        }
+    }
+
+    /// Runs `plan` (round `k`) into `fe_dir` (resuming what is there) and merges it into `csv`;
+    /// the run's summary and the merged snapshots.
+    fn run(
+        &self,
+        plan: &Plan,
+        fe_dir: &Path,
+        csv: &Path,
+        k: usize,
+    ) -> Result<(RunSummary, SnapshotSet), CalibrateError> {
+        let opts = RunOptions {
+            shard: Shard::ALL,
+            threads: self.threads,
+            retry_failed: false,
+        };
+        let summary = run_shard(plan, fe_dir, &opts, self.runner, &|p| {
+            (self.progress)(RefineEvent::Fe {
                 round: k,
                 progress: p,
             })
@@ -636,113 +681,217 @@ pub fn refine(
         .map_err(|e| CalibrateError::input("refinement FE", fe_dir.display(), &e.to_string()))?;
         merge(&[fe_dir.to_path_buf()], csv)
             .map_err(|e| CalibrateError::input("refinement FE", csv.display(), &e.to_string()))?;
-        Ok::<_, CalibrateError>((summary, SnapshotSet::read(csv)?))
-    };
-    let stop = loop {
-        let k = rounds.len() + 1;
-        let set = cal.best.rounded(4);
-        let fe_dir = dir.join(format!("round_{k}"));
-        let (mut cases_run, mut wall) = (0, 0.0);
-        if high {
-            let low_dir = dir.join(format!("round_{k}_low"));
-            stage(format!(
-                "round {k}: low-fidelity FE of {} designs at {} in {}",
-                designs.len(),
-                set.spec(),
-                low_dir.display()
-            ));
-            let plan = round_plan(&training.plan, &designs, &set, k)?;
-            let (summary, fe) =
-                run_round(&plan, &low_dir, &dir.join(format!("round_{k}_low.csv")), k)?;
-            cases_run += summary.done;
-            wall += summary.wall_time_s;
-            skipped += fe.skipped_unconverged;
-            low_rows.extend(fe.rows);
-        }
-        stage(format!(
+        Ok((summary, SnapshotSet::read(csv)?))
+    }
+
+    /// Round `k`'s low-fidelity FE of every design at `set` (in `round_k_low/`).
+    fn low(&self, set: &OgdenSet, k: usize) -> Result<(RunSummary, SnapshotSet), CalibrateError> {
+        let low_dir = self.dir.join(format!("round_{k}_low"));
+        self.stage(format!(
+            "round {k}: low-fidelity FE of {} designs at {} in {}",
+            self.designs.len(),
+            set.spec(),
+            low_dir.display()
+        ));
+        let plan = round_plan(&self.training.plan, &self.designs, set, k)?;
+        let csv = self.dir.join(format!("round_{k}_low.csv"));
+        self.run(&plan, &low_dir, &csv, k)
+    }
+
+    /// Round `k`'s FE of every design at `set` that the surrogate is compared with (in
+    /// `round_k/`).
+    fn verified(
+        &self,
+        set: &OgdenSet,
+        k: usize,
+    ) -> Result<(RunSummary, SnapshotSet), CalibrateError> {
+        let fe_dir = self.dir.join(format!("round_{k}"));
+        self.stage(format!(
             "round {k}: FE of {} designs at {} in {}",
-            designs.len(),
+            self.designs.len(),
             set.spec(),
             fe_dir.display()
         ));
-        let plan = round_plan(verify_plan, &designs, &set, k)?;
-        let (summary, fe) = run_round(&plan, &fe_dir, &dir.join(format!("round_{k}.csv")), k)?;
-        let verification = compare_fe(&current, &set, mesh, baseline_rows(&fe, rec))?;
+        let plan = round_plan(self.verify_plan(), &self.designs, set, k)?;
+        let csv = self.dir.join(format!("round_{k}.csv"));
+        self.run(&plan, &fe_dir, &csv, k)
+    }
+}
+
+/// A refinement under way: the current surrogate and its calibration, the training rows so
+/// far, and what the rounds found.
+struct Refining<'a> {
+    rec: &'a Recordings,
+    settings: &'a RefineSettings,
+    current: Surrogate,
+    cal: Calibration,
+    /// Every training row so far (the low fidelity of a multi-fidelity set).
+    low_rows: Vec<SnapshotRow>,
+    /// Every high-fidelity row so far (empty without a high fidelity).
+    high_rows: Vec<SnapshotRow>,
+    skipped: usize,
+    rounds: Vec<RefineRound>,
+    models: Vec<PathBuf>,
+    final_check: Option<FeVerification>,
+    shifts: Vec<DataSpaceShift>,
+}
+
+impl<'a> Refining<'a> {
+    /// The training set's rows and the calibration through `model`.
+    fn start(
+        model: &Surrogate,
+        fe: &RoundFe<'_>,
+        rec: &'a Recordings,
+        settings: &'a RefineSettings,
+    ) -> Result<Self, CalibrateError> {
+        let cal = calibrate(model, rec, &settings.calibration, &|s| fe.stage(s.into()))?;
+        let training = fe.training;
+        Ok(Refining {
+            rec,
+            settings,
+            current: model.clone(),
+            cal,
+            low_rows: training.snapshots.rows.clone(),
+            high_rows: training
+                .high
+                .as_ref()
+                .map(|h| h.snapshots.rows.clone())
+                .unwrap_or_default(),
+            skipped: training.snapshots.skipped_unconverged,
+            rounds: Vec::new(),
+            models: Vec::new(),
+            final_check: None,
+            shifts: Vec::new(),
+        })
+    }
+
+    /// Round `k`: the FE of every design at the calibrated set (as reported), compared with
+    /// the current surrogate and recorded; its cases join the training rows. Returns the FE
+    /// rows of the comparison, and whether the two agree everywhere.
+    fn verify(
+        &mut self,
+        fe: &RoundFe<'_>,
+        k: usize,
+    ) -> Result<(Vec<BaselineRow>, bool), CalibrateError> {
+        let set = self.cal.best.rounded(4);
+        let (mut cases_run, mut wall) = (0, 0.0);
+        let high = fe.training.high.is_some();
+        if high {
+            let (summary, low) = fe.low(&set, k)?;
+            cases_run += summary.done;
+            wall += summary.wall_time_s;
+            self.skipped += low.skipped_unconverged;
+            self.low_rows.extend(low.rows);
+        }
+        let (summary, verified) = fe.verified(&set, k)?;
+        let mesh: MeshOptions = fe.verify_plan().settings.mesh;
+        let verification = compare_fe(
+            &self.current,
+            &set,
+            mesh,
+            baseline_rows(&verified, self.rec),
+        )?;
         let round = RefineRound {
             round: k,
-            model_cases: current.training.n_cases,
-            model: cal.model.clone(),
+            model_cases: self.current.training.n_cases,
+            model: self.cal.model.clone(),
             set,
-            chi2: cal.chi2,
-            active_bounds: cal.active_bounds.clone(),
-            surrogate_mean_be_mm: cal.calibrated.mean_be_mm,
+            chi2: self.cal.chi2,
+            active_bounds: self.cal.active_bounds.clone(),
+            surrogate_mean_be_mm: self.cal.calibrated.mean_be_mm,
             verification,
             fe_cases_run: cases_run + summary.done,
             fe_wall_time_s: wall + summary.wall_time_s,
-            fe_dir,
+            fe_dir: fe.dir.join(format!("round_{k}")),
         };
-        progress(RefineEvent::Round(&round));
+        (fe.progress)(RefineEvent::Round(&round));
         let agree = round.verification.disagreements == 0;
-        last_rows = round
+        let rows = round
             .verification
             .rows
             .iter()
             .map(|r| r.fe.clone())
             .collect();
-        rounds.push(round);
+        self.rounds.push(round);
         if high {
-            high_rows.extend(fe.rows);
+            self.high_rows.extend(verified.rows);
         } else {
-            skipped += fe.skipped_unconverged;
-            low_rows.extend(fe.rows);
+            self.skipped += verified.skipped_unconverged;
+            self.low_rows.extend(verified.rows);
         }
-        if agree {
-            break RefineStop::Agree;
-        }
-        if k == settings.max_rounds {
-            break RefineStop::MaxRounds;
-        }
-        current = retrain(
-            training, &low_rows, &high_rows, skipped, k, settings, &stage,
+        Ok((rows, agree))
+    }
+
+    /// After round `k`: the surrogate retrained on every row so far (written to
+    /// `model_round_k.json`) and the material refitted through it.
+    fn retrain(&mut self, fe: &RoundFe<'_>, k: usize) -> Result<(), CalibrateError> {
+        let stage = |s: String| fe.stage(s);
+        self.current = retrain(
+            fe.training,
+            &self.low_rows,
+            &self.high_rows,
+            self.skipped,
+            k,
+            self.settings,
+            &stage,
         )?;
-        let path = dir.join(format!("model_round_{k}.json"));
-        current.save(&path)?;
-        models.push(path);
-        cal = calibrate(&current, rec, &settings.calibration, &|s| stage(s.into()))?;
-        let last = rounds.last().expect("a round was pushed");
-        if cal.best.rounded(4) == last.set {
-            final_check = Some(compare_fe(&current, &last.set, mesh, last_rows)?);
-            break RefineStop::OptimumUnchanged;
+        let path = fe.dir.join(format!("model_round_{k}.json"));
+        self.current.save(&path)?;
+        self.models.push(path);
+        self.cal = calibrate(&self.current, self.rec, &self.settings.calibration, &|s| {
+            stage(s.into())
+        })?;
+        Ok(())
+    }
+
+    /// Whether the refit after round `k` ends the refinement: the same set as the round
+    /// verified, or predictions within `data_tolerance` of it (then the round's FE rows
+    /// `last_rows` are compared with the retrained surrogate).
+    fn settled(
+        &mut self,
+        fe: &RoundFe<'_>,
+        k: usize,
+        last_rows: Vec<BaselineRow>,
+    ) -> Result<Option<RefineStop>, CalibrateError> {
+        let mesh: MeshOptions = fe.verify_plan().settings.mesh;
+        let last = self.rounds.last().expect("a round was pushed");
+        if self.cal.best.rounded(4) == last.set {
+            self.final_check = Some(compare_fe(&self.current, &last.set, mesh, last_rows)?);
+            return Ok(Some(RefineStop::OptimumUnchanged));
         }
         let selection = Selection {
-            exclude: cal.excluded.clone(),
-            ..settings.calibration.selection.clone()
+            exclude: self.cal.excluded.clone(),
+            ..self.settings.calibration.selection.clone()
         };
         let shift = data_space_shift(
-            &current,
-            rec,
+            &self.current,
+            self.rec,
             &selection,
             &last.set,
-            &cal.best.rounded(4),
+            &self.cal.best.rounded(4),
             k,
         )?;
-        stage(shift.describe());
-        let unchanged = shift.max_abs_z <= settings.data_tolerance;
-        shifts.push(shift);
+        fe.stage(shift.describe());
+        let unchanged = shift.max_abs_z <= self.settings.data_tolerance;
+        self.shifts.push(shift);
         if unchanged {
-            final_check = Some(compare_fe(&current, &last.set, mesh, last_rows)?);
-            break RefineStop::PredictionsUnchanged;
+            self.final_check = Some(compare_fe(&self.current, &last.set, mesh, last_rows)?);
+            return Ok(Some(RefineStop::PredictionsUnchanged));
         }
-    };
-    Ok(Refinement {
-        rounds,
-        stop,
-        last_model_cases: current.training.n_cases,
-        last: cal,
-        final_check,
-        shifts,
-        models,
-    })
+        Ok(None)
+    }
+
+    fn finish(self, stop: RefineStop) -> Refinement {
+        Refinement {
+            rounds: self.rounds,
+            stop,
+            last_model_cases: self.current.training.n_cases,
+            last: self.cal,
+            final_check: self.final_check,
+            shifts: self.shifts,
+            models: self.models,
+        }
+    }
 }
 
 impl Refinement {
