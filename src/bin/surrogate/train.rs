@@ -3,10 +3,11 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::rom::data::{CaseSet, SnapshotSet};
 use surrogate::rom::fidelity::correct_low_fidelity;
+use surrogate::rom::provenance::CorrectionInfo;
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
-use surrogate::rom::train::HeldOutPoint;
-use surrogate::rom::{train, TrainConfig};
+use surrogate::rom::train::{HeldOutPoint, TrainReport};
+use surrogate::rom::{train, Surrogate, TrainConfig};
 use surrogate::schema;
 use surrogate::snapshots::merge::sidecar_path;
 use surrogate::snapshots::plan::Plan;
@@ -67,8 +68,32 @@ fn plan_beside(data: &std::path::Path) -> Option<Result<(Plan, std::path::PathBu
     })
 }
 
+/// Runs the subcommand: the snapshots read (and corrected by the high fidelity), the learning
+/// curve if asked, the surrogate trained, its plan's domain stated, saved and described.
 pub fn run(a: TrainArgs) -> Result<()> {
-    // before minutes of training, not after
+    check_args(&a)?;
+    let set = read_set(&a)?;
+    let cfg = train_config(&a);
+    let (set, correction) = correct(&a, set, &cfg)?;
+    let (source, skipped) = (set.source.clone(), set.skipped_unconverged);
+    let cases = set.into_cases()?;
+    describe_cases(&source, skipped, &cases, a.fill_truncated);
+    if !a.learning_curve.is_empty() {
+        learning_curve(&cases, &source, skipped, &cfg, &a.learning_curve)?;
+    }
+    let mut report = train_with_progress(&cases, &source, skipped, &cfg, a.quiet)?;
+    report.surrogate.training.correction = correction;
+    state_plan_domain(&a, &cases, &mut report.surrogate)?;
+    report
+        .surrogate
+        .save_new(&a.out, a.force)
+        .with_context(|| format!("saving {}", a.out.display()))?;
+    describe_model(&report, &a.out);
+    write_held_out_outputs(&a, &report)
+}
+
+/// The checks made before minutes of training, not after: the output file, the margin.
+fn check_args(a: &TrainArgs) -> Result<()> {
     surrogate::rom::model::refuse_existing(&a.out, a.force)
         .map_err(|e| anyhow::anyhow!("{e}; give --force to replace it, or another --out"))?;
     anyhow::ensure!(
@@ -76,7 +101,12 @@ pub fn run(a: TrainArgs) -> Result<()> {
         "invalid --prefer-poly-within {}: expected a finite number ≥ 0",
         a.prefer_poly_within
     );
-    let set = match (&a.data, a.synthetic) {
+    Ok(())
+}
+
+/// The snapshots of `--data`, or the built-in synthetic set of `--synthetic` cases.
+fn read_set(a: &TrainArgs) -> Result<SnapshotSet> {
+    Ok(match (&a.data, a.synthetic) {
         (_, Some(n_cases)) => {
             let cfg = SyntheticConfig {
                 n_cases,
@@ -89,8 +119,12 @@ pub fn run(a: TrainArgs) -> Result<()> {
         }
         (Some(path), None) => SnapshotSet::read(path)?,
         (None, None) => anyhow::bail!("give --data or --synthetic"),
-    };
-    let cfg = TrainConfig {
+    })
+}
+
+/// The training settings of the flags.
+fn train_config(a: &TrainArgs) -> TrainConfig {
+    TrainConfig {
         folds: a.folds,
         seed: a.seed,
         repeats: usize::from(a.repeats),
@@ -105,33 +139,42 @@ pub fn run(a: TrainArgs) -> Result<()> {
         kernel_per_block: a.kernel_per_block,
         fill_truncated: a.fill_truncated,
         ..Default::default()
+    }
+}
+
+/// With `--high-fidelity`: `set` corrected by the high-fidelity snapshots, and how; else
+/// `set` as it is.
+fn correct(
+    a: &TrainArgs,
+    set: SnapshotSet,
+    cfg: &TrainConfig,
+) -> Result<(SnapshotSet, Option<CorrectionInfo>)> {
+    let Some(path) = &a.high_fidelity else {
+        return Ok((set, None));
     };
-    let (set, correction) = match &a.high_fidelity {
-        Some(path) => {
-            let start = std::time::Instant::now();
-            let (set, info) = correct_low_fidelity(
-                &set,
-                &SnapshotSet::read(path)?,
-                &cfg,
-                a.pressure_warp,
-                a.check_high_fidelity,
-                &|line| println!("{line}"),
-            )?;
-            println!(
-                "multi-fidelity correction{} in {:.1} s",
-                if a.check_high_fidelity {
-                    " and its end-to-end check"
-                } else {
-                    ""
-                },
-                start.elapsed().as_secs_f64()
-            );
-            (set, Some(info))
-        }
-        None => (set, None),
-    };
-    let (source, skipped) = (set.source.clone(), set.skipped_unconverged);
-    let cases = set.into_cases()?;
+    let start = std::time::Instant::now();
+    let (set, info) = correct_low_fidelity(
+        &set,
+        &SnapshotSet::read(path)?,
+        cfg,
+        a.pressure_warp,
+        a.check_high_fidelity,
+        &|line| println!("{line}"),
+    )?;
+    println!(
+        "multi-fidelity correction{} in {:.1} s",
+        if a.check_high_fidelity {
+            " and its end-to-end check"
+        } else {
+            ""
+        },
+        start.elapsed().as_secs_f64()
+    );
+    Ok((set, Some(info)))
+}
+
+/// What the snapshots gave as cases (on stderr).
+fn describe_cases(source: &str, skipped: usize, cases: &CaseSet, fill_truncated: bool) {
     eprintln!(
         "{source}: {} cases on a {}-pressure grid; {skipped} unconverged rows skipped, {} cases dropped, {} points interpolated, {} off-grid rows ignored",
         cases.cases.len(),
@@ -144,7 +187,7 @@ pub fn run(a: TrainArgs) -> Result<()> {
         eprintln!("  dropped {id}: {why}");
     }
     if !cases.partial.is_empty() {
-        let how = if a.fill_truncated {
+        let how = if fill_truncated {
             "used for the regression through gappy POD"
         } else {
             "unused (see --fill-truncated)"
@@ -154,10 +197,17 @@ pub fn run(a: TrainArgs) -> Result<()> {
             cases.partial.len()
         );
     }
-    if !a.learning_curve.is_empty() {
-        learning_curve(&cases, &source, skipped, &cfg, &a.learning_curve)?;
-    }
-    let bar = if a.quiet {
+}
+
+/// Trains on `cases` with a progress bar of the fits (hidden with `quiet`).
+fn train_with_progress(
+    cases: &CaseSet,
+    source: &str,
+    skipped: usize,
+    cfg: &TrainConfig,
+    quiet: bool,
+) -> Result<TrainReport> {
+    let bar = if quiet {
         ProgressBar::hidden()
     } else {
         ProgressBar::new((cfg.folds * cfg.repeats.max(1)) as u64 + 1)
@@ -166,34 +216,29 @@ pub fn run(a: TrainArgs) -> Result<()> {
         "{msg} [{bar:30}] {pos}/{len} fits ({elapsed})",
     )?);
     bar.set_message("training");
-    let report = train(&cases, &source, skipped, &cfg, &|done, total| {
+    let report = train(cases, source, skipped, cfg, &|done, total| {
         bar.set_length(total as u64);
         bar.set_position(done as u64);
     })?;
     bar.finish_and_clear();
-    let mut report = report;
-    report.surrogate.training.correction = correction;
-    let plan = match a.data.as_deref().and_then(plan_beside) {
-        Some(plan) => Some(plan?),
-        None => None,
+    Ok(report)
+}
+
+/// The domain of the plan beside `--data` stated in the model
+/// ([`Surrogate::state_plan_domain`]), when that plan holds every training case.
+fn state_plan_domain(a: &TrainArgs, cases: &CaseSet, surrogate: &mut Surrogate) -> Result<()> {
+    let Some(plan) = a.data.as_deref().and_then(plan_beside) else {
+        return Ok(());
     };
-    let plan = plan.filter(|(plan, path)| {
-        let held = cases
-            .cases
-            .iter()
-            .all(|c| plan.holds(&c.case_id, &c.inputs));
-        if !held {
-            eprintln!(
-                "warning: {} does not hold every training case: the domain is the box of the \
-                 cases",
-                path.display()
-            );
-        }
-        held
-    });
-    if let Some((plan, path)) = plan {
-        let sampled = report.surrogate.sampled_domain();
-        let stated = plan.stated_domain(&sampled, &path.display().to_string());
+    let (plan, path) = plan?;
+    if !surrogate.state_plan_domain(&plan, cases, &path.display().to_string()) {
+        eprintln!(
+            "warning: {} does not hold every training case: the domain is the box of the \
+             cases",
+            path.display()
+        );
+    }
+    if let Some(stated) = &surrogate.training.plan_domain {
         let ranges: Vec<String> = stated
             .ranges
             .iter()
@@ -204,13 +249,14 @@ pub fn run(a: TrainArgs) -> Result<()> {
             stated.plan,
             ranges.join(", ")
         );
-        report.surrogate.training.plan_domain = Some(stated);
     }
+    Ok(())
+}
+
+/// The model saved to `out`: its validation tables, POD modes, training time and worst
+/// held-out cases.
+fn describe_model(report: &TrainReport, out: &std::path::Path) {
     let s = &report.surrogate;
-    report
-        .surrogate
-        .save_new(&a.out, a.force)
-        .with_context(|| format!("saving {}", a.out.display()))?;
     println!("{}", s.validation.candidates_table());
     println!("{}", s.validation.table());
     let modes: Vec<String> = s
@@ -233,15 +279,19 @@ pub fn run(a: TrainArgs) -> Result<()> {
         report.fits,
         rayon::current_num_threads(),
         report.final_fit_seconds,
-        a.out.display()
+        out.display()
     );
     print_worst(&report.held_out);
+}
+
+/// `--held-out` and `--plot`: the held-out predictions as CSV and as a figure.
+fn write_held_out_outputs(a: &TrainArgs, report: &TrainReport) -> Result<()> {
     if let Some(path) = &a.held_out {
         write_held_out(path, &report.held_out)?;
         println!("held-out predictions -> {}", path.display());
     }
     if let Some(path) = &a.plot {
-        plot_held_out(path, &report.held_out, &s.validation.scheme)
+        plot_held_out(path, &report.held_out, &report.surrogate.validation.scheme)
             .with_context(|| format!("plotting {}", path.display()))?;
         println!("held-out error plot -> {}", path.display());
     }

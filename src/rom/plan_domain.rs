@@ -1,0 +1,24 @@
+//! The domain a surrogate states from the snapshot plan its training cases were run with.
+use super::data::CaseSet;
+use super::Surrogate;
+use crate::snapshots::plan::Plan;
+
+impl Surrogate {
+    /// States the domain of the snapshot `plan` the training `cases` were run with (`label`
+    /// names the plan, its file) in the model's training information
+    /// ([`TrainingInfo::plan_domain`](super::provenance::TrainingInfo::plan_domain)): the
+    /// plan's nominal ends where the cases come within one stratum of them
+    /// ([`Plan::stated_domain`]). A plan that does not hold every case (another plan's) states
+    /// nothing, and `false` is returned: the domain stays the box of the cases.
+    pub fn state_plan_domain(&mut self, plan: &Plan, cases: &CaseSet, label: &str) -> bool {
+        let held = cases
+            .cases
+            .iter()
+            .all(|c| plan.holds(&c.case_id, &c.inputs));
+        if held {
+            let sampled = self.sampled_domain();
+            self.training.plan_domain = Some(plan.stated_domain(&sampled, label));
+        }
+        held
+    }
+}
