@@ -110,6 +110,7 @@ pub mod patterns;
 pub mod refit;
 pub mod report;
 pub mod signature;
+mod stages;
 pub mod structure;
 pub mod study;
 pub mod summary;

@@ -3,21 +3,22 @@
 use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
-use surrogate::calibrate::baseline::SweepSensitivities;
+use surrogate::calibrate::baseline::{SweepSensitivities, SweepSettings};
 use surrogate::calibrate::experiments::{BENDING_FILE, FORCE_FILE, MARKERS_FILE};
+use surrogate::calibrate::inputs::InputFile;
 use surrogate::calibrate::objective::Exclusion;
 use surrogate::calibrate::{CalibrationSettings, Recordings, Selection, Weights};
+use surrogate::diagnose::approx_error::ApproximationError;
 use surrogate::diagnose::measure_design::{MeasurementPlan, PlanSettings};
-use surrogate::diagnose::name::NameSettings;
-use surrogate::diagnose::summary::summary_markdown;
-use surrogate::diagnose::{diagnose, DiagnoseSettings, Diagnosis, LocateSettings};
-
-use surrogate::calibrate::baseline::SweepSettings;
 use surrogate::diagnose::name::Naming;
-use surrogate::diagnose::refit::{confirm_with_fe, FeConfirmSettings, RefitSettings};
+use surrogate::diagnose::refit::{FeConfirmSettings, RefitSettings};
+use surrogate::diagnose::report::Stage;
+use surrogate::diagnose::summary::summary_markdown;
 use surrogate::diagnose::sweep::sweep_at;
+use surrogate::diagnose::{diagnose, DiagnoseSettings, Diagnosis, LocateSettings};
 use surrogate::fe::effects::Effect;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::rom::Surrogate;
 
 use crate::args::DiagnoseArgs;
 use crate::diagnose_plots::write_plots;
@@ -25,12 +26,10 @@ use crate::files::{
     given_or_announced, given_or_default, input_file, load_model, mesh_reference, write_file,
     DEFAULT_MODEL,
 };
-use surrogate::calibrate::inputs::InputFile;
 
 /// The FE sensitivities `diagnose` reads without `--sensitivities`, in the repository.
 const DEFAULT_SENSITIVITIES: &str =
     "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json";
-use surrogate::diagnose::approx_error::ApproximationError;
 
 /// The validated settings of the run.
 fn settings(a: &DiagnoseArgs) -> Result<DiagnoseSettings> {
@@ -99,155 +98,234 @@ fn sensitivities(a: &DiagnoseArgs) -> Result<Option<(SweepSensitivities, InputFi
     Ok(Some((sens, input_file("sensitivities", &p, default)?)))
 }
 
-/// Runs the subcommand.
+/// Runs the subcommand: the inputs read and the flags checked before any work, then
+/// calibrate and locate ([`diagnose`]), the mesh error, Name and Model and show where the
+/// FE sensitivities allow them, the report written and its stages printed.
 pub fn run(a: DiagnoseArgs) -> Result<()> {
     let s = settings(&a)?;
-    let (dir, default) = given_or_default(a.recordings.as_deref(), "training_data");
-    let mut rec = recordings(&dir, default)?;
-    let (model_path, default) = given_or_announced("model", a.model.as_deref(), DEFAULT_MODEL);
-    let model = load_model(&model_path)?;
-    let mut inputs = vec![input_file("model", &model_path, default)?];
-    let approximation = match &a.approximation_error {
-        Some(p) => {
-            let e = ApproximationError::read(p)
-                .with_context(|| format!("--approximation-error {}", p.display()))?;
-            eprintln!(
-                "approximation error: {} samples of {} against {}; the recordings are corrected \
-                 by its mean",
-                e.samples.len(),
-                e.model,
-                e.reference
-            );
-            rec = e.correct(&rec);
-            inputs.push(input_file("approximation error", p, false)?);
-            Some(e)
-        }
-        None => None,
-    };
-    // checked before any work: a bad value is named at once
-    let reference = mesh_reference(&a.mesh_reference, &model_path)?;
-    if let Some((_, name)) = &reference {
-        let auto = a.mesh_reference == "auto";
-        inputs.push(input_file("mesh reference", Path::new(name), auto)?);
-    }
-    refit_effects(&a.refit, None)?;
-    let plan = plan_settings(a.plan_measurements)?;
-    let confirm: Option<MeshLevel> = match a.confirm_fe.as_str() {
-        "none" => None,
-        other => Some(
-            other
-                .parse()
-                .map_err(|e: String| anyhow::anyhow!("--confirm-fe {other}: {e} (or none)"))?,
-        ),
-    };
-    let at_calibrated = a.sensitivities.as_deref() == Some(Path::new("calibrated"));
-    let sweep_mesh: MeshLevel = a
-        .sweep_mesh
-        .parse()
-        .map_err(|e: String| anyhow::anyhow!("--sweep-mesh {}: {e}", a.sweep_mesh))?;
+    let mut inputs = Inputs::read(&a)?;
+    let choices = Choices::of(&a)?;
     let sens = match sensitivities(&a)? {
         Some((sens, file)) => {
-            inputs.push(file);
+            inputs.files.push(file);
             Some(sens)
         }
         None => None,
     };
-    let mut d = diagnose(&model, &rec, &s, &|stage| eprintln!("{stage}"))?;
-    d.inputs.splice(0..0, inputs.drain(..1));
-    d.inputs.extend(inputs);
-    let sens = if at_calibrated {
-        let cache = a.out.join("fe_sensitivities");
-        eprintln!(
-            "FE sensitivities at the calibrated material ({}), {} mesh, ramps cached in {} (a \
-             rerun resumes)",
-            d.calibration.best.spec(),
-            sweep_mesh.name(),
-            cache.display()
-        );
-        Some(sweep_at(
-            &d.calibration.best,
-            &rec,
-            MeshOptions::level(sweep_mesh),
-            &cache,
-            |k, n| eprintln!("FE ramp {k} of {n} done"),
-        )?)
-    } else {
-        sens
+    let mut d = diagnose(&inputs.model, &inputs.rec, &s, &|stage| {
+        eprintln!("{stage}")
+    })?;
+    d.inputs.splice(0..0, inputs.files.drain(..1));
+    d.inputs.append(&mut inputs.files);
+    let sens = match choices.sweep_at_calibrated {
+        Some(mesh) => Some(sensitivities_at_calibrated(&a.out, &d, &inputs.rec, mesh)?),
+        None => sens,
     };
-    if let Some((reference, name)) = &reference {
-        let me = d.mesh_error_with(&model, reference, name)?;
+    if let Some((reference, name)) = &inputs.reference {
+        let me = d.mesh_error_with(&inputs.model, reference, name)?;
         eprintln!(
             "mesh error: {name} differs from --model by {:.2} σ rms at the calibrated material",
             me.rms_sigma
         );
     }
-    // a sweep that lacks too many of the recorded cells: the Locate stage is reported, the
-    // cells without sensitivities named
-    let uncovered = sens.as_ref().is_some_and(|sens| !d.cover(sens).enough());
-    let sens = if uncovered { None } else { sens };
-    if let Some(c) = d.sensitivity_coverage.as_ref().filter(|c| !c.complete()) {
-        eprintln!("warning: {}", c.text());
-    }
-    let naming = if let Some(sens) = &sens {
-        eprintln!(
-            "name: {} effects against the FE sensitivities of {} ramps ({} mesh)",
-            sens.designs
-                .first()
-                .map_or(0, |d| d.sensitivities.parameters.len().saturating_sub(4)),
-            sens.designs.len(),
-            sens.mesh.level.name()
-        );
-        let ns = NameSettings {
-            error_spread: approximation.as_ref().map(|e| e.spread(&d.locate.cells)),
-            ..NameSettings::default()
-        };
-        let naming = d.name_with(sens, &model, &ns)?.clone();
-        if let Some(mut ps) = plan.clone() {
-            ps.error_spread = ns.error_spread.clone();
-            eprintln!(
-                "plan: up to {} measurements to separate the tied candidates",
-                ps.k
-            );
-            d.plan_with(sens, &ps)?;
-        }
-        Some(naming)
-    } else {
-        None
-    };
+    let (sens, uncovered) = covering(&mut d, sens);
+    let refit_asked = a.refit != "none" && a.refit != "auto";
     if let Some(sens) = &sens {
-        if let Some(effects) = refit_effects(&a.refit, d.naming())? {
-            let rs = RefitSettings::new(effects);
-            eprintln!(
-                "model and show: material + {} through the surrogate, each design left out in turn",
-                names(&rs.effects)
-            );
-            d.refit_with(sens, &model, &rs)?;
-            if let Some(level) = confirm {
-                let cache = a.fe_cache.clone().unwrap_or_else(|| a.out.join("fe_ramps"));
-                let fe = FeConfirmSettings::new(
-                    SweepSettings::new(sens.material.clone(), MeshOptions::level(level)),
-                    &cache,
-                );
-                eprintln!(
-                    "FE confirmation on the {} mesh, ramps cached in {} (a rerun resumes)",
-                    level.name(),
-                    cache.display()
-                );
-                let first = d.refitted().expect("just refitted").clone();
-                let confirmed =
-                    confirm_with_fe(&d.locate.cells, sens, &model, first, &rs, &fe, &|k, n| {
-                        eprintln!("FE ramp {k} of {n} done")
-                    })?;
-                d.set_refit(confirmed);
-            }
-        }
-    } else if a.refit != "none" && a.refit != "auto" && !uncovered {
+        d.name_and_plan(
+            sens,
+            &inputs.model,
+            inputs.approximation.as_ref(),
+            choices.plan.as_ref(),
+            &|line| eprintln!("{line}"),
+        )?;
+        model_and_show(&a, &mut d, sens, &inputs.model, choices.confirm)?;
+    } else if refit_asked && !uncovered {
         anyhow::bail!(
             "--refit {}: needs the FE sensitivities (--sensitivities FILE, not none)",
             a.refit
         );
     }
     let written = write_outputs(&a.out, &d)?;
+    print_stages(&d, uncovered);
+    for p in written {
+        println!("wrote {}", p.display());
+    }
+    if uncovered && refit_asked {
+        anyhow::bail!(
+            "--refit {}: not run, the FE sensitivities cover too few of the recorded cells (the \
+             report names the others); {}",
+            a.refit,
+            surrogate::diagnose::sweep::COMPUTE_MISSING
+        );
+    }
+    Ok(())
+}
+
+/// What the run reads before any work: the recordings (corrected by the mean of the
+/// approximation error, when one is given), the model, the approximation error, the mesh
+/// reference.
+struct Inputs {
+    rec: Recordings,
+    model: Surrogate,
+    approximation: Option<ApproximationError>,
+    reference: Option<(Surrogate, String)>,
+    /// The files read, for the report: the model first.
+    files: Vec<InputFile>,
+}
+
+impl Inputs {
+    fn read(a: &DiagnoseArgs) -> Result<Self> {
+        let (dir, default) = given_or_default(a.recordings.as_deref(), "training_data");
+        let mut rec = recordings(&dir, default)?;
+        let (model_path, default) = given_or_announced("model", a.model.as_deref(), DEFAULT_MODEL);
+        let model = load_model(&model_path)?;
+        let mut files = vec![input_file("model", &model_path, default)?];
+        let approximation = match &a.approximation_error {
+            Some(p) => {
+                let e = ApproximationError::read(p)
+                    .with_context(|| format!("--approximation-error {}", p.display()))?;
+                eprintln!(
+                    "approximation error: {} samples of {} against {}; the recordings are \
+                     corrected by its mean",
+                    e.samples.len(),
+                    e.model,
+                    e.reference
+                );
+                rec = e.correct(&rec);
+                files.push(input_file("approximation error", p, false)?);
+                Some(e)
+            }
+            None => None,
+        };
+        // checked before any work: a bad value is named at once
+        let reference = mesh_reference(&a.mesh_reference, &model_path)?;
+        if let Some((_, name)) = &reference {
+            let auto = a.mesh_reference == "auto";
+            files.push(input_file("mesh reference", Path::new(name), auto)?);
+        }
+        Ok(Inputs {
+            rec,
+            model,
+            approximation,
+            reference,
+            files,
+        })
+    }
+}
+
+/// The flags of the later stages, checked before any work.
+struct Choices {
+    /// `--plan-measurements`.
+    plan: Option<PlanSettings>,
+    /// `--confirm-fe`.
+    confirm: Option<MeshLevel>,
+    /// `--sensitivities calibrated`: the sweep's mesh.
+    sweep_at_calibrated: Option<MeshLevel>,
+}
+
+impl Choices {
+    fn of(a: &DiagnoseArgs) -> Result<Self> {
+        refit_effects(&a.refit, None)?;
+        let plan = plan_settings(a.plan_measurements)?;
+        let confirm: Option<MeshLevel> = match a.confirm_fe.as_str() {
+            "none" => None,
+            other => Some(
+                other
+                    .parse()
+                    .map_err(|e: String| anyhow::anyhow!("--confirm-fe {other}: {e} (or none)"))?,
+            ),
+        };
+        let at_calibrated = a.sensitivities.as_deref() == Some(Path::new("calibrated"));
+        let sweep_mesh: MeshLevel = a
+            .sweep_mesh
+            .parse()
+            .map_err(|e: String| anyhow::anyhow!("--sweep-mesh {}: {e}", a.sweep_mesh))?;
+        Ok(Choices {
+            plan,
+            confirm,
+            sweep_at_calibrated: at_calibrated.then_some(sweep_mesh),
+        })
+    }
+}
+
+/// `--sensitivities calibrated`: the FE sweep at the material just calibrated, on `mesh`,
+/// cached in `<out>/fe_sensitivities`.
+fn sensitivities_at_calibrated(
+    out: &Path,
+    d: &Diagnosis,
+    rec: &Recordings,
+    mesh: MeshLevel,
+) -> Result<SweepSensitivities> {
+    let cache = out.join("fe_sensitivities");
+    eprintln!(
+        "FE sensitivities at the calibrated material ({}), {} mesh, ramps cached in {} (a \
+         rerun resumes)",
+        d.calibration.best.spec(),
+        mesh.name(),
+        cache.display()
+    );
+    Ok(sweep_at(
+        &d.calibration.best,
+        rec,
+        MeshOptions::level(mesh),
+        &cache,
+        |k, n| eprintln!("FE ramp {k} of {n} done"),
+    )?)
+}
+
+/// The sensitivities, unless they lack too many of the recorded cells (then the Locate stage
+/// is reported, the cells without sensitivities named, and `true` says so).
+fn covering(
+    d: &mut Diagnosis,
+    sens: Option<SweepSensitivities>,
+) -> (Option<SweepSensitivities>, bool) {
+    let uncovered = sens.as_ref().is_some_and(|sens| !d.cover(sens).enough());
+    let sens = if uncovered { None } else { sens };
+    if let Some(c) = d.sensitivity_coverage.as_ref().filter(|c| !c.complete()) {
+        eprintln!("warning: {}", c.text());
+    }
+    (sens, uncovered)
+}
+
+/// Model and show with the effects `--refit` asks for (none: nothing), confirmed by the FE
+/// model on the `confirm` mesh.
+fn model_and_show(
+    a: &DiagnoseArgs,
+    d: &mut Diagnosis,
+    sens: &SweepSensitivities,
+    model: &Surrogate,
+    confirm: Option<MeshLevel>,
+) -> Result<()> {
+    let Some(effects) = refit_effects(&a.refit, d.naming())? else {
+        return Ok(());
+    };
+    let rs = RefitSettings::new(effects);
+    eprintln!(
+        "model and show: material + {} through the surrogate, each design left out in turn",
+        names(&rs.effects)
+    );
+    d.refit_with(sens, model, &rs)?;
+    if let Some(level) = confirm {
+        let cache = a.fe_cache.clone().unwrap_or_else(|| a.out.join("fe_ramps"));
+        let fe = FeConfirmSettings::new(
+            SweepSettings::new(sens.material.clone(), MeshOptions::level(level)),
+            &cache,
+        );
+        eprintln!(
+            "FE confirmation on the {} mesh, ramps cached in {} (a rerun resumes)",
+            level.name(),
+            cache.display()
+        );
+        d.confirm_refit_with_fe(sens, model, &rs, &fe, &|k, n| {
+            eprintln!("FE ramp {k} of {n} done")
+        })?;
+    }
+    Ok(())
+}
+
+/// The findings, what the recordings lack, and the outcome of Name, the plan and Model and
+/// show, on stdout.
+fn print_stages(d: &Diagnosis, uncovered: bool) {
     println!("Findings:");
     for f in &d.locate.findings {
         println!("- {}", f.text);
@@ -258,28 +336,14 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
             println!("- {}", m.what);
         }
     }
-    match &naming {
+    match d.naming() {
         None => match &d.name {
-            surrogate::diagnose::report::Stage::NotRun { reason } if uncovered => {
+            Stage::NotRun { reason } if uncovered => {
                 println!("Name (candidate physics): not run ({reason}).")
             }
             _ => println!("Name (candidate physics): not run (--sensitivities none)."),
         },
-        Some(n) => {
-            println!("Name (candidate physics): {}", n.verdict);
-            print_candidates(n, 5);
-            for p in &n.indistinguishable {
-                println!(
-                    "- {} and {} cannot be told apart here ({}){}",
-                    p.a,
-                    p.b,
-                    p.why(),
-                    p.separated_by
-                        .as_ref()
-                        .map_or(String::new(), |s| format!("; {s}"))
-                );
-            }
-        }
+        Some(n) => print_naming(n),
     }
     if let Some(p) = &d.measurement_plan {
         print_plan(p);
@@ -287,23 +351,28 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
     match d.refitted() {
         Some(r) => println!("Model and show: {}", r.verdict),
         None => {
-            if let surrogate::diagnose::report::Stage::NotRun { reason } = &d.model_and_show {
+            if let Stage::NotRun { reason } = &d.model_and_show {
                 println!("Model and show: not run ({reason}).");
             }
         }
     }
-    for p in written {
-        println!("wrote {}", p.display());
-    }
-    if uncovered && a.refit != "none" && a.refit != "auto" {
-        anyhow::bail!(
-            "--refit {}: not run, the FE sensitivities cover too few of the recorded cells (the \
-             report names the others); {}",
-            a.refit,
-            surrogate::diagnose::sweep::COMPUTE_MISSING
+}
+
+/// The Name stage's verdict, its first candidates and the pairs it cannot tell apart.
+fn print_naming(n: &Naming) {
+    println!("Name (candidate physics): {}", n.verdict);
+    print_candidates(n, 5);
+    for p in &n.indistinguishable {
+        println!(
+            "- {} and {} cannot be told apart here ({}){}",
+            p.a,
+            p.b,
+            p.why(),
+            p.separated_by
+                .as_ref()
+                .map_or(String::new(), |s| format!("; {s}"))
         );
     }
-    Ok(())
 }
 
 /// Writes diagnosis.json, summary.md and the figures (each atomically).
@@ -359,7 +428,7 @@ fn print_plan(p: &MeasurementPlan) {
 }
 
 /// The `top` candidates of the Name stage, a line each.
-pub fn print_candidates(n: &surrogate::diagnose::name::Naming, top: usize) {
+pub fn print_candidates(n: &Naming, top: usize) {
     for c in n.candidates.iter().take(top) {
         println!(
             "- {:<24} {:+.4} ± {:.4} {:<7} explains {:>5.1} % (p = {:.2e}{})",

@@ -1,0 +1,83 @@
+//! The Name and Model-and-show stages of a [`Diagnosis`] as one step each, the way
+//! `surrogate diagnose` runs them after Locate: Name weighed by the model's approximation
+//! error and followed by the measurement plan, and a refit confirmed by the FE model.
+use super::approx_error::ApproximationError;
+use super::measure_design::PlanSettings;
+use super::name::{NameSettings, Naming};
+use super::refit::{confirm_with_fe, FeConfirmSettings, Refit, RefitSettings};
+use super::report::Diagnosis;
+use super::DiagnoseError;
+use crate::calibrate::baseline::SweepSensitivities;
+use crate::rom::Surrogate;
+
+impl Diagnosis {
+    /// The Name stage ([`Self::name_with`]) with the FE sensitivities `sens`, through `model`,
+    /// its residual weighed by the covariance of `approximation` over this report's cells (the
+    /// model's approximation error, if known); then, with `plan`, the measurements that would
+    /// best separate the tied candidates ([`Self::plan_with`], weighed the same). `progress`
+    /// gets a line per stage.
+    ///
+    /// # Errors
+    /// As [`Self::name_with`] and [`Self::plan_with`].
+    pub fn name_and_plan(
+        &mut self,
+        sens: &SweepSensitivities,
+        model: &Surrogate,
+        approximation: Option<&ApproximationError>,
+        plan: Option<&PlanSettings>,
+        progress: &dyn Fn(&str),
+    ) -> Result<&Naming, DiagnoseError> {
+        progress(&format!(
+            "name: {} effects against the FE sensitivities of {} ramps ({} mesh)",
+            sens.designs
+                .first()
+                .map_or(0, |d| d.sensitivities.parameters.len().saturating_sub(4)),
+            sens.designs.len(),
+            sens.mesh.level.name()
+        ));
+        let ns = NameSettings {
+            error_spread: approximation.map(|e| e.spread(&self.locate.cells)),
+            ..NameSettings::default()
+        };
+        self.name_with(sens, model, &ns)?;
+        if let Some(plan) = plan {
+            let ps = PlanSettings {
+                error_spread: ns.error_spread,
+                ..plan.clone()
+            };
+            progress(&format!(
+                "plan: up to {} measurements to separate the tied candidates",
+                ps.k
+            ));
+            self.plan_with(sens, &ps)?;
+        }
+        Ok(self.naming().expect("just named"))
+    }
+
+    /// Confirms the refit of the Model-and-show stage with the FE model
+    /// ([`confirm_with_fe`]: the recorded designs run with the effects of `s` on at their
+    /// refitted values, the refit redone around the FE where the two differ) and records the
+    /// confirmed refit. `progress(done, total)` after every FE ramp.
+    ///
+    /// # Errors
+    /// No refit yet ([`Self::refit_with`] first); as [`confirm_with_fe`].
+    pub fn confirm_refit_with_fe(
+        &mut self,
+        sens: &SweepSensitivities,
+        model: &Surrogate,
+        s: &RefitSettings,
+        fe: &FeConfirmSettings,
+        progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<&Refit, DiagnoseError> {
+        let first = self.refitted().cloned().ok_or_else(|| {
+            DiagnoseError::input(
+                "FE confirmation",
+                "no Model-and-show stage",
+                "a diagnosis refitted first",
+            )
+        })?;
+        let confirmed = confirm_with_fe(&self.locate.cells, sens, model, first, s, fe, progress)?;
+        self.set_refit(confirmed);
+        Ok(self.refitted().expect("just set"))
+    }
+}
