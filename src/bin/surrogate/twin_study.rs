@@ -1,11 +1,15 @@
 //! `surrogate twin-study`: the diagnoser's blind study ([`surrogate::diagnose::study`]).
+use std::path::{Path, PathBuf};
+
 use anyhow::{Context, Result};
 use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::{ParamSpace, Recordings};
+use surrogate::diagnose::approx_error::ApproximationError;
 use surrogate::diagnose::study::{
     make_twins, null_approximation_error, ramps_to_run, run_diagnoses, study_markdown, Diagnoser,
     StudyDirs, StudyPlan,
 };
+use surrogate::rom::Surrogate;
 
 use crate::args::TwinStudyArgs;
 use crate::files::{given_or_announced, load_model, mesh_reference, write_file};
@@ -18,14 +22,10 @@ const DEFAULT_SENSITIVITIES: &str =
 /// The study's directory without `--out`, in the repository (its committed results).
 const DEFAULT_OUT: &str = "fe_reference/diagnosis/blind";
 
-/// Runs the subcommand.
+/// Runs the subcommand: the plan read (or the standard one written), then the stages asked
+/// for: the twins made, the twins diagnosed and scored.
 pub fn run(a: TwinStudyArgs) -> Result<()> {
-    let (twins, diagnoses) = match a.stage.as_str() {
-        "twins" => (true, false),
-        "diagnose" => (false, true),
-        "all" => (true, true),
-        other => anyhow::bail!("--stage {other}: expected twins, diagnose or all"),
-    };
+    let (twins, diagnoses) = stages(&a.stage)?;
     let (model_path, _) = given_or_announced("model", a.model.as_deref(), DEFAULT_MODEL);
     let model = load_model(&model_path)?;
     let (noise_dir, _) = given_or_announced("noise-from", a.noise_from.as_deref(), "training_data");
@@ -33,34 +33,78 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
         .with_context(|| format!("reading the noise source {}", noise_dir.display()))?;
     let (out, _) = given_or_announced("out", a.out.as_deref(), DEFAULT_OUT);
     std::fs::create_dir_all(&out).with_context(|| format!("creating {}", out.display()))?;
-    let plan_path = a.plan.clone().unwrap_or_else(|| out.join("plan.json"));
-    let plan = if plan_path.exists() {
-        StudyPlan::read(&plan_path)?
-    } else {
-        let p = StudyPlan::standard(&ParamSpace::training_domain(&model)?, a.draw_seed)?;
-        p.write(&plan_path)?;
-        eprintln!("wrote the standard plan to {}", plan_path.display());
-        p
-    };
-    let plan = plan
-        .only(&a.groups)
-        .with_context(|| format!("--groups of {}", plan_path.display()))?;
+    let plan = study_plan(&a, &out, &model)?;
     let markers = match a.markers.as_deref() {
         None => plan.markers,
         Some("yes") => true,
         Some("no") => false,
         Some(other) => anyhow::bail!("--markers {other}: expected yes or no"),
     };
-    let dirs = StudyDirs::under(&out);
+    let study = Study {
+        dirs: StudyDirs::under(&out),
+        plan,
+        noise_from,
+        out,
+        model,
+        model_path,
+    };
     eprintln!(
         "{} groups × {} seeds = {} twins; FE cached in {} (a rerun resumes)",
-        plan.groups.len(),
-        plan.seeds.len(),
-        plan.twins().len(),
-        dirs.cache.display()
+        study.plan.groups.len(),
+        study.plan.seeds.len(),
+        study.plan.twins().len(),
+        study.dirs.cache.display()
     );
     if twins {
-        let to_run = ramps_to_run(&plan, &noise_from, &dirs)?;
+        study.make_twins()?;
+    }
+    if diagnoses {
+        study.diagnose(&a, markers)?;
+    }
+    Ok(())
+}
+
+/// The stages of `--stage`: (make the twins, diagnose them).
+fn stages(stage: &str) -> Result<(bool, bool)> {
+    Ok(match stage {
+        "twins" => (true, false),
+        "diagnose" => (false, true),
+        "all" => (true, true),
+        other => anyhow::bail!("--stage {other}: expected twins, diagnose or all"),
+    })
+}
+
+/// The study's plan (`--plan`, default `<out>/plan.json`; the standard plan written there
+/// when there is none), restricted to `--groups`.
+fn study_plan(a: &TwinStudyArgs, out: &Path, model: &Surrogate) -> Result<StudyPlan> {
+    let plan_path = a.plan.clone().unwrap_or_else(|| out.join("plan.json"));
+    let plan = if plan_path.exists() {
+        StudyPlan::read(&plan_path)?
+    } else {
+        let p = StudyPlan::standard(&ParamSpace::training_domain(model)?, a.draw_seed)?;
+        p.write(&plan_path)?;
+        eprintln!("wrote the standard plan to {}", plan_path.display());
+        p
+    };
+    plan.only(&a.groups)
+        .with_context(|| format!("--groups of {}", plan_path.display()))
+}
+
+/// The study under way: its plan, the recordings whose scatter the noise copies, its
+/// directories and the diagnosing surrogate.
+struct Study {
+    plan: StudyPlan,
+    noise_from: Recordings,
+    dirs: StudyDirs,
+    out: PathBuf,
+    model: Surrogate,
+    model_path: PathBuf,
+}
+
+impl Study {
+    /// The twins, their FE ramps run where the cache lacks them.
+    fn make_twins(&self) -> Result<()> {
+        let to_run = ramps_to_run(&self.plan, &self.noise_from, &self.dirs)?;
         eprintln!(
             "FE ramps to run: {}",
             if to_run.is_empty() {
@@ -73,9 +117,15 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
                     .join(", ")
             }
         );
-        make_twins(&plan, &noise_from, &dirs, &|line| eprintln!("{line}"))?;
+        make_twins(&self.plan, &self.noise_from, &self.dirs, &|line| {
+            eprintln!("{line}")
+        })?;
+        Ok(())
     }
-    if diagnoses {
+
+    /// Every twin diagnosed without its key (with or without `markers`) and scored; the
+    /// results written as JSON and Markdown, the Markdown printed.
+    fn diagnose(&self, a: &TwinStudyArgs, markers: bool) -> Result<()> {
         let (sens_path, _) = given_or_announced(
             "sensitivities",
             a.sensitivities.as_deref(),
@@ -83,18 +133,48 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
         );
         let sens = SweepSensitivities::read(&sens_path)
             .with_context(|| format!("--sensitivities {}", sens_path.display()))?;
-        let reference = mesh_reference(&a.mesh_reference, &model_path)?;
-        let approximation = match a.approximation_error.as_str() {
-            "none" => None,
+        let reference = mesh_reference(&a.mesh_reference, &self.model_path)?;
+        let approximation = self.approximation(&a.approximation_error)?;
+        let by = Diagnoser {
+            model: &self.model,
+            sens: &sens,
+            mesh_reference: reference.as_ref().map(|(r, n)| (r, n.as_str())),
+            markers,
+            approximation: approximation.as_ref(),
+        };
+        let results = run_diagnoses(&self.plan, &self.noise_from, &self.dirs, &by, &|line| {
+            eprintln!("{line}")
+        })?;
+        let stem = results_stem(
+            markers,
+            self.plan.markers,
+            reference.is_some(),
+            approximation.is_some(),
+        );
+        let p = self.out.join(format!("{stem}.json"));
+        write_file(&p, serde_json::to_string_pretty(&results)?.as_bytes())?;
+        let md = study_markdown(&self.plan, &results);
+        let q = self.out.join(format!("{stem}.md"));
+        write_file(&q, md.as_bytes())?;
+        print!("{md}");
+        eprintln!("wrote {} and {}", p.display(), q.display());
+        Ok(())
+    }
+
+    /// The model's approximation error of `--approximation-error`: sampled on the null twins
+    /// (`nulls`, written to `<out>/approximation_error.json`) or none.
+    fn approximation(&self, arg: &str) -> Result<Option<ApproximationError>> {
+        match arg {
+            "none" => Ok(None),
             "nulls" => {
                 let e = null_approximation_error(
-                    &plan,
-                    &noise_from,
-                    &dirs,
-                    &model,
-                    &model_path.display().to_string(),
+                    &self.plan,
+                    &self.noise_from,
+                    &self.dirs,
+                    &self.model,
+                    &self.model_path.display().to_string(),
                 )?;
-                let p = out.join("approximation_error.json");
+                let p = self.out.join("approximation_error.json");
                 e.write(&p)?;
                 eprintln!(
                     "approximation error: {} samples ({}), written to {}",
@@ -106,39 +186,29 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
                         .join(", "),
                     p.display()
                 );
-                Some(e)
+                Ok(Some(e))
             }
             other => anyhow::bail!("--approximation-error {other}: expected nulls or none"),
-        };
-        let by = Diagnoser {
-            model: &model,
-            sens: &sens,
-            mesh_reference: reference.as_ref().map(|(r, n)| (r, n.as_str())),
-            markers,
-            approximation: approximation.as_ref(),
-        };
-        let results = run_diagnoses(&plan, &noise_from, &dirs, &by, &|line| eprintln!("{line}"))?;
-        let stem = format!(
-            "{}{}",
-            match (markers == plan.markers, markers) {
-                (true, _) => "results",
-                (false, true) => "results_markers",
-                (false, false) => "results_no_markers",
-            },
-            if reference.is_some() { "_mesh" } else { "" },
-        );
-        let stem = if approximation.is_some() {
-            stem
-        } else {
-            format!("{stem}_no_approx")
-        };
-        let p = out.join(format!("{stem}.json"));
-        write_file(&p, serde_json::to_string_pretty(&results)?.as_bytes())?;
-        let md = study_markdown(&plan, &results);
-        let q = out.join(format!("{stem}.md"));
-        write_file(&q, md.as_bytes())?;
-        print!("{md}");
-        eprintln!("wrote {} and {}", p.display(), q.display());
+        }
     }
-    Ok(())
+}
+
+/// The results' file stem: `results`, with `_markers` or `_no_markers` when `markers`
+/// differs from the plan's, `_mesh` with a mesh reference, `_no_approx` without an
+/// approximation error.
+fn results_stem(markers: bool, plan_markers: bool, mesh: bool, approximation: bool) -> String {
+    let stem = format!(
+        "{}{}",
+        match (markers == plan_markers, markers) {
+            (true, _) => "results",
+            (false, true) => "results_markers",
+            (false, false) => "results_no_markers",
+        },
+        if mesh { "_mesh" } else { "" },
+    );
+    if approximation {
+        stem
+    } else {
+        format!("{stem}_no_approx")
+    }
 }
