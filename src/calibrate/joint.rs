@@ -300,13 +300,20 @@ impl ModelSigma {
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
 pub enum JointStop {
-    /// `χ²` fell by less than a relative 1e-3 over an accepted step.
+    /// `χ²` fell by less than a relative 1e-3 over an accepted step, or the next step, not
+    /// held by the trust box, promises a decrease below the minimum gain
+    /// ([`MIN_GAIN_CHI2`] for the identification).
     Converged,
     /// The damping grew past 1e8 without a successful step.
     NoDescent,
     /// The sweep budget ran out.
     Budget,
 }
+
+/// The identification stops when its next step, not held by the trust box, promises a
+/// decrease of `χ²` (in units of the noise model's variances) below this: a hundredth of the
+/// `Δχ² = 1` that bounds a parameter's one-σ interval, not worth a sweep.
+pub const MIN_GAIN_CHI2: f64 = 0.01;
 
 /// One FE sweep of the identification.
 #[derive(Clone, Debug, Serialize, Deserialize)]
@@ -447,7 +454,7 @@ fn held_out(e: &Evaluation, x: &[f64], bnds: &[(f64, f64)], k: usize) -> HeldOut
         let keep: Vec<usize> = (0..e.what.len()).filter(|&i| !held(&e.what[i])).collect();
         let rk = DVector::from_fn(keep.len(), |i, _| e.r[keep[i]]);
         let jk = DMatrix::from_fn(keep.len(), x.len(), |i, c| e.j[(keep[i], c)]);
-        let fit = bounded_lm(x, bnds, 1e-3, 1.0, 50, |v| -> Result<_, ()> {
+        let fit = bounded_lm(x, bnds, 1e-3, 1.0, 50, 0.0, |v| -> Result<_, ()> {
             let d = DVector::from_fn(v.len(), |i, _| v[i] - x[i]);
             Ok(Some((&rk + &jk * &d, jk.clone())))
         })
@@ -569,8 +576,8 @@ fn sweep_settings(
         warm_point: s.unknowns.iter().map(|&u| x.get(u)).collect(),
         ..SweepSettings::new(material, s.mesh)
     };
-    settings.solver.max_pressure_increment = crate::diagnose::sweep::SWEEP_MAX_PRESSURE_INCREMENT;
-    settings.solver.rtol = crate::diagnose::sweep::SWEEP_RTOL;
+    settings.solver.max_pressure_increment = super::baseline::SWEEP_MAX_PRESSURE_INCREMENT;
+    settings.solver.rtol = super::baseline::SWEEP_RTOL;
     Ok(settings)
 }
 
@@ -779,28 +786,36 @@ pub fn identify(
     };
     let mut evaluations: Vec<(JointPoint, Result<Evaluation, String>)> = Vec::new();
     let pool = s.warm_start.then(WarmPool::new);
-    let trace = bounded_lm(&x0, &bnds, s.lambda0, s.max_step, s.max_sweeps, |v| {
-        let p = point_at(v)?;
-        let k = evaluations.len() + 1;
-        let e = evaluate(s, rec, &p, k, pool.as_ref(), &|d, n| progress(k, d, n));
-        if k == 1 {
-            if let Ok(e) = &e {
-                if !e.error.is_empty() {
-                    return Err(CalibrateError::input(
-                        "start",
-                        "the FE model",
-                        &format!("a start the FE reaches ({})", e.error),
-                    ));
+    let trace = bounded_lm(
+        &x0,
+        &bnds,
+        s.lambda0,
+        s.max_step,
+        s.max_sweeps,
+        MIN_GAIN_CHI2,
+        |v| {
+            let p = point_at(v)?;
+            let k = evaluations.len() + 1;
+            let e = evaluate(s, rec, &p, k, pool.as_ref(), &|d, n| progress(k, d, n));
+            if k == 1 {
+                if let Ok(e) = &e {
+                    if !e.error.is_empty() {
+                        return Err(CalibrateError::input(
+                            "start",
+                            "the FE model",
+                            &format!("a start the FE reaches ({})", e.error),
+                        ));
+                    }
                 }
             }
-        }
-        let out = match &e {
-            Ok(e) if e.error.is_empty() => Some((e.r.clone(), e.j.clone())),
-            _ => None,
-        };
-        evaluations.push((p, e.map_err(|e| e.to_string())));
-        Ok(out)
-    })?;
+            let out = match &e {
+                Ok(e) if e.error.is_empty() => Some((e.r.clone(), e.j.clone())),
+                _ => None,
+            };
+            evaluations.push((p, e.map_err(|e| e.to_string())));
+            Ok(out)
+        },
+    )?;
     let mut sweeps = Vec::new();
     for (step, (p, e)) in trace.steps.iter().zip(&evaluations) {
         let (be, fe, error) = match e {
@@ -872,6 +887,7 @@ pub(crate) fn bounded_lm<E>(
     lambda0: f64,
     radius0: f64,
     max_evals: usize,
+    min_gain: f64,
     mut eval: impl FnMut(&[f64]) -> Result<Option<(DVector<f64>, DMatrix<f64>)>, E>,
 ) -> Result<LmTrace, E> {
     let k = x0.len();
@@ -905,11 +921,8 @@ pub(crate) fn bounded_lm<E>(
         if lambda > 1e8 {
             break JointStop::NoDescent;
         }
-        let mut a = j.transpose() * &j;
+        let jtj = j.transpose() * &j;
         let g = j.transpose() * &r;
-        for i in 0..k {
-            a[(i, i)] += lambda * a[(i, i)].max(1e-12);
-        }
         // the box: the trust radius and the bounds, whichever is nearer
         let lo: Vec<f64> = (0..k)
             .map(|i| (-radius[i] * span[i]).max(bnds[i].0 - x[i]).min(0.0))
@@ -917,26 +930,38 @@ pub(crate) fn bounded_lm<E>(
         let hi: Vec<f64> = (0..k)
             .map(|i| (radius[i] * span[i]).min(bnds[i].1 - x[i]).max(0.0))
             .collect();
+        // the coordinates the trust box (not a bound) held
+        let held_by = |delta: &DVector<f64>| -> Vec<usize> {
+            (0..k)
+                .filter(|&i| {
+                    let face = radius[i] * span[i];
+                    let tol = 1e-9 * span[i];
+                    (delta[i] >= face - tol && hi[i] >= face - tol)
+                        || (delta[i] <= -face + tol && lo[i] <= -face + tol)
+                })
+                .collect()
+        };
+        let mut a = jtj;
+        for i in 0..k {
+            a[(i, i)] += lambda * a[(i, i)].max(1e-12);
+        }
         let Some(delta) = box_step(&a, &g, &lo, &hi) else {
             lambda *= nu;
             nu *= 2.0;
             continue;
         };
-        // the coordinates the trust box (not a bound) held
-        let held: Vec<usize> = (0..k)
-            .filter(|&i| {
-                let face = radius[i] * span[i];
-                let tol = 1e-9 * span[i];
-                (delta[i] >= face - tol && hi[i] >= face - tol)
-                    || (delta[i] <= -face + tol && lo[i] <= -face + tol)
-            })
-            .collect();
+        let held = held_by(&delta);
         let trial: Vec<f64> = (0..k)
             .map(|i| (x[i] + delta[i]).clamp(bnds[i].0, bnds[i].1))
             .collect();
         let step = DVector::from_fn(k, |i, _| trial[i] - x[i]);
         let c_cur = r.norm_squared();
         let predicted = (&r + &j * &step).norm_squared();
+        if min_gain > 0.0 && held.is_empty() && c_cur - predicted < min_gain {
+            // the step the damping and the bounds allow, which the trust box does not hold,
+            // promises less than `min_gain`: not worth another evaluation
+            break JointStop::Converged;
+        }
         let next = eval(&trial)?;
         let c_new = next
             .as_ref()
@@ -1342,7 +1367,7 @@ mod tests {
     #[test]
     fn bounded_lm_finds_an_interior_optimum_and_stops_on_a_bound() {
         let bnds = [(-2.0, 2.0), (-1.0, 3.0), (0.0, 2.0)];
-        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 1.0, 200, rosenbrock).unwrap();
+        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 1.0, 200, 0.0, rosenbrock).unwrap();
         let x = &t.steps[t.best].x;
         assert!(
             (x[0] - 1.0).abs() < 0.05 && (x[1] - 1.0).abs() < 0.1,
@@ -1372,7 +1397,7 @@ mod tests {
     #[test]
     fn no_unknown_moves_by_more_than_the_trust_radius_and_the_radius_adapts() {
         let bnds = [(-2.0, 2.0), (-1.0, 3.0), (0.0, 2.0)];
-        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 0.05, 200, rosenbrock).unwrap();
+        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 0.05, 200, 0.0, rosenbrock).unwrap();
         // the first step: at most 5 % of every range
         let (a, b) = (&t.steps[0].x, &t.steps[1].x);
         for i in 0..3 {
@@ -1435,7 +1460,7 @@ mod tests {
         // and x₀ takes its whole Gauss–Newton step (a single radius keeping the step's
         // direction would move it by a fifth of it)
         let bnds = [(0.0, 10.0), (-1.0, 1.0)];
-        let t = bounded_lm(&[0.0, 0.0], &bnds, 1e-9, 0.1, 2, |x| {
+        let t = bounded_lm(&[0.0, 0.0], &bnds, 1e-9, 0.1, 2, 0.0, |x| {
             let r = DVector::from_vec(vec![x[0] - 0.5, 3.0 * (x[1] - 1.0)]);
             let j = DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 3.0]);
             Ok::<_, ()>(Some((r, j)))
@@ -1447,10 +1472,31 @@ mod tests {
     }
 
     #[test]
+    fn bounded_lm_stops_at_a_stationary_point_without_another_evaluation() {
+        // linear residuals with an irreducible part: the first step reaches the optimum, and
+        // the next undamped step predicts no gain, so nothing more is evaluated
+        let bnds = [(-5.0, 5.0), (-5.0, 5.0)];
+        let lin = |x: &[f64]| {
+            let r = DVector::from_vec(vec![x[0] - 1.0, x[1] + 2.0, 3.0]);
+            Ok::<_, ()>(Some((
+                r,
+                DMatrix::from_row_slice(3, 2, &[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]),
+            )))
+        };
+        let t = bounded_lm(&[0.0, 0.0], &bnds, 1e-9, 1.0, 10, MIN_GAIN_CHI2, lin).unwrap();
+        assert_eq!(t.stop, JointStop::Converged);
+        assert_eq!(t.steps.len(), 2, "{:?}", t.steps.len());
+        assert!((t.steps[1].chi2 - 9.0).abs() < 1e-9);
+        // without the test, the same problem spends its budget on refused steps
+        let t = bounded_lm(&[0.0, 0.0], &bnds, 1e-9, 1.0, 10, 0.0, lin).unwrap();
+        assert!(t.steps.len() > 2);
+    }
+
+    #[test]
     fn bounded_lm_treats_a_failed_evaluation_as_a_failed_step_and_keeps_to_the_budget() {
         let bnds = [(-2.0, 2.0), (-1.0, 3.0), (0.0, 2.0)];
         let mut calls = 0;
-        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 1.0, 6, |x| {
+        let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 1.0, 6, 0.0, |x| {
             calls += 1;
             // the model fails at every second trial
             if calls % 2 == 0 {
