@@ -9,6 +9,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use surrogate::case::Query;
 use surrogate::predict::{evaluate, evaluate_ramp, RampTables};
 use surrogate::rom::batch::material_params;
 use surrogate::rom::data::SnapshotSet;
@@ -16,7 +17,7 @@ use surrogate::rom::export::EmbeddedTables;
 use surrogate::rom::fast::kernel_vector;
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
-use surrogate::rom::{train, Jacobian, Query, Surrogate, TrainConfig};
+use surrogate::rom::{train, Jacobian, Surrogate, TrainConfig};
 
 fn model(only: RegressorKind, kernel_per_block: bool) -> Surrogate {
     let cfg = SyntheticConfig {

@@ -18,7 +18,8 @@
 use std::path::Path;
 
 use surrogate::calibrate::{calibrate, CalibrationSettings, Recordings};
-use surrogate::rom::{Jacobian, Query, Surrogate};
+use surrogate::case::Query;
+use surrogate::rom::{Jacobian, Surrogate};
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let args: Vec<f64> = std::env::args()

@@ -31,13 +31,20 @@
 //!   `surrogate` with `default-features = false`.
 //!
 //! Every CSV column and file quantity (name, unit, meaning) and the column order of each file
-//! format are defined once, in [`schema`].
+//! format are defined once, in [`schema`]; the inputs of a case, its query at a pressure and the
+//! parameter box, in [`case`].
+//!
+//! The modules stand on floors, the shared vocabulary ([`case`], [`schema`], [`io`]) on the
+//! ground and each stage of the pipeline above the one it uses; a module imports only from its
+//! own floor and the floors below (the table: the README's Layout; `tests/import_graph/`
+//! checks it).
 //!
 //! Each module returns its own error type; [`Error`] gathers them for a program that chains
 //! the stages, and [`io::write_atomic`] writes every file the crate produces.
 #![warn(missing_docs)]
 
 pub mod calibrate;
+pub mod case;
 pub mod diagnose;
 pub mod error;
 pub mod fe;

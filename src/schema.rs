@@ -529,6 +529,9 @@ pub const SNAPSHOT_COLUMNS: [Quantity; 31] = [
     MARKER_UY[8],
 ];
 
+/// The names of [`SNAPSHOT_COLUMNS`], in order: the header a snapshot CSV starts with.
+pub const SNAPSHOT_COLUMN_NAMES: [&str; 31] = names(&SNAPSHOT_COLUMNS);
+
 /// The provenance columns a snapshot store writes after [`SNAPSHOT_COLUMNS`].
 pub const PROVENANCE_COLUMNS: [Quantity; 12] = [
     NEWTON_ITERATIONS,

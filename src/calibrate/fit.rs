@@ -17,7 +17,8 @@ use super::optimise::{multistart, Bound, LocalFit, MultistartSettings, Stop};
 use super::params::{MaterialCoords, OgdenSet, ParamSpace};
 use super::study::{per_configuration, PerConfigurationStudy};
 use super::CalibrateError;
-use crate::rom::{Prediction, Query, Surrogate};
+use crate::case::Query;
+use crate::rom::{Prediction, Surrogate};
 
 /// Settings of [`calibrate`].
 #[derive(Clone, Debug)]

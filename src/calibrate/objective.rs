@@ -40,7 +40,8 @@ use super::experiments::{BendingRecord, ForceRecord, MarkerRecord};
 use super::inputs::InputFile;
 use super::params::ParamSpace;
 use super::CalibrateError;
-use crate::rom::{Jacobian, Prediction, Query, Surrogate};
+use crate::case::Query;
+use crate::rom::{Jacobian, Prediction, Surrogate};
 use crate::schema::{self, Quantity};
 
 /// Free length used to derive the tip's standard deviation (mm).

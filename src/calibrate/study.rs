@@ -16,7 +16,8 @@ use super::objective::{Config, Evaluator, ObservationSet, Recordings, Selection,
 use super::optimise::{multistart, MultistartSettings};
 use super::params::{OgdenSet, ParamSpace, NAMES};
 use super::CalibrateError;
-use crate::rom::{Query, Surrogate};
+use crate::case::Query;
+use crate::rom::Surrogate;
 
 /// One per-configuration fit.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

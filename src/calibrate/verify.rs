@@ -19,9 +19,10 @@ use super::baseline::{
 use super::objective::{Config, Recordings};
 use super::params::OgdenSet;
 use super::CalibrateError;
+use crate::case::Query;
 use crate::fe::material::{Material, MaterialLaw, Ogden2, DEFAULT_BULK_RATIO};
 use crate::fe::mesh::MeshOptions;
-use crate::rom::{Query, Surrogate, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
+use crate::rom::{Surrogate, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
 use crate::schema;
 
 /// One configuration: FE, surrogate, experiment.

@@ -8,7 +8,8 @@ use crate::calibrate::objective::{
     Evaluator, Exclusion, ObservationSet, Output, Recording, Recordings, Selection, Weights,
 };
 use crate::calibrate::Calibration;
-use crate::rom::{Query, Surrogate};
+use crate::case::Query;
+use crate::rom::Surrogate;
 
 /// An output as the diagnosis groups it: a scalar output, or one component of the markers
 /// (all markers together; the marker number is a cell's position along the actuator).

@@ -13,6 +13,7 @@ use super::wording::and_list;
 use super::DiagnoseError;
 use crate::calibrate::baseline::{
     cached_ramps, recorded_designs, run_ramps, SweepSensitivities, SweepSettings,
+    SWEEP_MAX_PRESSURE_INCREMENT, SWEEP_RTOL,
 };
 use crate::calibrate::{CalibrateError, OgdenSet, Recordings};
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
@@ -24,25 +25,6 @@ use crate::fe::simulate::Mode;
 /// are projected out and each effect is tested against what is left, on one degree of freedom
 /// beside the material and at least two for the residual.
 pub const MIN_NAME_CELLS: usize = 7;
-
-/// Largest pressure increment of the sweep's load steps (bar), four times the solver's
-/// default: only the states at the recorded pressures are used, and a converged state does
-/// not depend on the path to it. Measured on the coarse N = 11, T = 2.0 actuator, 0 → 3 bar
-/// with all 20 sensitivities, one core each: bending 96.6 → 60.5 s, blocked force 102.6 →
-/// 65.7 s; tip, force and every derivative the same to 10⁻⁸ relative. Over the whole sweep
-/// at the calibrated state every derivative of tip, angle and force is within 2.8 % of the
-/// committed sweep in steps of 0.05 bar (`fe_reference/sensitivities/calibrated_coarse/`)
-/// and the verdict is the same: `fe_reference/diagnosis/bench.md`.
-pub const SWEEP_MAX_PRESSURE_INCREMENT: f64 = 0.2;
-
-/// Newton tolerance of the sweep's ramps (normalised residual), ten times the solver's default:
-/// the last Newton iteration of a load step takes the residual from about 10⁻⁶ to 10⁻¹⁰, and
-/// the sensitivities do not need it. Measured on the coarse N = 13, T = 1.6 mm actuator at the
-/// shipped experiments' calibrated set, 0 → 3 bar with all 20 sensitivities: bending 210 → 206
-/// Newton iterations, blocked force 218 → 201; tip and force the same to 10⁻⁵, every
-/// derivative of tip, angle and markers within 6·10⁻⁶ relative, of the force within 0.05 %
-/// (one derivative of −1.5·10⁻⁴ N per unit within 0.5 %).
-pub const SWEEP_RTOL: f64 = 1e-6;
 
 /// Runs (or reads from `cache`) the bending and blocked-force ramps of every recorded design
 /// at `material` on `mesh`, with the sensitivities of the four material parameters and every

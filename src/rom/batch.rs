@@ -27,11 +27,10 @@ use std::io::{Read, Write};
 
 use serde::Serialize;
 
-use super::domain::{BatchDomainReport, BoundSnap, DomainViolation};
 use super::model_form::ModelFormEstimate;
-use super::query::Query;
 use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES};
+use crate::case::{BatchDomainReport, BoundSnap, DomainViolation, Query};
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::simulate::Marker;
 use crate::schema;
@@ -422,7 +421,7 @@ pub struct PredictedTable {
 /// Predicts every row of a query table. The domain is checked for every row first: with rows
 /// outside and `allow_extrapolation` false, nothing is predicted and the error carries one
 /// summary of the batch (count and the first rows). An input beyond an end of the domain by
-/// at most the tolerance ([`super::domain::BOUND_TOLERANCE`]) is moved onto it and predicted
+/// at most the tolerance ([`crate::case::BOUND_TOLERANCE`]) is moved onto it and predicted
 /// there ([`PredictedRow::snapped`]).
 ///
 /// # Errors

@@ -17,27 +17,8 @@ use std::io::Read;
 use std::path::Path;
 
 use super::{RomError, N_MARKER_COMPONENTS, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
-use crate::schema;
-
-/// The required columns, in order ([`schema::SNAPSHOT_COLUMNS`]).
-pub const REQUIRED_COLUMNS: [&str; 31] = schema::names(&schema::SNAPSHOT_COLUMNS);
-
-/// Design and material of a case (everything but the pressure).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
-pub struct CaseInputs {
-    /// Number of bellows `N`.
-    pub n_bellows: u32,
-    /// Wall thickness `T`, mm.
-    pub wall_thickness_mm: f64,
-    /// Ogden `μ₁`, MPa.
-    pub mu1_mpa: f64,
-    /// Ogden `α₁`.
-    pub alpha1: f64,
-    /// Ogden `μ₂`, MPa.
-    pub mu2_mpa: f64,
-    /// Ogden `α₂`.
-    pub alpha2: f64,
-}
+use crate::case::CaseInputs;
+use crate::schema::{self, SNAPSHOT_COLUMN_NAMES};
 
 /// One converged snapshot row.
 #[derive(Debug, Clone)]
@@ -236,7 +217,7 @@ impl RowCells<'_> {
         RomError::Cell {
             source_name: self.source_name.to_string(),
             line: self.line,
-            column: REQUIRED_COLUMNS[col].to_string(),
+            column: SNAPSHOT_COLUMN_NAMES[col].to_string(),
             value: value.to_string(),
             expected: expected.to_string(),
         }
@@ -261,14 +242,14 @@ impl RowCells<'_> {
 }
 
 fn check_header(header: &csv::StringRecord, source_name: &str) -> Result<(), RomError> {
-    for (i, want) in REQUIRED_COLUMNS.iter().enumerate() {
+    for (i, want) in SNAPSHOT_COLUMN_NAMES.iter().enumerate() {
         match header.get(i) {
             Some(got) if got == *want => {}
             Some(got) => {
-                let message = if REQUIRED_COLUMNS.contains(&got) {
+                let message = if SNAPSHOT_COLUMN_NAMES.contains(&got) {
                     format!("column {} is `{got}`, expected `{want}` (required columns must come first, in contract order)", i + 1)
                 } else {
-                    format!("unknown column `{got}` at position {}, expected `{want}` (extra columns are allowed only after `{}`)", i + 1, REQUIRED_COLUMNS[REQUIRED_COLUMNS.len() - 1])
+                    format!("unknown column `{got}` at position {}, expected `{want}` (extra columns are allowed only after `{}`)", i + 1, SNAPSHOT_COLUMN_NAMES[SNAPSHOT_COLUMN_NAMES.len() - 1])
                 };
                 return Err(RomError::Header {
                     source_name: source_name.to_string(),

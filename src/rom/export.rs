@@ -11,9 +11,9 @@
 use std::fmt::Write as _;
 
 use super::model_form::{ModelFormError, LABEL};
-use super::query::Query;
 use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES};
+use crate::case::Query;
 use surrogate_predict::{BlockTables, EmbeddedModel, GpTables, PolyTables, Real, MAX_COEFS};
 
 /// Owned tables of one block.

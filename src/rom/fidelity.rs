@@ -24,13 +24,13 @@
 
 use std::collections::HashMap;
 
-use super::data::{CaseInputs, SnapshotRow, SnapshotSet};
+use super::data::{SnapshotRow, SnapshotSet};
 use super::metrics::ErrorAccumulator;
 pub use super::provenance::{CorrectionInfo, EndToEnd};
-use super::query::Query;
 use super::surrogate::Surrogate;
 use super::train::{train, TrainConfig};
 use super::RomError;
+use crate::case::{CaseInputs, Query};
 use crate::schema;
 
 /// Output groups of the end-to-end check: the 18 marker components, then each scalar.

@@ -40,7 +40,8 @@
 //! ```
 //! use surrogate::rom::data::SnapshotSet;
 //! use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
-//! use surrogate::rom::{train, Jacobian, Query, Surrogate, TrainConfig};
+//! use surrogate::case::Query;
+//! use surrogate::rom::{train, Jacobian, Surrogate, TrainConfig};
 //!
 //! // a small synthetic snapshot set in the snapshot CSV contract
 //! let mut csv = Vec::new();
@@ -98,7 +99,6 @@ macro_rules! simd_method {
 
 pub mod batch;
 pub mod data;
-pub mod domain;
 pub mod export;
 pub mod fast;
 pub mod fidelity;
@@ -107,10 +107,8 @@ pub mod metrics;
 pub mod model;
 pub mod model_form;
 pub mod model_form_report;
-mod plan_domain;
 pub mod pod;
 pub mod provenance;
-pub mod query;
 pub mod ramp;
 pub mod regression;
 pub mod surrogate;
@@ -118,11 +116,9 @@ pub mod synthetic;
 pub mod train;
 pub mod warp;
 
-pub use data::{CaseInputs, SnapshotSet};
-pub use domain::{BoundSnap, Domain, DomainViolation, PlanDomain};
+pub use data::SnapshotSet;
 pub use model::FORMAT_VERSION;
 pub use model_form::{ModelFormError, ModelFormEstimate};
-pub use query::Query;
 pub use ramp::Ramp;
 pub use surrogate::{Gradient, Jacobian, Prediction, Surrogate};
 pub use train::{train, TrainConfig, TrainReport};

@@ -8,9 +8,9 @@ use std::path::Path;
 use serde::Deserialize;
 
 use super::model_form::{CalibrationSource, ModelFormError, Residual, SAME_MODEL_TOLERANCE};
-use super::query::Query;
 use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
+use crate::case::Query;
 
 /// One configuration row of a calibration report (`calibration.configurations[]`).
 #[derive(Debug, Deserialize)]

@@ -3,9 +3,9 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::domain::PlanDomain;
 use super::metrics::{ErrorStats, Validation};
 use super::warp::WarpInfo;
+use crate::case::PlanDomain;
 
 /// Provenance of a trained model.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -28,8 +28,8 @@ pub struct TrainingInfo {
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub correction: Option<CorrectionInfo>,
     /// The training domain as the snapshot plan states it: the plan's nominal ranges where
-    /// its cases cover them ([`super::domain`]). Absent (a model trained without its plan,
-    /// or written before this field): the domain is the box of the training cases.
+    /// its cases cover them ([`crate::case::domain`]). Absent (a model trained without its
+    /// plan, or written before this field): the domain is the box of the training cases.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plan_domain: Option<PlanDomain>,
 }

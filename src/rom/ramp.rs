@@ -12,7 +12,8 @@
 //! ```
 //! use surrogate::rom::data::SnapshotSet;
 //! use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
-//! use surrogate::rom::{train, Query, TrainConfig};
+//! use surrogate::case::Query;
+//! use surrogate::rom::{train, TrainConfig};
 //!
 //! let mut csv = Vec::new();
 //! write_csv(&SyntheticConfig { n_cases: 24, ..Default::default() }, &mut csv)?;
@@ -33,9 +34,9 @@
 //! ```
 
 use super::fast::SCALARS;
-use super::query::Query;
 use super::surrogate::{Prediction, Surrogate};
 use super::{RomError, QUANTITY_NAMES, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
+use crate::case::Query;
 use surrogate_predict::stencil;
 
 const NQ: usize = QUANTITY_NAMES.len();

@@ -10,17 +10,17 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::data::CaseInputs;
-use super::domain::{BoundSnap, Domain, DomainViolation};
 use super::fast::{Derived, ScalarPath, Source, SCALARS};
 use super::metrics::Validation;
 use super::pod::PodBasis;
 pub use super::provenance::TrainingInfo;
-pub use super::query::Query;
 use super::regression::gp::{valid_group_bounds, Gp};
 use super::regression::poly::Poly;
-use super::regression::{raw_features, FeatureScaler, Regressor, RegressorKind};
+use super::regression::{Regressor, RegressorKind};
 use super::{RomError, QUANTITY_NAMES};
+use crate::case::{
+    raw_features, BoundSnap, CaseInputs, Domain, DomainViolation, FeatureScaler, Query,
+};
 use crate::schema;
 use surrogate_predict::{marker_uy, marker_uz, stencil, N_FEATURES};
 
@@ -357,7 +357,7 @@ impl Surrogate {
     /// The training domain: the ranges the model file states from its snapshot plan
     /// ([`TrainingInfo::plan_domain`]: the plan's nominal ends where its cases cover them),
     /// else the box of the training cases ([`Self::sampled_domain`]); the trained numbers of
-    /// bellows and the pressure grid ([`super::domain`]).
+    /// bellows and the pressure grid ([`crate::case::domain`]).
     pub fn domain(&self) -> Domain {
         let sampled = self.sampled_domain();
         match &self.training.plan_domain {
@@ -403,7 +403,7 @@ impl Surrogate {
     }
 
     /// `q` with every input beyond an end of the domain by at most
-    /// [`BOUND_TOLERANCE`](super::domain::BOUND_TOLERANCE) of its range moved onto the end,
+    /// [`BOUND_TOLERANCE`](crate::case::BOUND_TOLERANCE) of its range moved onto the end,
     /// and a note for each ([`Domain::snap`]).
     pub fn snap_to_domain(&self, q: &Query) -> (Query, Vec<BoundSnap>) {
         self.domain().snap(q)

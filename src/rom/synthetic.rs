@@ -14,9 +14,10 @@ use std::io::Write;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use super::data::{CaseInputs, REQUIRED_COLUMNS};
 use super::{Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
+use crate::case::CaseInputs;
 use crate::schema;
+use crate::schema::SNAPSHOT_COLUMN_NAMES;
 
 /// Settings of a synthetic snapshot set.
 #[derive(Debug, Clone)]
@@ -127,7 +128,7 @@ pub fn write_csv<W: Write>(cfg: &SyntheticConfig, out: W) -> std::io::Result<()>
     writeln!(
         w,
         "{},{},{},{}",
-        REQUIRED_COLUMNS.join(","),
+        SNAPSHOT_COLUMN_NAMES.join(","),
         schema::NEWTON_ITERATIONS.name,
         schema::MESH.name,
         schema::CODE_VERSION.name

@@ -11,15 +11,16 @@ use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
 use rayon::prelude::*;
 
-use super::data::{CaseInputs, CaseRamp, CaseSet, PartialRamp};
+use super::data::{CaseRamp, CaseSet, PartialRamp};
 use super::metrics::{ErrorAccumulator, InterpolationCheck, OutputValidation, Validation};
 use super::pod::PodBasis;
 use super::provenance::TrainingInfo;
 use super::regression::gp::{Gp, GpParams};
 use super::regression::poly::{Poly, PolyParams};
-use super::regression::{raw_features, Data, FeatureScaler, Regressor, RegressorKind};
+use super::regression::{Data, Regressor, RegressorKind};
 use super::surrogate::{Block, InputSpec, Surrogate};
 use super::{RomError, N_MARKER_COMPONENTS, QUANTITY_NAMES, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
+use crate::case::{raw_features, CaseInputs, FeatureScaler};
 use crate::schema::{self, Quantity};
 use surrogate_predict::N_FEATURES;
 

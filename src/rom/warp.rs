@@ -23,10 +23,11 @@ use std::collections::{BTreeMap, HashMap};
 
 use serde::{Deserialize, Serialize};
 
-use super::data::{CaseInputs, SnapshotSet};
+use super::data::SnapshotSet;
 use super::regression::gp::{Gp, GpParams};
-use super::regression::{raw_features, Data, Regressor};
+use super::regression::{Data, Regressor};
 use super::{RomError, Q_TIP_UZ};
+use crate::case::{raw_features, CaseInputs};
 use surrogate_predict::stencil;
 
 /// Range of the pressure scale `r`.

@@ -69,7 +69,7 @@
 //!
 //! ## Snapshot CSV
 //!
-//! The 31 columns of the snapshot contract ([`crate::rom::data::REQUIRED_COLUMNS`]) followed by
+//! The 31 columns of the snapshot contract ([`crate::schema::SNAPSHOT_COLUMNS`]) followed by
 //! the provenance columns `newton_iterations, substeps, cutbacks, residual, min_gap_mm, mesh,
 //! element_size_mm, bulk_ratio, gravity, solver_rtol, code_version, error` (see [`store`];
 //! units and meanings: [`crate::schema`]).

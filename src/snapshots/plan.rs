@@ -33,7 +33,7 @@
 //! [`Ranges::literature_inside`] lists them); `mooney_rivlin_5` is not an Ogden set. The
 //! domain a trained model accepts ([`Plan::sampled_domain`]) is the box its cases actually
 //! span, reaching the plan's nominal end wherever the cases come within one stratum
-//! (`1/K` of the range) of it ([`crate::rom::domain`]); for a plan whose cases miss an end by
+//! (`1/K` of the range) of it ([`crate::case::domain`]); for a plan whose cases miss an end by
 //! more it stays narrower than the ranges and can leave a literature set outside (`ogden_005`'s
 //! `α₂` = −0.0054 lies near the range's end); `snapshots plan` reports both
 //! ([`Plan::literature_in_sampled_domain`]), and the model's domain check agrees with the
@@ -85,6 +85,7 @@ use rand_xoshiro::Xoshiro256Plus;
 use serde::{Deserialize, Serialize};
 
 use super::{Shard, SnapshotError};
+use crate::case::{CaseInputs, Domain, DomainViolation, PlanDomain, Query};
 use crate::fe::effects::{Effect, EffectError, Effects};
 use crate::fe::geometry::{Design, DesignParams, GeometryError, MIN_CAVITY_LENGTH, N_RANGE};
 use crate::fe::material::{
@@ -94,8 +95,6 @@ use crate::fe::mesh::{MeshLevel, MeshOptions};
 use crate::fe::simulate::ContactSettings;
 use crate::fe::simulate::{validate_pressures, SimulateError};
 use crate::fe::solver::SolverSettings;
-use crate::rom::data::CaseInputs;
-use crate::rom::domain::{Domain, DomainViolation, PlanDomain};
 use crate::schema;
 
 /// Version of the plan format written and accepted.
@@ -616,7 +615,7 @@ impl Plan {
     }
 
     /// What a model trained on this plan's cases states of its domain
-    /// ([`crate::rom::domain::PlanDomain`]): `sampled`, the box of its training cases
+    /// ([`PlanDomain`]): `sampled`, the box of its training cases
     /// ([`crate::rom::Surrogate::sampled_domain`]), with the plan's nominal ends where the
     /// cases come within one stratum of them; `label` names the plan (its file), to which the
     /// plan's hash is added.
@@ -679,7 +678,7 @@ impl Plan {
                 MaterialLaw::Ogden(o) => {
                     let q = o.params();
                     let set = [q.mu[0], q.alpha[0], q.mu[1], q.alpha[1]];
-                    let v = domain.violations(&crate::rom::Query::new(n, t, p, set));
+                    let v = domain.violations(&Query::new(n, t, p, set));
                     Some((name, v))
                 }
                 _ => None,

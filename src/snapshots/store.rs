@@ -3,7 +3,7 @@
 //!
 //! ## Columns
 //!
-//! [`REQUIRED_COLUMNS`] (the surrogate trainer's contract: `case_id, n_bellows,
+//! [`SNAPSHOT_COLUMN_NAMES`] (the surrogate trainer's contract: `case_id, n_bellows,
 //! wall_thickness_mm, mu1_mpa, alpha1, mu2_mpa, alpha2, pressure_bar, converged, tip_uz_mm,
 //! tip_uy_mm, angle_deg, force_n, m1_uz_mm, m1_uy_mm, …, m9_uz_mm, m9_uy_mm`), then
 //! [`PROVENANCE_COLUMNS`]; their units and meanings are in [`crate::schema`] (format
@@ -35,8 +35,7 @@ use std::path::{Path, PathBuf};
 use super::plan::{Plan, PlanSettings, PlannedCase};
 use super::{code_version, SnapshotError};
 use crate::fe::effects::Effect;
-pub use crate::rom::data::REQUIRED_COLUMNS;
-use crate::schema;
+use crate::schema::{self, SNAPSHOT_COLUMN_NAMES};
 
 /// Outputs of one converged pressure step.
 #[derive(Clone, Debug, PartialEq)]
@@ -90,7 +89,7 @@ impl CaseOutcome {
     }
 }
 
-/// Provenance columns after [`REQUIRED_COLUMNS`] ([`schema::PROVENANCE_COLUMNS`]).
+/// Provenance columns after [`SNAPSHOT_COLUMN_NAMES`] ([`schema::PROVENANCE_COLUMNS`]).
 pub const PROVENANCE_COLUMNS: [&str; 12] = schema::names(&schema::PROVENANCE_COLUMNS);
 
 /// Name of the plan-hash marker file.
@@ -108,7 +107,7 @@ pub fn header_line() -> String {
 /// The header line (without newline) of a plan whose effect columns are `effects`
 /// ([`Plan::effect_columns`]).
 pub fn header_with(effects: &[Effect]) -> String {
-    let mut all: Vec<String> = REQUIRED_COLUMNS
+    let mut all: Vec<String> = SNAPSHOT_COLUMN_NAMES
         .iter()
         .chain(PROVENANCE_COLUMNS.iter())
         .map(|c| c.to_string())
@@ -122,7 +121,7 @@ pub fn header_with(effects: &[Effect]) -> String {
 }
 
 /// Number of columns without effects; the `error` column is the last of them.
-const BASE_COLUMNS: usize = REQUIRED_COLUMNS.len() + PROVENANCE_COLUMNS.len();
+const BASE_COLUMNS: usize = SNAPSHOT_COLUMN_NAMES.len() + PROVENANCE_COLUMNS.len();
 
 /// The effects of a case's columns and their values, in the library's order.
 fn effect_cells(case: &PlannedCase, settings: &PlanSettings) -> Vec<(Effect, f64)> {
@@ -285,7 +284,7 @@ fn check_row(
         "false" => false,
         other => return Err(format!("converged = {other:?}, expected true or false")),
     };
-    for (col, name) in REQUIRED_COLUMNS.iter().enumerate().skip(9) {
+    for (col, name) in SNAPSHOT_COLUMN_NAMES.iter().enumerate().skip(9) {
         if rec[col].parse::<f64>().is_err() {
             return Err(format!("{name} = {:?} is not a number", &rec[col]));
         }

@@ -16,8 +16,9 @@ use rayon::prelude::*;
 
 use super::plan::Plan;
 use super::run::CaseRunner;
-use super::store::{case_csv, case_name, CaseOutcome, REQUIRED_COLUMNS};
+use super::store::{case_csv, case_name, CaseOutcome};
 use super::SnapshotError;
+use crate::schema::SNAPSHOT_COLUMN_NAMES;
 
 /// Index of the first output column (`tip_uz_mm`).
 const FIRST_OUTPUT: usize = 9;
@@ -46,8 +47,8 @@ fn read_rows(path: &Path) -> Result<BTreeMap<String, Vec<Vec<String>>>, Snapshot
     let header = rdr.headers().map_err(|e| bad(1, e.to_string()))?;
     if header
         .iter()
-        .take(REQUIRED_COLUMNS.len())
-        .ne(REQUIRED_COLUMNS)
+        .take(SNAPSHOT_COLUMN_NAMES.len())
+        .ne(SNAPSHOT_COLUMN_NAMES)
     {
         return Err(bad(
             1,
@@ -59,7 +60,7 @@ fn read_rows(path: &Path) -> Result<BTreeMap<String, Vec<Vec<String>>>, Snapshot
         let rec = rec.map_err(|e| bad(i + 2, e.to_string()))?;
         let cells: Vec<String> = rec
             .iter()
-            .take(REQUIRED_COLUMNS.len())
+            .take(SNAPSHOT_COLUMN_NAMES.len())
             .map(str::to_owned)
             .collect();
         out.entry(cells[0].clone()).or_default().push(cells);
@@ -111,7 +112,7 @@ fn compare(
             continue;
         }
         check.same_convergence &= s[CONVERGED] == f[CONVERGED];
-        for c in FIRST_OUTPUT..REQUIRED_COLUMNS.len() {
+        for c in FIRST_OUTPUT..SNAPSHOT_COLUMN_NAMES.len() {
             let a = s[c].parse::<f64>().unwrap_or(f64::NAN);
             let b = f[c].parse::<f64>().unwrap_or(f64::NAN);
             check.max_abs_diff = check.max_abs_diff.max(diff(a, b));

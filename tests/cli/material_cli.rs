@@ -4,7 +4,8 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-use surrogate::rom::{Query, Surrogate};
+use surrogate::case::Query;
+use surrogate::rom::Surrogate;
 
 const REPORT: &str = "fe_reference/calibration/surrogate/report.json";
 

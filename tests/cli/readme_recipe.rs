@@ -6,7 +6,8 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use surrogate::rom::{Query, Surrogate};
+use surrogate::case::Query;
+use surrogate::rom::Surrogate;
 
 fn blocks(readme: &str) -> Vec<(String, String)> {
     let mut out = Vec::new();

@@ -2,9 +2,10 @@
 //! high-fidelity subset of its cases (`rom::fidelity`, `train --high-fidelity`).
 
 use crate::rom_common::synthetic_csv;
+use surrogate::case::Query;
 use surrogate::rom::data::{SnapshotRow, SnapshotSet};
 use surrogate::rom::fidelity::{correct, discrepancy, end_to_end};
-use surrogate::rom::{train, Query, Surrogate, TrainConfig};
+use surrogate::rom::{train, Surrogate, TrainConfig};
 
 /// The "high-fidelity" values of a row: a smooth, input-dependent bias of the synthetic
 /// (low-fidelity) ones, as a finer mesh softens the response by a few per cent.

@@ -9,12 +9,13 @@ use surrogate::calibrate::experiments::MarkerRecord;
 use surrogate::calibrate::optimise::MultistartSettings;
 use surrogate::calibrate::synthetic::{noisy_markers, noisy_recordings, TrueMarkers, TrueOutputs};
 use surrogate::calibrate::{calibrate, CalibrationSettings, OgdenSet, Recordings, Weights};
+use surrogate::case::Query;
 use surrogate::diagnose::cells::Family;
 use surrogate::diagnose::coverage::MissingKind;
 use surrogate::diagnose::findings::FindingKind;
 use surrogate::diagnose::structure::Term;
 use surrogate::diagnose::{diagnose, locate, DiagnoseSettings, Diagnosis, LocateSettings};
-use surrogate::rom::{Query, Surrogate};
+use surrogate::rom::Surrogate;
 
 fn model() -> Surrogate {
     Surrogate::load(Path::new("models/actuator.json")).unwrap()

@@ -11,9 +11,10 @@ use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::objective::Output;
 use surrogate::calibrate::synthetic::{noisy_recordings, TrueOutputs};
 use surrogate::calibrate::{OgdenSet, Recordings};
+use surrogate::case::Query;
 use surrogate::diagnose::name::NameSettings;
 use surrogate::diagnose::{diagnose, DiagnoseSettings};
-use surrogate::rom::{Query, Surrogate};
+use surrogate::rom::Surrogate;
 
 const SWEEP: &str = "fe_reference/sensitivities/ogden002_coarse/baseline_sensitivities.json";
 

@@ -9,12 +9,13 @@ use std::path::Path;
 use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::synthetic::{noisy_recordings, TrueOutputs};
 use surrogate::calibrate::{OgdenSet, Recordings};
+use surrogate::case::Query;
 use surrogate::diagnose::refit::{refit, RefitSettings};
 use surrogate::diagnose::{diagnose, DiagnoseSettings};
 use surrogate::fe::effects::Effect;
 use surrogate::fe::sensitivity::Parameter;
 use surrogate::fe::simulate::Mode;
-use surrogate::rom::{Query, Surrogate};
+use surrogate::rom::Surrogate;
 
 const SWEEP: &str = "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json";
 

@@ -2,14 +2,15 @@
 //! function on the same box, so they agree on every query (the shipped plan and model too).
 use std::path::Path;
 
-use surrogate::rom::{Domain, Query, Surrogate};
+use surrogate::case::{Domain, Query};
+use surrogate::rom::Surrogate;
 use surrogate::snapshots::plan::Plan;
 
 fn repo(p: &str) -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
 }
 
-fn names(v: &[surrogate::rom::DomainViolation]) -> Vec<String> {
+fn names(v: &[surrogate::case::DomainViolation]) -> Vec<String> {
     v.iter().map(|d| d.name.clone()).collect()
 }
 
@@ -211,7 +212,7 @@ fn values_within_the_tolerance_of_an_end_are_moved_onto_it() {
     // beyond the tolerance: refused as before, and not moved
     let width = d.ranges[6].unwrap()[1] - a2_lo;
     let far = Query {
-        alpha2: a2_lo - 2.0 * surrogate::rom::domain::BOUND_TOLERANCE * width,
+        alpha2: a2_lo - 2.0 * surrogate::case::BOUND_TOLERANCE * width,
         ..snapped
     };
     assert_eq!(names(&m.domain_violations(&far)), ["alpha2"]);
@@ -221,6 +222,6 @@ fn values_within_the_tolerance_of_an_end_are_moved_onto_it() {
     assert_eq!(m.snap_to_domain(&inside), (inside, vec![]));
 }
 
-fn names_of(v: &[surrogate::rom::BoundSnap]) -> Vec<String> {
+fn names_of(v: &[surrogate::case::BoundSnap]) -> Vec<String> {
     v.iter().map(|d| d.name.clone()).collect()
 }

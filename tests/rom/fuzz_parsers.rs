@@ -9,8 +9,9 @@ use std::sync::OnceLock;
 
 use proptest::prelude::*;
 use serde_json::Value;
+use surrogate::case::Query;
 use surrogate::rom::batch::read_queries;
-use surrogate::rom::{Query, Surrogate};
+use surrogate::rom::Surrogate;
 
 fn root(path: &str) -> std::path::PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(path)

@@ -3,10 +3,11 @@
 //! the same in the library and in an exported model.
 use std::path::{Path, PathBuf};
 
+use surrogate::case::Query;
 use surrogate::predict::{ModelFormTables, ANGLE, FORCE, TIP_UY, TIP_UZ};
 use surrogate::rom::model_form::{CalibrationSource, ModelFormError, Residual};
 use surrogate::rom::model_form_report::from_calibration_report;
-use surrogate::rom::{Query, RomError, Surrogate};
+use surrogate::rom::{RomError, Surrogate};
 
 use crate::rom_common;
 

@@ -2,9 +2,9 @@
 //! for the same quantities (markers as `[{"uz_mm", "uy_mm"}]`), and pressures as given.
 use crate::rom_common;
 
+use surrogate::case::Query;
 use surrogate::fe::simulate::StepResult;
 use surrogate::rom::batch::PredictionRecord;
-use surrogate::rom::Query;
 
 fn step() -> StepResult {
     StepResult {

@@ -1,5 +1,6 @@
 //! The `*_into` hot paths do not allocate (counting global allocator).
-use surrogate::rom::{Jacobian, Query};
+use surrogate::case::Query;
+use surrogate::rom::Jacobian;
 
 use crate::rom_common;
 

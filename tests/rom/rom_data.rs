@@ -1,6 +1,7 @@
 //! Snapshot CSV contract: column rule, bad cells, unconverged rows, ramps per case.
-use surrogate::rom::data::{SnapshotSet, REQUIRED_COLUMNS};
+use surrogate::rom::data::SnapshotSet;
 use surrogate::rom::RomError;
+use surrogate::schema::SNAPSHOT_COLUMN_NAMES;
 
 use crate::rom_common;
 
@@ -32,7 +33,7 @@ fn trailing_provenance_columns_are_ignored() {
         .lines()
         .map(|l| {
             l.split(',')
-                .take(REQUIRED_COLUMNS.len())
+                .take(SNAPSHOT_COLUMN_NAMES.len())
                 .collect::<Vec<_>>()
                 .join(",")
                 + "\n"
@@ -68,7 +69,7 @@ fn missing_required_column_is_an_error_naming_it() {
         .lines()
         .map(|l| {
             let c: Vec<&str> = l.split(',').collect();
-            c[..REQUIRED_COLUMNS.len() - 1].join(",")
+            c[..SNAPSHOT_COLUMN_NAMES.len() - 1].join(",")
         })
         .collect::<Vec<_>>()
         .join("\n");

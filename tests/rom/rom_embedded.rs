@@ -1,11 +1,12 @@
 //! The embedded predictor (the `surrogate-predict` crate) agrees with the library, and a
 //! `#![no_std]` crate of exported models that depends on it builds, also as a C static library.
+use surrogate::case::Query;
 use surrogate::predict::{evaluate, evaluate_ramp, EmbeddedError, RampTables};
 use surrogate::rom::export::{
     c_header, ramp_c_header, ramp_rust_source, rust_source, EmbeddedTables, Precision,
 };
 use surrogate::rom::regression::RegressorKind;
-use surrogate::rom::{Query, Surrogate};
+use surrogate::rom::Surrogate;
 
 use crate::rom_common;
 

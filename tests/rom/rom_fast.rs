@@ -1,8 +1,9 @@
 //! The scalar fast path (POD folded into the regression weights, kernel vector by feature)
 //! gives the general path's values.
+use surrogate::case::Query;
 use surrogate::rom::fast::kernel_vector;
 use surrogate::rom::regression::RegressorKind;
-use surrogate::rom::{Query, Surrogate};
+use surrogate::rom::Surrogate;
 
 use crate::rom_common;
 

@@ -2,11 +2,12 @@
 //! check) and the surrogate's Jacobian with respect to T, P and the Ogden parameters.
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
+use surrogate::case::Query;
 use surrogate::rom::regression::gp::{Gp, GpParams};
 use surrogate::rom::regression::poly::{Poly, PolyParams};
 use surrogate::rom::regression::{Data, Regressor, RegressorKind};
 use surrogate::rom::surrogate::GRAD_INPUT_NAMES;
-use surrogate::rom::{Jacobian, Query};
+use surrogate::rom::Jacobian;
 
 use crate::rom_common;
 

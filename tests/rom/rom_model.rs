@@ -1,5 +1,6 @@
 //! Model files (round trip, version, corruption, checksum), validation, queries and domain.
-use surrogate::rom::{Query, RomError, Surrogate, TrainConfig};
+use surrogate::case::Query;
+use surrogate::rom::{RomError, Surrogate, TrainConfig};
 
 use crate::rom_common;
 
@@ -263,7 +264,7 @@ fn one_material_and_one_n_train_and_flag_other_materials() {
     assert!(m.domain_violations(&qq).is_empty());
     let p = m.predict(&qq).unwrap();
     let truth = surrogate::rom::synthetic::response(
-        &surrogate::rom::CaseInputs {
+        &surrogate::case::CaseInputs {
             n_bellows: 11,
             wall_thickness_mm: 2.0,
             mu1_mpa: 1.13,

@@ -1,8 +1,8 @@
 //! A prepared ramp (`Surrogate::ramp`: design and material fixed, pressure free) gives exactly
 //! the library path's values at every pressure, for either regressor.
 
+use surrogate::case::Query;
 use surrogate::rom::regression::RegressorKind;
-use surrogate::rom::Query;
 
 use crate::rom_common;
 

@@ -5,10 +5,11 @@
 //! their stored held-out errors meet the surrogate's accuracy targets.
 use std::path::{Path, PathBuf};
 
+use surrogate::case::Query;
 use surrogate::rom::data::CaseSet;
 use surrogate::rom::fidelity::correct_low_fidelity;
 use surrogate::rom::metrics::Validation;
-use surrogate::rom::{train, Query, SnapshotSet, Surrogate, TrainConfig};
+use surrogate::rom::{train, SnapshotSet, Surrogate, TrainConfig};
 use surrogate::snapshots::merge;
 
 const SET: &str = "training_data/snapshots_coarse.csv";

@@ -22,6 +22,7 @@ use surrogate::calibrate::experiments::{bending_error, shipped_bending, BendingR
 use surrogate::calibrate::refine::Refinement;
 use surrogate::calibrate::verify::{cached_verification, fe_material, FeVerification};
 use surrogate::calibrate::{calibrate, Calibration, CalibrationSettings, Recordings};
+use surrogate::case::Query;
 use surrogate::diagnose::locate::{locate, LocateSettings};
 use surrogate::diagnose::name::NameSettings;
 use surrogate::diagnose::refit::RefitSettings;
@@ -31,7 +32,7 @@ use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::simulate::{simulate_with_progress, Case, ContactSettings, Mode, StepResult};
 use surrogate::fe::solver::SolverSettings;
-use surrogate::rom::{Query, Surrogate};
+use surrogate::rom::Surrogate;
 use surrogate::schema;
 
 use crate::args::DemoArgs;

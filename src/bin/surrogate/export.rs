@@ -1,8 +1,8 @@
 //! `surrogate export`: model file → Rust source of const tables + C header.
 use anyhow::{Context, Result};
+use surrogate::case::Query;
 use surrogate::rom::batch::material_params;
 use surrogate::rom::export::{c_header, ramp_c_header, ramp_rust_source, rust_source, Precision};
-use surrogate::rom::Query;
 
 use crate::args::{ExportArgs, PrecisionArg};
 

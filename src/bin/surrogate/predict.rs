@@ -5,11 +5,11 @@ use std::fs::File;
 use std::io::Write as _;
 
 use anyhow::{bail, Context, Result};
+use surrogate::case::{BatchDomainReport, Query};
 use surrogate::rom::batch::{
     material_params, predict_table, read_queries, write_predictions, PredictionRecord,
 };
-use surrogate::rom::domain::BatchDomainReport;
-use surrogate::rom::{model_form, Query, RomError, Surrogate};
+use surrogate::rom::{model_form, RomError, Surrogate};
 
 use crate::args::PredictArgs;
 

@@ -13,13 +13,14 @@ use std::time::Instant;
 use anyhow::Result;
 use indicatif::{ProgressBar, ProgressStyle};
 use serde::Serialize;
+use surrogate::case::Query;
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::simulate::{simulate_with_progress, Case, ContactSettings, Mode};
 use surrogate::fe::solver::SolverSettings;
 use surrogate::rom::batch::material_params;
-use surrogate::rom::{Query, Surrogate};
+use surrogate::rom::Surrogate;
 
 use crate::args::PredictArgs;
 

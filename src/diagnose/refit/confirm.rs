@@ -287,8 +287,8 @@ mod tests {
     use std::path::Path;
 
     use super::*;
+    use crate::case::Query;
     use crate::fe::effects::Effect;
-    use crate::rom::Query;
 
     const DESIGNS: [(u32, f64); 9] = [
         (9, 1.6),

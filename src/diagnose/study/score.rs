@@ -8,11 +8,12 @@ use crate::calibrate::baseline::{cached_ramps, recorded_designs};
 use crate::calibrate::objective::Output;
 use crate::calibrate::twin::TwinKey;
 use crate::calibrate::Recordings;
+use crate::case::Query;
 use crate::diagnose::report::Diagnosis;
 use crate::diagnose::DiagnoseError;
 use crate::fe::effects::Effect;
 use crate::fe::simulate::Mode;
-use crate::rom::{Query, Surrogate};
+use crate::rom::Surrogate;
 
 /// One twin, scored.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]

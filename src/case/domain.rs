@@ -1,4 +1,5 @@
-//! The input domain of a surrogate, and the one check of a query against it.
+//! The parameter box: the input domain of a surrogate or of a plan, and the one check of a
+//! query against it.
 //!
 //! A snapshot plan samples the material in `(μ0, s, α₁, α₂)`,
 //!
@@ -8,12 +9,12 @@
 //! ```
 //!
 //! and the surrogate regresses on exactly these features (`ln μ0`, `s`, `α₁`, `α₂`, with `N`
-//! and `T`; [`super::regression::raw_features`]). The domain is therefore a box in those
+//! and `T`; [`super::features::raw_features`]). The domain is therefore a box in those
 //! coordinates, not in the raw `μ₁, μ₂`: the marginal ranges of `μ₁` and `μ₂` over the
 //! training cases are not a region the regression saw (`μ₂ = −1214 MPa` with `α₂ = −0.0054`
 //! is an ordinary `μ₂α₂`). A [`Domain`] holds that box, the trained numbers of bellows and the
 //! pressure grid's ends; [`Domain::violations`] is the single test of a query, used by
-//! [`Surrogate::domain_violations`](super::Surrogate::domain_violations) (the box of the
+//! [`Surrogate::domain_violations`](crate::rom::Surrogate::domain_violations) (the box of the
 //! training cases, stored in the model's [`FeatureScaler`]) and by the snapshot plan's report
 //! [`Plan::sampled_domain`](crate::snapshots::plan::Plan::sampled_domain) (the box of the
 //! plan's cases, built the same way), so a plan and a model trained on all its cases say the
@@ -45,9 +46,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use super::data::CaseInputs;
-use super::query::Query;
-use super::regression::{raw_features, FeatureScaler};
+use super::features::{raw_features, FeatureScaler};
+use super::inputs::{CaseInputs, Query};
 use crate::schema;
 use surrogate_predict::N_FEATURES;
 
@@ -367,7 +367,7 @@ impl Domain {
     /// The inputs of `q` outside the domain, in [`DOMAIN_INPUTS`] order; a value beyond an
     /// end by at most [`BOUND_TOLERANCE`] of the range is inside ([`Self::snap`]). An
     /// inadmissible material (`μᵢαᵢ ≤ 0`, rejected by
-    /// [`Surrogate::check_query`](super::Surrogate::check_query)) has no `μ0` or `s`: only its
+    /// [`Surrogate::check_query`](crate::rom::Surrogate::check_query)) has no `μ0` or `s`: only its
     /// exponents are checked.
     pub fn violations(&self, q: &Query) -> Vec<DomainViolation> {
         let (values, admissible) = Self::values(q);

@@ -1,7 +1,22 @@
-//! A surrogate query: the design, the pressure and the Ogden material at which a model is
-//! evaluated.
+//! The inputs of a case: its design and Ogden material ([`CaseInputs`], a case of a snapshot
+//! set), and the same at a pressure ([`Query`], where a surrogate is evaluated).
 
-use super::data::CaseInputs;
+/// Design and material of a case (everything but the pressure).
+#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+pub struct CaseInputs {
+    /// Number of bellows `N`.
+    pub n_bellows: u32,
+    /// Wall thickness `T`, mm.
+    pub wall_thickness_mm: f64,
+    /// Ogden `μ₁`, MPa.
+    pub mu1_mpa: f64,
+    /// Ogden `α₁`.
+    pub alpha1: f64,
+    /// Ogden `μ₂`, MPa.
+    pub mu2_mpa: f64,
+    /// Ogden `α₂`.
+    pub alpha2: f64,
+}
 
 /// A surrogate query (the public inputs; the material as the four Ogden parameters).
 #[derive(Debug, Clone, Copy, PartialEq)]
@@ -50,7 +65,7 @@ impl Query {
     }
 
     /// The design and material of the query, as a case of the snapshot set.
-    pub(super) fn case(&self) -> CaseInputs {
+    pub fn case(&self) -> CaseInputs {
         CaseInputs {
             n_bellows: self.n,
             wall_thickness_mm: self.t_mm,
