@@ -107,6 +107,7 @@ pub mod metrics;
 pub mod model;
 pub mod model_form;
 pub mod model_form_report;
+mod plan_domain;
 pub mod pod;
 pub mod provenance;
 pub mod ramp;
