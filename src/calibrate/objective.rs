@@ -844,7 +844,7 @@ fn check_domain(
             format!("trained N {:?}", model.n_allowed),
         ));
     }
-    // the model's domain: the plan's range where its cases cover it (`crate::rom::domain`)
+    // the model's domain: the plan's range where its cases cover it (`crate::case::domain`)
     let [t_min, t_max] =
         model.domain().ranges[1].unwrap_or([model.inputs[1].min, model.inputs[1].max]);
     if c.wall_thickness_mm < t_min - 1e-9 || c.wall_thickness_mm > t_max + 1e-9 {
