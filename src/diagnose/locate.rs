@@ -80,6 +80,18 @@ impl Localisation {
     pub fn cells_of(&self, f: Family) -> impl Iterator<Item = &Cell> {
         self.cells.iter().filter(move |c| c.family == f)
     }
+
+    /// Whether nothing this stage tests is significant: every output within the recorded
+    /// scatter, no term over N, T, P, no group mean. A name the Name stage then gives is a
+    /// hypothesis, not a finding (the residual it explains may be the recordings' noise).
+    pub fn consistent_with_scatter(&self) -> bool {
+        !self.misfits.iter().any(|m| m.significant)
+            && !self
+                .structures
+                .iter()
+                .any(|s| s.terms.iter().any(|t| t.significant))
+            && !self.groups.iter().any(|g| g.significant)
+    }
 }
 
 /// Locates the residual of `cal` on the recordings `rec` it was fitted to (the outputs its

@@ -44,6 +44,14 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
             Stage::NotRun { reason } => {
                 let _ = writeln!(s, "- **{name}**: not run: {reason}.");
             }
+            Stage::Named(n) if l.consistent_with_scatter() => {
+                let _ = writeln!(
+                    s,
+                    "- **{name}** (a hypothesis: Locate finds the residuals consistent with the \
+                     recorded scatter): {}",
+                    n.verdict
+                );
+            }
             Stage::Named(n) => {
                 let _ = writeln!(s, "- **{name}**: {}", n.verdict);
             }

@@ -114,6 +114,7 @@ fn a_planted_trend_over_t_is_found_and_worded() {
     assert!(loc.cells_of(Family::Angle).all(|c| !c.fitted));
     assert!(loc.cells_of(Family::Force).all(|c| c.fitted));
     assert!(loc.missing.iter().any(|m| m.kind == MissingKind::Markers));
+    assert!(!loc.consistent_with_scatter());
 }
 
 #[test]
@@ -136,6 +137,8 @@ fn pure_noise_is_reported_as_nothing_significant() {
         l.structures
     );
     assert!(l.groups.iter().all(|g| !g.significant));
+    // so a name would be a hypothesis; and the noise is at its stated σ, not below it
+    assert!(l.consistent_with_scatter());
     assert_eq!(l.findings.len(), 1, "{:#?}", l.findings);
     assert_eq!(l.findings[0].kind, FindingKind::NoStructure);
     assert!(

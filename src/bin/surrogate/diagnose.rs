@@ -343,7 +343,7 @@ fn print_stages(d: &Diagnosis, uncovered: bool) {
             }
             _ => println!("Name (candidate physics): not run (--sensitivities none)."),
         },
-        Some(n) => print_naming(n),
+        Some(n) => print_naming(n, d.locate.consistent_with_scatter()),
     }
     if let Some(p) = &d.measurement_plan {
         print_plan(p);
@@ -358,9 +358,18 @@ fn print_stages(d: &Diagnosis, uncovered: bool) {
     }
 }
 
-/// The Name stage's verdict, its first candidates and the pairs it cannot tell apart.
-fn print_naming(n: &Naming) {
-    println!("Name (candidate physics): {}", n.verdict);
+/// The Name stage's verdict, its first candidates and the pairs it cannot tell apart; worded
+/// as a hypothesis when Locate found the residuals consistent with the recorded scatter.
+fn print_naming(n: &Naming, hypothesis: bool) {
+    if hypothesis {
+        println!(
+            "Name (a hypothesis: Locate finds the residuals consistent with the recorded \
+             scatter, so what is named may be the recordings' noise): {}",
+            n.verdict
+        );
+    } else {
+        println!("Name (candidate physics): {}", n.verdict);
+    }
     print_candidates(n, 5);
     for p in &n.indistinguishable {
         println!(
