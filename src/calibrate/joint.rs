@@ -921,8 +921,11 @@ pub(crate) fn bounded_lm<E>(
         if lambda > 1e8 {
             break JointStop::NoDescent;
         }
-        let jtj = j.transpose() * &j;
+        let mut a = j.transpose() * &j;
         let g = j.transpose() * &r;
+        for i in 0..k {
+            a[(i, i)] += lambda * a[(i, i)].max(1e-12);
+        }
         // the box: the trust radius and the bounds, whichever is nearer
         let lo: Vec<f64> = (0..k)
             .map(|i| (-radius[i] * span[i]).max(bnds[i].0 - x[i]).min(0.0))
@@ -930,27 +933,20 @@ pub(crate) fn bounded_lm<E>(
         let hi: Vec<f64> = (0..k)
             .map(|i| (radius[i] * span[i]).min(bnds[i].1 - x[i]).max(0.0))
             .collect();
-        // the coordinates the trust box (not a bound) held
-        let held_by = |delta: &DVector<f64>| -> Vec<usize> {
-            (0..k)
-                .filter(|&i| {
-                    let face = radius[i] * span[i];
-                    let tol = 1e-9 * span[i];
-                    (delta[i] >= face - tol && hi[i] >= face - tol)
-                        || (delta[i] <= -face + tol && lo[i] <= -face + tol)
-                })
-                .collect()
-        };
-        let mut a = jtj;
-        for i in 0..k {
-            a[(i, i)] += lambda * a[(i, i)].max(1e-12);
-        }
         let Some(delta) = box_step(&a, &g, &lo, &hi) else {
             lambda *= nu;
             nu *= 2.0;
             continue;
         };
-        let held = held_by(&delta);
+        // the coordinates the trust box (not a bound) held
+        let held: Vec<usize> = (0..k)
+            .filter(|&i| {
+                let face = radius[i] * span[i];
+                let tol = 1e-9 * span[i];
+                (delta[i] >= face - tol && hi[i] >= face - tol)
+                    || (delta[i] <= -face + tol && lo[i] <= -face + tol)
+            })
+            .collect();
         let trial: Vec<f64> = (0..k)
             .map(|i| (x[i] + delta[i]).clamp(bnds[i].0, bnds[i].1))
             .collect();
