@@ -104,6 +104,79 @@ pub struct DesignParams {
     /// whole floor raised by it. `None` (or 0): sharp corners. Not written when `None`.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cavity_fillet: Option<f64>,
+    /// Stiffness of each printed part relative to the material ([`PartStiffness`]): the walls
+    /// facing the gaps and the top are shell layers (perimeters), the side walls solid layers
+    /// and the base mostly infill, so their effective moduli need not agree. `None`: every
+    /// part as the material. Not written when `None`.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub part_stiffness: Option<PartStiffness>,
+}
+
+/// Range of a part's stiffness relative to the material ([`PartStiffness`]): from a quarter
+/// (an under-extruded or poorly bonded part) to four times (a ceiling no print of one TPU
+/// reaches, kept to bound what a mechanism can do).
+pub const PART_STIFFNESS_RANGE: (f64, f64) = (0.25, 4.0);
+
+/// Which printed part a point of the solid belongs to ([`Design::part`]).
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub enum Part {
+    /// The strain-limiting base (`y < b`), the duct's surroundings included.
+    Base,
+    /// The walls facing the gaps (normal ±z), with the fused gap roots and cavity corner
+    /// blocks.
+    GapWalls,
+    /// The top of each bellow (normal +y).
+    Top,
+    /// The side walls (normal ±x).
+    SideWalls,
+}
+
+/// The stiffness of each printed part relative to the material: every term of the strain
+/// energy of an element in that part is multiplied by its factor (1: as the material).
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PartStiffness {
+    /// The walls facing the gaps.
+    pub gap_walls: f64,
+    /// The tops of the bellows.
+    pub top: f64,
+    /// The side walls.
+    pub side_walls: f64,
+    /// The base.
+    pub base: f64,
+}
+
+impl Default for PartStiffness {
+    fn default() -> Self {
+        Self {
+            gap_walls: 1.0,
+            top: 1.0,
+            side_walls: 1.0,
+            base: 1.0,
+        }
+    }
+}
+
+impl PartStiffness {
+    /// The factor of `part`.
+    pub fn of(&self, part: Part) -> f64 {
+        match part {
+            Part::Base => self.base,
+            Part::GapWalls => self.gap_walls,
+            Part::Top => self.top,
+            Part::SideWalls => self.side_walls,
+        }
+    }
+
+    /// The fields by name, in a fixed order.
+    pub fn fields(&self) -> [(&'static str, f64); 4] {
+        [
+            ("gap_walls", self.gap_walls),
+            ("top", self.top),
+            ("side_walls", self.side_walls),
+            ("base", self.base),
+        ]
+    }
 }
 
 impl Default for DesignParams {
@@ -124,6 +197,7 @@ impl Default for DesignParams {
             side_wall_thickness: None,
             gap_floor: None,
             cavity_fillet: None,
+            part_stiffness: None,
         }
     }
 }
@@ -211,6 +285,18 @@ impl DesignParams {
                 (p.height - p.base_thickness - ts) / 2.0,
             )?;
         }
+        if let Some(k) = &p.part_stiffness {
+            for (name, v) in k.fields() {
+                let (lo, hi) = PART_STIFFNESS_RANGE;
+                if !(v.is_finite() && (lo..=hi).contains(&v)) {
+                    return Err(GeometryError::OutOfRange {
+                        field: part_field(name),
+                        value: v,
+                        expected: format!("a stiffness ratio in [{lo}, {hi}] (1: the material)"),
+                    });
+                }
+            }
+        }
         let tx = p.side_wall_thickness.unwrap_or(ts);
         let pitch = p.free_length / n as f64;
         let length = pitch - p.gap - 2.0 * t;
@@ -228,6 +314,16 @@ impl DesignParams {
             });
         }
         Ok(Design { params: self })
+    }
+}
+
+/// The field name of a part's stiffness in an error.
+fn part_field(name: &str) -> &'static str {
+    match name {
+        "gap_walls" => "part_stiffness.gap_walls",
+        "top" => "part_stiffness.top",
+        "side_walls" => "part_stiffness.side_walls",
+        _ => "part_stiffness.base",
     }
 }
 
@@ -432,6 +528,34 @@ impl Design {
     }
 }
 
+impl Design {
+    /// The printed part a point of the solid belongs to: the base below `y = b`, then the
+    /// side walls (`x` within the side-wall thickness of either face), then the top (within
+    /// the skin of `y = H`), and every other solid point (the walls facing the gaps, fused gap
+    /// roots, cavity corner blocks) to the walls facing the gaps.
+    pub fn part(&self, x: [f64; 3]) -> Part {
+        let p = &self.params;
+        let tx = self.side_wall();
+        if x[1] < p.base_thickness {
+            Part::Base
+        } else if x[0] < tx || x[0] > p.width - tx {
+            Part::SideWalls
+        } else if x[1] > p.height - self.skin() {
+            Part::Top
+        } else {
+            Part::GapWalls
+        }
+    }
+
+    /// The stiffness factor of the solid at `x` ([`DesignParams::part_stiffness`]); 1 when
+    /// the parts are not set.
+    pub fn stiffness_at(&self, x: [f64; 3]) -> f64 {
+        self.params
+            .part_stiffness
+            .map_or(1.0, |k| k.of(self.part(x)))
+    }
+}
+
 /// What occupies a point of the design's bounding box.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
 pub enum Region {
@@ -542,5 +666,45 @@ mod tests {
         let mid = 0.5 * (c.lo[2] + c.hi[2]);
         assert_eq!(d.region([8.0, c.lo[1] + 0.9, mid]), Region::Solid);
         assert_eq!(d.region([8.0, c.lo[1] + 1.1, mid]), Region::Cavity(3));
+    }
+
+    #[test]
+    fn parts_classify_the_solid_and_their_stiffness_is_checked() {
+        let mut p = DesignParams::new(11, 2.0);
+        p.side_wall_thickness = Some(1.0);
+        p.part_stiffness = Some(PartStiffness {
+            gap_walls: 2.0,
+            top: 0.5,
+            side_walls: 0.25,
+            base: 3.0,
+        });
+        let d = p.validate().unwrap();
+        let c = d.cavity(2);
+        let mid_z = 0.5 * (c.lo[2] + c.hi[2]);
+        assert_eq!(d.part([8.0, 2.0, 10.0]), Part::Base);
+        assert_eq!(d.part([0.5, 10.0, mid_z]), Part::SideWalls);
+        assert_eq!(d.part([15.5, 21.5, mid_z]), Part::SideWalls);
+        assert_eq!(d.part([8.0, 21.5, mid_z]), Part::Top);
+        assert_eq!(d.part([8.0, 10.0, c.lo[2] - 0.5]), Part::GapWalls);
+        assert_eq!(d.stiffness_at([8.0, 21.5, mid_z]), 0.5);
+        assert_eq!(d.stiffness_at([8.0, 10.0, c.hi[2] + 0.5]), 2.0);
+        assert_eq!(d.stiffness_at([8.0, 1.0, 50.0]), 3.0);
+        // unset: every part as the material, and the design's serialisation unchanged
+        let plain = DesignParams::new(11, 2.0);
+        assert!(!serde_json::to_string(&plain)
+            .unwrap()
+            .contains("part_stiffness"));
+        assert_eq!(
+            plain.validate().unwrap().stiffness_at([0.5, 10.0, mid_z]),
+            1.0
+        );
+        // a factor outside its range names the part
+        let mut p = DesignParams::new(11, 2.0);
+        p.part_stiffness = Some(PartStiffness {
+            top: 5.0,
+            ..PartStiffness::default()
+        });
+        let e = p.validate().unwrap_err().to_string();
+        assert!(e.contains("part_stiffness.top") && e.contains('5'), "{e}");
     }
 }

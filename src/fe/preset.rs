@@ -27,7 +27,9 @@ use std::path::Path;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
-use super::geometry::{Design, DesignParams, GeometryError, PRINTED_WALL_RANGE};
+use super::geometry::{
+    Design, DesignParams, GeometryError, PartStiffness, PART_STIFFNESS_RANGE, PRINTED_WALL_RANGE,
+};
 
 /// Physical range of the gap between neighbouring bellows (mm).
 pub const GAP_RANGE: (f64, f64) = (0.2, 2.0);
@@ -47,7 +49,7 @@ pub const CAVITY_FILLET_RANGE: (f64, f64) = (0.0, 3.0);
 #[derive(Debug, Error)]
 pub enum PresetError {
     /// A dimension outside its physical range.
-    #[error("geometry preset '{preset}': {field} = {value} mm is outside its physical range: expected {lo} … {hi} mm")]
+    #[error("geometry preset '{preset}': {field} = {value}{unit} is outside its physical range: expected {lo} … {hi}{unit}")]
     OutOfRange {
         /// The preset's name.
         preset: String,
@@ -59,6 +61,8 @@ pub enum PresetError {
         lo: f64,
         /// Upper end (mm).
         hi: f64,
+        /// The unit as printed after a value (" mm", or "" for a ratio).
+        unit: &'static str,
     },
     /// A name that is no preset.
     #[error("unknown geometry preset '{0}': expected as_modelled or a preset file (.json)")]
@@ -111,6 +115,10 @@ pub struct Geometry {
     /// `None`: sharp corners.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub cavity_fillet_mm: Option<f64>,
+    /// The stiffness of each printed part relative to the material
+    /// ([`DesignParams::part_stiffness`]); `None`: every part as the material.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub part_stiffness: Option<PartStiffness>,
 }
 
 impl Default for Geometry {
@@ -132,6 +140,7 @@ impl Geometry {
             side_wall_mm: None,
             gap_floor_mm: None,
             cavity_fillet_mm: None,
+            part_stiffness: None,
         }
     }
 
@@ -145,6 +154,7 @@ impl Geometry {
             && self.side_wall_mm.is_none()
             && self.gap_floor_mm.is_none()
             && self.cavity_fillet_mm.is_none()
+            && self.part_stiffness.is_none()
     }
 
     /// A named preset (`as_modelled`) or a preset file (a path ending in `.json`).
@@ -190,6 +200,11 @@ impl Geometry {
                     value,
                     lo,
                     hi,
+                    unit: if field.starts_with("part_stiffness") {
+                        ""
+                    } else {
+                        " mm"
+                    },
                 })
             }
         };
@@ -210,6 +225,17 @@ impl Geometry {
         if let Some(r) = self.cavity_fillet_mm {
             check("cavity_fillet_mm", r, CAVITY_FILLET_RANGE)?;
         }
+        if let Some(k) = &self.part_stiffness {
+            for (name, v) in k.fields() {
+                let field = match name {
+                    "gap_walls" => "part_stiffness.gap_walls",
+                    "top" => "part_stiffness.top",
+                    "side_walls" => "part_stiffness.side_walls",
+                    _ => "part_stiffness.base",
+                };
+                check(field, v, PART_STIFFNESS_RANGE)?;
+            }
+        }
         Ok(())
     }
 
@@ -227,6 +253,7 @@ impl Geometry {
         p.side_wall_thickness = self.side_wall_mm;
         p.gap_floor = self.gap_floor_mm;
         p.cavity_fillet = self.cavity_fillet_mm;
+        p.part_stiffness = self.part_stiffness;
         p
     }
 
@@ -300,9 +327,29 @@ mod tests {
         let d = g.design(11, 2.0).unwrap();
         assert_eq!((d.gap_floor(), d.cavity_fillet()), (3.0, 1.0));
         assert!(!g.is_as_modelled());
+        // the parts' stiffness: checked as a ratio, carried into the design
+        g.part_stiffness = Some(PartStiffness {
+            gap_walls: 0.1,
+            ..PartStiffness::default()
+        });
+        let e = g.design(11, 2.0).unwrap_err().to_string();
+        assert!(
+            e.contains("part_stiffness.gap_walls = 0.1 is outside") && e.contains("0.25 … 4"),
+            "{e}"
+        );
+        g.part_stiffness = Some(PartStiffness {
+            gap_walls: 2.0,
+            ..PartStiffness::default()
+        });
+        let d = g.design(11, 2.0).unwrap();
+        assert_eq!(d.params().part_stiffness.unwrap().gap_walls, 2.0);
         // a preset without them reads as before, and writes no key for them
         let text = serde_json::to_string(&Geometry::as_modelled()).unwrap();
-        assert!(!text.contains("gap_floor") && !text.contains("cavity_fillet"));
+        assert!(
+            !text.contains("gap_floor")
+                && !text.contains("cavity_fillet")
+                && !text.contains("part_stiffness")
+        );
     }
 
     #[test]

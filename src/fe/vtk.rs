@@ -49,7 +49,7 @@ fn nodal_fields(model: &ActuatorModel, u: &[f64]) -> (Vec<f64>, Vec<f64>) {
     let mut eps = vec![0.0; mesh.n_nodes()];
     let mut count = vec![0u32; mesh.n_nodes()];
     let mut p = Matrix3::zeros();
-    for (conn, _geo) in mesh.elements.iter().zip(&model.fe.geometry) {
+    for (conn, &scale) in mesh.elements.iter().zip(&model.fe.stiffness) {
         for (l, &node) in conn.iter().enumerate() {
             let xi = [
                 (l % 3) as f64 - 1.0,
@@ -77,6 +77,7 @@ fn nodal_fields(model: &ActuatorModel, u: &[f64]) -> (Vec<f64>, Vec<f64>) {
                 continue;
             }
             model.fe.material.stress_into(&f, &mut p);
+            p *= scale;
             let sigma = p * f.transpose() / j;
             let dev = sigma - Matrix3::identity() * (sigma.trace() / 3.0);
             vm[node] += (1.5 * dev.component_mul(&dev).sum()).sqrt();

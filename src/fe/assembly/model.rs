@@ -36,6 +36,9 @@ pub struct FeModel {
     pub geometry: Vec<ElementGeometry>,
     /// The material.
     pub material: Material,
+    /// Per element: the factor on its strain energy (a printed part stiffer or softer than
+    /// the material, [`crate::fe::geometry::PartStiffness`]); 1 by default.
+    pub stiffness: Vec<f64>,
     /// Degrees of freedom.
     pub dofs: DofMap,
     /// Sparse pattern.
@@ -138,6 +141,7 @@ impl FeModel {
         }
         let n = 3 * mesh.n_nodes();
         Ok(Self {
+            stiffness: vec![1.0; geometry.len()],
             geometry,
             material,
             dofs,
@@ -161,6 +165,19 @@ impl FeModel {
             barrier: None,
             mesh,
         })
+    }
+
+    /// Sets each element's strain-energy factor from its centroid (the mean of its nodes):
+    /// `factor(centroid)`.
+    pub fn set_stiffness(&mut self, factor: impl Fn([f64; 3]) -> f64) {
+        for (e, conn) in self.mesh.elements.iter().enumerate() {
+            let c = conn.iter().fold([0.0; 3], |mut c, &n| {
+                let x = self.mesh.nodes[n];
+                (0..3).for_each(|i| c[i] += x[i] / conn.len() as f64);
+                c
+            });
+            self.stiffness[e] = factor(c);
+        }
     }
 
     /// Sets the face pairs of deformable–deformable contact. Their node couplings

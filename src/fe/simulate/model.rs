@@ -149,6 +149,9 @@ impl ActuatorModel {
             &pressure_faces(&mesh),
             &pair_couplings(&pairs),
         )?;
+        if design.params().part_stiffness.is_some() {
+            fe.set_stiffness(|x| design.stiffness_at(x));
+        }
         fe.set_face_pairs(
             pairs,
             PairSettings {

@@ -176,4 +176,79 @@ mod tests {
             assert!((a - b).abs() <= 1e-5 * scale, "{a} vs {b}");
         }
     }
+
+    /// A part's stiffness factor scales its elements' residual, tangent and energy exactly,
+    /// and a model with parts of different factors has a tangent that matches finite
+    /// differences of its residual.
+    #[test]
+    fn a_stiffness_factor_scales_the_volume_term_of_its_elements() {
+        let plain = block();
+        let mut stiff = block();
+        stiff.set_stiffness(|_| 2.5);
+        let n = 3 * plain.mesh.n_nodes();
+        let u: Vec<f64> = (0..n)
+            .map(|d| 2e-2 * plain.mesh.nodes[d / 3][2] * ((d as f64) * 0.9).sin())
+            .collect();
+        let level = LoadLevel::default();
+        let nnz = plain.pattern.nnz();
+        let (mut r0, mut k0) = (vec![0.0; n], vec![0.0; nnz]);
+        let (mut r1, mut k1) = (vec![0.0; n], vec![0.0; nnz]);
+        let i0 = plain
+            .assemble_with_energy(&u, &level, &mut r0, Some(&mut k0))
+            .unwrap();
+        let i1 = stiff
+            .assemble_with_energy(&u, &level, &mut r1, Some(&mut k1))
+            .unwrap();
+        for (a, b) in r1.iter().zip(&r0) {
+            assert!((a - 2.5 * b).abs() <= 1e-12 * (1.0 + b.abs()));
+        }
+        for (a, b) in k1.iter().zip(&k0) {
+            assert!((a - 2.5 * b).abs() <= 1e-12 * (1.0 + b.abs()));
+        }
+        assert!((i1.energy - 2.5 * i0.energy).abs() <= 1e-12 * i0.energy.abs());
+        // two parts: the lower layer of elements 3 times stiffer; tangent against differences
+        let mut parts = block();
+        parts.set_stiffness(|c| if c[2] < 1.0 { 3.0 } else { 1.0 });
+        assert!(parts.stiffness.contains(&3.0) && parts.stiffness.contains(&1.0));
+        let mut k = vec![0.0; nnz];
+        let mut r = vec![0.0; n];
+        parts.assemble(&u, &level, &mut r, Some(&mut k)).unwrap();
+        let dir: Vec<f64> = (0..n)
+            .map(|d| match parts.dofs.eq(d) {
+                Some(_) => ((d as f64) * 1.7).cos(),
+                None => 0.0,
+            })
+            .collect();
+        let h = 1e-6;
+        let res = |s: f64| {
+            let v: Vec<f64> = u.iter().zip(&dir).map(|(a, b)| a + s * b).collect();
+            let mut r = vec![0.0; n];
+            parts.assemble(&v, &level, &mut r, None).unwrap();
+            r
+        };
+        let (rp, rm) = (res(h), res(-h));
+        let nf = parts.dofs.n_free;
+        let (mut dfree, mut kd) = (vec![0.0; nf], vec![0.0; nf]);
+        parts.restrict(&dir, &mut dfree);
+        for col in 0..nf {
+            for p in parts.pattern.col_ptr[col]..parts.pattern.col_ptr[col + 1] {
+                let row = parts.pattern.row_idx[p];
+                kd[row] += k[p] * dfree[col];
+                if row != col {
+                    kd[col] += k[p] * dfree[row];
+                }
+            }
+        }
+        let fd: Vec<f64> = rp
+            .iter()
+            .zip(&rm)
+            .map(|(a, b)| (a - b) / (2.0 * h))
+            .collect();
+        let mut fd_free = vec![0.0; nf];
+        parts.restrict(&fd, &mut fd_free);
+        let scale = fd_free.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        for (a, b) in kd.iter().zip(&fd_free) {
+            assert!((a - b).abs() <= 1e-5 * scale, "{a} vs {b}");
+        }
+    }
 }

@@ -29,6 +29,17 @@ impl ElementTerm<FeModel> for Volume {
             cx.with_tangent,
             &mut local.work,
         )?;
+        // a printed part stiffer or softer than the material: every term of its strain
+        // energy scaled (the mixed pressure given to the tangent is the material's own, so
+        // the scaled tangent stays consistent)
+        let s = model.stiffness[cx.element];
+        if s != 1.0 {
+            local.energy *= s;
+            local.work.r.iter_mut().for_each(|v| *v *= s);
+            if cx.with_tangent {
+                local.work.k.iter_mut().for_each(|v| *v *= s);
+            }
+        }
         Ok(())
     }
 }
