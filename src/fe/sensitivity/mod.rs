@@ -644,7 +644,6 @@ fn outputs(model: &ActuatorModel, u: &[f64], lf: f64, scale: f64) -> Outputs {
     }
 }
 
-/// Differentiates the kept states of a finished ramp.
 /// The sensitivities of a finished ramp; with `keep_fields`, also its states and their
 /// displacement sensitivities.
 #[allow(clippy::type_complexity)]
@@ -674,32 +673,24 @@ fn differentiate(
         .any(|q| matches!(q.how, How::RigidClamp(_)))
         .then(|| clamp::ClampFace::new(&base));
     let setup_s = start.elapsed().as_secs_f64();
-    let scale = case.effects.force_scale();
-    let lf = design.free_length();
     let mut cost = SensitivityCost {
         ramp_s: response.wall_time_s,
         setup_s,
         ..Default::default()
     };
-    let n_full = base.fe.n_full();
-    let mut lin = LinearSolver::new(&base.fe)?;
-    let mut k = vec![0.0; base.fe.pattern.nnz()];
-    let (mut r0, mut rp, mut acc) = (vec![0.0; n_full], vec![0.0; n_full], vec![0.0; n_full]);
-    let (mut du_s, mut du, mut u2) = (vec![0.0; n_full], vec![0.0; n_full], vec![0.0; n_full]);
-    let mut rhs = vec![0.0; base.fe.n_free()];
-    let mut dr_plate = vec![0.0; n_full];
-    let force_rig = case.mode == Mode::Force;
-    // the augmented Lagrangian holds touching points at their gap: linearise with stiff
-    // contact (the plain penalty, `augmented_updates = 0`, and the barrier stay as they are)
-    let stiffen = case.solver.augmented_updates > 0 && base.fe.barrier.is_none();
-
-    if stiffen {
-        base.fe.scale_contact(CONTACT_STIFFENING);
-        for q in perturbed.iter_mut().flat_map(|p| &mut p.points) {
-            if let How::Model(m) = &mut q.how {
-                m.fe.scale_contact(CONTACT_STIFFENING);
-            }
-        }
+    let mut ws = Workspace::new(&base)?;
+    let ramp = RampSetup {
+        clamp,
+        scale: case.effects.force_scale(),
+        lf: design.free_length(),
+        force_rig: case.mode == Mode::Force,
+        // the augmented Lagrangian holds touching points at their gap: linearise with stiff
+        // contact (the plain penalty, `augmented_updates = 0`, and the barrier stay as they
+        // are)
+        stiffen: case.solver.augmented_updates > 0 && base.fe.barrier.is_none(),
+    };
+    if ramp.stiffen {
+        stiffen_contact(&mut base, &mut perturbed);
     }
     let mut steps = Vec::new();
     let mut fields = keep_fields.then(|| FieldSensitivities {
@@ -708,126 +699,23 @@ fn differentiate(
     });
     for (si, st) in states.iter().enumerate() {
         let self_weight = si == 0;
-        if !(st.reported || force_rig && self_weight) {
+        if !(st.reported || ramp.force_rig && self_weight) {
             continue;
         }
-        if let Some(f) = &mut fields {
+        let du_fields = fields.as_mut().map(|f| {
             f.du[si] = vec![Vec::new(); perturbed.len()];
-        }
-        set_plate(&mut base, st, 0.0);
-        let shifts = if stiffen {
-            base.fe
-                .stiffened_shifts(&st.u, &st.shifts, CONTACT_STIFFENING)
-        } else {
-            st.shifts.clone()
-        };
-        base.fe.set_contact_shifts(&shifts);
-        base.fe.assemble(&st.u, &st.level, &mut r0, Some(&mut k))?;
-        rhs.iter_mut().for_each(|v| *v = 0.0);
-        lin.solve(&k, &mut rhs)?;
-        cost.factorizations += 1;
-        cost.residual_evaluations += 1;
-        // ∂R/∂y_plate at the state, exact: the plate's motion enters −∂R/∂θ through it
-        // rather than through the residual differences (see
-        // `FeModel::plane_height_derivative`)
-        let plate_term = match base.plate {
-            Some(plate) if force_rig && !self_weight => {
-                dr_plate.iter_mut().for_each(|v| *v = 0.0);
-                base.fe.plane_height_derivative(&st.u, plate, &mut dr_plate);
-                true
-            }
-            _ => false,
-        };
-        let y0 = outputs(&base, &st.u, lf, scale);
-        let raw_force = y0.force_n.map_or(0.0, |f| f / scale);
-        let mut derivatives = Vec::with_capacity(perturbed.len());
-        for (pj, p) in perturbed.iter_mut().enumerate() {
-            let d = match p.points.first().map(|q| &q.how) {
-                None => Outputs::zero(&y0),
-                Some(How::ForceScale) => Outputs {
-                    force_n: Some(raw_force),
-                    ..Outputs::zero(&y0)
-                },
-                Some(_) => {
-                    // the plate follows the sagged tip (and the spring), not at P = 0
-                    let shift = if self_weight {
-                        0.0
-                    } else if p.parameter == Parameter::Effect(Effect::PlateCompliance) {
-                        p.plate_shift - raw_force
-                    } else {
-                        p.plate_shift
-                    };
-                    if let (Some(How::RigidClamp(dirs)), Some(face)) =
-                        (p.points.first().map(|q| &q.how), &clamp)
-                    {
-                        face.face_motion(&base, &r0, *dirs, &mut du_s)
-                            .map_err(|e| SensitivityError::Unsupported {
-                                parameter: p.parameter.name(),
-                                why: format!(
-                                    "the clamped face's mass matrix ({} nodes) did not solve in \
-                                     {} conjugate-gradient iterations",
-                                    e.nodes, e.iterations
-                                ),
-                            })?;
-                    } else {
-                        du_s.iter_mut().for_each(|v| *v = 0.0);
-                    }
-                    // −∂R/∂θ at fixed u from the residuals at the points
-                    for (a, r) in acc.iter_mut().zip(&r0) {
-                        *a = -p.weight0 * r;
-                    }
-                    if plate_term {
-                        for (a, d) in acc.iter_mut().zip(&dr_plate) {
-                            *a -= shift * d;
-                        }
-                    }
-                    for q in &mut p.points {
-                        let (model, level, saved) =
-                            configure(&mut base, &mut q.how, st, &shifts, 0.0);
-                        // the clamped face moved along its own motion (zero otherwise)
-                        for ((a, &u), &s) in u2.iter_mut().zip(&st.u).zip(&du_s) {
-                            *a = u + q.offset * s;
-                        }
-                        let assembled = model.fe.assemble(&u2, &level, &mut rp, None);
-                        restore(model, st, saved);
-                        assembled?;
-                        cost.residual_evaluations += 1;
-                        for (a, r) in acc.iter_mut().zip(&rp) {
-                            *a -= q.weight * r;
-                        }
-                    }
-                    base.fe.restrict(&acc, &mut rhs);
-                    lin.solve_factored(&mut rhs)?;
-                    cost.solves += 1;
-                    base.fe.expand_increment(&rhs, 1.0, &mut du);
-                    for (d, s) in du.iter_mut().zip(&du_s) {
-                        *d += s;
-                    }
-                    if let Some(f) = &mut fields {
-                        f.du[si][pj].clone_from(&du);
-                    }
-                    // the outputs along (du/dθ, θ), at the first point
-                    let q = &mut p.points[0];
-                    for ((a, &u), &d) in u2.iter_mut().zip(&st.u).zip(&du) {
-                        *a = u + q.offset * d;
-                    }
-                    let (model, _, saved) =
-                        configure(&mut base, &mut q.how, st, &shifts, q.offset * shift);
-                    let y = outputs(model, &u2, q.lf, scale);
-                    restore(model, st, saved);
-                    y.slope(&y0, q.offset)
-                }
-            };
-            if self_weight && force_rig {
-                p.plate_shift = d.tip_uy_mm
-                    - if p.parameter == Parameter::Effect(Effect::PlateOffset) {
-                        1.0
-                    } else {
-                        0.0
-                    };
-            }
-            derivatives.push(d);
-        }
+            &mut f.du[si]
+        });
+        let at = StateAt { st, self_weight };
+        let (y0, derivatives) = differentiate_state(
+            &ramp,
+            &mut base,
+            &mut perturbed,
+            &at,
+            &mut ws,
+            &mut cost,
+            du_fields,
+        )?;
         if st.reported {
             steps.push(StepSensitivities {
                 pressure_bar: st.pressure_bar,
@@ -838,6 +726,297 @@ fn differentiate(
     }
     cost.sensitivity_s = start.elapsed().as_secs_f64();
     cost.overhead = cost.sensitivity_s / cost.ramp_s.max(f64::MIN_POSITIVE);
+    let sens = sensitivities_of(case, &perturbed, steps, cost);
+    Ok((sens, fields.map(|f| (states, f))))
+}
+
+/// What every state of a ramp's differentiation shares.
+struct RampSetup {
+    /// The clamped face, where a parameter takes the rigid clamp's limit.
+    clamp: Option<clamp::ClampFace>,
+    /// The reported force's scale.
+    scale: f64,
+    /// Free length of the design (mm).
+    lf: f64,
+    /// Whether the ramp is in the force rig.
+    force_rig: bool,
+    /// Whether the contact of the linearisation is [`CONTACT_STIFFENING`] times stiffer.
+    stiffen: bool,
+}
+
+/// The tangent's factor and the full- and free-size vectors of a differentiation, reused
+/// from state to state.
+struct Workspace {
+    lin: LinearSolver,
+    /// The tangent's values.
+    k: Vec<f64>,
+    /// The residual at the state.
+    r0: Vec<f64>,
+    /// The residual at a point.
+    rp: Vec<f64>,
+    /// `−∂R/∂θ` at fixed `u`.
+    acc: Vec<f64>,
+    /// The clamped face's motion per unit of the parameter (zero without one).
+    du_s: Vec<f64>,
+    /// `du/dθ`.
+    du: Vec<f64>,
+    /// A displaced state.
+    u2: Vec<f64>,
+    /// A right-hand side on the free unknowns.
+    rhs: Vec<f64>,
+    /// `∂R/∂y_plate` at the state.
+    dr_plate: Vec<f64>,
+}
+
+impl Workspace {
+    /// The symbolic analysis of `base`'s tangent and zeroed vectors of its sizes.
+    fn new(base: &ActuatorModel) -> Result<Self, SensitivityError> {
+        let n_full = base.fe.n_full();
+        Ok(Workspace {
+            lin: LinearSolver::new(&base.fe)?,
+            k: vec![0.0; base.fe.pattern.nnz()],
+            r0: vec![0.0; n_full],
+            rp: vec![0.0; n_full],
+            acc: vec![0.0; n_full],
+            du_s: vec![0.0; n_full],
+            du: vec![0.0; n_full],
+            u2: vec![0.0; n_full],
+            rhs: vec![0.0; base.fe.n_free()],
+            dr_plate: vec![0.0; n_full],
+        })
+    }
+}
+
+/// A converged state being differentiated.
+struct StateAt<'a> {
+    st: &'a ConvergedState,
+    /// The first state (`P = 0`, the plate's reference).
+    self_weight: bool,
+}
+
+/// What the derivatives at one state share once its tangent is factorised.
+struct StateTerms<'a> {
+    at: &'a StateAt<'a>,
+    /// The contact's gap shifts of the linearisation.
+    shifts: &'a [f64],
+    /// Whether the plate's motion enters `−∂R/∂θ` (through `Workspace::dr_plate`).
+    plate_term: bool,
+    /// The force without its scale (N).
+    raw_force: f64,
+    /// The outputs at the state.
+    y0: &'a Outputs,
+}
+
+/// Makes the contact of the base model and of every perturbed model
+/// [`CONTACT_STIFFENING`] times stiffer.
+fn stiffen_contact(base: &mut ActuatorModel, perturbed: &mut [Perturbation]) {
+    base.fe.scale_contact(CONTACT_STIFFENING);
+    for q in perturbed.iter_mut().flat_map(|p| &mut p.points) {
+        if let How::Model(m) = &mut q.how {
+            m.fe.scale_contact(CONTACT_STIFFENING);
+        }
+    }
+}
+
+/// The outputs at one state and their derivatives with respect to every parameter; records
+/// each parameter's plate shift at the self-weight state of the force rig, and `du/dθ` into
+/// `du_fields` when given.
+fn differentiate_state(
+    ramp: &RampSetup,
+    base: &mut ActuatorModel,
+    perturbed: &mut [Perturbation],
+    at: &StateAt,
+    ws: &mut Workspace,
+    cost: &mut SensitivityCost,
+    mut du_fields: Option<&mut Vec<Vec<f64>>>,
+) -> Result<(Outputs, Vec<Outputs>), SensitivityError> {
+    let st = at.st;
+    set_plate(base, st, 0.0);
+    let shifts = if ramp.stiffen {
+        base.fe
+            .stiffened_shifts(&st.u, &st.shifts, CONTACT_STIFFENING)
+    } else {
+        st.shifts.clone()
+    };
+    base.fe.set_contact_shifts(&shifts);
+    base.fe
+        .assemble(&st.u, &st.level, &mut ws.r0, Some(&mut ws.k))?;
+    ws.rhs.iter_mut().for_each(|v| *v = 0.0);
+    ws.lin.solve(&ws.k, &mut ws.rhs)?;
+    cost.factorizations += 1;
+    cost.residual_evaluations += 1;
+    // ∂R/∂y_plate at the state, exact: the plate's motion enters −∂R/∂θ through it
+    // rather than through the residual differences (see
+    // `FeModel::plane_height_derivative`)
+    let plate_term = match base.plate {
+        Some(plate) if ramp.force_rig && !at.self_weight => {
+            ws.dr_plate.iter_mut().for_each(|v| *v = 0.0);
+            base.fe
+                .plane_height_derivative(&st.u, plate, &mut ws.dr_plate);
+            true
+        }
+        _ => false,
+    };
+    let y0 = outputs(base, &st.u, ramp.lf, ramp.scale);
+    let raw_force = y0.force_n.map_or(0.0, |f| f / ramp.scale);
+    let terms = StateTerms {
+        at,
+        shifts: &shifts,
+        plate_term,
+        raw_force,
+        y0: &y0,
+    };
+    let mut derivatives = Vec::with_capacity(perturbed.len());
+    for (pj, p) in perturbed.iter_mut().enumerate() {
+        let d = match p.points.first().map(|q| &q.how) {
+            None => Outputs::zero(&y0),
+            Some(How::ForceScale) => Outputs {
+                force_n: Some(raw_force),
+                ..Outputs::zero(&y0)
+            },
+            Some(_) => {
+                let du_field = du_fields.as_mut().map(|f| &mut f[pj]);
+                parameter_derivative(ramp, base, p, &terms, ws, cost, du_field)?
+            }
+        };
+        if at.self_weight && ramp.force_rig {
+            p.plate_shift = d.tip_uy_mm
+                - if p.parameter == Parameter::Effect(Effect::PlateOffset) {
+                    1.0
+                } else {
+                    0.0
+                };
+        }
+        derivatives.push(d);
+    }
+    Ok((y0, derivatives))
+}
+
+/// The derivatives of the outputs at a state with respect to a parameter that perturbs the
+/// model: `du/dθ` from `K du/dθ = −∂R/∂θ` with the state's factor (copied into `du_field`
+/// when given), then the outputs along `(du/dθ, θ)`.
+fn parameter_derivative(
+    ramp: &RampSetup,
+    base: &mut ActuatorModel,
+    p: &mut Perturbation,
+    terms: &StateTerms,
+    ws: &mut Workspace,
+    cost: &mut SensitivityCost,
+    du_field: Option<&mut Vec<f64>>,
+) -> Result<Outputs, SensitivityError> {
+    // the plate follows the sagged tip (and the spring), not at P = 0
+    let shift = if terms.at.self_weight {
+        0.0
+    } else if p.parameter == Parameter::Effect(Effect::PlateCompliance) {
+        p.plate_shift - terms.raw_force
+    } else {
+        p.plate_shift
+    };
+    clamp_face_motion(ramp, base, p, ws)?;
+    residual_derivative(base, p, terms, shift, ws, cost)?;
+    base.fe.restrict(&ws.acc, &mut ws.rhs);
+    ws.lin.solve_factored(&mut ws.rhs)?;
+    cost.solves += 1;
+    base.fe.expand_increment(&ws.rhs, 1.0, &mut ws.du);
+    for (d, s) in ws.du.iter_mut().zip(&ws.du_s) {
+        *d += s;
+    }
+    if let Some(f) = du_field {
+        f.clone_from(&ws.du);
+    }
+    Ok(outputs_along(ramp, base, p, terms, shift, ws))
+}
+
+/// The clamped face's motion per unit of `p` into `ws.du_s`: the rigid clamp's limit where
+/// `p` takes it, zero otherwise.
+fn clamp_face_motion(
+    ramp: &RampSetup,
+    base: &ActuatorModel,
+    p: &Perturbation,
+    ws: &mut Workspace,
+) -> Result<(), SensitivityError> {
+    if let (Some(How::RigidClamp(dirs)), Some(face)) =
+        (p.points.first().map(|q| &q.how), &ramp.clamp)
+    {
+        face.face_motion(base, &ws.r0, *dirs, &mut ws.du_s)
+            .map_err(|e| SensitivityError::Unsupported {
+                parameter: p.parameter.name(),
+                why: format!(
+                    "the clamped face's mass matrix ({} nodes) did not solve in \
+                     {} conjugate-gradient iterations",
+                    e.nodes, e.iterations
+                ),
+            })?;
+    } else {
+        ws.du_s.iter_mut().for_each(|v| *v = 0.0);
+    }
+    Ok(())
+}
+
+/// `−∂R/∂θ` at fixed `u` into `ws.acc`, from the residuals at `p`'s points (the clamped face
+/// moved along `ws.du_s`) and the plate moved by `shift`.
+fn residual_derivative(
+    base: &mut ActuatorModel,
+    p: &mut Perturbation,
+    terms: &StateTerms,
+    shift: f64,
+    ws: &mut Workspace,
+    cost: &mut SensitivityCost,
+) -> Result<(), SensitivityError> {
+    let st = terms.at.st;
+    for (a, r) in ws.acc.iter_mut().zip(&ws.r0) {
+        *a = -p.weight0 * r;
+    }
+    if terms.plate_term {
+        for (a, d) in ws.acc.iter_mut().zip(&ws.dr_plate) {
+            *a -= shift * d;
+        }
+    }
+    for q in &mut p.points {
+        let (model, level, saved) = configure(base, &mut q.how, st, terms.shifts, 0.0);
+        // the clamped face moved along its own motion (zero otherwise)
+        for ((a, &u), &s) in ws.u2.iter_mut().zip(&st.u).zip(&ws.du_s) {
+            *a = u + q.offset * s;
+        }
+        let assembled = model.fe.assemble(&ws.u2, &level, &mut ws.rp, None);
+        restore(model, st, saved);
+        assembled?;
+        cost.residual_evaluations += 1;
+        for (a, r) in ws.acc.iter_mut().zip(&ws.rp) {
+            *a -= q.weight * r;
+        }
+    }
+    Ok(())
+}
+
+/// The derivatives of the outputs: their slope along `(du/dθ, θ)` (`ws.du`) to `p`'s first
+/// point, the plate moved along by `shift`.
+fn outputs_along(
+    ramp: &RampSetup,
+    base: &mut ActuatorModel,
+    p: &mut Perturbation,
+    terms: &StateTerms,
+    shift: f64,
+    ws: &mut Workspace,
+) -> Outputs {
+    let st = terms.at.st;
+    let q = &mut p.points[0];
+    for ((a, &u), &d) in ws.u2.iter_mut().zip(&st.u).zip(&ws.du) {
+        *a = u + q.offset * d;
+    }
+    let (model, _, saved) = configure(base, &mut q.how, st, terms.shifts, q.offset * shift);
+    let y = outputs(model, &ws.u2, q.lf, ramp.scale);
+    restore(model, st, saved);
+    y.slope(terms.y0, q.offset)
+}
+
+/// The sensitivities of the differentiated parameters, their reported steps and the cost.
+fn sensitivities_of(
+    case: &Case,
+    perturbed: &[Perturbation],
+    steps: Vec<StepSensitivities>,
+    cost: SensitivityCost,
+) -> Sensitivities {
     let parameters = perturbed
         .iter()
         .map(|p| ParameterInfo {
@@ -848,15 +1027,14 @@ fn differentiate(
             how: p.describe().to_string(),
         })
         .collect();
-    let sens = Sensitivities {
+    Sensitivities {
         format: SENSITIVITY_FORMAT.to_string(),
         version: SENSITIVITY_FORMAT_VERSION,
         mode: case.mode,
         parameters,
         steps,
         cost,
-    };
-    Ok((sens, fields.map(|f| (states, f))))
+    }
 }
 
 /// The model of a point at state `st` (gap shifts `shifts`, plate moved by `plate_dy`) and

@@ -1,0 +1,235 @@
+//! One evaluation of a point: the FE sweep over the recorded designs, and from it the
+//! whitened residuals, their Jacobian with respect to the unknowns and the recorded
+//! configurations side by side with the FE.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::report::JointRow;
+use super::settings::JointSettings;
+use super::unknown::JointPoint;
+use crate::calibrate::baseline::{
+    recorded_designs, run_ramps, SweepDesign, SweepRamp, SweepSettings,
+    SWEEP_MAX_PRESSURE_INCREMENT, SWEEP_RTOL,
+};
+use crate::calibrate::experiments::bending_error;
+use crate::calibrate::objective::{Recordings, FREE_LENGTH_MM};
+use crate::calibrate::CalibrateError;
+use crate::fe::campaign::WarmPool;
+use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
+use crate::fe::sensitivity::Parameter;
+use crate::fe::simulate::Mode;
+
+/// Whether `(t, p)` is one of the reference study's nine configurations: T and P move
+/// together there (T 1.6 mm at 1 bar, 2.0 at 2 bar, 2.4 at 3 bar), for each N.
+pub fn in_paper_nine(t: f64, p: f64) -> bool {
+    [(1.6, 1.0), (2.0, 2.0), (2.4, 3.0)]
+        .iter()
+        .any(|&(tt, pp)| (t - tt).abs() < 1e-9 && (p - pp).abs() < 1e-9)
+}
+
+/// One evaluation: residuals, Jacobian, the rows.
+pub(super) struct Evaluation {
+    pub(super) r: DVector<f64>,
+    pub(super) j: DMatrix<f64>,
+    /// What each residual is: design `(N, T)`, pressure, output, σ.
+    pub(super) what: Vec<Residual>,
+    pub(super) rows: Vec<JointRow>,
+    pub(super) error: String,
+}
+
+/// What one residual of an evaluation is.
+#[derive(Clone, Copy, Debug)]
+pub(super) struct Residual {
+    pub(super) n: usize,
+    pub(super) t: f64,
+    pub(super) output: Recorded,
+    pub(super) sigma: f64,
+}
+
+/// A recorded output of the identification.
+#[derive(Clone, Copy, Debug, PartialEq, Eq)]
+pub(super) enum Recorded {
+    TipUz,
+    TipUy,
+    Force,
+}
+
+/// The sweep settings of a point.
+fn sweep_settings(
+    s: &JointSettings,
+    x: &JointPoint,
+    pool: Option<&WarmPool>,
+) -> Result<SweepSettings, CalibrateError> {
+    let [m1, a1, m2, a2] = x.ogden;
+    let material = Material::from_spec(&format!("{m1},{a1},{m2},{a2}"), DEFAULT_BULK_RATIO)
+        .map_err(|e| CalibrateError::input("material", format!("{:?}", x.ogden), &e.to_string()))?;
+    x.geometry
+        .validate()
+        .map_err(|e| CalibrateError::input("geometry", &x.geometry.name, &e.to_string()))?;
+    let mut settings = SweepSettings {
+        geometry: x.geometry.clone(),
+        effects: x.effects.clone(),
+        sensitivities: s.unknowns.iter().map(|u| u.parameter()).collect(),
+        warm: pool.cloned(),
+        warm_point: s.unknowns.iter().map(|&u| x.get(u)).collect(),
+        ..SweepSettings::new(material, s.mesh)
+    };
+    settings.solver.max_pressure_increment = SWEEP_MAX_PRESSURE_INCREMENT;
+    settings.solver.rtol = SWEEP_RTOL;
+    Ok(settings)
+}
+
+/// The designs of the recordings with 0 and their pressures.
+fn designs(rec: &Recordings) -> Vec<SweepDesign> {
+    recorded_designs(&rec.bending)
+}
+
+/// Evaluation `k` (from 1) caches its ramps in `sweep_k/` of the cache: a rerun with the same
+/// settings takes the same steps and finds each sweep where it left it.
+pub(super) fn evaluate(
+    s: &JointSettings,
+    rec: &Recordings,
+    x: &JointPoint,
+    k: usize,
+    pool: Option<&WarmPool>,
+    progress: &(dyn Fn(usize, usize) + Sync),
+) -> Result<Evaluation, CalibrateError> {
+    let settings = sweep_settings(s, x, pool)?;
+    let cache = s.cache.as_ref().map(|c| c.join(format!("sweep_{k:02}")));
+    let ramps = run_ramps(&settings, &designs(rec), cache.as_deref(), progress)?;
+    Ok(residuals(s, rec, &ramps))
+}
+
+fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evaluation {
+    let k = s.unknowns.len();
+    let params: Vec<Parameter> = s.unknowns.iter().map(|u| u.parameter()).collect();
+    let mut r = Vec::new();
+    let mut what = Vec::new();
+    let mut jac: Vec<Vec<f64>> = Vec::new();
+    let mut rows = Vec::new();
+    let mut errors = Vec::new();
+    let find = |n: usize, t: f64, mode: Mode| {
+        ramps
+            .iter()
+            .find(|x| x.mode == mode && x.n_bellows == n && x.wall_thickness_mm == t)
+    };
+    for b in &rec.bending {
+        let (n, t, p) = (b.n_bellows, b.wall_thickness_mm, b.pressure_bar);
+        let mut row = JointRow {
+            n_bellows: n,
+            wall_thickness_mm: t,
+            pressure_bar: p,
+            paper_nine: in_paper_nine(t, p),
+            uz_mm: [b.tip_uz_mm, f64::NAN],
+            uy_mm: [b.tip_uy_mm, f64::NAN],
+            angle_deg: [b.angle_deg, f64::NAN],
+            force_n: [f64::NAN; 2],
+            be_mm: f64::NAN,
+        };
+        let chord = (FREE_LENGTH_MM - b.tip_uz_mm).hypot(b.tip_uy_mm);
+        let st = (chord * b.angle_std_deg.to_radians()).hypot(s.model_sigma.tip_mm);
+        match derivs(find(n, t, Mode::Bending), p, &params) {
+            Some((v, d)) => {
+                row.uz_mm[1] = v.tip_uz_mm;
+                row.uy_mm[1] = v.tip_uy_mm;
+                row.angle_deg[1] = v.angle_deg;
+                row.be_mm = bending_error(b.tip_uz_mm, b.tip_uy_mm, v.tip_uz_mm, v.tip_uy_mm);
+                r.push((v.tip_uz_mm - b.tip_uz_mm) / st);
+                jac.push(d.iter().map(|o| o.tip_uz_mm / st).collect());
+                r.push((v.tip_uy_mm - b.tip_uy_mm) / st);
+                jac.push(d.iter().map(|o| o.tip_uy_mm / st).collect());
+                for output in [Recorded::TipUz, Recorded::TipUy] {
+                    what.push(Residual {
+                        n,
+                        t,
+                        output,
+                        sigma: st,
+                    });
+                }
+            }
+            None => errors.push(format!("bending N = {n}, T = {t}, {p} bar")),
+        }
+        if let Some(f) = rec
+            .force
+            .iter()
+            .find(|f| f.n_bellows == n && f.wall_thickness_mm == t && f.pressure_bar == p)
+        {
+            row.force_n[0] = f.force_n;
+            match derivs(find(n, t, Mode::Force), p, &params) {
+                Some((v, d)) => {
+                    let fe = v.force_n.unwrap_or(f64::NAN);
+                    row.force_n[1] = fe;
+                    let sf = f.force_std_n.hypot(s.model_sigma.force_n);
+                    r.push((fe - f.force_n) / sf);
+                    what.push(Residual {
+                        n,
+                        t,
+                        output: Recorded::Force,
+                        sigma: sf,
+                    });
+                    jac.push(d.iter().map(|o| o.force_n.unwrap_or(0.0) / sf).collect());
+                }
+                None => errors.push(format!("force N = {n}, T = {t}, {p} bar")),
+            }
+        }
+        rows.push(row);
+    }
+    let m = r.len();
+    let j = DMatrix::from_fn(m, k, |i, c| jac[i][c]);
+    let error = if errors.is_empty() {
+        String::new()
+    } else {
+        let why: Vec<&str> = ramps
+            .iter()
+            .filter(|x| !x.error.is_empty())
+            .map(|x| x.error.as_str())
+            .collect();
+        format!("no FE result at {}: {}", errors.join(", "), why.join("; "))
+    };
+    Evaluation {
+        r: DVector::from_vec(r),
+        j,
+        what,
+        rows,
+        error,
+    }
+}
+
+/// The outputs at pressure `p` of a ramp and their derivatives by `params`.
+fn derivs(
+    ramp: Option<&SweepRamp>,
+    p: f64,
+    params: &[Parameter],
+) -> Option<(
+    crate::fe::sensitivity::Outputs,
+    Vec<crate::fe::sensitivity::Outputs>,
+)> {
+    let sens = ramp?.sensitivities.as_ref()?;
+    let i = sens
+        .steps
+        .iter()
+        .position(|st| (st.pressure_bar - p).abs() < 1e-9)?;
+    let d = params
+        .iter()
+        .map(|&q| sens.derivative(i, q).cloned())
+        .collect::<Option<Vec<_>>>()?;
+    Some((sens.steps[i].values.clone(), d))
+}
+
+pub(super) fn summary_of(rows: &[JointRow]) -> (f64, f64) {
+    let be: Vec<f64> = rows.iter().map(|r| r.be_mm).collect();
+    let fe: Vec<f64> = rows
+        .iter()
+        .map(|r| (r.force_n[1] - r.force_n[0]).abs())
+        .filter(|v| v.is_finite())
+        .collect();
+    (mean(&be), mean(&fe))
+}
+
+pub(super) fn mean(v: &[f64]) -> f64 {
+    if v.is_empty() {
+        f64::NAN
+    } else {
+        v.iter().sum::<f64>() / v.len() as f64
+    }
+}

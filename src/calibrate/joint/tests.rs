@@ -1,0 +1,265 @@
+//! The bounded Levenberg–Marquardt and its box step on small problems, the held-out splits,
+//! and the unknowns' names and bounds.
+
+use nalgebra::{DMatrix, DVector};
+
+use super::evaluation::{Evaluation, Recorded, Residual};
+use super::held_out::{combinations, held_out};
+use super::in_paper_nine;
+use super::lm::{bounded_lm, box_step};
+use super::settings::{JointStop, MIN_GAIN_CHI2};
+use super::unknown::{bounds, Unknown};
+use crate::fe::effects::Effect;
+use crate::fe::sensitivity::{OgdenParameter, Parameter};
+
+#[test]
+fn every_k_subset_once() {
+    let mut out = Vec::new();
+    combinations(9, 3, &mut Vec::new(), 0, &mut out);
+    assert_eq!(out.len(), 84);
+    assert_eq!(out[0], vec![0, 1, 2]);
+    assert_eq!(out[83], vec![6, 7, 8]);
+}
+
+/// A linear model whose designs all share one unknown: holding any out changes nothing,
+/// so the held-out error is the in-sample one; a design with its own bias is predicted
+/// worse when held out.
+#[test]
+fn held_out_designs_are_predicted_by_the_refit_of_the_others() {
+    let designs = [(9, 1.6), (11, 2.0), (13, 2.4), (9, 2.4)];
+    let mut what = Vec::new();
+    let mut r = Vec::new();
+    for &(n, t) in &designs {
+        for output in [Recorded::TipUz, Recorded::TipUy] {
+            what.push(Residual {
+                n,
+                t,
+                output,
+                sigma: 2.0,
+            });
+            // residual 0.5 everywhere, 3 at N = 13 (its own bias)
+            r.push(if n == 13 { 3.0 } else { 0.5 });
+        }
+    }
+    let m = r.len();
+    let e = Evaluation {
+        r: DVector::from_vec(r),
+        j: DMatrix::from_element(m, 1, 1.0),
+        what,
+        rows: Vec::new(),
+        error: String::new(),
+    };
+    let h = held_out(&e, &[0.0], &[(-10.0, 10.0)], 1);
+    assert_eq!(h.splits, 4);
+    // leaving N = 13 out: the others fit exactly (θ = −0.5), N = 13 predicted at
+    // 2.5·√2·2 mm; leaving another out: θ = −(0.5·2 + 3)/3 = −4/3, that design misses by
+    // (0.5 − 4/3)·√2·2 mm
+    let expected = (2.5 * 2f64.sqrt() * 2.0 + 3.0 * (4.0 / 3.0 - 0.5) * 2f64.sqrt() * 2.0) / 4.0;
+    assert!(
+        (h.mean_be_mm - expected).abs() < 1e-6,
+        "{} vs {expected}",
+        h.mean_be_mm
+    );
+    assert_eq!(h.worst, vec![(13, 2.4)]);
+}
+
+#[test]
+fn the_paper_nine_move_t_and_p_together() {
+    assert!(in_paper_nine(1.6, 1.0) && in_paper_nine(2.0, 2.0) && in_paper_nine(2.4, 3.0));
+    assert!(!in_paper_nine(1.6, 3.0) && !in_paper_nine(2.4, 1.0));
+}
+
+/// Residuals of a bounded test problem: `r = (x₀ − 1, 10(x₁ − x₀²), x₂ − 5)`, the last
+/// coordinate bounded to [0, 2] so that its optimum lies on the bound.
+#[allow(clippy::type_complexity)]
+fn rosenbrock(x: &[f64]) -> Result<Option<(DVector<f64>, DMatrix<f64>)>, ()> {
+    let r = DVector::from_vec(vec![x[0] - 1.0, 10.0 * (x[1] - x[0] * x[0]), x[2] - 5.0]);
+    let j = DMatrix::from_row_slice(
+        3,
+        3,
+        &[1.0, 0.0, 0.0, -20.0 * x[0], 10.0, 0.0, 0.0, 0.0, 1.0],
+    );
+    Ok(Some((r, j)))
+}
+
+#[test]
+fn bounded_lm_finds_an_interior_optimum_and_stops_on_a_bound() {
+    let bnds = [(-2.0, 2.0), (-1.0, 3.0), (0.0, 2.0)];
+    let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 1.0, 200, 0.0, rosenbrock).unwrap();
+    let x = &t.steps[t.best].x;
+    assert!(
+        (x[0] - 1.0).abs() < 0.05 && (x[1] - 1.0).abs() < 0.1,
+        "{x:?}"
+    );
+    assert_eq!(x[2], 2.0, "the bounded coordinate ends on its bound");
+    assert!(t
+        .steps
+        .iter()
+        .all(|s| s.x.iter().zip(&bnds).all(|(v, b)| *v >= b.0 && *v <= b.1)));
+    // χ² never rises along the accepted steps
+    let acc: Vec<f64> = t
+        .steps
+        .iter()
+        .filter(|s| s.accepted)
+        .map(|s| s.chi2)
+        .collect();
+    assert!(acc.windows(2).all(|w| w[1] <= w[0]), "{acc:?}");
+    // only (5 − 2)² is left, to the stopping rule's relative 1e-3 of χ²
+    assert!(
+        t.steps[t.best].chi2 < 9.0 * (1.0 + 2e-3),
+        "{:?}",
+        t.steps[t.best]
+    );
+}
+
+#[test]
+fn no_unknown_moves_by_more_than_the_trust_radius_and_the_radius_adapts() {
+    let bnds = [(-2.0, 2.0), (-1.0, 3.0), (0.0, 2.0)];
+    let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 0.05, 200, 0.0, rosenbrock).unwrap();
+    // the first step: at most 5 % of every range
+    let (a, b) = (&t.steps[0].x, &t.steps[1].x);
+    for i in 0..3 {
+        assert!(
+            (b[i] - a[i]).abs() <= 0.05 * (bnds[i].1 - bnds[i].0) + 1e-12,
+            "{i}: {a:?} → {b:?}"
+        );
+    }
+    // the radius grows where the linearisation holds: it still gets there
+    let x = &t.steps[t.best].x;
+    assert!((x[0] - 1.0).abs() < 0.05 && x[2] == 2.0, "{x:?}");
+}
+
+#[test]
+fn the_box_step_is_the_minimum_of_the_model_over_the_box() {
+    use rand::{Rng, SeedableRng};
+    let mut rng = rand_xoshiro::Xoshiro256PlusPlus::seed_from_u64(7);
+    for case in 0..200 {
+        let k = 1 + case % 4;
+        let m = DMatrix::from_fn(k + 2, k, |_, _| rng.gen_range(-1.0..1.0));
+        let a = m.transpose() * &m + DMatrix::identity(k, k) * 0.05;
+        let g = DVector::from_fn(k, |_, _| rng.gen_range(-2.0..2.0));
+        let lo: Vec<f64> = (0..k)
+            .map(|_| {
+                if rng.gen_bool(0.2) {
+                    0.0
+                } else {
+                    -rng.gen_range(0.01..1.0)
+                }
+            })
+            .collect();
+        let hi: Vec<f64> = (0..k)
+            .map(|_| {
+                if rng.gen_bool(0.2) {
+                    0.0
+                } else {
+                    rng.gen_range(0.01..1.0)
+                }
+            })
+            .collect();
+        let q = |d: &DVector<f64>| 0.5 * d.dot(&(&a * d)) + g.dot(d);
+        let d = box_step(&a, &g, &lo, &hi).unwrap();
+        assert!((0..k).all(|i| d[i] >= lo[i] - 1e-12 && d[i] <= hi[i] + 1e-12));
+        // projected gradient descent to the same minimum
+        let step = 1.0 / a.norm();
+        let mut e = DVector::zeros(k);
+        for _ in 0..20_000 {
+            let gr = &a * &e + &g;
+            for i in 0..k {
+                e[i] = (e[i] - step * gr[i]).clamp(lo[i], hi[i]);
+            }
+        }
+        assert!(q(&d) <= q(&e) + 1e-9, "case {case}: {} > {}", q(&d), q(&e));
+    }
+}
+
+#[test]
+fn a_coordinate_far_from_its_optimum_does_not_shorten_the_others_steps() {
+    // x₀ is 5 % of its range from its optimum, x₁ 50 %: a radius of 10 % holds x₁ only,
+    // and x₀ takes its whole Gauss–Newton step (a single radius keeping the step's
+    // direction would move it by a fifth of it)
+    let bnds = [(0.0, 10.0), (-1.0, 1.0)];
+    let t = bounded_lm(&[0.0, 0.0], &bnds, 1e-9, 0.1, 2, 0.0, |x| {
+        let r = DVector::from_vec(vec![x[0] - 0.5, 3.0 * (x[1] - 1.0)]);
+        let j = DMatrix::from_row_slice(2, 2, &[1.0, 0.0, 0.0, 3.0]);
+        Ok::<_, ()>(Some((r, j)))
+    })
+    .unwrap();
+    let x = &t.steps[1].x;
+    assert!((x[0] - 0.5).abs() < 1e-6, "{x:?}");
+    assert!((x[1] - 0.2).abs() < 1e-12, "{x:?}");
+}
+
+#[test]
+fn bounded_lm_stops_at_a_stationary_point_without_another_evaluation() {
+    // linear residuals with an irreducible part: the first step reaches the optimum, and
+    // the next undamped step predicts no gain, so nothing more is evaluated
+    let bnds = [(-5.0, 5.0), (-5.0, 5.0)];
+    let lin = |x: &[f64]| {
+        let r = DVector::from_vec(vec![x[0] - 1.0, x[1] + 2.0, 3.0]);
+        Ok::<_, ()>(Some((
+            r,
+            DMatrix::from_row_slice(3, 2, &[1.0, 0.0, 0.0, 1.0, 0.0, 0.0]),
+        )))
+    };
+    let t = bounded_lm(&[0.0, 0.0], &bnds, 1e-9, 1.0, 10, MIN_GAIN_CHI2, lin).unwrap();
+    assert_eq!(t.stop, JointStop::Converged);
+    assert_eq!(t.steps.len(), 2, "{:?}", t.steps.len());
+    assert!((t.steps[1].chi2 - 9.0).abs() < 1e-9);
+    // without the test, the same problem spends its budget on refused steps
+    let t = bounded_lm(&[0.0, 0.0], &bnds, 1e-9, 1.0, 10, 0.0, lin).unwrap();
+    assert!(t.steps.len() > 2);
+}
+
+#[test]
+fn bounded_lm_treats_a_failed_evaluation_as_a_failed_step_and_keeps_to_the_budget() {
+    let bnds = [(-2.0, 2.0), (-1.0, 3.0), (0.0, 2.0)];
+    let mut calls = 0;
+    let t = bounded_lm(&[-1.2, 1.0, 1.0], &bnds, 1e-2, 1.0, 6, 0.0, |x| {
+        calls += 1;
+        // the model fails at every second trial
+        if calls % 2 == 0 {
+            Ok(None)
+        } else {
+            rosenbrock(x)
+        }
+    })
+    .unwrap();
+    assert_eq!(t.steps.len(), 6);
+    assert_eq!(t.stop, JointStop::Budget);
+    assert!(t
+        .steps
+        .iter()
+        .skip(1)
+        .step_by(2)
+        .all(|s| !s.accepted && s.chi2.is_infinite()));
+    assert!(t.steps[t.best].accepted);
+}
+
+#[test]
+fn unknowns_are_named_and_biases_refused() {
+    for n in [
+        "mu1",
+        "alpha2",
+        "gap",
+        "side_wall",
+        "plate_offset",
+        "wall_bias_bellows",
+    ] {
+        assert_eq!(Unknown::from_name(n).unwrap().name(), n);
+    }
+    let e = Unknown::from_name("gap_bias").unwrap_err().to_string();
+    assert!(e.contains("not its bias"), "{e}");
+    assert!(Unknown::from_name("colour").is_err());
+    assert_eq!(
+        Unknown::SideWall.parameter(),
+        Parameter::Effect(Effect::WallBiasSide)
+    );
+    assert_eq!(
+        bounds(Unknown::Material(OgdenParameter::Mu2), -5.0),
+        (-25.0, -1.0)
+    );
+    assert_eq!(
+        bounds(Unknown::Material(OgdenParameter::Alpha2), -2.0),
+        (-12.0, -0.5)
+    );
+}
