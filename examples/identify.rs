@@ -45,6 +45,7 @@ fn main() -> surrogate::Result<()> {
         cache: Some(PathBuf::from("identify_example/fe_ramps")),
         // each sweep's ramps start from the previous sweep's converged states
         warm_start: true,
+        exclude: Vec::new(),
     };
     let report = identify(&settings, &Recordings::shipped()?, |sweep, done, total| {
         eprintln!("sweep {sweep}: {done}/{total} FE ramps")

@@ -6,6 +6,14 @@
 //!   `tan α = −Uy / (L − Uz)`). All rows of one `N` come from the same printed length, so a
 //!   row whose `L` departs from the median of its `N` by more than
 //!   `max(1 mm, 5 × 1.4826 × MAD)` is flagged.
+//! - **Chord against angle.** The tip lies at the distance `c = −Uy / sin α` from the support
+//!   (the chord). For an actuator of length `L` bent into an arc whose chord makes the angle
+//!   `α` with the horizontal, `c = L sin α / α`; real shapes are close to arcs, so the ratio
+//!   `c α / (L sin α)` (`L` the median support-to-tip distance of the row's `N`) stays near 1
+//!   over a set of recordings (0.97 … 1.05 on the shipped ones but two). A row whose ratio
+//!   departs from the median of all rows by more than `max(0.05, 5 × 1.4826 × MAD)` is
+//!   flagged: its tip is farther from (or nearer to) the support than any bending shape with
+//!   its angle puts it, so its angle and its tip cannot both be right.
 //! - **Monotonic ramps.** For one design, tip Uz, −Uy, the angle and the blocked force grow
 //!   with pressure; a decrease between two recorded pressures is flagged.
 //!
@@ -62,6 +70,91 @@ pub fn implied_length(uz_mm: f64, uy_mm: f64, angle_deg: f64) -> f64 {
     uz_mm - uy_mm / angle_deg.to_radians().tan()
 }
 
+/// The chord of a bending row over the chord of an arc of length `length_mm` with the same
+/// angle, `c α / (L sin α)` with `c = −Uy / sin α`; `NaN` when the angle is not positive.
+pub fn arc_ratio(uy_mm: f64, angle_deg: f64, length_mm: f64) -> f64 {
+    if angle_deg <= 0.0 {
+        return f64::NAN;
+    }
+    let a = angle_deg.to_radians();
+    let chord = -uy_mm / a.sin();
+    chord * a / (length_mm * a.sin())
+}
+
+/// The median support-to-tip distance of the bending rows of each `N`.
+fn lengths_by_n(rec: &Recordings) -> Vec<(usize, f64)> {
+    let mut ns: Vec<usize> = rec.bending.iter().map(|r| r.n_bellows).collect();
+    ns.sort_unstable();
+    ns.dedup();
+    ns.into_iter()
+        .filter_map(|n| {
+            let mut ls: Vec<f64> = rec
+                .bending
+                .iter()
+                .filter(|r| r.n_bellows == n)
+                .map(|r| implied_length(r.tip_uz_mm, r.tip_uy_mm, r.angle_deg))
+                .filter(|l| l.is_finite())
+                .collect();
+            (!ls.is_empty()).then(|| (n, median(&mut ls)))
+        })
+        .collect()
+}
+
+/// Rows whose chord does not fit their angle (see the module documentation).
+fn chord_flags(rec: &Recordings, flags: &mut Vec<DataFlag>) {
+    let lengths = lengths_by_n(rec);
+    let rows: Vec<(usize, f64)> = rec
+        .bending
+        .iter()
+        .enumerate()
+        .filter_map(|(i, r)| {
+            let l = lengths.iter().find(|(n, _)| *n == r.n_bellows)?.1;
+            let q = arc_ratio(r.tip_uy_mm, r.angle_deg, l);
+            q.is_finite().then_some((i, q))
+        })
+        .collect();
+    if rows.len() < 5 {
+        return;
+    }
+    let mut qs: Vec<f64> = rows.iter().map(|r| r.1).collect();
+    let med = median(&mut qs);
+    let mut dev: Vec<f64> = rows.iter().map(|r| (r.1 - med).abs()).collect();
+    let tol = (5.0 * 1.4826 * median(&mut dev)).max(0.05);
+    let outlier = |q: f64| (q - med).abs() > tol;
+    let (lo, hi) = rows
+        .iter()
+        .filter(|r| !outlier(r.1))
+        .fold((f64::INFINITY, f64::NEG_INFINITY), |(lo, hi), r| {
+            (lo.min(r.1), hi.max(r.1))
+        });
+    for &(i, q) in rows.iter().filter(|r| outlier(r.1)) {
+        let r = &rec.bending[i];
+        let a = r.angle_deg.to_radians();
+        let l = lengths
+            .iter()
+            .find(|(n, _)| *n == r.n_bellows)
+            .map_or(f64::NAN, |x| x.1);
+        let (pct, side) = match q >= 1.0 {
+            true => (100.0 * (q - 1.0), "farther"),
+            false => (100.0 * (1.0 - q), "nearer"),
+        };
+        flags.push(DataFlag {
+            config: Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar),
+            recording: Recording::Bending,
+            source: format!("{}, line {}", rec.bending_source, i + 2),
+            message: format!(
+                "the tip lies {:.1} mm from the support at an angle of {}°, {pct:.0} % {side} \
+                 than an arc of the actuator's {l:.1} mm puts it ({:.1} mm); the other rows' \
+                 ratios to their arcs lie in {lo:.2} … {hi:.2} (median {med:.3}, tolerance \
+                 ±{tol:.3}): the angle and the tip cannot both be right",
+                -r.tip_uy_mm / a.sin(),
+                r.angle_deg,
+                l * a.sin() / a,
+            ),
+        });
+    }
+}
+
 /// Runs every check.
 pub fn check(rec: &Recordings) -> Vec<DataFlag> {
     let mut flags = Vec::new();
@@ -102,6 +195,7 @@ pub fn check(rec: &Recordings) -> Vec<DataFlag> {
             }
         }
     }
+    chord_flags(rec, &mut flags);
     // monotonic ramps
     let mut designs: Vec<(usize, f64)> = rec
         .bending
@@ -169,10 +263,21 @@ mod tests {
     use super::*;
 
     #[test]
-    fn the_shipped_inconsistent_row_is_flagged_and_only_it() {
+    fn the_shipped_inconsistent_rows_are_flagged_and_only_they() {
         let rec = Recordings::shipped().unwrap();
         let flags = check(&rec);
-        assert_eq!(flags.len(), 1, "{flags:#?}");
+        assert_eq!(flags.len(), 3, "{flags:#?}");
+        // N = 11, T = 1.6 at 2 and 3 bar: tips 90.2 and 84.8 mm from the support at 51.7° and
+        // 68.7°, where arcs of 92 mm put them at 80.0 and 71.5 mm
+        for (f, p) in flags[1..].iter().zip([2.0, 3.0]) {
+            let c = &f.config;
+            assert_eq!(
+                (c.n_bellows, c.wall_thickness_mm, c.pressure_bar),
+                (11, 1.6, p)
+            );
+            assert!(f.message.contains("farther than an arc"), "{}", f.message);
+        }
+        assert!(flags[2].message.contains("84.8 mm"), "{}", flags[2].message);
         let f = &flags[0];
         assert_eq!(
             (
@@ -184,6 +289,18 @@ mod tests {
         );
         assert!(f.message.contains("95.7 mm"), "{}", f.message);
         assert!(f.source.ends_with("line 11"), "{}", f.source);
+    }
+
+    #[test]
+    fn the_arc_ratio_is_one_on_an_arc() {
+        // an arc of 92 mm turned by 2α at the tip: chord 92 sin α / α at angle α
+        let (l, a) = (92.0_f64, 40.0_f64.to_radians());
+        let chord = l * a.sin() / a;
+        let uy = -chord * a.sin();
+        assert!((arc_ratio(uy, 40.0, l) - 1.0).abs() < 1e-12);
+        assert!(arc_ratio(uy, 0.0, l).is_nan());
+        // a tip moved 10 % farther out along the chord
+        assert!((arc_ratio(1.1 * uy, 40.0, l) - 1.1).abs() < 1e-12);
     }
 
     #[test]

@@ -361,7 +361,8 @@ impl Exclusion {
         })
     }
 
-    fn applies(&self, c: &Config, r: Recording) -> bool {
+    /// Whether it leaves out the row of recording `r` at `c`.
+    pub fn applies(&self, c: &Config, r: Recording) -> bool {
         self.config.same(c) && (self.recording == Recording::Both || self.recording == r)
     }
 }

@@ -108,6 +108,13 @@ pub struct IdentifyArgs {
     /// Model-form floor on the blocked force (N), added in quadrature to its recorded scatter.
     #[arg(long, default_value_t = 0.15)]
     pub model_sigma_force: f64,
+    /// Leave a recorded row out of the fit: N,T,P (both recordings), bending:N,T,P or
+    /// force:N,T,P (repeatable). Its FE values are still reported, marked.
+    #[arg(long, allow_hyphen_values = true)]
+    pub exclude: Vec<String>,
+    /// Also leave out every row the data checks flag (listed in the summary with the reason).
+    #[arg(long)]
+    pub exclude_flagged: bool,
     /// Output directory: report.json, summary.md, the identified geometry (geometry.json) and
     /// the FE cache (fe_ramps/; a rerun resumes from it).
     #[arg(long, default_value = "identify_output")]

@@ -2,7 +2,9 @@
 //! ([`surrogate::calibrate::joint`]).
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
+use surrogate::calibrate::checks::check;
 use surrogate::calibrate::joint::{identify, JointPoint, JointSettings, ModelSigma, Unknown};
+use surrogate::calibrate::objective::Exclusion;
 use surrogate::calibrate::Recordings;
 use surrogate::fe::effects::Effects;
 use surrogate::fe::material::Material;
@@ -77,6 +79,22 @@ pub fn run(a: IdentifyArgs) -> Result<()> {
             Recordings::shipped()?
         }
     };
+    let mut exclude = a
+        .exclude
+        .iter()
+        .map(|e| Exclusion::parse(e))
+        .collect::<Result<Vec<_>, _>>()?;
+    for f in check(&rec) {
+        eprintln!(
+            "data check: {} ({:?}): {}",
+            f.config.label(),
+            f.recording,
+            f.message
+        );
+        if a.exclude_flagged && !exclude.iter().any(|e| e.config.same(&f.config)) {
+            exclude.push(f.exclusion());
+        }
+    }
     let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
     let cache = a.out.join("fe_ramps");
     eprintln!(
@@ -93,6 +111,7 @@ pub fn run(a: IdentifyArgs) -> Result<()> {
         model_sigma,
         cache: Some(cache),
         warm_start: !a.cold,
+        exclude,
     };
     let bar = ProgressBar::new(0);
     bar.set_style(ProgressStyle::with_template(

@@ -12,7 +12,7 @@ use crate::calibrate::baseline::{
     SWEEP_MAX_PRESSURE_INCREMENT, SWEEP_RTOL,
 };
 use crate::calibrate::experiments::bending_error;
-use crate::calibrate::objective::{Recordings, FREE_LENGTH_MM};
+use crate::calibrate::objective::{Config, Recording, Recordings, FREE_LENGTH_MM};
 use crate::calibrate::CalibrateError;
 use crate::fe::campaign::WarmPool;
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
@@ -125,6 +125,8 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
             angle_deg: [b.angle_deg, f64::NAN],
             force_n: [f64::NAN; 2],
             be_mm: f64::NAN,
+            tip_excluded: excluded(s, n, t, p, Recording::Bending),
+            force_excluded: excluded(s, n, t, p, Recording::Force),
         };
         let chord = (FREE_LENGTH_MM - b.tip_uz_mm).hypot(b.tip_uy_mm);
         let st = (chord * b.angle_std_deg.to_radians()).hypot(s.model_sigma.tip_mm);
@@ -134,17 +136,19 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
                 row.uy_mm[1] = v.tip_uy_mm;
                 row.angle_deg[1] = v.angle_deg;
                 row.be_mm = bending_error(b.tip_uz_mm, b.tip_uy_mm, v.tip_uz_mm, v.tip_uy_mm);
-                r.push((v.tip_uz_mm - b.tip_uz_mm) / st);
-                jac.push(d.iter().map(|o| o.tip_uz_mm / st).collect());
-                r.push((v.tip_uy_mm - b.tip_uy_mm) / st);
-                jac.push(d.iter().map(|o| o.tip_uy_mm / st).collect());
-                for output in [Recorded::TipUz, Recorded::TipUy] {
-                    what.push(Residual {
-                        n,
-                        t,
-                        output,
-                        sigma: st,
-                    });
+                if !row.tip_excluded {
+                    r.push((v.tip_uz_mm - b.tip_uz_mm) / st);
+                    jac.push(d.iter().map(|o| o.tip_uz_mm / st).collect());
+                    r.push((v.tip_uy_mm - b.tip_uy_mm) / st);
+                    jac.push(d.iter().map(|o| o.tip_uy_mm / st).collect());
+                    for output in [Recorded::TipUz, Recorded::TipUy] {
+                        what.push(Residual {
+                            n,
+                            t,
+                            output,
+                            sigma: st,
+                        });
+                    }
                 }
             }
             None => errors.push(format!("bending N = {n}, T = {t}, {p} bar")),
@@ -156,6 +160,9 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
         {
             row.force_n[0] = f.force_n;
             match derivs(find(n, t, Mode::Force), p, &params) {
+                Some((v, _)) if row.force_excluded => {
+                    row.force_n[1] = v.force_n.unwrap_or(f64::NAN)
+                }
                 Some((v, d)) => {
                     let fe = v.force_n.unwrap_or(f64::NAN);
                     row.force_n[1] = fe;
@@ -195,6 +202,12 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
     }
 }
 
+/// Whether the settings leave the row of `recording` at `(n, t, p)` out of the fit.
+fn excluded(s: &JointSettings, n: usize, t: f64, p: f64, recording: Recording) -> bool {
+    let c = Config::of(n, t, p);
+    s.exclude.iter().any(|e| e.applies(&c, recording))
+}
+
 /// The outputs at pressure `p` of a ramp and their derivatives by `params`.
 fn derivs(
     ramp: Option<&SweepRamp>,
@@ -216,10 +229,16 @@ fn derivs(
     Some((sens.steps[i].values.clone(), d))
 }
 
+/// Mean tip BE and mean |force error| over the rows fitted (the excluded ones left out).
 pub(super) fn summary_of(rows: &[JointRow]) -> (f64, f64) {
-    let be: Vec<f64> = rows.iter().map(|r| r.be_mm).collect();
+    let be: Vec<f64> = rows
+        .iter()
+        .filter(|r| !r.tip_excluded)
+        .map(|r| r.be_mm)
+        .collect();
     let fe: Vec<f64> = rows
         .iter()
+        .filter(|r| !r.force_excluded)
         .map(|r| (r.force_n[1] - r.force_n[0]).abs())
         .filter(|v| v.is_finite())
         .collect();

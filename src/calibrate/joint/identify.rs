@@ -160,17 +160,26 @@ fn report(
     let held_out = held_out(&cur, &x_opt, bnds, 3);
     let rows = cur.rows;
     let (mean_be_mm, mean_abs_force_error_n) = summary_of(&rows);
-    let nine: Vec<f64> = rows
+    let all: Vec<f64> = rows.iter().map(|r| r.be_mm).collect();
+    let nine_all: Vec<f64> = rows
         .iter()
         .filter(|r| r.paper_nine)
         .map(|r| r.be_mm)
         .collect();
+    let (mean_be_all, mean_be_nine_all) = (mean(&all), mean(&nine_all));
+    let nine: Vec<f64> = rows
+        .iter()
+        .filter(|r| r.paper_nine && !r.tip_excluded)
+        .map(|r| r.be_mm)
+        .collect();
     let da: Vec<f64> = rows
         .iter()
+        .filter(|r| !r.tip_excluded)
         .map(|r| (r.angle_deg[1] - r.angle_deg[0]).powi(2))
         .collect();
     let df: Vec<f64> = rows
         .iter()
+        .filter(|r| !r.force_excluded)
         .map(|r| r.force_n[1] - r.force_n[0])
         .filter(|v| v.is_finite())
         .collect();
@@ -189,5 +198,8 @@ fn report(
         mean_abs_force_error_n,
         mean_force_error_n: mean(&df),
         held_out,
+        excluded: s.exclude.clone(),
+        mean_be_all_mm: (!s.exclude.is_empty()).then_some(mean_be_all),
+        mean_be_paper_nine_all_mm: (!s.exclude.is_empty()).then_some(mean_be_nine_all),
     }
 }

@@ -7,6 +7,7 @@ use serde::{Deserialize, Serialize};
 
 use super::settings::{JointStop, ModelSigma};
 use super::unknown::JointPoint;
+use crate::calibrate::objective::Exclusion;
 use crate::fe::effects::Effect;
 
 /// One FE sweep of the identification.
@@ -52,6 +53,12 @@ pub struct JointRow {
     pub force_n: [f64; 2],
     /// Tip bending error (mm).
     pub be_mm: f64,
+    /// The tip was left out of the fit ([`super::JointSettings::exclude`]).
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub tip_excluded: bool,
+    /// The force was left out of the fit.
+    #[serde(default, skip_serializing_if = "std::ops::Not::not")]
+    pub force_excluded: bool,
 }
 
 /// An unknown at the optimum.
@@ -104,6 +111,16 @@ pub struct JointReport {
     /// Designs held out: every way of leaving 3 of the designs out, linearised around the FE
     /// optimum ([`HeldOut`]).
     pub held_out: HeldOut,
+    /// The rows left out of the fit, and why. The means above are over the rows fitted.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub excluded: Vec<Exclusion>,
+    /// Mean tip BE over every recorded configuration, the excluded ones included (mm); `None`
+    /// when nothing was excluded (then it is `mean_be_mm`).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mean_be_all_mm: Option<f64>,
+    /// The same over the reference study's nine (mm).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub mean_be_paper_nine_all_mm: Option<f64>,
 }
 
 /// Prediction of designs the fit did not see, linearised around the FE optimum: for every
@@ -140,7 +157,7 @@ impl JointReport {
              Model-form floor of the noise model: {} mm on a tip coordinate, {} N on the \
              force.\n\n\
              | | value |\n|---|---|\n\
-             | mean tip BE, all {} configurations | {:.2} mm |\n\
+             | mean tip BE, all {} configurations fitted | {:.2} mm |\n\
              | mean tip BE, the reference study's nine | {:.2} mm |\n\
              | rms angle error | {:.2}° |\n\
              | mean abs. blocked-force error | {:.3} N |\n\
@@ -150,13 +167,32 @@ impl JointReport {
             self.stop,
             self.model_sigma.tip_mm,
             self.model_sigma.force_n,
-            self.rows.len(),
+            self.rows.iter().filter(|r| !r.tip_excluded).count(),
             self.mean_be_mm,
             self.mean_be_paper_nine_mm,
             self.rms_angle_error_deg,
             self.mean_abs_force_error_n,
             self.mean_force_error_n
         ));
+        if !self.excluded.is_empty() {
+            s.push_str(&format!(
+                "Left out of the fit ({} rows; the means above are over the rows fitted; \
+                 their FE values are in the table below, marked): mean tip BE with them, all \
+                 configurations {:.2} mm, the reference study's nine {:.2} mm.\n\n",
+                self.excluded.len(),
+                self.mean_be_all_mm.unwrap_or(f64::NAN),
+                self.mean_be_paper_nine_all_mm.unwrap_or(f64::NAN),
+            ));
+            for e in &self.excluded {
+                let what = match e.recording {
+                    crate::calibrate::objective::Recording::Bending => "bending",
+                    crate::calibrate::objective::Recording::Force => "force",
+                    crate::calibrate::objective::Recording::Both => "bending and force",
+                };
+                s.push_str(&format!("- {} ({what}): {}\n", e.config.label(), e.reason));
+            }
+            s.push('\n');
+        }
         let h = &self.held_out;
         s.push_str(&format!(
             "Designs held out ({} of the designs at a time, all {} ways; linearised refit \
@@ -207,8 +243,9 @@ impl JointReport {
         }
         s.push_str("\n## Configurations at the optimum\n\n| N | T | P | nine | Uz rec/FE | Uy rec/FE | angle rec/FE | F rec/FE | BE |\n|---|---|---|---|---|---|---|---|---|\n");
         for r in &self.rows {
+            let mark = |excluded: bool| if excluded { " (left out)" } else { "" };
             s.push_str(&format!(
-                "| {} | {} | {} | {} | {:.1} / {:.1} | {:.1} / {:.1} | {:.1} / {:.1} | {:.3} / {:.3} | {:.2} |\n",
+                "| {} | {} | {} | {} | {:.1} / {:.1} | {:.1} / {:.1} | {:.1} / {:.1} | {:.3} / {:.3}{} | {:.2}{} |\n",
                 r.n_bellows,
                 r.wall_thickness_mm,
                 r.pressure_bar,
@@ -221,7 +258,9 @@ impl JointReport {
                 r.angle_deg[1],
                 r.force_n[0],
                 r.force_n[1],
-                r.be_mm
+                mark(r.force_excluded),
+                r.be_mm,
+                mark(r.tip_excluded),
             ));
         }
         s

@@ -6,6 +6,7 @@ use std::path::PathBuf;
 use serde::{Deserialize, Serialize};
 
 use super::unknown::{JointPoint, Unknown};
+use crate::calibrate::objective::Exclusion;
 use crate::calibrate::CalibrateError;
 use crate::fe::mesh::MeshOptions;
 
@@ -34,6 +35,10 @@ pub struct JointSettings {
     /// the same answers to the solver's tolerance in a fraction of the Newton iterations. The
     /// first sweep, and the ramps of a sweep that follows one read from the cache, start cold.
     pub warm_start: bool,
+    /// Recorded rows left out of the fit (by the user, or flagged by the data checks,
+    /// [`crate::calibrate::checks`]): their FE values are still computed and reported, marked,
+    /// and the means are given without and with them.
+    pub exclude: Vec<Exclusion>,
 }
 
 /// The model-form floor of the identification's noise model: added in quadrature to each

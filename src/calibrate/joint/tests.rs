@@ -263,3 +263,38 @@ fn unknowns_are_named_and_biases_refused() {
         (-12.0, -0.5)
     );
 }
+
+/// A row left out of the fit is reported but not counted in the means; an exclusion names
+/// the recording it leaves out.
+#[test]
+fn excluded_rows_are_reported_but_not_averaged() {
+    use super::evaluation::summary_of;
+    use super::report::JointRow;
+    use crate::calibrate::objective::{Config, Exclusion, Recording};
+    let row = |be: f64, f_err: f64, tip_excluded: bool, force_excluded: bool| JointRow {
+        n_bellows: 11,
+        wall_thickness_mm: 1.6,
+        pressure_bar: 2.0,
+        paper_nine: false,
+        uz_mm: [0.0; 2],
+        uy_mm: [0.0; 2],
+        angle_deg: [0.0; 2],
+        force_n: [1.0, 1.0 + f_err],
+        be_mm: be,
+        tip_excluded,
+        force_excluded,
+    };
+    let rows = [
+        row(2.0, 0.1, false, false),
+        row(4.0, -0.3, false, false),
+        row(15.0, 0.2, true, false),
+        row(3.0, 1.0, false, true),
+    ];
+    let (be, f) = summary_of(&rows);
+    assert!((be - 3.0).abs() < 1e-12, "{be}");
+    assert!((f - 0.2).abs() < 1e-12, "{f}");
+    let e = Exclusion::parse("bending:11,1.6,2").unwrap();
+    let c = Config::of(11, 1.6, 2.0);
+    assert!(e.applies(&c, Recording::Bending) && !e.applies(&c, Recording::Force));
+    assert!(!e.applies(&Config::of(11, 1.6, 3.0), Recording::Bending));
+}
