@@ -44,6 +44,32 @@ pub const FREE_LENGTH_RANGE: (f64, f64) = (86.0, 98.0);
 pub const GAP_FLOOR_RANGE: (f64, f64) = (0.0, 9.0);
 /// Physical range of the cavities' corner blocks (mm).
 pub const CAVITY_FILLET_RANGE: (f64, f64) = (0.0, 3.0);
+/// Range of [`WallLaw::offset_mm`] (mm): about a perimeter's width either way.
+pub const WALL_LAW_OFFSET_RANGE: (f64, f64) = (-0.6, 0.6);
+/// Range of [`WallLaw::inverse_cavity_mm2`] (mm²): up to ±1.5 mm at the shortest cavity of
+/// the recorded designs (2 mm).
+pub const WALL_LAW_INVERSE_CAVITY_RANGE: (f64, f64) = (-3.0, 3.0);
+
+/// Walls printed off nominal by an amount that depends on the design: every wall of design
+/// `(N, T)` (the walls facing the gaps, the tops and the side walls) is thicker than drawn by
+/// `offset_mm + inverse_cavity_mm2 / c`, with `c = Lf / N − g − 2T` the drawn cavity's length
+/// along the actuator. A print whose perimeters crowd a short cavity has `inverse_cavity_mm2 >
+/// 0`.
+#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct WallLaw {
+    /// The offset of every design (mm).
+    pub offset_mm: f64,
+    /// The part that grows as the cavity gets shorter (mm²).
+    pub inverse_cavity_mm2: f64,
+}
+
+impl WallLaw {
+    /// The offset of the walls of a design with this drawn cavity length (mm).
+    pub fn offset(&self, cavity_mm: f64) -> f64 {
+        self.offset_mm + self.inverse_cavity_mm2 / cavity_mm
+    }
+}
 
 /// Errors of a geometry preset.
 #[derive(Debug, Error)]
@@ -119,6 +145,9 @@ pub struct Geometry {
     /// ([`DesignParams::part_stiffness`]); `None`: every part as the material.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub part_stiffness: Option<PartStiffness>,
+    /// Walls off nominal by a law of the cavity length ([`WallLaw`]); `None`: as drawn.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub wall_law: Option<WallLaw>,
 }
 
 impl Default for Geometry {
@@ -141,6 +170,7 @@ impl Geometry {
             gap_floor_mm: None,
             cavity_fillet_mm: None,
             part_stiffness: None,
+            wall_law: None,
         }
     }
 
@@ -155,6 +185,7 @@ impl Geometry {
             && self.gap_floor_mm.is_none()
             && self.cavity_fillet_mm.is_none()
             && self.part_stiffness.is_none()
+            && self.wall_law.is_none()
     }
 
     /// A named preset (`as_modelled`) or a preset file (a path ending in `.json`).
@@ -200,10 +231,10 @@ impl Geometry {
                     value,
                     lo,
                     hi,
-                    unit: if field.starts_with("part_stiffness") {
-                        ""
-                    } else {
-                        " mm"
+                    unit: match field {
+                        f if f.starts_with("part_stiffness") => "",
+                        "wall_law.inverse_cavity_mm2" => " mm²",
+                        _ => " mm",
                     },
                 })
             }
@@ -224,6 +255,14 @@ impl Geometry {
         }
         if let Some(r) = self.cavity_fillet_mm {
             check("cavity_fillet_mm", r, CAVITY_FILLET_RANGE)?;
+        }
+        if let Some(w) = &self.wall_law {
+            check("wall_law.offset_mm", w.offset_mm, WALL_LAW_OFFSET_RANGE)?;
+            check(
+                "wall_law.inverse_cavity_mm2",
+                w.inverse_cavity_mm2,
+                WALL_LAW_INVERSE_CAVITY_RANGE,
+            )?;
         }
         if let Some(k) = &self.part_stiffness {
             for (name, v) in k.fields() {
@@ -254,7 +293,19 @@ impl Geometry {
         p.gap_floor = self.gap_floor_mm;
         p.cavity_fillet = self.cavity_fillet_mm;
         p.part_stiffness = self.part_stiffness;
+        if let Some(w) = &self.wall_law {
+            let d = w.offset(self.cavity_length(n, t));
+            p.bellow_wall_thickness = Some(t + d);
+            p.skin_thickness = Some(t + d);
+            p.side_wall_thickness = p.side_wall_thickness.map(|s| s + d);
+        }
         p
+    }
+
+    /// The drawn cavity length along the actuator of design `(n, t)`, `Lf / N − g − 2T` (mm):
+    /// what [`WallLaw`] reads.
+    pub fn cavity_length(&self, n: usize, t: f64) -> f64 {
+        self.free_length_mm / n as f64 - self.gap_mm - 2.0 * t
     }
 
     /// The validated design `(n, t)` with these dimensions.
@@ -343,12 +394,33 @@ mod tests {
         });
         let d = g.design(11, 2.0).unwrap();
         assert_eq!(d.params().part_stiffness.unwrap().gap_walls, 2.0);
+        // a law of the cavity length: every wall of the design off by a + b / c
+        let mut g = Geometry::as_modelled();
+        g.side_wall_mm = Some(2.5);
+        g.wall_law = Some(WallLaw {
+            offset_mm: -0.3,
+            inverse_cavity_mm2: 0.5,
+        });
+        let c = g.cavity_length(13, 2.4);
+        assert!((c - (92.0 / 13.0 - 1.0 - 4.8)).abs() < 1e-12);
+        let d = g.design(13, 2.4).unwrap();
+        let off = -0.3 + 0.5 / c;
+        assert!((d.bellow_wall() - (2.4 + off)).abs() < 1e-12);
+        assert!((d.skin() - (2.4 + off)).abs() < 1e-12);
+        assert!((d.side_wall() - (2.5 + off)).abs() < 1e-12);
+        g.wall_law = Some(WallLaw {
+            offset_mm: 0.0,
+            inverse_cavity_mm2: 3.5,
+        });
+        let e = g.design(11, 2.0).unwrap_err().to_string();
+        assert!(e.contains("wall_law.inverse_cavity_mm2 = 3.5 mm²"), "{e}");
         // a preset without them reads as before, and writes no key for them
         let text = serde_json::to_string(&Geometry::as_modelled()).unwrap();
         assert!(
             !text.contains("gap_floor")
                 && !text.contains("cavity_fillet")
                 && !text.contains("part_stiffness")
+                && !text.contains("wall_law")
         );
     }
 

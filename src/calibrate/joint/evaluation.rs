@@ -54,6 +54,17 @@ pub(super) enum Recorded {
     Force,
 }
 
+/// The distinct parameters whose sensitivities the unknowns read, in the unknowns' order.
+fn parameters(s: &JointSettings) -> Vec<Parameter> {
+    let mut out: Vec<Parameter> = Vec::new();
+    for u in &s.unknowns {
+        if !out.contains(&u.parameter()) {
+            out.push(u.parameter());
+        }
+    }
+    out
+}
+
 /// The sweep settings of a point.
 fn sweep_settings(
     s: &JointSettings,
@@ -69,7 +80,7 @@ fn sweep_settings(
     let mut settings = SweepSettings {
         geometry: x.geometry.clone(),
         effects: x.effects.clone(),
-        sensitivities: s.unknowns.iter().map(|u| u.parameter()).collect(),
+        sensitivities: parameters(s),
         warm: pool.cloned(),
         warm_point: s.unknowns.iter().map(|&u| x.get(u)).collect(),
         ..SweepSettings::new(material, s.mesh)
@@ -97,10 +108,15 @@ pub(super) fn evaluate(
     let settings = sweep_settings(s, x, pool)?;
     let cache = s.cache.as_ref().map(|c| c.join(format!("sweep_{k:02}")));
     let ramps = run_ramps(&settings, &designs(rec), cache.as_deref(), progress)?;
-    Ok(residuals(s, rec, &ramps))
+    Ok(residuals(s, rec, x, &ramps))
 }
 
-fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evaluation {
+fn residuals(
+    s: &JointSettings,
+    rec: &Recordings,
+    x: &JointPoint,
+    ramps: &[SweepRamp],
+) -> Evaluation {
     let k = s.unknowns.len();
     let params: Vec<Parameter> = s.unknowns.iter().map(|u| u.parameter()).collect();
     let mut r = Vec::new();
@@ -115,6 +131,11 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
     };
     for b in &rec.bending {
         let (n, t, p) = (b.n_bellows, b.wall_thickness_mm, b.pressure_bar);
+        let fac: Vec<f64> = s
+            .unknowns
+            .iter()
+            .map(|u| u.design_factor(&x.geometry, n, t))
+            .collect();
         let mut row = JointRow {
             n_bellows: n,
             wall_thickness_mm: t,
@@ -138,9 +159,19 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
                 row.be_mm = bending_error(b.tip_uz_mm, b.tip_uy_mm, v.tip_uz_mm, v.tip_uy_mm);
                 if !row.tip_excluded {
                     r.push((v.tip_uz_mm - b.tip_uz_mm) / st);
-                    jac.push(d.iter().map(|o| o.tip_uz_mm / st).collect());
+                    jac.push(
+                        d.iter()
+                            .zip(&fac)
+                            .map(|(o, f)| f * o.tip_uz_mm / st)
+                            .collect(),
+                    );
                     r.push((v.tip_uy_mm - b.tip_uy_mm) / st);
-                    jac.push(d.iter().map(|o| o.tip_uy_mm / st).collect());
+                    jac.push(
+                        d.iter()
+                            .zip(&fac)
+                            .map(|(o, f)| f * o.tip_uy_mm / st)
+                            .collect(),
+                    );
                     for output in [Recorded::TipUz, Recorded::TipUy] {
                         what.push(Residual {
                             n,
@@ -174,7 +205,12 @@ fn residuals(s: &JointSettings, rec: &Recordings, ramps: &[SweepRamp]) -> Evalua
                         output: Recorded::Force,
                         sigma: sf,
                     });
-                    jac.push(d.iter().map(|o| o.force_n.unwrap_or(0.0) / sf).collect());
+                    jac.push(
+                        d.iter()
+                            .zip(&fac)
+                            .map(|(o, f)| f * o.force_n.unwrap_or(0.0) / sf)
+                            .collect(),
+                    );
                 }
                 None => errors.push(format!("force N = {n}, T = {t}, {p} bar")),
             }

@@ -298,3 +298,30 @@ fn excluded_rows_are_reported_but_not_averaged() {
     assert!(e.applies(&c, Recording::Bending) && !e.applies(&c, Recording::Force));
     assert!(!e.applies(&Config::of(11, 1.6, 3.0), Recording::Bending));
 }
+
+/// The wall law's two unknowns read the sensitivity to every wall's offset, the second scaled
+/// by the design's inverse cavity length, and live in the point's geometry.
+#[test]
+fn the_wall_law_unknowns_scale_the_wall_derivative_by_design() {
+    use super::unknown::JointPoint;
+    use crate::fe::effects::Effects;
+    use crate::fe::preset::Geometry;
+    let a = Unknown::from_name("wall_law_offset").unwrap();
+    let b = Unknown::from_name("wall_law_inverse_cavity").unwrap();
+    assert_eq!(a.parameter(), Parameter::Effect(Effect::WallBias));
+    assert_eq!(b.parameter(), Parameter::Effect(Effect::WallBias));
+    let mut x = JointPoint {
+        ogden: [1.13, 3.11, -13.17, -0.6],
+        geometry: Geometry::as_modelled(),
+        effects: Effects::default(),
+    };
+    assert_eq!((x.get(a), x.get(b)), (0.0, 0.0));
+    x.set(b, 1.2).unwrap();
+    x.set(a, -0.3).unwrap();
+    let w = x.geometry.wall_law.unwrap();
+    assert_eq!((w.offset_mm, w.inverse_cavity_mm2), (-0.3, 1.2));
+    let c = 92.0 / 13.0 - 1.0 - 2.0 * 2.4;
+    assert!((b.design_factor(&x.geometry, 13, 2.4) - 1.0 / c).abs() < 1e-12);
+    assert_eq!(a.design_factor(&x.geometry, 13, 2.4), 1.0);
+    assert_eq!(bounds(b, 0.0), (-3.0, 3.0));
+}

@@ -7,7 +7,8 @@ use crate::calibrate::CalibrateError;
 use crate::fe::effects::{Effect, Effects};
 use crate::fe::geometry::PRINTED_WALL_RANGE;
 use crate::fe::preset::{
-    Geometry, BASE_RANGE, DUCT_HALF_WIDTH_RANGE, FREE_LENGTH_RANGE, GAP_RANGE,
+    Geometry, WallLaw, BASE_RANGE, DUCT_HALF_WIDTH_RANGE, FREE_LENGTH_RANGE, GAP_RANGE,
+    WALL_LAW_INVERSE_CAVITY_RANGE, WALL_LAW_OFFSET_RANGE,
 };
 use crate::fe::sensitivity::{OgdenParameter, Parameter};
 
@@ -26,6 +27,11 @@ pub enum Unknown {
     SideWall,
     /// Free length (mm).
     FreeLength,
+    /// The walls' offset shared by every design, [`WallLaw::offset_mm`] (mm).
+    WallLawOffset,
+    /// The walls' offset growing as the cavity gets shorter, [`WallLaw::inverse_cavity_mm2`]
+    /// (mm²).
+    WallLawInverseCavity,
     /// An effect of the library at one value for every ramp.
     Effect(Effect),
 }
@@ -40,6 +46,8 @@ impl Unknown {
             Unknown::Duct => "duct".into(),
             Unknown::SideWall => "side_wall".into(),
             Unknown::FreeLength => "free_length".into(),
+            Unknown::WallLawOffset => "wall_law_offset".into(),
+            Unknown::WallLawInverseCavity => "wall_law_inverse_cavity".into(),
             Unknown::Effect(e) => e.name().to_string(),
         }
     }
@@ -55,6 +63,8 @@ impl Unknown {
             "duct" => Unknown::Duct,
             "side_wall" => Unknown::SideWall,
             "free_length" => Unknown::FreeLength,
+            "wall_law_offset" => Unknown::WallLawOffset,
+            "wall_law_inverse_cavity" => Unknown::WallLawInverseCavity,
             n => match Parameter::from_name(n) {
                 Ok(Parameter::Material(m)) => Unknown::Material(m),
                 Ok(Parameter::Effect(e)) => match e {
@@ -76,8 +86,9 @@ impl Unknown {
                     return Err(CalibrateError::input(
                         "unknown",
                         n,
-                        "mu1, alpha1, mu2, alpha2, gap, base, duct, side_wall, free_length or \
-                         an effect name (surrogate effects)",
+                        "mu1, alpha1, mu2, alpha2, gap, base, duct, side_wall, free_length, \
+                         wall_law_offset, wall_law_inverse_cavity or an effect name (surrogate \
+                         effects)",
                     ))
                 }
             },
@@ -93,7 +104,20 @@ impl Unknown {
             Unknown::Duct => Parameter::Effect(Effect::DuctBias),
             Unknown::SideWall => Parameter::Effect(Effect::WallBiasSide),
             Unknown::FreeLength => Parameter::Effect(Effect::FreeLengthBias),
+            Unknown::WallLawOffset | Unknown::WallLawInverseCavity => {
+                Parameter::Effect(Effect::WallBias)
+            }
             Unknown::Effect(e) => Parameter::Effect(e),
+        }
+    }
+
+    /// The factor from [`Self::parameter`]'s derivative to this unknown's at design `(n, t)`
+    /// of `geometry`: 1, except `1 / c` for [`Unknown::WallLawInverseCavity`] (the walls of
+    /// that design move by `δb / c`).
+    pub fn design_factor(self, geometry: &Geometry, n: usize, t: f64) -> f64 {
+        match self {
+            Unknown::WallLawInverseCavity => 1.0 / geometry.cavity_length(n, t),
+            _ => 1.0,
         }
     }
 }
@@ -120,6 +144,8 @@ impl JointPoint {
             Unknown::Duct => g.duct_half_width_mm,
             Unknown::SideWall => g.side_wall_mm.unwrap_or(f64::NAN),
             Unknown::FreeLength => g.free_length_mm,
+            Unknown::WallLawOffset => g.wall_law.map_or(0.0, |w| w.offset_mm),
+            Unknown::WallLawInverseCavity => g.wall_law.map_or(0.0, |w| w.inverse_cavity_mm2),
             Unknown::Effect(e) => self.effects.get(e),
         }
     }
@@ -137,6 +163,16 @@ impl JointPoint {
             Unknown::Duct => g.duct_half_width_mm = v,
             Unknown::SideWall => g.side_wall_mm = Some(v),
             Unknown::FreeLength => g.free_length_mm = v,
+            Unknown::WallLawOffset | Unknown::WallLawInverseCavity => {
+                let w = g.wall_law.get_or_insert(WallLaw {
+                    offset_mm: 0.0,
+                    inverse_cavity_mm2: 0.0,
+                });
+                match u {
+                    Unknown::WallLawOffset => w.offset_mm = v,
+                    _ => w.inverse_cavity_mm2 = v,
+                }
+            }
             Unknown::Effect(e) => self
                 .effects
                 .set(e, v)
@@ -160,6 +196,8 @@ pub fn bounds(u: Unknown, x0: f64) -> (f64, f64) {
         Unknown::Duct => DUCT_HALF_WIDTH_RANGE,
         Unknown::SideWall => PRINTED_WALL_RANGE,
         Unknown::FreeLength => FREE_LENGTH_RANGE,
+        Unknown::WallLawOffset => WALL_LAW_OFFSET_RANGE,
+        Unknown::WallLawInverseCavity => WALL_LAW_INVERSE_CAVITY_RANGE,
         Unknown::Effect(e) => e.info().range,
     }
 }
