@@ -60,7 +60,9 @@ pub enum Command {
 #[derive(Debug, Args)]
 pub struct IdentifyArgs {
     /// The unknowns, comma-separated: mu1, alpha1, mu2, alpha2, gap, base, duct, side_wall,
-    /// free_length, or an effect name (plate_offset, wall_bias_bellows, clamp_compliance, …).
+    /// free_length, wall_law_offset, wall_law_inverse_cavity (every wall of a design off by
+    /// offset + inverse_cavity / c, c its drawn cavity length), or an effect name
+    /// (plate_offset, wall_bias_bellows, clamp_compliance, …).
     #[arg(
         long,
         default_value = "mu1,alpha1,mu2,alpha2,gap,side_wall,base,plate_offset"
