@@ -46,6 +46,7 @@ impl<P: NonlinearProblem> Solver<'_, P> {
             factorizations: 0,
             stabilized: false,
             warm_start: false,
+            homotopy_steps: 0,
         };
         let (f0, a0) = (self.factor_seconds, self.assembly_seconds);
         let n0 = self.linear.factorizations;

@@ -42,7 +42,8 @@
 //!   ([`SolverSettings::reuse_factor`]) saves 13 % on the standard mesh and is the default
 //!   (results computed before keep their cache keys, see its docs).
 //! - **Warm starts.** In a campaign the neighbouring case's converged state is a far better
-//!   start than the undeformed actuator ([`warm`]): about a tenth of the iterations.
+//!   start than the undeformed actuator ([`warm`]): about a tenth of the iterations. Where
+//!   Newton fails from it, a Newton homotopy from that state is tried before the load path.
 //!
 //! The measurements behind each of these choices (iteration counts and wall times of the
 //! alternatives that were tried) are recorded in `docs/SOLVER_MEASUREMENTS.md`.
@@ -101,6 +102,12 @@ pub struct Solver<'m, P: NonlinearProblem = FeModel> {
     stab: Option<Stabilization>,
     /// Force scale of the last Newton iteration's convergence test.
     last_force_scale: f64,
+    /// The Newton homotopy's residual at its start on the free unknowns ([`warm`]), kept
+    /// between its steps (empty until the first homotopy).
+    homotopy_r0: Vec<f64>,
+    /// Weight `1 − t` of `homotopy_r0` taken off the residual while a homotopy step is
+    /// solved; 0 otherwise.
+    homotopy_weight: f64,
 }
 
 impl<'m, P: NonlinearProblem> Solver<'m, P> {
@@ -130,6 +137,8 @@ impl<'m, P: NonlinearProblem> Solver<'m, P> {
             stab: None,
             last_force_scale: 0.0,
             force_scale: model.force_floor(),
+            homotopy_r0: Vec::new(),
+            homotopy_weight: 0.0,
         })
     }
 
@@ -139,8 +148,9 @@ impl<'m, P: NonlinearProblem> Solver<'m, P> {
     }
 
     /// Residual (and tangent) at `u_full`, the expansion of `u_free` at `level`; with the
-    /// stabilised continuation on, its viscous term is added on the free unknowns. Returns
-    /// the norm of the external forces on the free unknowns.
+    /// stabilised continuation on, its viscous term is added on the free unknowns, and during
+    /// a homotopy step ([`warm`]) `(1 − t) r₀` is taken off them. Returns the norm of the
+    /// external forces on the free unknowns.
     pub(super) fn assemble(
         &mut self,
         u_free: &[f64],
@@ -155,6 +165,12 @@ impl<'m, P: NonlinearProblem> Solver<'m, P> {
             .model
             .residual(u_full, level, &mut self.r_full, k, tp)?;
         self.model.restrict(&self.r_full, &mut self.r_free);
+        if self.homotopy_weight != 0.0 {
+            let w = self.homotopy_weight;
+            for (r, r0) in self.r_free.iter_mut().zip(&self.homotopy_r0) {
+                *r -= w * r0;
+            }
+        }
         if let Some(st) = &self.stab {
             for (((r, c), u), u0) in self
                 .r_free

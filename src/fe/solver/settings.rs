@@ -312,6 +312,12 @@ pub struct StepReport {
     /// ([`super::warm`]), not along the path from the previous level.
     #[serde(default, skip_serializing_if = "is_false")]
     pub warm_start: bool,
+    /// Newton solves of the homotopy ([`super::warm`]) tried at this step where a warm
+    /// start's direct Newton failed, the halved ones included; their iterations are in
+    /// [`Self::newton_iterations`]. The step was reached by it if [`Self::warm_start`] is set,
+    /// along the path after it otherwise. Reports written before it existed read as 0.
+    #[serde(default, skip_serializing_if = "is_zero")]
+    pub homotopy_steps: usize,
 }
 
 /// Why a solve stopped.

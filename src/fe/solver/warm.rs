@@ -9,21 +9,41 @@
 //! mode violate J = 1 at second order, see [`super`]); from a neighbour's converged state,
 //! shifted by `(∂u/∂θ) Δθ`, Newton starts close to the quadratic phase.
 //!
+//! **Where Newton fails from the guess** (the neighbour too far away in the parameters, or an
+//! element inverts), the level is tried in this order ([`solve_path_guided`]):
+//!
+//! 1. Newton from the guess's second start ([`LevelGuess::fallback`], the neighbour's state
+//!    as it is where the first start was moved by the sensitivities), if it has one;
+//! 2. a Newton homotopy ([`Solver::homotopy`]), a continuation in the parameter that needs
+//!    nothing from the model but its residual: with `u₀` the start with the smaller residual
+//!    and `r₀ = r(u₀)` that residual on the free unknowns (this case's model, the target
+//!    level, the guess's contact gap shifts), `r(u) = (1 − t) r₀` is solved for `t` from 0
+//!    (where `u₀` is the solution) to 1 (the problem itself). Each step is a Newton solve from
+//!    the solution of the step before; the first step is a quarter of the way, a step
+//!    that converged in at most four iterations is followed by one twice as long, a step that
+//!    failed is retried at half the length from the state before it, and after four halvings
+//!    the homotopy gives up. Steps before `t = 1` are solved to a normalised residual of
+//!    1e-3 (they only carry the state along); `t = 1` to the settings' tolerance;
+//! 3. the load path from this case's previous level, as if no guess had been given.
+//!
+//! Whatever was tried before the level was reached, its Newton iterations are counted in
+//! the step's report ([`StepReport::newton_iterations`]), the homotopy's solves in
+//! [`StepReport::homotopy_steps`].
+//!
 //! **Same answers.** The guess only starts the iteration: Newton at the output level converges
-//! to the same residual tolerance as the path does, and the augmented-Lagrangian updates then
-//! run as after any step (starting from the neighbour's contact gap shifts, which are already
-//! close to the multipliers of this case). If Newton fails from the guess (too far, or an
-//! element inverts), the state goes back to the previous level of this case and the level is
-//! taken along the path as if no guess had been given; its iterations are counted in the
-//! step's report either way.
+//! to the same residual tolerance as the path does (the homotopy's last step included), and
+//! the augmented-Lagrangian updates then run as after any step (starting from the neighbour's
+//! contact gap shifts, which are already close to the multipliers of this case). A start that
+//! fails leaves the state and the contact gap shifts as they were.
 //!
 //! The guess carries the neighbour's contact gap shifts: a guess from another model (another
 //! number of unknowns or contact points) is not used ([`LevelGuess::fits`]).
 
+use super::newton::NewtonOutcome;
 use super::problem::NonlinearProblem;
 use super::settings::{SolverError, SolverKind, SolverSettings, StepReport};
 use super::state::PathState;
-use super::Solver;
+use super::{norm, Solver};
 use crate::fe::assembly::LoadLevel;
 
 /// A starting point for one output level: a converged state of a neighbouring case.
@@ -34,7 +54,7 @@ pub struct LevelGuess {
     /// The contact gap shifts (augmented-Lagrangian multipliers) to start with.
     pub shifts: Vec<f64>,
     /// A second start tried if Newton fails from `u_full` (the neighbour's state as it is,
-    /// when `u_full` was extrapolated from it), before the load path.
+    /// when `u_full` was extrapolated from it), before the homotopy and the load path.
     pub fallback: Option<Vec<f64>>,
 }
 
@@ -45,6 +65,33 @@ impl LevelGuess {
         self.u_full.len() == model.n_full() && self.shifts.len() == model.contact_shifts().len()
     }
 }
+
+/// What a warm start that did not reach its level spent: the Newton iterations and the
+/// homotopy's solves (0 for a direct jump).
+#[derive(Clone, Copy, Debug, Default, PartialEq, Eq)]
+pub struct Spent {
+    /// Newton iterations.
+    pub iterations: usize,
+    /// Newton solves of the homotopy, the halved ones included.
+    pub homotopy_steps: usize,
+}
+
+/// The homotopy's first step of `t`.
+const HOMOTOPY_FIRST_STEP: f64 = 0.25;
+
+/// A homotopy step that converged in at most this many Newton iterations is followed by one
+/// [`HOMOTOPY_GROWTH`] times as long.
+const HOMOTOPY_EASY_ITERATIONS: usize = 4;
+
+/// Growth of the homotopy's step after an easy one.
+const HOMOTOPY_GROWTH: f64 = 2.0;
+
+/// Halvings of the homotopy's step after which it gives up.
+const HOMOTOPY_MAX_HALVINGS: usize = 4;
+
+/// Normalised residual tolerance of the homotopy's steps before `t = 1` (the settings'
+/// `rtol` where that is looser); `t = 1` is solved to the settings' `rtol`.
+const HOMOTOPY_INTERMEDIATE_RTOL: f64 = 1e-3;
 
 impl<P: NonlinearProblem> Solver<'_, P> {
     /// Solves `target` by Newton from `guess`. On success `state` is at `target` (the state it
@@ -59,23 +106,30 @@ impl<P: NonlinearProblem> Solver<'_, P> {
         target: LoadLevel,
         guess: &LevelGuess,
     ) -> Result<Result<StepReport, usize>, SolverError> {
+        self.jump_from(state, target, &guess.u_full, &guess.shifts)
+    }
+
+    /// [`Self::jump`] from the full displacement `u_full` with the contact gap shifts `shifts`.
+    fn jump_from(
+        &mut self,
+        state: &mut PathState,
+        target: LoadLevel,
+        u_full: &[f64],
+        shifts: &[f64],
+    ) -> Result<Result<StepReport, usize>, SolverError> {
         let (f0, a0) = (self.factor_seconds, self.assembly_seconds);
         let n0 = self.linear.factorizations;
         let saved_u = state.u_free.clone();
         let saved_shifts = self.model.contact_shifts();
-        self.model.restrict(&guess.u_full, &mut state.u_free);
-        self.model.set_contact_shifts(&guess.shifts);
+        self.model.restrict(u_full, &mut state.u_free);
+        self.model.set_contact_shifts(shifts);
         self.stab = None;
         let out = self.newton(state, &target, false)?;
         if self.settings.trace {
             eprintln!(
                 "  warm start at p={:.4}: {} after {} iterations",
                 target.pressure,
-                if out.converged {
-                    "converged"
-                } else {
-                    "failed, along the path instead"
-                },
+                if out.converged { "converged" } else { "failed" },
                 out.iterations
             );
         }
@@ -86,6 +140,169 @@ impl<P: NonlinearProblem> Solver<'_, P> {
                 .expand(&state.u_free, &state.level, &mut state.u_full);
             return Ok(Err(out.iterations));
         }
+        Ok(Ok(self.arrive(
+            state,
+            target,
+            saved_u,
+            out,
+            (f0, a0, n0),
+            0,
+        )))
+    }
+
+    /// Solves `target` by a Newton homotopy from the start among `starts` (full displacements)
+    /// with the smallest residual, with the contact gap shifts `shifts`: with `r₀` the
+    /// residual there, `r(u) = (1 − t) r₀` is solved for `t` stepping from 0 to 1, each step
+    /// by Newton from the solution of the step before; a step that fails is halved (from the
+    /// state before it), one that converges quickly is followed by a larger one. `t = 1` is
+    /// the problem itself, solved to the settings' tolerance. On success `state` is at
+    /// `target` as after [`Self::jump`]; after too many halvings `state` and the contact
+    /// shifts are as before and what was spent is returned.
+    ///
+    /// # Errors
+    /// A failed factorisation.
+    pub fn homotopy(
+        &mut self,
+        state: &mut PathState,
+        target: LoadLevel,
+        starts: &[&[f64]],
+        shifts: &[f64],
+    ) -> Result<Result<StepReport, Spent>, SolverError> {
+        let (f0, a0) = (self.factor_seconds, self.assembly_seconds);
+        let n0 = self.linear.factorizations;
+        let saved_u = state.u_free.clone();
+        let saved_shifts = self.model.contact_shifts();
+        self.model.set_contact_shifts(shifts);
+        self.stab = None;
+        self.homotopy_weight = 0.0;
+        self.homotopy_r0.resize(self.model.n_free(), 0.0);
+        // r₀ at the start with the smallest residual
+        let mut u_full = std::mem::take(&mut state.u_full);
+        let mut best: Option<(usize, f64)> = None;
+        for (k, u0) in starts.iter().enumerate() {
+            self.model.restrict(u0, &mut state.u_free);
+            self.model.expand(&state.u_free, &target, &mut u_full);
+            if self
+                .assemble(&state.u_free, &u_full, &target, false)
+                .is_err()
+            {
+                continue;
+            }
+            let rn = norm(&self.r_free);
+            if rn.is_finite() && best.is_none_or(|(_, b)| rn < b) {
+                self.homotopy_r0.copy_from_slice(&self.r_free);
+                best = Some((k, rn));
+            }
+        }
+        state.u_full = u_full;
+        let outcome = match best {
+            Some((k, _)) => {
+                self.model.restrict(starts[k], &mut state.u_free);
+                let walked = self.homotopy_walk(state, &target);
+                self.homotopy_weight = 0.0;
+                walked?
+            }
+            None => (None, Spent::default()),
+        };
+        let (out, spent) = outcome;
+        if self.settings.trace {
+            eprintln!(
+                "  homotopy at p={:.4}: {} after {} steps, {} iterations",
+                target.pressure,
+                if out.is_some() {
+                    "converged"
+                } else {
+                    "failed, along the path instead"
+                },
+                spent.homotopy_steps,
+                spent.iterations
+            );
+        }
+        let Some(mut out) = out else {
+            state.u_free = saved_u;
+            self.model.set_contact_shifts(&saved_shifts);
+            self.model
+                .expand(&state.u_free, &state.level, &mut state.u_full);
+            return Ok(Err(spent));
+        };
+        out.iterations = spent.iterations;
+        Ok(Ok(self.arrive(
+            state,
+            target,
+            saved_u,
+            out,
+            (f0, a0, n0),
+            spent.homotopy_steps,
+        )))
+    }
+
+    /// The homotopy's steps from `state.u_free` (its start, `r₀` in `homotopy_r0`): the last
+    /// Newton outcome if `t = 1` was reached, and what was spent.
+    fn homotopy_walk(
+        &mut self,
+        state: &mut PathState,
+        target: &LoadLevel,
+    ) -> Result<(Option<NewtonOutcome>, Spent), SolverError> {
+        let rtol = self.settings.rtol;
+        let mut spent = Spent::default();
+        let (mut t, mut dt, mut halvings) = (0.0, HOMOTOPY_FIRST_STEP, 0);
+        // the solution at t, restored when a step fails
+        let mut at_t = state.u_free.clone();
+        loop {
+            let mut t_next = t + dt;
+            if t_next > 1.0 - 1e-9 {
+                t_next = 1.0;
+            }
+            self.homotopy_weight = 1.0 - t_next;
+            if t_next < 1.0 {
+                self.settings.rtol = rtol.max(HOMOTOPY_INTERMEDIATE_RTOL);
+            }
+            let out = self.newton(state, target, false);
+            self.settings.rtol = rtol;
+            let out = out?;
+            spent.iterations += out.iterations;
+            spent.homotopy_steps += 1;
+            if self.settings.trace {
+                eprintln!(
+                    "  homotopy t = {t_next:.4}: {} after {} iterations",
+                    if out.converged { "converged" } else { "failed" },
+                    out.iterations
+                );
+            }
+            if out.converged {
+                if t_next == 1.0 {
+                    return Ok((Some(out), spent));
+                }
+                at_t.copy_from_slice(&state.u_free);
+                let taken = t_next - t;
+                t = t_next;
+                dt = if out.iterations <= HOMOTOPY_EASY_ITERATIONS {
+                    HOMOTOPY_GROWTH * taken
+                } else {
+                    taken
+                };
+            } else {
+                state.u_free.copy_from_slice(&at_t);
+                halvings += 1;
+                if halvings > HOMOTOPY_MAX_HALVINGS {
+                    return Ok((None, spent));
+                }
+                dt = 0.5 * (t_next - t);
+            }
+        }
+    }
+
+    /// `state` moves to `target`, where Newton (`out`) converged from another start than the
+    /// previous level (`saved_u`); the step's report.
+    fn arrive(
+        &mut self,
+        state: &mut PathState,
+        target: LoadLevel,
+        saved_u: Vec<f64>,
+        out: NewtonOutcome,
+        (f0, a0, n0): (f64, f64, usize),
+        homotopy_steps: usize,
+    ) -> StepReport {
         if state.history.len() == 2 {
             state.history.remove(0);
         }
@@ -93,7 +310,7 @@ impl<P: NonlinearProblem> Solver<'_, P> {
         state.level = target;
         self.model
             .expand(&state.u_free, &state.level, &mut state.u_full);
-        Ok(Ok(StepReport {
+        StepReport {
             level: target,
             newton_iterations: out.iterations,
             substeps: 1,
@@ -108,7 +325,8 @@ impl<P: NonlinearProblem> Solver<'_, P> {
             factorizations: self.linear.factorizations - n0,
             stabilized: false,
             warm_start: true,
-        }))
+            homotopy_steps,
+        }
     }
 }
 
@@ -135,29 +353,34 @@ pub fn solve_path_guided<P: NonlinearProblem>(
     for (i, level) in levels.iter().enumerate() {
         let guess = guesses.get(i).copied().flatten().filter(|g| g.fits(model));
         let step = (|| -> Result<StepReport, SolverError> {
-            let mut spent = 0;
+            let mut spent = Spent::default();
             if let Some(g) = guess {
-                match solver.jump(state, *level, g)? {
-                    Ok(rep) => return Ok(rep),
-                    Err(iterations) => spent = iterations,
-                }
-                if let Some(u) = &g.fallback {
-                    let second = LevelGuess {
-                        u_full: u.clone(),
-                        shifts: g.shifts.clone(),
-                        fallback: None,
-                    };
-                    match solver.jump(state, *level, &second)? {
+                let starts: Vec<&[f64]> = std::iter::once(&g.u_full[..])
+                    .chain(g.fallback.as_deref())
+                    .collect();
+                for u in &starts {
+                    match solver.jump_from(state, *level, u, &g.shifts)? {
                         Ok(mut rep) => {
-                            rep.newton_iterations += spent;
+                            rep.newton_iterations += spent.iterations;
                             return Ok(rep);
                         }
-                        Err(iterations) => spent += iterations,
+                        Err(iterations) => spent.iterations += iterations,
+                    }
+                }
+                match solver.homotopy(state, *level, &starts, &g.shifts)? {
+                    Ok(mut rep) => {
+                        rep.newton_iterations += spent.iterations;
+                        return Ok(rep);
+                    }
+                    Err(h) => {
+                        spent.iterations += h.iterations;
+                        spent.homotopy_steps = h.homotopy_steps;
                     }
                 }
             }
             let mut rep = solver.advance(state, *level)?;
-            rep.newton_iterations += spent;
+            rep.newton_iterations += spent.iterations;
+            rep.homotopy_steps = spent.homotopy_steps;
             Ok(rep)
         })()
         .and_then(|mut rep| {
@@ -168,6 +391,19 @@ pub fn solve_path_guided<P: NonlinearProblem>(
         });
         match step {
             Ok(rep) => {
+                if solver.settings.trace {
+                    eprintln!(
+                        "  level p={:.4}: {} Newton iterations{}{}",
+                        level.pressure,
+                        rep.newton_iterations,
+                        if rep.warm_start { ", warm start" } else { "" },
+                        if rep.homotopy_steps > 0 {
+                            format!(", {} homotopy steps", rep.homotopy_steps)
+                        } else {
+                            String::new()
+                        }
+                    );
+                }
                 observe(i, state, &rep);
                 reports.push(rep);
             }
@@ -175,4 +411,192 @@ pub fn solve_path_guided<P: NonlinearProblem>(
         }
     }
     Ok(reports)
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+    use crate::fe::assembly::model::clamped_block;
+    use crate::fe::assembly::FeModel;
+    use crate::fe::solver::solve_path_from;
+
+    /// A clamped block under a large oblique body force, its elements' stiffness scaled.
+    fn block(stiffness: f64) -> FeModel {
+        let mut fe = clamped_block(3);
+        fe.set_body_force([0.5, 0.15, 0.0]);
+        fe.set_stiffness(|_| stiffness);
+        fe
+    }
+
+    /// From a neighbour more than three times as stiff Newton fails; the homotopy from the
+    /// neighbour's state reaches the cold solve's solution, and its iterations are counted
+    /// with the failed jump's in the step's report.
+    #[test]
+    fn the_homotopy_reaches_the_cold_solution_where_the_jump_fails() {
+        let level = LoadLevel {
+            gravity: 1.0,
+            ..LoadLevel::default()
+        };
+        let settings = SolverSettings {
+            rtol: 1e-10,
+            augmented_updates: 0,
+            ..SolverSettings::default()
+        };
+        let neighbour = block(1.0);
+        let mut state = PathState::new(&neighbour);
+        solve_path_from(
+            &neighbour,
+            settings.clone(),
+            &mut state,
+            &[level],
+            |_, _, _| {},
+        )
+        .expect("neighbour");
+        let guess = LevelGuess {
+            u_full: state.u_full.clone(),
+            shifts: Vec::new(),
+            fallback: None,
+        };
+
+        let fe = block(0.3);
+        let mut cold = PathState::new(&fe);
+        solve_path_from(&fe, settings.clone(), &mut cold, &[level], |_, _, _| {}).expect("cold");
+
+        // the parts one at a time: the jump fails, the homotopy converges
+        let mut solver = Solver::new(&fe, settings.clone()).expect("solver");
+        let mut state = PathState::new(&fe);
+        let Err(jumped) = solver.jump(&mut state, level, &guess).expect("jump") else {
+            panic!("the direct jump was expected to fail");
+        };
+        assert!(jumped > 0);
+        assert_eq!(state.level, LoadLevel::default(), "state restored");
+        assert!(state.u_free.iter().all(|&u| u == 0.0), "state restored");
+        let rep = solver
+            .homotopy(&mut state, level, &[&guess.u_full], &guess.shifts)
+            .expect("homotopy")
+            .expect("the homotopy was expected to converge");
+        assert!(rep.warm_start && rep.converged);
+        assert!(rep.homotopy_steps >= 2, "{rep:?}");
+        // every homotopy step takes at least one iteration
+        assert!(rep.newton_iterations >= rep.homotopy_steps, "{rep:?}");
+        assert_eq!(state.level, level);
+        let (homotopy, steps) = (rep.newton_iterations, rep.homotopy_steps);
+
+        // the same through the path driver: one report counting both
+        let mut warm = PathState::new(&fe);
+        let reports = solve_path_guided(
+            &fe,
+            settings,
+            &mut warm,
+            &[level],
+            &[Some(&guess)],
+            |_, _, _| {},
+        )
+        .expect("warm");
+        let rep = &reports[0];
+        assert!(rep.warm_start, "{rep:?}");
+        assert_eq!(rep.homotopy_steps, steps);
+        assert_eq!(rep.newton_iterations, jumped + homotopy, "{rep:?}");
+
+        let scale = cold.u_full.iter().fold(0.0f64, |m, u| m.max(u.abs()));
+        assert!(scale > 0.5, "a large deformation: {scale}");
+        let diff = warm
+            .u_full
+            .iter()
+            .zip(&cold.u_full)
+            .fold(0.0f64, |m, (a, b)| m.max((a - b).abs()));
+        assert!(diff <= 1e-8 * scale, "{diff:e} of {scale}");
+        assert_eq!(warm.u_full, state.u_full);
+    }
+
+    /// A homotopy whose steps all fail halves its step a bounded number of times, counts
+    /// every solve and iteration, and leaves the state and the contact shifts as they were;
+    /// the load path then starts from there as usual.
+    #[test]
+    fn a_failing_homotopy_gives_up_and_restores_the_state() {
+        let level = LoadLevel {
+            gravity: 1.0,
+            ..LoadLevel::default()
+        };
+        let settings = SolverSettings {
+            rtol: 1e-10,
+            augmented_updates: 0,
+            max_iterations: 20,
+            ..SolverSettings::default()
+        };
+        let neighbour = block(1.0);
+        let mut state = PathState::new(&neighbour);
+        solve_path_from(
+            &neighbour,
+            settings.clone(),
+            &mut state,
+            &[level],
+            |_, _, _| {},
+        )
+        .expect("neighbour");
+        let guess = state.u_full.clone();
+        let fe = block(0.3);
+        // one iteration per Newton solve: no step can converge
+        let mut solver = Solver::new(
+            &fe,
+            SolverSettings {
+                max_iterations: 1,
+                ..settings
+            },
+        )
+        .expect("solver");
+        let mut state = PathState::new(&fe);
+        let spent = solver
+            .homotopy(&mut state, level, &[&guess], &[])
+            .expect("homotopy")
+            .expect_err("no step converges");
+        assert_eq!(spent.homotopy_steps, HOMOTOPY_MAX_HALVINGS + 1);
+        assert_eq!(spent.iterations, HOMOTOPY_MAX_HALVINGS + 1);
+        assert_eq!(solver.homotopy_weight, 0.0);
+        assert_eq!(solver.settings.rtol, 1e-10);
+        assert_eq!(state.level, LoadLevel::default());
+        assert!(state.u_free.iter().chain(&state.u_full).all(|&u| u == 0.0));
+        solver.settings.max_iterations = 20;
+        let rep = solver.advance(&mut state, level).expect("the path");
+        assert!(rep.converged && !rep.warm_start);
+    }
+
+    /// Reports written before the homotopy's count existed read as 0; a report without
+    /// homotopy steps is written as before.
+    #[test]
+    fn reports_without_the_homotopy_count_read_as_zero() {
+        let rep = StepReport {
+            level: LoadLevel::default(),
+            newton_iterations: 3,
+            substeps: 1,
+            cutbacks: 0,
+            residual: 1e-9,
+            update: 1e-12,
+            converged: true,
+            factor_seconds: 0.0,
+            assembly_seconds: 0.0,
+            augmented_updates: 0,
+            augmented_failed: false,
+            factorizations: 3,
+            stabilized: false,
+            warm_start: true,
+            homotopy_steps: 0,
+        };
+        let text = serde_json::to_string(&rep).expect("write");
+        assert!(!text.contains("homotopy"), "{text}");
+        assert_eq!(
+            serde_json::from_str::<StepReport>(&text).expect("read"),
+            rep
+        );
+        let with = StepReport {
+            homotopy_steps: 4,
+            ..rep
+        };
+        let text = serde_json::to_string(&with).expect("write");
+        assert!(text.contains("\"homotopy_steps\":4"), "{text}");
+        assert_eq!(
+            serde_json::from_str::<StepReport>(&text).expect("read"),
+            with
+        );
+    }
 }

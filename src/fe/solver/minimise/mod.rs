@@ -194,6 +194,7 @@ impl<'m, P: NonlinearProblem> Minimiser<'m, P> {
             factorizations: 0,
             stabilized: false,
             warm_start: false,
+            homotopy_steps: 0,
         };
         let (f0, a0, n0) = (
             self.factor_seconds,
