@@ -1,0 +1,236 @@
+//! Tests of the sweep: the order of its queue, the committed caches read under their keys, a
+//! cached ramp reused only under its own key, the reference study's nine and the summary.
+
+use std::path::{Path, PathBuf};
+
+use super::cache::RampCache;
+use super::ramps::{cost_order, longest_first};
+use super::*;
+use crate::fe::effects::Effects;
+use crate::fe::geometry::DesignParams;
+use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
+use crate::fe::mesh::{MeshLevel, MeshOptions};
+use crate::fe::preset::Geometry;
+use crate::fe::sensitivity::Parameter;
+use crate::fe::simulate::{Case, ContactSettings, Mode};
+use crate::fe::solver::SolverSettings;
+
+#[test]
+fn the_queue_starts_thin_walls_and_forces_first_and_returns_in_item_order() {
+    let designs: Vec<SweepDesign> = [(9, 2.4), (13, 1.6), (11, 2.0), (13, 2.4)]
+        .iter()
+        .map(|&(n, t)| SweepDesign {
+            n_bellows: n,
+            wall_thickness_mm: t,
+            pressures_bar: vec![0.0, 1.0],
+        })
+        .collect();
+    let jobs: Vec<(&SweepDesign, Mode)> = designs
+        .iter()
+        .flat_map(|d| [(d, Mode::Bending), (d, Mode::Force)])
+        .collect();
+    let order = cost_order(&jobs);
+    let first: Vec<(usize, f64, Mode)> = order
+        .iter()
+        .take(3)
+        .map(|&i| (jobs[i].0.n_bellows, jobs[i].0.wall_thickness_mm, jobs[i].1))
+        .collect();
+    assert_eq!(
+        first,
+        vec![
+            (13, 1.6, Mode::Force),
+            (13, 1.6, Mode::Bending),
+            (11, 2.0, Mode::Force)
+        ]
+    );
+    let started = std::sync::Mutex::new(Vec::new());
+    let out = longest_first(&jobs, &order, |&(d, m)| {
+        started
+            .lock()
+            .unwrap()
+            .push((d.n_bellows, m == Mode::Force));
+        (d.n_bellows, d.wall_thickness_mm, m)
+    });
+    let expected: Vec<(usize, f64, Mode)> = jobs
+        .iter()
+        .map(|&(d, m)| (d.n_bellows, d.wall_thickness_mm, m))
+        .collect();
+    assert_eq!(out, expected);
+    assert_eq!(started.into_inner().unwrap().len(), jobs.len());
+}
+
+fn case(stiffness: f64) -> Case {
+    Case {
+        design: DesignParams::new(11, 2.0).validate().unwrap(),
+        material: Material::from_spec("ogden_002", DEFAULT_BULK_RATIO).unwrap(),
+        pressures_bar: vec![0.0, 1.0, 2.0],
+        gravity: true,
+        mesh: MeshOptions::level(MeshLevel::Standard),
+        solver: SolverSettings::default(),
+        mode: Mode::Force,
+        contact: ContactSettings {
+            stiffness,
+            ..ContactSettings::default()
+        },
+        effects: Effects::default(),
+    }
+}
+
+fn committed(path: &str) -> PathBuf {
+    Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
+}
+
+/// The committed literature baseline is read from its cache: every ramp's key is the one
+/// written before the settings were gathered and effects existed; an effect changes the
+/// key (nothing read), a neutral one given explicitly does not.
+#[test]
+fn committed_baseline_ramps_keep_their_keys() {
+    let bending = crate::calibrate::experiments::shipped_bending().unwrap();
+    let designs = recorded_designs(&bending);
+    assert_eq!(designs.len(), 9);
+    assert_eq!(designs[0].pressures_bar, [0.0, 1.0, 2.0, 3.0]);
+    let dir = committed("fe_reference/baseline/ogden_002_standard_ramps");
+    let material = Material::from_spec("ogden_002", DEFAULT_BULK_RATIO).unwrap();
+    let mut settings = SweepSettings::new(material, MeshOptions::level(MeshLevel::Standard));
+    let sources = |s: &SweepSettings| -> Vec<RampSource> {
+        cached_ramps(s, &designs, &dir)
+            .unwrap()
+            .iter()
+            .map(|r| r.source)
+            .collect()
+    };
+    assert_eq!(sources(&settings), vec![RampSource::Cache; 18]);
+    settings.effects = Effects::parse(["wall_bias=0"]).unwrap();
+    assert_eq!(sources(&settings), vec![RampSource::Cache; 18]);
+    settings.effects = Effects::parse(["wall_bias=0.1"]).unwrap();
+    assert_eq!(sources(&settings), vec![RampSource::Missing; 18]);
+    // another geometry: every dimension is in the key, nothing read; the historical one
+    // given explicitly keeps the keys
+    settings.effects = Effects::default();
+    settings.geometry = Geometry {
+        name: "other".into(),
+        side_wall_mm: Some(2.0),
+        ..Geometry::as_modelled()
+    };
+    assert_eq!(sources(&settings), vec![RampSource::Missing; 18]);
+    settings.geometry = Geometry::as_modelled();
+    assert_eq!(sources(&settings), vec![RampSource::Cache; 18]);
+    // the rows of the table: every configuration reached
+    let force = crate::calibrate::experiments::shipped_force().unwrap();
+    settings.effects = Effects::default();
+    let rows = cached_baseline(&settings, &bending, &force, &dir).unwrap();
+    assert!(rows
+        .iter()
+        .all(|r| r.error.is_empty() && r.be_mm.is_finite()));
+}
+
+/// The committed standard-mesh verification of the calibrated set (what `demo` and
+/// `calibrate --verify-fe standard --fe-cache …` read) is found whole in its cache.
+#[test]
+fn committed_verification_ramps_keep_their_keys() {
+    let set = crate::calibrate::OgdenSet::new(0.03821, 5.996, -5.195, -1.996).unwrap();
+    let material = crate::calibrate::verify::fe_material(&set).unwrap();
+    let settings = SweepSettings::new(material, MeshOptions::level(MeshLevel::Standard));
+    let bending = crate::calibrate::experiments::shipped_bending().unwrap();
+    let dir = committed("fe_reference/calibration/standard/fe_standard_ramps");
+    let ramps = cached_ramps(&settings, &recorded_designs(&bending), &dir).unwrap();
+    assert_eq!(ramps.len(), 18);
+    assert!(ramps.iter().all(|r| r.source == RampSource::Cache));
+}
+
+#[test]
+fn cached_ramps_are_reused_only_for_the_same_settings() {
+    let dir = std::env::temp_dir().join(format!("surrogate_ramps_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let c = RampCache::at(&dir, &case(20.0), &[]);
+    assert!(
+        c.path.ends_with("n11_t2_force.json"),
+        "{}",
+        c.path.display()
+    );
+    assert!(c.load().is_none(), "nothing cached yet");
+    let ramp = (Vec::new(), "stopped at 1.5 bar".to_string(), None);
+    c.store(&ramp).unwrap();
+    assert_eq!(c.load(), Some(ramp));
+    // another setting: same file name, other key, not reused
+    let other = RampCache::at(&dir, &case(40.0), &[]);
+    assert_eq!(other.path, c.path);
+    assert!(other.load().is_none());
+    // a ramp with sensitivities: its own file and key
+    let sens = RampCache::at(&dir, &case(20.0), &Parameter::all());
+    assert!(sens.path.ends_with("n11_t2_force_sensitivities.json"));
+    assert!(sens.load().is_none());
+    // a damaged file is recomputed, not trusted
+    std::fs::write(&c.path, "{\"key\": ").unwrap();
+    assert!(c.load().is_none());
+    std::fs::remove_dir_all(dir).unwrap();
+}
+
+fn row(n: usize, t: f64, p: f64, be: f64, force_error: f64) -> BaselineRow {
+    BaselineRow {
+        n_bellows: n,
+        wall_thickness_mm: t,
+        pressure_bar: p,
+        uz_exp_mm: 0.0,
+        uz_sim_mm: 0.0,
+        uy_exp_mm: 0.0,
+        uy_sim_mm: 0.0,
+        angle_exp_deg: 0.0,
+        angle_sim_deg: 0.0,
+        be_mm: be,
+        force_exp_n: 0.0,
+        force_sim_n: 0.0,
+        force_error_n: force_error,
+        error: String::new(),
+    }
+}
+
+#[test]
+fn the_paper_nine_move_t_and_p_together_for_each_n() {
+    let (ns, ts, ps) = ([9, 11, 13], [1.6, 2.0, 2.4], [1.0, 2.0, 3.0]);
+    let mut chosen = Vec::new();
+    for &n in &ns {
+        for &t in &ts {
+            for &p in &ps {
+                if in_paper_nine(&ns, &ts, &ps, n, t, p).unwrap() {
+                    chosen.push((n, t, p));
+                }
+            }
+        }
+    }
+    assert_eq!(chosen.len(), 9);
+    for &n in &ns {
+        for (t, p) in [(1.6, 1.0), (2.0, 2.0), (2.4, 3.0)] {
+            assert!(chosen.contains(&(n, t, p)), "N = {n}, T = {t}, P = {p}");
+        }
+    }
+    assert_eq!(in_paper_nine(&ns, &ts, &ps, 10, 2.0, 1.0), None);
+    assert!(!in_paper_nine(&ns, &ts, &ps, 9, 1.6, 2.0).unwrap());
+}
+
+#[test]
+fn summary_separates_the_paper_nine_and_the_top_pressure() {
+    let mut rows = Vec::new();
+    for n in [9, 11, 13] {
+        for t in [1.6, 2.0, 2.4] {
+            for p in [1.0, 2.0, 3.0] {
+                // BE 1 inside the L9 subset and 4 outside; force error p − 2
+                let l9 = in_paper_nine(&[9, 11, 13], &[1.6, 2.0, 2.4], &[1.0, 2.0, 3.0], n, t, p)
+                    .unwrap();
+                rows.push(row(n, t, p, if l9 { 1.0 } else { 4.0 }, p - 2.0));
+            }
+        }
+    }
+    rows[0].be_mm = f64::NAN;
+    rows[0].error = "stopped".into();
+    let s = summarize(&rows);
+    assert_eq!(
+        (s.configurations, s.failed, s.paper_nine_configurations),
+        (27, 1, 9)
+    );
+    assert!((s.paper_nine_mean_be_mm - 1.0).abs() < 1e-12);
+    assert!((s.mean_be_mm - (8.0 * 1.0 + 18.0 * 4.0) / 26.0).abs() < 1e-12);
+    assert!((s.mean_force_error_top_pressure_n - 1.0).abs() < 1e-12);
+    assert!(s.mean_force_error_n.abs() < 1e-12);
+    assert_eq!(s.top_pressure_bar, 3.0);
+}
