@@ -164,17 +164,6 @@ impl<P: NonlinearProblem> Solver<'_, P> {
     }
 }
 
-pub(super) fn level_is_zero_increment(state: &PathState, level: &LoadLevel) -> bool {
-    level_distance(&state.level, level) == 0.0
-}
-
-fn level_distance(a: &LoadLevel, b: &LoadLevel) -> f64 {
-    (a.pressure - b.pressure).abs() * 10.0
-        + (a.gravity - b.gravity).abs()
-        + (a.traction - b.traction).abs()
-        + (a.prescribed - b.prescribed).abs()
-}
-
 /// Solves a model along a sequence of output levels starting from the undeformed state,
 /// calling `observe` after every converged output step.
 ///

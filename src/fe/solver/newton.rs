@@ -3,10 +3,9 @@
 //! mixed iteration's carried pressures, and the tests that end a hopeless attempt early so
 //! that the increment is cut back.
 
-use super::continuation::level_is_zero_increment;
 use super::problem::NonlinearProblem;
 use super::settings::{SolverError, REUSE_CONTRACTION};
-use super::state::PathState;
+use super::state::{level_is_zero_increment, PathState};
 use super::{dot, norm, Solver};
 use crate::fe::assembly::LoadLevel;
 
