@@ -106,6 +106,13 @@ pub(super) fn evaluate(
     progress: &(dyn Fn(usize, usize) + Sync),
 ) -> Result<Evaluation, CalibrateError> {
     let settings = sweep_settings(s, x, pool)?;
+    // a point where a recorded design cannot be built (a printed cavity closed by the walls)
+    // is a failed step before any FE runs
+    for d in designs(rec) {
+        x.geometry
+            .design(d.n_bellows, d.wall_thickness_mm)
+            .map_err(|e| CalibrateError::input("geometry", &x.geometry.name, &e.to_string()))?;
+    }
     let cache = s.cache.as_ref().map(|c| c.join(format!("sweep_{k:02}")));
     let ramps = run_ramps(&settings, &designs(rec), cache.as_deref(), progress)?;
     Ok(residuals(s, rec, x, &ramps))
