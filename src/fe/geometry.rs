@@ -168,13 +168,14 @@ impl PartStiffness {
         }
     }
 
-    /// The fields by name, in a fixed order.
+    /// The fields by their names in a design or preset (`part_stiffness.gap_walls`, …), in a
+    /// fixed order.
     pub fn fields(&self) -> [(&'static str, f64); 4] {
         [
-            ("gap_walls", self.gap_walls),
-            ("top", self.top),
-            ("side_walls", self.side_walls),
-            ("base", self.base),
+            ("part_stiffness.gap_walls", self.gap_walls),
+            ("part_stiffness.top", self.top),
+            ("part_stiffness.side_walls", self.side_walls),
+            ("part_stiffness.base", self.base),
         ]
     }
 }
@@ -290,7 +291,7 @@ impl DesignParams {
                 let (lo, hi) = PART_STIFFNESS_RANGE;
                 if !(v.is_finite() && (lo..=hi).contains(&v)) {
                     return Err(GeometryError::OutOfRange {
-                        field: part_field(name),
+                        field: name,
                         value: v,
                         expected: format!("a stiffness ratio in [{lo}, {hi}] (1: the material)"),
                     });
@@ -314,16 +315,6 @@ impl DesignParams {
             });
         }
         Ok(Design { params: self })
-    }
-}
-
-/// The field name of a part's stiffness in an error.
-fn part_field(name: &str) -> &'static str {
-    match name {
-        "gap_walls" => "part_stiffness.gap_walls",
-        "top" => "part_stiffness.top",
-        "side_walls" => "part_stiffness.side_walls",
-        _ => "part_stiffness.base",
     }
 }
 

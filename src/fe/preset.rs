@@ -265,13 +265,7 @@ impl Geometry {
             )?;
         }
         if let Some(k) = &self.part_stiffness {
-            for (name, v) in k.fields() {
-                let field = match name {
-                    "gap_walls" => "part_stiffness.gap_walls",
-                    "top" => "part_stiffness.top",
-                    "side_walls" => "part_stiffness.side_walls",
-                    _ => "part_stiffness.base",
-                };
+            for (field, v) in k.fields() {
                 check(field, v, PART_STIFFNESS_RANGE)?;
             }
         }

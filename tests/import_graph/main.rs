@@ -75,7 +75,7 @@ fn no_module_imports_a_floor_above_its_own() {
 
 /// Prints the graph floor by floor (`-- --ignored --nocapture print_the_graph`).
 #[test]
-#[ignore]
+#[ignore = "prints the module graph floor by floor, checks nothing; run: cargo test --release --test import_graph -- --ignored --nocapture print_the_graph"]
 fn print_the_graph() {
     println!("{}", floors::print(&the_crate(), FLOORS));
 }

@@ -79,6 +79,51 @@ mod tests {
         crate::fe::assembly::model::clamped_block(2)
     }
 
+    /// The assembled lower-triangular tangent `k` of `model` at `u` times a direction
+    /// (`cos(w·d)` on the free dofs) matches central differences of the residual (h = 1e-6)
+    /// to 1e-5 of their largest entry.
+    fn assert_tangent_matches_differences(model: &FeModel, u: &[f64], k: &[f64], w: f64) {
+        let n = u.len();
+        let level = LoadLevel::default();
+        let dir: Vec<f64> = (0..n)
+            .map(|d| match model.dofs.eq(d) {
+                Some(_) => ((d as f64) * w).cos(),
+                None => 0.0,
+            })
+            .collect();
+        let h = 1e-6;
+        let res = |s: f64| {
+            let v: Vec<f64> = u.iter().zip(&dir).map(|(a, b)| a + s * b).collect();
+            let mut r = vec![0.0; n];
+            model.assemble(&v, &level, &mut r, None).unwrap();
+            r
+        };
+        let (rp, rm) = (res(h), res(-h));
+        let nf = model.dofs.n_free;
+        let (mut dfree, mut kd) = (vec![0.0; nf], vec![0.0; nf]);
+        model.restrict(&dir, &mut dfree);
+        for col in 0..nf {
+            for p in model.pattern.col_ptr[col]..model.pattern.col_ptr[col + 1] {
+                let row = model.pattern.row_idx[p];
+                kd[row] += k[p] * dfree[col];
+                if row != col {
+                    kd[col] += k[p] * dfree[row];
+                }
+            }
+        }
+        let fd: Vec<f64> = rp
+            .iter()
+            .zip(&rm)
+            .map(|(a, b)| (a - b) / (2.0 * h))
+            .collect();
+        let mut fd_free = vec![0.0; nf];
+        model.restrict(&fd, &mut fd_free);
+        let scale = fd_free.iter().map(|v| v.abs()).fold(0.0, f64::max);
+        for (a, b) in kd.iter().zip(&fd_free) {
+            assert!((a - b).abs() <= 1e-5 * scale, "{a} vs {b}");
+        }
+    }
+
     /// An added term is assembled after the built-in ones: its residual, tangent and energy
     /// add exactly to the model's, and the tangent of the sum matches finite differences.
     #[test]
@@ -135,46 +180,7 @@ mod tests {
             }
         }
         // finite differences of the summed residual along a direction
-        let dir: Vec<f64> = (0..n)
-            .map(|d| {
-                if plain.dofs.eq(d).is_some() {
-                    ((d as f64) * 1.3).cos()
-                } else {
-                    0.0
-                }
-            })
-            .collect();
-        let h = 1e-6;
-        let shifted = |s: f64| -> Vec<f64> {
-            let v: Vec<f64> = u.iter().zip(&dir).map(|(a, b)| a + s * b).collect();
-            let mut r = vec![0.0; n];
-            sprung.assemble(&v, &level, &mut r, None).unwrap();
-            r
-        };
-        let (rp, rm) = (shifted(h), shifted(-h));
-        // K · dir from the lower triangle
-        let mut kd = vec![0.0; plain.dofs.n_free];
-        let mut dfree = vec![0.0; plain.dofs.n_free];
-        plain.restrict(&dir, &mut dfree);
-        for col in 0..plain.dofs.n_free {
-            for p in plain.pattern.col_ptr[col]..plain.pattern.col_ptr[col + 1] {
-                let row = plain.pattern.row_idx[p];
-                kd[row] += k1[p] * dfree[col];
-                if row != col {
-                    kd[col] += k1[p] * dfree[row];
-                }
-            }
-        }
-        let mut fd = vec![0.0; n];
-        for d in 0..n {
-            fd[d] = (rp[d] - rm[d]) / (2.0 * h);
-        }
-        let mut fd_free = vec![0.0; plain.dofs.n_free];
-        plain.restrict(&fd, &mut fd_free);
-        let scale = fd_free.iter().map(|v| v.abs()).fold(0.0, f64::max);
-        for (a, b) in kd.iter().zip(&fd_free) {
-            assert!((a - b).abs() <= 1e-5 * scale, "{a} vs {b}");
-        }
+        assert_tangent_matches_differences(&sprung, &u, &k1, 1.3);
     }
 
     /// A part's stiffness factor scales its elements' residual, tangent and energy exactly,
@@ -213,42 +219,6 @@ mod tests {
         let mut k = vec![0.0; nnz];
         let mut r = vec![0.0; n];
         parts.assemble(&u, &level, &mut r, Some(&mut k)).unwrap();
-        let dir: Vec<f64> = (0..n)
-            .map(|d| match parts.dofs.eq(d) {
-                Some(_) => ((d as f64) * 1.7).cos(),
-                None => 0.0,
-            })
-            .collect();
-        let h = 1e-6;
-        let res = |s: f64| {
-            let v: Vec<f64> = u.iter().zip(&dir).map(|(a, b)| a + s * b).collect();
-            let mut r = vec![0.0; n];
-            parts.assemble(&v, &level, &mut r, None).unwrap();
-            r
-        };
-        let (rp, rm) = (res(h), res(-h));
-        let nf = parts.dofs.n_free;
-        let (mut dfree, mut kd) = (vec![0.0; nf], vec![0.0; nf]);
-        parts.restrict(&dir, &mut dfree);
-        for col in 0..nf {
-            for p in parts.pattern.col_ptr[col]..parts.pattern.col_ptr[col + 1] {
-                let row = parts.pattern.row_idx[p];
-                kd[row] += k[p] * dfree[col];
-                if row != col {
-                    kd[col] += k[p] * dfree[row];
-                }
-            }
-        }
-        let fd: Vec<f64> = rp
-            .iter()
-            .zip(&rm)
-            .map(|(a, b)| (a - b) / (2.0 * h))
-            .collect();
-        let mut fd_free = vec![0.0; nf];
-        parts.restrict(&fd, &mut fd_free);
-        let scale = fd_free.iter().map(|v| v.abs()).fold(0.0, f64::max);
-        for (a, b) in kd.iter().zip(&fd_free) {
-            assert!((a - b).abs() <= 1e-5 * scale, "{a} vs {b}");
-        }
+        assert_tangent_matches_differences(&parts, &u, &k, 1.7);
     }
 }
