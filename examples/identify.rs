@@ -46,6 +46,7 @@ fn main() -> surrogate::Result<()> {
         // each sweep's ramps start from the previous sweep's converged states
         warm_start: true,
         exclude: Vec::new(),
+        correction: None,
     };
     let report = identify(&settings, &Recordings::shipped()?, |sweep, done, total| {
         eprintln!("sweep {sweep}: {done}/{total} FE ramps")

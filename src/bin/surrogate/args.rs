@@ -117,6 +117,12 @@ pub struct IdentifyArgs {
     /// Also leave out every row the data checks flag (listed in the summary with the reason).
     #[arg(long)]
     pub exclude_flagged: bool,
+    /// Fit what the standard mesh gives while running the coarse one: FINE.csv,COARSE.csv, two
+    /// `surrogate validate` tables at the same point (for example the start), whose
+    /// difference is added to every FE value (space mapping's output correction). Verify the
+    /// optimum on the standard mesh afterwards.
+    #[arg(long, value_name = "FINE.csv,COARSE.csv")]
+    pub mesh_correction: Option<String>,
     /// Output directory: report.json, summary.md, the identified geometry (geometry.json) and
     /// the FE cache (fe_ramps/; a rerun resumes from it).
     #[arg(long, default_value = "identify_output")]

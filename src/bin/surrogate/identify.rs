@@ -1,9 +1,13 @@
 //! `surrogate identify`: the material and the unstated dimensions, jointly, on the FE model
 //! ([`surrogate::calibrate::joint`]).
+use std::path::Path;
+
 use anyhow::{bail, Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::calibrate::checks::check;
-use surrogate::calibrate::joint::{identify, JointPoint, JointSettings, ModelSigma, Unknown};
+use surrogate::calibrate::joint::{
+    identify, JointPoint, JointSettings, MeshCorrection, ModelSigma, Unknown,
+};
 use surrogate::calibrate::objective::Exclusion;
 use surrogate::calibrate::Recordings;
 use surrogate::fe::effects::Effects;
@@ -79,22 +83,11 @@ pub fn run(a: IdentifyArgs) -> Result<()> {
             Recordings::shipped()?
         }
     };
-    let mut exclude = a
-        .exclude
-        .iter()
-        .map(|e| Exclusion::parse(e))
-        .collect::<Result<Vec<_>, _>>()?;
-    for f in check(&rec) {
-        eprintln!(
-            "data check: {} ({:?}): {}",
-            f.config.label(),
-            f.recording,
-            f.message
-        );
-        if a.exclude_flagged && !exclude.iter().any(|e| e.config.same(&f.config)) {
-            exclude.push(f.exclusion());
-        }
-    }
+    let exclude = exclusions(&a, &rec)?;
+    let correction = match &a.mesh_correction {
+        Some(pair) => Some(mesh_correction(pair)?),
+        None => None,
+    };
     let level: MeshLevel = a.mesh.parse().map_err(anyhow::Error::msg)?;
     let cache = a.out.join("fe_ramps");
     eprintln!(
@@ -112,6 +105,7 @@ pub fn run(a: IdentifyArgs) -> Result<()> {
         cache: Some(cache),
         warm_start: !a.cold,
         exclude,
+        correction,
     };
     let bar = ProgressBar::new(0);
     bar.set_style(ProgressStyle::with_template(
@@ -136,4 +130,44 @@ pub fn run(a: IdentifyArgs) -> Result<()> {
         a.out.display()
     );
     Ok(())
+}
+
+/// The rows left out of the fit: `--exclude`, and with `--exclude-flagged` every row the data
+/// checks flag (each flag printed).
+fn exclusions(a: &IdentifyArgs, rec: &Recordings) -> Result<Vec<Exclusion>> {
+    let mut exclude = a
+        .exclude
+        .iter()
+        .map(|e| Exclusion::parse(e))
+        .collect::<Result<Vec<_>, _>>()?;
+    for f in check(rec) {
+        eprintln!(
+            "data check: {} ({:?}): {}",
+            f.config.label(),
+            f.recording,
+            f.message
+        );
+        if a.exclude_flagged && !exclude.iter().any(|e| e.config.same(&f.config)) {
+            exclude.push(f.exclusion());
+        }
+    }
+    Ok(exclude)
+}
+
+/// `--mesh-correction FINE.csv,COARSE.csv`.
+fn mesh_correction(pair: &str) -> Result<MeshCorrection> {
+    let Some((fine, coarse)) = pair.split_once(',') else {
+        bail!("--mesh-correction {pair}: expected FINE.csv,COARSE.csv (two `surrogate validate` tables at the same point)");
+    };
+    let c = MeshCorrection::read(Path::new(fine.trim()), Path::new(coarse.trim()))
+        .context("--mesh-correction")?;
+    eprintln!(
+        "mesh correction: {} − {} ({} configurations, mean {:.2} mm on the tip, {:.3} N on the force)",
+        c.fine,
+        c.coarse,
+        c.entries.len(),
+        c.mean_tip_mm(),
+        c.mean_abs_force_n()
+    );
+    Ok(c)
 }

@@ -118,17 +118,14 @@ pub(super) fn evaluate(
     Ok(residuals(s, rec, x, &ramps))
 }
 
-fn residuals(
+pub(super) fn residuals(
     s: &JointSettings,
     rec: &Recordings,
     x: &JointPoint,
     ramps: &[SweepRamp],
 ) -> Evaluation {
-    let k = s.unknowns.len();
     let params: Vec<Parameter> = s.unknowns.iter().map(|u| u.parameter()).collect();
-    let mut r = Vec::new();
-    let mut what = Vec::new();
-    let mut jac: Vec<Vec<f64>> = Vec::new();
+    let mut acc = Accumulator::default();
     let mut rows = Vec::new();
     let mut errors = Vec::new();
     let find = |n: usize, t: f64, mode: Mode| {
@@ -143,6 +140,7 @@ fn residuals(
             .iter()
             .map(|u| u.design_factor(&x.geometry, n, t))
             .collect();
+        let shift = s.correction.as_ref().and_then(|c| c.at(n, t, p)).copied();
         let mut row = JointRow {
             n_bellows: n,
             wall_thickness_mm: t,
@@ -156,37 +154,37 @@ fn residuals(
             tip_excluded: excluded(s, n, t, p, Recording::Bending),
             force_excluded: excluded(s, n, t, p, Recording::Force),
         };
-        let chord = (FREE_LENGTH_MM - b.tip_uz_mm).hypot(b.tip_uy_mm);
-        let st = (chord * b.angle_std_deg.to_radians()).hypot(s.model_sigma.tip_mm);
         match derivs(find(n, t, Mode::Bending), p, &params) {
             Some((v, d)) => {
-                row.uz_mm[1] = v.tip_uz_mm;
-                row.uy_mm[1] = v.tip_uy_mm;
-                row.angle_deg[1] = v.angle_deg;
-                row.be_mm = bending_error(b.tip_uz_mm, b.tip_uy_mm, v.tip_uz_mm, v.tip_uy_mm);
+                let (dz, dy, da) =
+                    shift.map_or((0.0, 0.0, 0.0), |c| (c.uz_mm, c.uy_mm, c.angle_deg));
+                row.uz_mm[1] = v.tip_uz_mm + dz;
+                row.uy_mm[1] = v.tip_uy_mm + dy;
+                row.angle_deg[1] = v.angle_deg + da;
+                row.be_mm = bending_error(b.tip_uz_mm, b.tip_uy_mm, row.uz_mm[1], row.uy_mm[1]);
                 if !row.tip_excluded {
-                    r.push((v.tip_uz_mm - b.tip_uz_mm) / st);
-                    jac.push(
-                        d.iter()
-                            .zip(&fac)
-                            .map(|(o, f)| f * o.tip_uz_mm / st)
-                            .collect(),
+                    let chord = (FREE_LENGTH_MM - b.tip_uz_mm).hypot(b.tip_uy_mm);
+                    let st = (chord * b.angle_std_deg.to_radians()).hypot(s.model_sigma.tip_mm);
+                    let at = |output| Residual {
+                        n,
+                        t,
+                        output,
+                        sigma: st,
+                    };
+                    acc.push(
+                        at(Recorded::TipUz),
+                        row.uz_mm[1] - b.tip_uz_mm,
+                        &d,
+                        &fac,
+                        |o| o.tip_uz_mm,
                     );
-                    r.push((v.tip_uy_mm - b.tip_uy_mm) / st);
-                    jac.push(
-                        d.iter()
-                            .zip(&fac)
-                            .map(|(o, f)| f * o.tip_uy_mm / st)
-                            .collect(),
+                    acc.push(
+                        at(Recorded::TipUy),
+                        row.uy_mm[1] - b.tip_uy_mm,
+                        &d,
+                        &fac,
+                        |o| o.tip_uy_mm,
                     );
-                    for output in [Recorded::TipUz, Recorded::TipUy] {
-                        what.push(Residual {
-                            n,
-                            t,
-                            output,
-                            sigma: st,
-                        });
-                    }
                 }
             }
             None => errors.push(format!("bending N = {n}, T = {t}, {p} bar")),
@@ -198,34 +196,25 @@ fn residuals(
         {
             row.force_n[0] = f.force_n;
             match derivs(find(n, t, Mode::Force), p, &params) {
-                Some((v, _)) if row.force_excluded => {
-                    row.force_n[1] = v.force_n.unwrap_or(f64::NAN)
-                }
                 Some((v, d)) => {
-                    let fe = v.force_n.unwrap_or(f64::NAN);
+                    let fe = v.force_n.unwrap_or(f64::NAN) + shift.map_or(0.0, |c| c.force_n);
                     row.force_n[1] = fe;
-                    let sf = f.force_std_n.hypot(s.model_sigma.force_n);
-                    r.push((fe - f.force_n) / sf);
-                    what.push(Residual {
-                        n,
-                        t,
-                        output: Recorded::Force,
-                        sigma: sf,
-                    });
-                    jac.push(
-                        d.iter()
-                            .zip(&fac)
-                            .map(|(o, f)| f * o.force_n.unwrap_or(0.0) / sf)
-                            .collect(),
-                    );
+                    if !row.force_excluded {
+                        let sigma = f.force_std_n.hypot(s.model_sigma.force_n);
+                        let at = Residual {
+                            n,
+                            t,
+                            output: Recorded::Force,
+                            sigma,
+                        };
+                        acc.push(at, fe - f.force_n, &d, &fac, |o| o.force_n.unwrap_or(0.0));
+                    }
                 }
                 None => errors.push(format!("force N = {n}, T = {t}, {p} bar")),
             }
         }
         rows.push(row);
     }
-    let m = r.len();
-    let j = DMatrix::from_fn(m, k, |i, c| jac[i][c]);
     let error = if errors.is_empty() {
         String::new()
     } else {
@@ -236,12 +225,50 @@ fn residuals(
             .collect();
         format!("no FE result at {}: {}", errors.join(", "), why.join("; "))
     };
+    let (r, j, what) = acc.finish(s.unknowns.len());
     Evaluation {
-        r: DVector::from_vec(r),
+        r,
         j,
         what,
         rows,
         error,
+    }
+}
+
+/// The whitened residuals, their Jacobian rows and what each one is, as they are found.
+#[derive(Default)]
+struct Accumulator {
+    r: Vec<f64>,
+    jac: Vec<Vec<f64>>,
+    what: Vec<Residual>,
+}
+
+impl Accumulator {
+    /// One residual `difference / σ` with its derivatives `f · d(output) / σ` by each
+    /// unknown (`f` the unknown's design factor).
+    fn push(
+        &mut self,
+        at: Residual,
+        difference: f64,
+        d: &[crate::fe::sensitivity::Outputs],
+        fac: &[f64],
+        output: impl Fn(&crate::fe::sensitivity::Outputs) -> f64,
+    ) {
+        self.r.push(difference / at.sigma);
+        self.jac.push(
+            d.iter()
+                .zip(fac)
+                .map(|(o, f)| f * output(o) / at.sigma)
+                .collect(),
+        );
+        self.what.push(at);
+    }
+
+    fn finish(self, k: usize) -> (DVector<f64>, DMatrix<f64>, Vec<Residual>) {
+        let m = self.r.len();
+        let jac = self.jac;
+        let j = DMatrix::from_fn(m, k, |i, c| jac[i][c]);
+        (DVector::from_vec(self.r), j, self.what)
     }
 }
 

@@ -30,6 +30,7 @@ pub fn identify(
             "at least one unknown",
         ));
     }
+    check_correction(s, rec)?;
     let mut x = s.start.clone();
     let bnds: Vec<(f64, f64)> = s
         .unknowns
@@ -117,6 +118,28 @@ pub fn identify(
     Ok(report(s, &bnds, xb, cur, sweeps, trace.stop))
 }
 
+/// Every recorded configuration has its mesh correction, if there is one.
+fn check_correction(s: &JointSettings, rec: &Recordings) -> Result<(), CalibrateError> {
+    let Some(c) = &s.correction else {
+        return Ok(());
+    };
+    for b in &rec.bending {
+        if c.at(b.n_bellows, b.wall_thickness_mm, b.pressure_bar)
+            .is_none()
+        {
+            return Err(CalibrateError::input(
+                "mesh correction",
+                &c.fine,
+                &format!(
+                    "a row for every recorded configuration (N = {}, T = {}, P = {} has none)",
+                    b.n_bellows, b.wall_thickness_mm, b.pressure_bar
+                ),
+            ));
+        }
+    }
+    Ok(())
+}
+
 /// The report of the optimum `x` with its evaluation `cur`.
 fn report(
     s: &JointSettings,
@@ -201,5 +224,6 @@ fn report(
         excluded: s.exclude.clone(),
         mean_be_all_mm: (!s.exclude.is_empty()).then_some(mean_be_all),
         mean_be_paper_nine_all_mm: (!s.exclude.is_empty()).then_some(mean_be_nine_all),
+        correction: s.correction.clone(),
     }
 }

@@ -59,6 +59,8 @@
 //!
 //! ## Files
 //!
+//! - `correction`: the mesh correction, to fit on the coarse mesh what the standard one
+//!   gives ([`MeshCorrection`]);
 //! - `unknown`: the unknowns, a point of the identification, the bounds;
 //! - `settings`: the settings, the model-form floor, how the iteration stops;
 //! - `evaluation`: one FE sweep of a point turned into residuals, Jacobian and rows;
@@ -67,6 +69,7 @@
 //! - `identify`: [`identify`] and the report of its optimum;
 //! - `report`: the report's types, its summary in words and its files.
 
+mod correction;
 mod evaluation;
 mod held_out;
 mod identify;
@@ -77,6 +80,7 @@ mod settings;
 mod tests;
 mod unknown;
 
+pub use correction::{CorrectionEntry, MeshCorrection};
 pub use evaluation::in_paper_nine;
 pub use identify::identify;
 pub use report::{HeldOut, JointEstimate, JointReport, JointRow, JointSweep};

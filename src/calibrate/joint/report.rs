@@ -5,6 +5,7 @@ use std::path::Path;
 
 use serde::{Deserialize, Serialize};
 
+use super::correction::MeshCorrection;
 use super::settings::{JointStop, ModelSigma};
 use super::unknown::JointPoint;
 use crate::calibrate::objective::Exclusion;
@@ -121,6 +122,9 @@ pub struct JointReport {
     /// The same over the reference study's nine (mm).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub mean_be_paper_nine_all_mm: Option<f64>,
+    /// The mesh correction the FE values carry ([`super::JointSettings::correction`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub correction: Option<MeshCorrection>,
 }
 
 /// Prediction of designs the fit did not see, linearised around the FE optimum: for every
@@ -174,25 +178,7 @@ impl JointReport {
             self.mean_abs_force_error_n,
             self.mean_force_error_n
         ));
-        if !self.excluded.is_empty() {
-            s.push_str(&format!(
-                "Left out of the fit ({} rows; the means above are over the rows fitted; \
-                 their FE values are in the table below, marked): mean tip BE with them, all \
-                 configurations {:.2} mm, the reference study's nine {:.2} mm.\n\n",
-                self.excluded.len(),
-                self.mean_be_all_mm.unwrap_or(f64::NAN),
-                self.mean_be_paper_nine_all_mm.unwrap_or(f64::NAN),
-            ));
-            for e in &self.excluded {
-                let what = match e.recording {
-                    crate::calibrate::objective::Recording::Bending => "bending",
-                    crate::calibrate::objective::Recording::Force => "force",
-                    crate::calibrate::objective::Recording::Both => "bending and force",
-                };
-                s.push_str(&format!("- {} ({what}): {}\n", e.config.label(), e.reason));
-            }
-            s.push('\n');
-        }
+        s.push_str(&self.correction_and_exclusions());
         let h = &self.held_out;
         s.push_str(&format!(
             "Designs held out ({} of the designs at a time, all {} ways; linearised refit \
@@ -262,6 +248,44 @@ impl JointReport {
                 r.be_mm,
                 mark(r.tip_excluded),
             ));
+        }
+        s
+    }
+
+    /// The paragraphs on the mesh correction and on the rows left out, if any.
+    fn correction_and_exclusions(&self) -> String {
+        let mut s = String::new();
+        if let Some(c) = &self.correction {
+            s.push_str(&format!(
+                "**Mesh-corrected**: every FE value in this report is the {} mesh's plus the \
+                 difference between two meshes at a reference point ({} − {}: on average {:.2} mm \
+                 on the tip, {:.3} N on the force). The numbers estimate the finer mesh; \
+                 verify them on it.\n\n",
+                self.mesh,
+                c.fine,
+                c.coarse,
+                c.mean_tip_mm(),
+                c.mean_abs_force_n()
+            ));
+        }
+        if !self.excluded.is_empty() {
+            s.push_str(&format!(
+                "Left out of the fit ({} rows; the means above are over the rows fitted; \
+                 their FE values are in the table below, marked): mean tip BE with them, all \
+                 configurations {:.2} mm, the reference study's nine {:.2} mm.\n\n",
+                self.excluded.len(),
+                self.mean_be_all_mm.unwrap_or(f64::NAN),
+                self.mean_be_paper_nine_all_mm.unwrap_or(f64::NAN),
+            ));
+            for e in &self.excluded {
+                let what = match e.recording {
+                    crate::calibrate::objective::Recording::Bending => "bending",
+                    crate::calibrate::objective::Recording::Force => "force",
+                    crate::calibrate::objective::Recording::Both => "bending and force",
+                };
+                s.push_str(&format!("- {} ({what}): {}\n", e.config.label(), e.reason));
+            }
+            s.push('\n');
         }
         s
     }

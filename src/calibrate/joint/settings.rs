@@ -5,6 +5,7 @@ use std::path::PathBuf;
 
 use serde::{Deserialize, Serialize};
 
+use super::correction::MeshCorrection;
 use super::unknown::{JointPoint, Unknown};
 use crate::calibrate::objective::Exclusion;
 use crate::calibrate::CalibrateError;
@@ -39,6 +40,10 @@ pub struct JointSettings {
     /// [`crate::calibrate::checks`]): their FE values are still computed and reported, marked,
     /// and the means are given without and with them.
     pub exclude: Vec<Exclusion>,
+    /// Fit what a finer mesh would give: the FE values of every configuration are shifted by
+    /// the difference between the two meshes at a reference point ([`MeshCorrection`]).
+    /// `None`: the values of [`mesh`](Self::mesh) as they are.
+    pub correction: Option<MeshCorrection>,
 }
 
 /// The model-form floor of the identification's noise model: added in quadrature to each

@@ -325,3 +325,192 @@ fn the_wall_law_unknowns_scale_the_wall_derivative_by_design() {
     assert_eq!(a.design_factor(&x.geometry, 13, 2.4), 1.0);
     assert_eq!(bounds(b, 0.0), (-3.0, 3.0));
 }
+
+/// The mesh correction is the fine table minus the coarse one, configuration by
+/// configuration; a configuration missing from a table or a value the FE did not reach is
+/// refused, naming it.
+#[test]
+fn the_mesh_correction_is_fine_minus_coarse_and_refuses_gaps() {
+    use super::correction::MeshCorrection;
+    use crate::calibrate::baseline::BaselineRow;
+    let row = |n: usize, p: f64, uz: f64, uy: f64, f: f64| BaselineRow {
+        n_bellows: n,
+        wall_thickness_mm: 2.0,
+        pressure_bar: p,
+        uz_exp_mm: 0.0,
+        uz_sim_mm: uz,
+        uy_exp_mm: 0.0,
+        uy_sim_mm: uy,
+        angle_exp_deg: 0.0,
+        angle_sim_deg: 2.0 * uz,
+        be_mm: 0.0,
+        force_exp_n: 0.0,
+        force_sim_n: f,
+        force_error_n: 0.0,
+        error: String::new(),
+    };
+    let fine = [row(9, 1.0, 5.0, -20.0, 0.5), row(9, 2.0, 20.0, -45.0, 1.5)];
+    // the coarse table in another order: rows are matched by configuration
+    let coarse = [row(9, 2.0, 22.0, -48.0, 1.4), row(9, 1.0, 6.0, -21.0, 0.45)];
+    let c = MeshCorrection::from_tables(&fine, &coarse, "fine.csv", "coarse.csv").unwrap();
+    let e = c.at(9, 2.0, 2.0).unwrap();
+    assert_eq!((e.uz_mm, e.uy_mm, e.angle_deg), (-2.0, 3.0, -4.0));
+    assert!((e.force_n - 0.1).abs() < 1e-12);
+    let e = c.at(9, 2.0, 1.0).unwrap();
+    assert_eq!((e.uz_mm, e.uy_mm), (-1.0, 1.0));
+    assert!(c.at(11, 2.0, 1.0).is_none());
+    assert!((c.mean_tip_mm() - (13f64.sqrt() + 2f64.sqrt()) / 2.0).abs() < 1e-12);
+    let err = MeshCorrection::from_tables(&fine[..1], &coarse, "fine.csv", "coarse.csv")
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("fine.csv") && err.contains("P = 2"), "{err}");
+    let mut failed = coarse.clone();
+    failed[1].force_sim_n = f64::NAN;
+    let err = MeshCorrection::from_tables(&fine, &failed, "fine.csv", "coarse.csv")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("force_sim_n") && err.contains("coarse.csv: N = 9, T = 2, P = 1"),
+        "{err}"
+    );
+}
+
+/// With a mesh correction, every FE value of a row and its residual carry the correction;
+/// the Jacobian stays the coarse mesh's.
+#[test]
+fn the_mesh_correction_shifts_values_and_residuals_not_the_jacobian() {
+    use super::correction::{CorrectionEntry, MeshCorrection};
+    use super::evaluation::residuals;
+    use super::settings::{JointSettings, ModelSigma};
+    use super::unknown::JointPoint;
+    use crate::calibrate::baseline::{RampSource, SweepRamp};
+    use crate::calibrate::experiments::{BendingRecord, ForceRecord};
+    use crate::calibrate::objective::Recordings;
+    use crate::fe::effects::Effects;
+    use crate::fe::mesh::{MeshLevel, MeshOptions};
+    use crate::fe::preset::Geometry;
+    use crate::fe::sensitivity::{
+        Outputs, ParameterInfo, Sensitivities, SensitivityCost, StepSensitivities,
+    };
+    use crate::fe::simulate::Mode;
+    let outputs = |uz: f64, uy: f64, force: Option<f64>| Outputs {
+        tip_uz_mm: uz,
+        tip_uy_mm: uy,
+        angle_deg: 20.0,
+        markers: Vec::new(),
+        force_n: force,
+    };
+    let mu1 = Unknown::from_name("mu1").unwrap();
+    let ramp = |mode: Mode, values: Outputs, d: Outputs| SweepRamp {
+        n_bellows: 9,
+        wall_thickness_mm: 2.0,
+        mode,
+        steps: Vec::new(),
+        error: String::new(),
+        source: RampSource::Cache,
+        sensitivities: Some(Sensitivities {
+            format: "surrogate-sensitivities".into(),
+            version: 1,
+            mode,
+            parameters: vec![ParameterInfo {
+                parameter: mu1.parameter(),
+                unit: "MPa".into(),
+                value: 1.0,
+                step: 0.0,
+                how: String::new(),
+            }],
+            steps: vec![StepSensitivities {
+                pressure_bar: 1.0,
+                values,
+                derivatives: vec![d],
+            }],
+            cost: SensitivityCost::default(),
+        }),
+    };
+    let ramps = [
+        ramp(
+            Mode::Bending,
+            outputs(8.0, -30.0, None),
+            outputs(-2.0, 4.0, None),
+        ),
+        ramp(
+            Mode::Force,
+            outputs(0.0, 0.0, Some(0.6)),
+            outputs(0.0, 0.0, Some(-0.5)),
+        ),
+    ];
+    let rec = Recordings {
+        bending: vec![BendingRecord {
+            n_bellows: 9,
+            wall_thickness_mm: 2.0,
+            pressure_bar: 1.0,
+            tip_uz_mm: 7.0,
+            tip_uy_mm: -31.0,
+            angle_deg: 20.0,
+            angle_std_deg: 0.0,
+        }],
+        force: vec![ForceRecord {
+            n_bellows: 9,
+            wall_thickness_mm: 2.0,
+            pressure_bar: 1.0,
+            force_n: 0.5,
+            force_std_n: 0.0,
+        }],
+        ..Recordings::default()
+    };
+    let mut s = JointSettings {
+        unknowns: vec![mu1],
+        start: JointPoint {
+            ogden: [1.0, 8.0, -1.4, -0.5],
+            geometry: Geometry::as_modelled(),
+            effects: Effects::default(),
+        },
+        mesh: MeshOptions::level(MeshLevel::Coarse),
+        max_sweeps: 1,
+        lambda0: 1e-2,
+        max_step: 0.1,
+        model_sigma: ModelSigma {
+            tip_mm: 2.0,
+            force_n: 0.1,
+        },
+        cache: None,
+        warm_start: false,
+        exclude: Vec::new(),
+        correction: None,
+    };
+    let plain = residuals(&s, &rec, &s.start, &ramps);
+    s.correction = Some(MeshCorrection {
+        fine: "standard.csv".into(),
+        coarse: "coarse.csv".into(),
+        entries: vec![CorrectionEntry {
+            n_bellows: 9,
+            wall_thickness_mm: 2.0,
+            pressure_bar: 1.0,
+            uz_mm: -1.0,
+            uy_mm: 3.0,
+            angle_deg: -2.0,
+            force_n: 0.15,
+        }],
+    });
+    let corrected = residuals(&s, &rec, &s.start, &ramps);
+    assert_eq!(plain.r.len(), 3);
+    // Uz 8 − 7 = 1 → 0 after −1; Uy −30 + 31 = 1 → 4 after +3; force 0.1 → 0.25
+    let expect_plain = [1.0 / 2.0, 1.0 / 2.0, 0.1 / 0.1];
+    let expect_corrected = [0.0, 4.0 / 2.0, 0.25 / 0.1];
+    for i in 0..3 {
+        assert!((plain.r[i] - expect_plain[i]).abs() < 1e-12, "{}", plain.r);
+        assert!(
+            (corrected.r[i] - expect_corrected[i]).abs() < 1e-12,
+            "{}",
+            corrected.r
+        );
+    }
+    assert_eq!(plain.j, corrected.j);
+    let row = &corrected.rows[0];
+    assert_eq!(
+        (row.uz_mm[1], row.uy_mm[1], row.angle_deg[1]),
+        (7.0, -27.0, 18.0)
+    );
+    assert!((row.force_n[1] - 0.75).abs() < 1e-12);
+    assert!((row.be_mm - 4.0).abs() < 1e-12, "{}", row.be_mm);
+}
