@@ -1,0 +1,139 @@
+//! One case of a plan: its design, material and effects, its checks and its name.
+
+use serde::{Deserialize, Serialize};
+
+use super::settings::{no_effects, PlanSettings};
+use crate::fe::effects::{Effect, EffectError, Effects};
+use crate::fe::geometry::{Design, DesignParams, GeometryError};
+use crate::fe::material::{Material, MaterialError, MaterialLaw, Ogden2};
+use crate::schema;
+use crate::snapshots::SnapshotError;
+
+/// One case of a plan: a design and an Ogden material.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct PlannedCase {
+    /// Identifier, unique in the plan (names the case file).
+    pub id: usize,
+    /// Number of bellows `N`.
+    pub n_bellows: usize,
+    /// Wall thickness `T` (mm).
+    pub wall_thickness_mm: f64,
+    /// Ogden `μ₁` (MPa).
+    pub mu1_mpa: f64,
+    /// Ogden `α₁`.
+    pub alpha1: f64,
+    /// Ogden `μ₂` (MPa).
+    pub mu2_mpa: f64,
+    /// Ogden `α₂`.
+    pub alpha2: f64,
+    /// Values of the plan's sampled effects (none: not written).
+    #[serde(default, skip_serializing_if = "no_effects")]
+    pub effects: Effects,
+}
+
+impl PlannedCase {
+    /// The case's design (SPEC defaults with this `N` and `T`).
+    ///
+    /// # Errors
+    /// [`GeometryError`] if `N` or `T` is out of range or leaves no cavity.
+    pub fn design(&self) -> Result<Design, GeometryError> {
+        DesignParams::new(self.n_bellows, self.wall_thickness_mm).validate()
+    }
+
+    /// The case's Ogden parameters `[μ₁, α₁, μ₂, α₂]`.
+    pub fn ogden(&self) -> [f64; 4] {
+        [self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2]
+    }
+
+    /// The case's material with `κ = bulk_ratio · μ0`.
+    ///
+    /// # Errors
+    /// [`MaterialError::Inadmissible`] for an inadmissible Ogden set or bulk ratio.
+    pub fn material(&self, bulk_ratio: f64) -> Result<Material, MaterialError> {
+        let law = Ogden2::new(self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2)?;
+        Material::new(MaterialLaw::Ogden(law), bulk_ratio)
+    }
+
+    /// The effects of the case's FE runs: the plan's fixed effects and the case's sampled ones.
+    ///
+    /// # Errors
+    /// An effect both fixed and sampled with different values (a validated plan has none).
+    pub fn effects_with(&self, settings: &PlanSettings) -> Result<Effects, EffectError> {
+        let mut all = settings.effects.clone();
+        for (e, v) in self.effects.iter() {
+            let fixed = settings.effects.iter().find(|&(f, _)| f == e);
+            if let Some((_, first)) = fixed.filter(|&(_, first)| first != v) {
+                return Err(EffectError::Duplicate {
+                    name: e.name(),
+                    first,
+                    second: v,
+                });
+            }
+            all.set(e, v)?;
+        }
+        Ok(all)
+    }
+
+    /// Checks that the case carries a value of every sampled effect and no other.
+    pub(super) fn validate_effects(
+        &self,
+        index: usize,
+        sampled: &[Effect],
+    ) -> Result<(), SnapshotError> {
+        let mine: Vec<Effect> = self.effects.iter().map(|(e, _)| e).collect();
+        if mine != sampled {
+            let names = |v: &[Effect]| v.iter().map(|e| e.name()).collect::<Vec<_>>().join(", ");
+            return Err(SnapshotError::field(
+                format!("cases[{index}] (id {}).effects", self.id),
+                format!("{{{}}}", names(&mine)),
+                &format!(
+                    "a value of each effect sampled by the plan (ranges.effects: {{{}}}) and no other",
+                    names(sampled)
+                ),
+            ));
+        }
+        Ok(())
+    }
+
+    /// Checks design and material; errors name `cases[index]`.
+    pub(super) fn validate(&self, index: usize) -> Result<(), SnapshotError> {
+        let at = |f: &str| format!("cases[{index}] (id {}).{f}", self.id);
+        match self.design() {
+            Ok(_) => {}
+            Err(GeometryError::OutOfRange {
+                field,
+                value,
+                expected,
+            }) => {
+                let name = if field == "wall_thickness" {
+                    schema::WALL_THICKNESS.name
+                } else {
+                    field
+                };
+                return Err(SnapshotError::field(at(name), value, &expected));
+            }
+            Err(e @ GeometryError::NoCavity { .. }) => {
+                return Err(SnapshotError::field(
+                    at(schema::WALL_THICKNESS.name),
+                    self.wall_thickness_mm,
+                    &format!("a thickness that leaves a cavity ({e})"),
+                ));
+            }
+        }
+        match Ogden2::new(self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2) {
+            Ok(_) => Ok(()),
+            Err(MaterialError::Inadmissible {
+                field,
+                value,
+                expected,
+            }) => Err(SnapshotError::field(at(&field), value, &expected)),
+            Err(e) => Err(SnapshotError::field(at("material"), "?", &e.to_string())),
+        }
+    }
+}
+
+/// The `case_id` of a plan case.
+pub fn case_name(id: usize) -> String {
+    format!("case_{id:06}")
+}
