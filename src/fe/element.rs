@@ -270,18 +270,60 @@ pub fn residual_tangent(
     with_tangent: bool,
     work: &mut ElementWork,
 ) -> Result<f64, ElementError> {
-    // Pass 1: deformation gradients and the projected dilatation.
-    let mut bj = Vector4::zeros();
-    for q in 0..QP {
-        let mut f: Matrix3<f64> = Matrix3::identity();
-        for a in 0..27 {
-            let d = &geo.dndx[q][a];
-            for i in 0..3 {
-                for jj in 0..3 {
-                    f[(i, jj)] += u[a][i] * d[jj];
-                }
+    // Pass 1: deformation gradients, the projected dilatation and the projected pressure.
+    let c = deformation_gradients(element, geo, u, work)?;
+    let pressure = projected_pressure(element, geo, material, &c, with_tangent, work)?;
+
+    // Pass 2: residual and tangent.
+    work.clear(with_tangent);
+    point_contributions(element, geo, material, &pressure, with_tangent, work)?;
+    if with_tangent {
+        upper_node_blocks(&geo.wdet, &work.g, &work.dt, &mut work.k);
+        mirror_node_blocks(&mut work.k);
+        add_volumetric_coupling(geo, pressure.h, &work.b, &mut work.k);
+    }
+    Ok(pressure.energy)
+}
+
+/// The projected pressure of pass 1 and what the tangent needs of it.
+struct ProjectedPressure {
+    /// Coefficients of `π = P₁[U'(θ)]` on the projection basis q.
+    pi: Vector4<f64>,
+    /// Coefficients of the pressure in the tangent's initial-stress term (`pi` unless
+    /// [`ElementWork::tangent_pressure`] is set).
+    pi_tangent: Vector4<f64>,
+    /// `H = ∫ U''(θ) q qᵀ dV` (zero without the tangent).
+    h: Matrix4<f64>,
+    /// Strain energy of the element (zero unless [`ElementWork::with_energy`]).
+    energy: f64,
+}
+
+impl ElementWork {
+    /// Zeroes the residual and, with the tangent, the tangent and `B`.
+    #[inline]
+    fn clear(&mut self, with_tangent: bool) {
+        self.r.iter_mut().for_each(|v| *v = 0.0);
+        if with_tangent {
+            self.k.iter_mut().for_each(|v| *v = 0.0);
+            for row in self.b.iter_mut() {
+                row.iter_mut().for_each(|v| *v = 0.0);
             }
         }
+    }
+}
+
+/// `F` and `J = det F` at every point into `work`; returns the coefficients
+/// `c = M⁻¹ ∫ q J dV` of the projected dilatation `θ = qᵀ c`.
+#[inline]
+fn deformation_gradients(
+    element: usize,
+    geo: &ElementGeometry,
+    u: &[[f64; 3]; 27],
+    work: &mut ElementWork,
+) -> Result<Vector4<f64>, ElementError> {
+    let mut bj = Vector4::zeros();
+    for q in 0..QP {
+        let f = deformation_gradient(&geo.dndx[q], u);
         let j = f.determinant();
         if j <= 0.0 || !j.is_finite() {
             return Err(ElementError::Inverted { element, qp: q, j });
@@ -290,13 +332,41 @@ pub fn residual_tangent(
         work.j[q] = j;
         bj += Vector4::from(geo.q[q]) * (j * geo.wdet[q]);
     }
-    let c = geo.minv * bj;
+    Ok(geo.minv * bj)
+}
+
+/// `F = I + Σ_a u_a ⊗ ∇₀N_a` at one point.
+#[inline]
+fn deformation_gradient(dndx: &[[f64; 3]; 27], u: &[[f64; 3]; 27]) -> Matrix3<f64> {
+    let mut f: Matrix3<f64> = Matrix3::identity();
+    for a in 0..27 {
+        let d = &dndx[a];
+        for i in 0..3 {
+            for jj in 0..3 {
+                f[(i, jj)] += u[a][i] * d[jj];
+            }
+        }
+    }
+    f
+}
+
+/// `π = M⁻¹ ∫ q U'(θ) dV` from the dilatation coefficients `c`, with `H` if the tangent is
+/// wanted and the strain energy if `work.with_energy`.
+#[inline]
+fn projected_pressure(
+    element: usize,
+    geo: &ElementGeometry,
+    material: &Material,
+    c: &Vector4<f64>,
+    with_tangent: bool,
+    work: &ElementWork,
+) -> Result<ProjectedPressure, ElementError> {
     let mut pv = Vector4::zeros();
     let mut h = Matrix4::zeros();
     let mut energy = 0.0;
     for q in 0..QP {
         let qv = Vector4::from(geo.q[q]);
-        let theta = qv.dot(&c);
+        let theta = qv.dot(c);
         if theta <= 0.0 || !theta.is_finite() {
             return Err(ElementError::Inverted {
                 element,
@@ -313,16 +383,25 @@ pub fn residual_tangent(
         }
     }
     let pi = geo.minv * pv;
-    let pi_tangent = work.tangent_pressure.map_or(pi, Vector4::from);
+    Ok(ProjectedPressure {
+        pi,
+        pi_tangent: work.tangent_pressure.map_or(pi, Vector4::from),
+        h,
+        energy,
+    })
+}
 
-    // Pass 2: residual and tangent.
-    work.r.iter_mut().for_each(|v| *v = 0.0);
-    if with_tangent {
-        work.k.iter_mut().for_each(|v| *v = 0.0);
-        for row in work.b.iter_mut() {
-            row.iter_mut().for_each(|v| *v = 0.0);
-        }
-    }
+/// Pass 2 point by point: the stress `P_iso + π J F⁻ᵀ` into the residual; with the tangent,
+/// each point's stiffness kernel (`g`, `dt`) and its share of `B`.
+#[inline]
+fn point_contributions(
+    element: usize,
+    geo: &ElementGeometry,
+    material: &Material,
+    pressure: &ProjectedPressure,
+    with_tangent: bool,
+    work: &mut ElementWork,
+) -> Result<(), ElementError> {
     let mut p_iso = Matrix3::zeros();
     let mut a_iso = Tangent9::zeros();
     for q in 0..QP {
@@ -333,7 +412,7 @@ pub fn residual_tangent(
             None => return Err(ElementError::Inverted { element, qp: q, j }),
         };
         let cof = finv_t * j;
-        let pi_q = Vector4::from(geo.q[q]).dot(&pi);
+        let pi_q = Vector4::from(geo.q[q]).dot(&pressure.pi);
         if with_tangent {
             material.iso_stress_tangent_into(f, &mut p_iso, &mut a_iso);
         } else {
@@ -342,125 +421,175 @@ pub fn residual_tangent(
         let stress = p_iso + cof * pi_q;
         let w = geo.wdet[q];
         let d = &geo.dndx[q];
-        for a in 0..27 {
-            for i in 0..3 {
-                work.r[3 * a + i] += w
-                    * (stress[(i, 0)] * d[a][0]
-                        + stress[(i, 1)] * d[a][1]
-                        + stress[(i, 2)] * d[a][2]);
-            }
-        }
+        add_point_residual(w, &stress, d, &mut work.r);
         if !with_tangent {
             continue;
         }
-        // Â = A_iso + π J (F⁻ᵀ_iJ F⁻ᵀ_kL − F⁻ᵀ_iL F⁻ᵀ_kJ)
-        let s = Vector4::from(geo.q[q]).dot(&pi_tangent) * j;
+        let s = Vector4::from(geo.q[q]).dot(&pressure.pi_tangent) * j;
+        add_initial_stress(s, &finv_t, &mut a_iso);
+        stiffness_kernel(d, &a_iso, &mut work.dt[q], &mut work.g[q]);
+        add_dilatation_gradient(w, &cof, d, &geo.q[q], &mut work.b);
+    }
+    Ok(())
+}
+
+/// `r_(a,i) += w Σ_J P_iJ ∂N_a/∂X_J`.
+#[inline]
+fn add_point_residual(w: f64, stress: &Matrix3<f64>, d: &[[f64; 3]; 27], r: &mut [f64]) {
+    for a in 0..27 {
         for i in 0..3 {
-            for jj in 0..3 {
-                for k in 0..3 {
-                    for l in 0..3 {
-                        a_iso[(3 * i + jj, 3 * k + l)] += s
-                            * (finv_t[(i, jj)] * finv_t[(k, l)] - finv_t[(i, l)] * finv_t[(k, jj)]);
-                    }
-                }
-            }
+            r[3 * a + i] += w
+                * (stress[(i, 0)] * d[a][0] + stress[(i, 1)] * d[a][1] + stress[(i, 2)] * d[a][2]);
         }
-        // g[(i, k, l)][a] = Σ_J ∂N_a/∂X_J Â[(3i+J), (3k+l)], contiguous in a; kept per point
-        // for the accumulation after this loop
-        let dt = &mut work.dt[q];
-        for b in 0..27 {
-            for l in 0..3 {
-                dt[l][b] = d[b][l];
-            }
-        }
-        for i in 0..3 {
+    }
+}
+
+/// `Â = A_iso + s (F⁻ᵀ_iJ F⁻ᵀ_kL − F⁻ᵀ_iL F⁻ᵀ_kJ)` in place, `s = π J`.
+#[inline]
+fn add_initial_stress(s: f64, finv_t: &Matrix3<f64>, a_hat: &mut Tangent9) {
+    for i in 0..3 {
+        for jj in 0..3 {
             for k in 0..3 {
                 for l in 0..3 {
-                    let c = 3 * k + l;
-                    let (a0, a1, a2) = (
-                        a_iso[(3 * i, c)],
-                        a_iso[(3 * i + 1, c)],
-                        a_iso[(3 * i + 2, c)],
-                    );
-                    let g = &mut work.g[q][(3 * i + k) * 3 + l];
-                    for a in 0..27 {
-                        g[a] = dt[0][a] * a0 + dt[1][a] * a1 + dt[2][a] * a2;
-                    }
-                }
-            }
-        }
-        let qv = &geo.q[q];
-        for b in 0..27 {
-            for k in 0..3 {
-                let v = w * (cof[(k, 0)] * d[b][0] + cof[(k, 1)] * d[b][1] + cof[(k, 2)] * d[b][2]);
-                for l in 0..4 {
-                    work.b[l][3 * b + k] += qv[l] * v;
+                    a_hat[(3 * i + jj, 3 * k + l)] +=
+                        s * (finv_t[(i, jj)] * finv_t[(k, l)] - finv_t[(i, l)] * finv_t[(k, jj)]);
                 }
             }
         }
     }
-    if with_tangent {
-        // K_(a,i),(b,k) = Σ_q w_q Σ_L g_q[(i,k,L)][a] ∂N_b/∂X_L for the node blocks b ≥ a: one
-        // row at a time over all points (the row stays in cache; the per-point terms are
-        // added in point order, as a per-point accumulation would), then mirrored
-        for a in 0..27 {
+}
+
+/// One point's stiffness kernel, kept for [`upper_node_blocks`]: `dt[L][b] = ∂N_b/∂X_L` and
+/// `g[(i, k, L)][a] = Σ_J ∂N_a/∂X_J Â[(3i+J), (3k+L)]`, both contiguous in the node.
+#[inline]
+fn stiffness_kernel(
+    d: &[[f64; 3]; 27],
+    a_hat: &Tangent9,
+    dt: &mut [[f64; 27]; 3],
+    g: &mut [[f64; 27]; 27],
+) {
+    for b in 0..27 {
+        for l in 0..3 {
+            dt[l][b] = d[b][l];
+        }
+    }
+    for i in 0..3 {
+        for k in 0..3 {
+            for l in 0..3 {
+                let c = 3 * k + l;
+                let (a0, a1, a2) = (
+                    a_hat[(3 * i, c)],
+                    a_hat[(3 * i + 1, c)],
+                    a_hat[(3 * i + 2, c)],
+                );
+                let g = &mut g[(3 * i + k) * 3 + l];
+                for a in 0..27 {
+                    g[a] = dt[0][a] * a0 + dt[1][a] * a1 + dt[2][a] * a2;
+                }
+            }
+        }
+    }
+}
+
+/// `B_l,(b,k) += w q_l Σ_L (J F⁻ᵀ)_kL ∂N_b/∂X_L`.
+#[inline]
+fn add_dilatation_gradient(
+    w: f64,
+    cof: &Matrix3<f64>,
+    d: &[[f64; 3]; 27],
+    qv: &[f64; 4],
+    b_rows: &mut [[f64; DOFS]],
+) {
+    for b in 0..27 {
+        for k in 0..3 {
+            let v = w * (cof[(k, 0)] * d[b][0] + cof[(k, 1)] * d[b][1] + cof[(k, 2)] * d[b][2]);
+            for l in 0..4 {
+                b_rows[l][3 * b + k] += qv[l] * v;
+            }
+        }
+    }
+}
+
+/// `K_(a,i),(b,k) = Σ_q w_q Σ_L g_q[(i,k,L)][a] ∂N_b/∂X_L` for the node blocks b ≥ a: one
+/// row at a time over all points (the row stays in cache; the per-point terms are added in
+/// point order, as a per-point accumulation would).
+#[inline]
+fn upper_node_blocks(
+    wdet: &[f64; QP],
+    g: &[[[f64; 27]; 27]],
+    dt: &[[[f64; 27]; 3]],
+    stiffness: &mut [f64],
+) {
+    for a in 0..27 {
+        for i in 0..3 {
+            for k in 0..3 {
+                let gi = (3 * i + k) * 3;
+                let mut acc = [0.0; 27];
+                for q in 0..QP {
+                    let w = wdet[q];
+                    let g = &g[q];
+                    let (g0, g1, g2) = (w * g[gi][a], w * g[gi + 1][a], w * g[gi + 2][a]);
+                    let dt = &dt[q];
+                    for b in a..27 {
+                        acc[b] += g0 * dt[0][b] + g1 * dt[1][b] + g2 * dt[2][b];
+                    }
+                }
+                let row = (3 * a + i) * DOFS;
+                for b in a..27 {
+                    stiffness[row + 3 * b + k] = acc[b];
+                }
+            }
+        }
+    }
+}
+
+/// The node blocks b < a from their mirror images (the tangent is symmetric).
+#[inline]
+fn mirror_node_blocks(stiffness: &mut [f64]) {
+    for a in 0..27 {
+        for b in (a + 1)..27 {
             for i in 0..3 {
                 for k in 0..3 {
-                    let gi = (3 * i + k) * 3;
-                    let mut acc = [0.0; 27];
-                    for q in 0..QP {
-                        let w = geo.wdet[q];
-                        let g = &work.g[q];
-                        let (g0, g1, g2) = (w * g[gi][a], w * g[gi + 1][a], w * g[gi + 2][a]);
-                        let dt = &work.dt[q];
-                        for b in a..27 {
-                            acc[b] += g0 * dt[0][b] + g1 * dt[1][b] + g2 * dt[2][b];
-                        }
-                    }
-                    let row = (3 * a + i) * DOFS;
-                    for b in a..27 {
-                        work.k[row + 3 * b + k] = acc[b];
-                    }
-                }
-            }
-        }
-        for a in 0..27 {
-            for b in (a + 1)..27 {
-                for i in 0..3 {
-                    for k in 0..3 {
-                        work.k[(3 * b + k) * DOFS + 3 * a + i] =
-                            work.k[(3 * a + i) * DOFS + 3 * b + k];
-                    }
-                }
-            }
-        }
-        // volumetric coupling Bᵀ M⁻¹ H M⁻¹ B
-        let c4 = geo.minv * h * geo.minv;
-        let mut cb = [[0.0; DOFS]; 4];
-        for l in 0..4 {
-            for m in 0..4 {
-                let cl = c4[(l, m)];
-                if cl != 0.0 {
-                    for (dst, src) in cb[l].iter_mut().zip(work.b[m].iter()) {
-                        *dst += cl * src;
-                    }
-                }
-            }
-        }
-        for r in 0..DOFS {
-            let row = r * DOFS;
-            for l in 0..4 {
-                let br = work.b[l][r];
-                if br == 0.0 {
-                    continue;
-                }
-                for (kv, cv) in work.k[row..row + DOFS].iter_mut().zip(cb[l].iter()) {
-                    *kv += br * cv;
+                    stiffness[(3 * b + k) * DOFS + 3 * a + i] =
+                        stiffness[(3 * a + i) * DOFS + 3 * b + k];
                 }
             }
         }
     }
-    Ok(energy)
+}
+
+/// The volumetric coupling `Bᵀ M⁻¹ H M⁻¹ B` added to the tangent.
+#[inline]
+fn add_volumetric_coupling(
+    geo: &ElementGeometry,
+    h: Matrix4<f64>,
+    b_rows: &[[f64; DOFS]],
+    stiffness: &mut [f64],
+) {
+    let c4 = geo.minv * h * geo.minv;
+    let mut cb = [[0.0; DOFS]; 4];
+    for l in 0..4 {
+        for m in 0..4 {
+            let cl = c4[(l, m)];
+            if cl != 0.0 {
+                for (dst, src) in cb[l].iter_mut().zip(b_rows[m].iter()) {
+                    *dst += cl * src;
+                }
+            }
+        }
+    }
+    for r in 0..DOFS {
+        let row = r * DOFS;
+        for l in 0..4 {
+            let br = b_rows[l][r];
+            if br == 0.0 {
+                continue;
+            }
+            for (kv, cv) in stiffness[row..row + DOFS].iter_mut().zip(cb[l].iter()) {
+                *kv += br * cv;
+            }
+        }
+    }
 }
 
 /// The projected pressure linearised about `u` and evaluated at `u + du`:
