@@ -20,6 +20,53 @@ pub(super) struct NewtonOutcome {
 /// A Newton iteration that keeps more than this share of the residual makes no progress.
 const STALL_RATIO: f64 = 0.9;
 
+/// The residual over the iterations of one solve, for the tests that end a hopeless attempt.
+struct Progress {
+    /// Smallest residual from the second iteration on.
+    best: f64,
+    /// Residual of the previous iteration.
+    previous: f64,
+    /// Iterations in a row that barely reduced the residual.
+    stalled: usize,
+}
+
+impl Progress {
+    fn new() -> Self {
+        Self {
+            best: f64::INFINITY,
+            previous: f64::INFINITY,
+            stalled: 0,
+        }
+    }
+
+    /// Records the residual norm `rn` (`normalised` by the force scale) of iteration `it`;
+    /// true if the iteration diverges or stagnates far from the solution.
+    fn hopeless(&mut self, it: usize, rn: f64, normalised: f64) -> bool {
+        // the first Newton step may raise the residual by orders of magnitude (the
+        // linearised rotations violate J = 1 at second order, see the module docs); from
+        // then on the residual must come down
+        if it >= 1 {
+            self.best = self.best.min(rn);
+        }
+        if it >= 3 && rn > 10.0 * self.best {
+            // diverging: give up early and let the step be cut back
+            return true;
+        }
+        // stagnating far from the solution (two iterations in a row that barely reduce
+        // the residual): Newton will not recover in the iterations left
+        self.stalled = if it >= 2 && rn > STALL_RATIO * self.previous {
+            self.stalled + 1
+        } else {
+            0
+        };
+        if self.stalled >= 2 && normalised > 1e-3 {
+            return true;
+        }
+        self.previous = rn;
+        false
+    }
+}
+
 impl<P: NonlinearProblem> Solver<'_, P> {
     pub(super) fn newton(
         &mut self,
@@ -46,132 +93,44 @@ impl<P: NonlinearProblem> Solver<'_, P> {
             residual: f64::INFINITY,
             update: f64::INFINITY,
         };
-        let mut best_residual = f64::INFINITY;
-        let mut previous_residual = f64::INFINITY;
-        let mut stalled = 0;
+        let mut progress = Progress::new();
         self.use_tangent_pressure = false;
         // modified Newton (the last factor) while it contracts fast enough
         let mut modified = reuse && self.linear.has_factor();
         self.guard_residual = None;
         for it in 0..=self.settings.max_iterations {
             self.model.expand(&state.u_free, level, u_full);
-            // the step guard already assembled the residual at this state: if it meets the
-            // tolerance, the tangent is not needed (same residual, same decision)
-            if let Some(ext) = self.guard_residual.take() {
-                let scale = ext.max(self.reaction_norm()).max(self.force_scale);
-                let rn = norm(&self.r_free);
-                if rn <= self.settings.rtol * scale
-                    && (it > 0 || level_is_zero_increment(state, level))
-                {
-                    out.residual = rn / scale;
-                    out.iterations = it;
-                    out.converged = true;
-                    if self.settings.trace {
-                        eprintln!(
-                            "  newton {it:2}  level p={:.4} g={:.2}  |r|/f = {:.3e}  (|r| = {rn:.3e}, f = {scale:.3e})",
-                            level.pressure, level.gravity, out.residual
-                        );
-                    }
-                    return Ok(out);
-                }
+            if self.converged_at_guard(state, level, it, &mut out) {
+                return Ok(out);
             }
-            let mut ext = match self.assemble(&state.u_free, u_full, level, !modified) {
-                Ok(external) => external,
-                Err(_) => return Ok(out),
+            let previous = progress.previous;
+            let Some(ext) =
+                self.assemble_iteration(state, level, u_full, it, &mut modified, previous)
+            else {
+                return Ok(out);
             };
-            if modified && it >= 1 && norm(&self.r_free) > REUSE_CONTRACTION * previous_residual {
-                // too slow: the tangent of this state from here on
-                modified = false;
-                ext = match self.assemble(&state.u_free, u_full, level, true) {
-                    Ok(external) => external,
-                    Err(_) => return Ok(out),
-                };
-            }
-            let reactions = self.reaction_norm();
-            let scale = ext.max(reactions).max(self.force_scale);
-            self.last_force_scale = scale;
-            let rn = norm(&self.r_free);
-            out.residual = rn / scale;
-            out.iterations = it;
-            if self.settings.trace {
-                eprintln!(
-                    "  newton {it:2}{}  level p={:.4} g={:.2}  |r|/f = {:.3e}  (|r| = {rn:.3e}, f = {scale:.3e})",
-                    if modified { " (reused factor)" } else { "" },
-                    level.pressure, level.gravity, out.residual
-                );
-            }
+            let (rn, scale) = self.measure(it, level, modified, ext, &mut out);
             if !rn.is_finite() {
                 return Ok(out);
             }
-            if rn <= self.settings.rtol * scale && (it > 0 || level_is_zero_increment(state, level))
-            {
+            if self.meets_tolerance(state, level, it, rn, scale) {
                 out.converged = true;
                 return Ok(out);
             }
-            if it == self.settings.max_iterations {
+            if it == self.settings.max_iterations || progress.hopeless(it, rn, out.residual) {
                 return Ok(out);
             }
-            // the first Newton step may raise the residual by orders of magnitude (the
-            // linearised rotations violate J = 1 at second order, see the module docs); from
-            // then on the residual must come down
-            if it >= 1 {
-                best_residual = best_residual.min(rn);
-            }
-            if it >= 3 && rn > 10.0 * best_residual {
-                // diverging: give up early and let the step be cut back
-                return Ok(out);
-            }
-            // stagnating far from the solution (two iterations in a row that barely reduce
-            // the residual): Newton will not recover in the iterations left
-            stalled = if it >= 2 && rn > STALL_RATIO * previous_residual {
-                stalled + 1
-            } else {
-                0
-            };
-            if stalled >= 2 && out.residual > 1e-3 {
-                return Ok(out);
-            }
-            previous_residual = rn;
-            for (d, r) in self.du.iter_mut().zip(&self.r_free) {
-                *d = -r;
-            }
-            let t = std::time::Instant::now();
-            let solved = if modified {
-                self.linear.solve_factored(&mut self.du)
-            } else {
-                self.linear.solve(&self.k, &mut self.du)
-            };
-            self.factor_seconds += t.elapsed().as_secs_f64();
-            if let Err(e) = solved {
-                if self.settings.trace {
-                    eprintln!("           {e}: cutting back");
-                }
+            if !self.solve_step(modified) {
                 return Ok(out);
             }
             let alpha = self.line_search(state, level, u_full);
-            if self.settings.trace {
-                // where the largest component of the step is (reference position of its node)
-                let (imax, dmax) = self.du.iter().enumerate().fold((0, 0.0f64), |m, (i, v)| {
-                    if v.abs() > m.1 {
-                        (i, v.abs())
-                    } else {
-                        m
-                    }
-                });
-                let at = self.model.describe_unknown(imax);
-                eprintln!("           step |du|max = {dmax:.3e} at {at}, alpha = {alpha:.3}");
-            }
+            self.trace_step(alpha);
             let un = norm(&state.u_free).max(1e-12);
             out.update = alpha * norm(&self.du) / un;
             if alpha == 0.0 {
                 return Ok(out);
             }
-            if self.settings.mixed_tangent {
-                self.carry_pressures(state, level, u_full, alpha);
-            }
-            for (u, d) in state.u_free.iter_mut().zip(&self.du) {
-                *u += alpha * d;
-            }
+            self.take_step(state, level, u_full, alpha);
             // converged on a tiny update after a full Newton step with a small residual
             if out.update < 1e-13 && rn <= 1e-4 * scale {
                 out.converged = true;
@@ -181,6 +140,159 @@ impl<P: NonlinearProblem> Solver<'_, P> {
             }
         }
         Ok(out)
+    }
+
+    /// The step guard already assembled the residual at this state: if it meets the
+    /// tolerance, the tangent is not needed (same residual, same decision). Records the
+    /// converged iteration in `out` and returns true then.
+    fn converged_at_guard(
+        &mut self,
+        state: &PathState,
+        level: &LoadLevel,
+        it: usize,
+        out: &mut NewtonOutcome,
+    ) -> bool {
+        let Some(ext) = self.guard_residual.take() else {
+            return false;
+        };
+        let scale = ext.max(self.reaction_norm()).max(self.force_scale);
+        let rn = norm(&self.r_free);
+        if !self.meets_tolerance(state, level, it, rn, scale) {
+            return false;
+        }
+        out.residual = rn / scale;
+        out.iterations = it;
+        out.converged = true;
+        self.trace_residual(it, level, false, rn, scale, out.residual);
+        true
+    }
+
+    /// The residual at the current state, with the tangent unless the last factor is reused
+    /// (`modified`); if the modified iteration contracts too slowly (against the `previous`
+    /// residual), the tangent of this state from here on. Returns the external force norm,
+    /// `None` if an element is inverted.
+    fn assemble_iteration(
+        &mut self,
+        state: &PathState,
+        level: &LoadLevel,
+        u_full: &[f64],
+        it: usize,
+        modified: &mut bool,
+        previous: f64,
+    ) -> Option<f64> {
+        let mut ext = self
+            .assemble(&state.u_free, u_full, level, !*modified)
+            .ok()?;
+        if *modified && it >= 1 && norm(&self.r_free) > REUSE_CONTRACTION * previous {
+            // too slow: the tangent of this state from here on
+            *modified = false;
+            ext = self.assemble(&state.u_free, u_full, level, true).ok()?;
+        }
+        Some(ext)
+    }
+
+    /// The residual norm and the force scale it is measured against (kept for the
+    /// convergence test of the caller); records the iteration in `out`.
+    fn measure(
+        &mut self,
+        it: usize,
+        level: &LoadLevel,
+        modified: bool,
+        ext: f64,
+        out: &mut NewtonOutcome,
+    ) -> (f64, f64) {
+        let reactions = self.reaction_norm();
+        let scale = ext.max(reactions).max(self.force_scale);
+        self.last_force_scale = scale;
+        let rn = norm(&self.r_free);
+        out.residual = rn / scale;
+        out.iterations = it;
+        self.trace_residual(it, level, modified, rn, scale, out.residual);
+        (rn, scale)
+    }
+
+    /// `|r| ≤ rtol · scale`, at iteration `it` > 0 unless the level is the state's own.
+    fn meets_tolerance(
+        &self,
+        state: &PathState,
+        level: &LoadLevel,
+        it: usize,
+        rn: f64,
+        scale: f64,
+    ) -> bool {
+        rn <= self.settings.rtol * scale && (it > 0 || level_is_zero_increment(state, level))
+    }
+
+    /// Solves `K Δu = −r` into `du`, with the last factor if `modified`; false if the solve
+    /// failed (the increment is then cut back).
+    fn solve_step(&mut self, modified: bool) -> bool {
+        for (d, r) in self.du.iter_mut().zip(&self.r_free) {
+            *d = -r;
+        }
+        let t = std::time::Instant::now();
+        let solved = if modified {
+            self.linear.solve_factored(&mut self.du)
+        } else {
+            self.linear.solve(&self.k, &mut self.du)
+        };
+        self.factor_seconds += t.elapsed().as_secs_f64();
+        if let Err(e) = solved {
+            if self.settings.trace {
+                eprintln!("           {e}: cutting back");
+            }
+            return false;
+        }
+        true
+    }
+
+    /// `u ← u + α Δu`, with the mixed iteration's pressures carried to the new state.
+    fn take_step(
+        &mut self,
+        state: &mut PathState,
+        level: &LoadLevel,
+        u_full: &mut [f64],
+        alpha: f64,
+    ) {
+        if self.settings.mixed_tangent {
+            self.carry_pressures(state, level, u_full, alpha);
+        }
+        for (u, d) in state.u_free.iter_mut().zip(&self.du) {
+            *u += alpha * d;
+        }
+    }
+
+    fn trace_residual(
+        &self,
+        it: usize,
+        level: &LoadLevel,
+        modified: bool,
+        rn: f64,
+        scale: f64,
+        normalised: f64,
+    ) {
+        if self.settings.trace {
+            eprintln!(
+                "  newton {it:2}{}  level p={:.4} g={:.2}  |r|/f = {normalised:.3e}  (|r| = {rn:.3e}, f = {scale:.3e})",
+                if modified { " (reused factor)" } else { "" },
+                level.pressure, level.gravity
+            );
+        }
+    }
+
+    /// Traces where the largest component of the step is (reference position of its node).
+    fn trace_step(&self, alpha: f64) {
+        if !self.settings.trace {
+            return;
+        }
+        let (imax, dmax) = self.du.iter().enumerate().fold((0, 0.0f64), |m, (i, v)| {
+            if v.abs() > m.1 {
+                (i, v.abs())
+            } else {
+                m
+            }
+        });
+        let at = self.model.describe_unknown(imax);
+        eprintln!("           step |du|max = {dmax:.3e} at {at}, alpha = {alpha:.3}");
     }
 
     /// Element pressures of the mixed iteration at `u + α Δu`, linearised about `u`.
