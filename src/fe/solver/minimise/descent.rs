@@ -31,6 +31,54 @@ const ENERGY_NOISE: f64 = 1e-11;
 /// reference (Chamberlain, Powell, Lemaréchal & Pedersen 1982).
 const WATCHDOG_STEPS: usize = 8;
 
+/// The watchdog of the full steps (see the module docs).
+struct Watchdog {
+    /// `(Π, required decrease, iteration)` at the reference state, while watching.
+    reference: Option<(f64, f64, usize)>,
+    /// Whether the increment has fallen back to the line search on Π.
+    monotone: bool,
+}
+
+impl Watchdog {
+    fn new() -> Self {
+        Self {
+            reference: None,
+            monotone: false,
+        }
+    }
+
+    /// Takes the state of iteration `it` (Π = `energy`, `∇Π·d = gd`) as the reference unless
+    /// one is watched already; true if it did.
+    fn watch(&mut self, energy: f64, gd: f64, it: usize) -> bool {
+        if self.reference.is_some() {
+            return false;
+        }
+        self.reference = Some((energy, ARMIJO * gd, it));
+        true
+    }
+
+    /// After the step of iteration `it` to Π = `energy`: ends the watch if Π fell below the
+    /// reference by the required decrease; returns the number of steps since the reference
+    /// if the full steps did not decrease Π within [`WATCHDOG_STEPS`].
+    fn expired(&mut self, it: usize, energy: f64) -> Option<usize> {
+        let (e_ref, decrease, since) = self.reference?;
+        if energy <= e_ref + decrease {
+            self.reference = None;
+            None
+        } else if it + 1 - since >= WATCHDOG_STEPS {
+            Some(it + 1 - since)
+        } else {
+            None
+        }
+    }
+
+    /// A line search on Π from the reference state on.
+    fn fall_back(&mut self) {
+        self.monotone = true;
+        self.reference = None;
+    }
+}
+
 impl<P: NonlinearProblem> Minimiser<'_, P> {
     /// Minimises Π at `level` from `state.u_free` (changed in place).
     ///
@@ -59,40 +107,15 @@ impl<P: NonlinearProblem> Minimiser<'_, P> {
             residual: f64::INFINITY,
             update: f64::INFINITY,
         };
-        self.use_tangent_pressure = false;
-        self.model.expand(&state.u_free, level, u_full);
-        let (mut energy, mut ext) = match self.eval(u_full, level, false, false)? {
-            Some((e, x)) if e.is_finite() => (e, x),
-            _ => {
-                out.stop = Stop::Inadmissible;
-                return Ok(out);
-            }
+        let Some((mut energy, mut ext)) = self.start(state, level, u_full)? else {
+            out.stop = Stop::Inadmissible;
+            return Ok(out);
         };
-        // the watchdog of the full steps: (Π, required decrease, iteration) at its reference
-        let mut watch: Option<(f64, f64, usize)> = None;
-        let mut monotone = false;
+        let mut watchdog = Watchdog::new();
         for it in 0..=self.settings.max_iterations {
-            let reactions = self.model.reaction_norm(&self.r_full);
-            let scale = ext.max(reactions).max(self.force_scale);
-            let rn = norm(&self.r_free);
-            out.residual = rn / scale;
-            out.iterations = it;
-            if self.settings.trace {
-                eprintln!(
-                    "  minimise {it:2}  level p={:.4} g={:.2}  |r|/f = {:.3e}  Π = {energy:.10e}",
-                    level.pressure, level.gravity, out.residual
-                );
-            }
-            if !rn.is_finite() {
-                out.stop = Stop::NotFinite;
-                return Ok(out);
-            }
-            if rn <= self.settings.rtol * scale {
-                out.stop = Stop::Converged;
-                return Ok(out);
-            }
-            if it == self.settings.max_iterations {
-                out.stop = Stop::MaxIterations;
+            let (rn, scale) = self.measure(it, level, energy, ext, &mut out);
+            if let Some(stop) = self.stop_before_step(it, rn, scale) {
+                out.stop = stop;
                 return Ok(out);
             }
             let Some(gd) = self.direction(u_full, level)? else {
@@ -100,13 +123,12 @@ impl<P: NonlinearProblem> Minimiser<'_, P> {
                 return Ok(out);
             };
             let alpha_max = self.step_bound(&state.u_free, u_full, level);
-            let step = if monotone {
+            let step = if watchdog.monotone {
                 self.line_search(&state.u_free, level, energy, gd, alpha_max, scale)?
             } else {
-                if watch.is_none() {
+                if watchdog.watch(energy, gd, it) {
                     // the watchdog's reference: this state and its sufficient decrease
                     self.watch_u.clone_from(&state.u_free);
-                    watch = Some((energy, ARMIJO * gd, it));
                 }
                 self.admissible_step(&state.u_free, level, alpha_max)?
             };
@@ -114,50 +136,19 @@ impl<P: NonlinearProblem> Minimiser<'_, P> {
                 out.stop = Stop::LineSearch;
                 return Ok(out);
             };
-            if self.settings.trace {
-                eprintln!(
-                    "           step bound {alpha_max:.3e}, alpha = {alpha:.3e}, ΔΠ = {:.3e} (∇Π·d = {gd:.3e})",
-                    e_new - energy
-                );
-            }
-            if self.settings.mixed_tangent {
-                // the mixed iteration's element pressures at u + αΔu, linearised about u
-                self.model
-                    .expand_increment(&self.du, alpha, &mut self.du_full);
-                self.use_tangent_pressure = self
-                    .model
-                    .mixed_fields(u_full, &self.du_full, &mut self.tangent_pressure)
-                    .is_ok();
-            }
-            std::mem::swap(&mut state.u_free, &mut self.trial);
-            std::mem::swap(u_full, &mut self.trial_full);
+            self.trace_step(alpha_max, alpha, energy, e_new, gd);
+            self.accept_trial(state, u_full, alpha);
             (energy, ext) = (e_new, ext_new);
-            if let Some((e_ref, decrease, since)) = watch {
-                if energy <= e_ref + decrease {
-                    watch = None;
-                } else if it + 1 - since >= WATCHDOG_STEPS {
-                    // the full steps did not decrease Π: back to the reference state, and a
-                    // line search on Π from there on
-                    if self.settings.trace {
-                        eprintln!(
-                            "           watchdog: Π not decreased, back {} steps",
-                            it + 1 - since
-                        );
-                    }
-                    state.u_free.clone_from(&self.watch_u);
-                    self.model.expand(&state.u_free, level, u_full);
-                    (energy, ext) = match self.eval(u_full, level, false, false)? {
-                        Some(v) => v,
-                        None => {
-                            out.stop = Stop::Inadmissible;
-                            return Ok(out);
-                        }
-                    };
-                    self.use_tangent_pressure = false;
-                    monotone = true;
-                    watch = None;
-                    continue;
-                }
+            if let Some(steps) = watchdog.expired(it, energy) {
+                // the full steps did not decrease Π: back to the reference state, and a
+                // line search on Π from there on
+                let Some(back) = self.back_to_watch(state, level, u_full, steps)? else {
+                    out.stop = Stop::Inadmissible;
+                    return Ok(out);
+                };
+                (energy, ext) = back;
+                watchdog.fall_back();
+                continue;
             }
             let un = norm(&state.u_free).max(1e-12);
             out.update = alpha * norm(&self.du) / un;
@@ -168,6 +159,105 @@ impl<P: NonlinearProblem> Minimiser<'_, P> {
             }
         }
         Ok(out)
+    }
+
+    /// Π and the residual at the increment's starting state (without the mixed iteration's
+    /// pressures): `(Π, external force norm)`, or `None` if it is inadmissible.
+    fn start(
+        &mut self,
+        state: &PathState,
+        level: &LoadLevel,
+        u_full: &mut [f64],
+    ) -> Result<Option<(f64, f64)>, SolverError> {
+        self.use_tangent_pressure = false;
+        self.model.expand(&state.u_free, level, u_full);
+        Ok(self
+            .eval(u_full, level, false, false)?
+            .filter(|&(e, _)| e.is_finite()))
+    }
+
+    /// The residual norm and the force scale it is measured against; records the iteration
+    /// in `out`.
+    fn measure(
+        &self,
+        it: usize,
+        level: &LoadLevel,
+        energy: f64,
+        ext: f64,
+        out: &mut Outcome,
+    ) -> (f64, f64) {
+        let reactions = self.model.reaction_norm(&self.r_full);
+        let scale = ext.max(reactions).max(self.force_scale);
+        let rn = norm(&self.r_free);
+        out.residual = rn / scale;
+        out.iterations = it;
+        if self.settings.trace {
+            eprintln!(
+                "  minimise {it:2}  level p={:.4} g={:.2}  |r|/f = {:.3e}  Π = {energy:.10e}",
+                level.pressure, level.gravity, out.residual
+            );
+        }
+        (rn, scale)
+    }
+
+    /// How iteration `it` ends the increment before a step, if it does: a non-finite
+    /// residual, convergence, or the last iteration.
+    fn stop_before_step(&self, it: usize, rn: f64, scale: f64) -> Option<Stop> {
+        if !rn.is_finite() {
+            Some(Stop::NotFinite)
+        } else if rn <= self.settings.rtol * scale {
+            Some(Stop::Converged)
+        } else if it == self.settings.max_iterations {
+            Some(Stop::MaxIterations)
+        } else {
+            None
+        }
+    }
+
+    /// Moves to the accepted step `u + α Δu` (in `trial` / `trial_full`); with the mixed
+    /// iteration, the element pressures there, linearised about `u`.
+    fn accept_trial(&mut self, state: &mut PathState, u_full: &mut Vec<f64>, alpha: f64) {
+        if self.settings.mixed_tangent {
+            self.model
+                .expand_increment(&self.du, alpha, &mut self.du_full);
+            self.use_tangent_pressure = self
+                .model
+                .mixed_fields(u_full, &self.du_full, &mut self.tangent_pressure)
+                .is_ok();
+        }
+        std::mem::swap(&mut state.u_free, &mut self.trial);
+        std::mem::swap(u_full, &mut self.trial_full);
+    }
+
+    /// Returns to the watchdog's reference state (`steps` back), without the mixed
+    /// iteration's pressures: its `(Π, external force norm)`, or `None` if it is
+    /// inadmissible.
+    fn back_to_watch(
+        &mut self,
+        state: &mut PathState,
+        level: &LoadLevel,
+        u_full: &mut [f64],
+        steps: usize,
+    ) -> Result<Option<(f64, f64)>, SolverError> {
+        if self.settings.trace {
+            eprintln!("           watchdog: Π not decreased, back {steps} steps");
+        }
+        state.u_free.clone_from(&self.watch_u);
+        self.model.expand(&state.u_free, level, u_full);
+        let back = self.eval(u_full, level, false, false)?;
+        if back.is_some() {
+            self.use_tangent_pressure = false;
+        }
+        Ok(back)
+    }
+
+    fn trace_step(&self, alpha_max: f64, alpha: f64, energy: f64, e_new: f64, gd: f64) {
+        if self.settings.trace {
+            eprintln!(
+                "           step bound {alpha_max:.3e}, alpha = {alpha:.3e}, ΔΠ = {:.3e} (∇Π·d = {gd:.3e})",
+                e_new - energy
+            );
+        }
     }
 
     /// A direction `du` with `∇Π·du < 0`: the Newton direction of the tangent by LLᵀ; if the
