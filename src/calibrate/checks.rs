@@ -13,7 +13,9 @@
 //!   over a set of recordings (0.97 … 1.05 on the shipped ones but two). A row whose ratio
 //!   departs from the median of all rows by more than `max(0.05, 5 × 1.4826 × MAD)` is
 //!   flagged: its tip is farther from (or nearer to) the support than any bending shape with
-//!   its angle puts it, so its angle and its tip cannot both be right.
+//!   its angle puts it, so its angle and its tip cannot both be right. The flag gives the
+//!   floor of any model's tip error there ([`arc_floor_mm`]): how near any shape within the
+//!   other rows' band of ratios, at any angle, comes to the recorded tip.
 //! - **Monotonic ramps.** For one design, tip Uz, −Uy, the angle and the blocked force grow
 //!   with pressure; a decrease between two recorded pressures is flagged.
 //!
@@ -81,6 +83,49 @@ pub fn arc_ratio(uy_mm: f64, angle_deg: f64, length_mm: f64) -> f64 {
     chord * a / (length_mm * a.sin())
 }
 
+/// The closest any arc-like bending shape comes to a recorded tip (mm): over every chord
+/// angle `α` and every ratio `q ∈ [q_lo, q_hi]` of the chord to an arc's, the distance from
+/// `(Uz, Uy)` to the tip `(L − q c(α) cos α, −q c(α) sin α)`, `c(α) = L sin α / α`. No model
+/// whose shape stays in the band of the other rows can miss this tip by less: a floor on its
+/// tip error there.
+pub fn arc_floor_mm(uz_mm: f64, uy_mm: f64, length_mm: f64, q_lo: f64, q_hi: f64) -> f64 {
+    // distance from the tip to the segment of tips at chord angle `a`
+    let at = |a: f64| {
+        let c = if a.abs() < 1e-12 {
+            length_mm
+        } else {
+            length_mm * a.sin() / a
+        };
+        let (dz, dy) = (-a.cos(), -a.sin());
+        // project the recorded tip onto the ray from the support
+        let (pz, py) = (uz_mm - length_mm, uy_mm);
+        let s = (pz * dz + py * dy).clamp(q_lo * c, q_hi * c);
+        (pz - s * dz).hypot(py - s * dy)
+    };
+    let n = 2000;
+    let h = std::f64::consts::FRAC_PI_2 / n as f64;
+    let (mut best_a, mut best) = (0.0, f64::INFINITY);
+    for i in 0..=n {
+        let a = i as f64 * h;
+        let d = at(a);
+        if d < best {
+            (best_a, best) = (a, d);
+        }
+    }
+    // golden-section refinement around the best grid point
+    let (mut lo, mut hi) = ((best_a - h).max(0.0), best_a + h);
+    let g = 0.5 * (5f64.sqrt() - 1.0);
+    for _ in 0..60 {
+        let (x1, x2) = (hi - g * (hi - lo), lo + g * (hi - lo));
+        if at(x1) < at(x2) {
+            hi = x2;
+        } else {
+            lo = x1;
+        }
+    }
+    best.min(at(0.5 * (lo + hi)))
+}
+
 /// The median support-to-tip distance of the bending rows of each `N`.
 fn lengths_by_n(rec: &Recordings) -> Vec<(usize, f64)> {
     let mut ns: Vec<usize> = rec.bending.iter().map(|r| r.n_bellows).collect();
@@ -146,10 +191,13 @@ fn chord_flags(rec: &Recordings, flags: &mut Vec<DataFlag>) {
                 "the tip lies {:.1} mm from the support at an angle of {}°, {pct:.0} % {side} \
                  than an arc of the actuator's {l:.1} mm puts it ({:.1} mm); the other rows' \
                  ratios to their arcs lie in {lo:.2} … {hi:.2} (median {med:.3}, tolerance \
-                 ±{tol:.3}): the angle and the tip cannot both be right",
+                 ±{tol:.3}): the angle and the tip cannot both be right; no shape within \
+                 that band comes nearer to this tip than {:.1} mm, a floor on any such \
+                 model's tip error here",
                 -r.tip_uy_mm / a.sin(),
                 r.angle_deg,
                 l * a.sin() / a,
+                arc_floor_mm(r.tip_uz_mm, r.tip_uy_mm, l, lo, hi),
             ),
         });
     }
@@ -278,6 +326,17 @@ mod tests {
             assert!(f.message.contains("farther than an arc"), "{}", f.message);
         }
         assert!(flags[2].message.contains("84.8 mm"), "{}", flags[2].message);
+        // the floors: no shape in the other rows' band comes nearer than 5.7 and 8.8 mm
+        assert!(
+            flags[1].message.contains("than 5.7 mm"),
+            "{}",
+            flags[1].message
+        );
+        assert!(
+            flags[2].message.contains("than 8.8 mm"),
+            "{}",
+            flags[2].message
+        );
         let f = &flags[0];
         assert_eq!(
             (
@@ -301,6 +360,26 @@ mod tests {
         assert!(arc_ratio(uy, 0.0, l).is_nan());
         // a tip moved 10 % farther out along the chord
         assert!((arc_ratio(1.1 * uy, 40.0, l) - 1.1).abs() < 1e-12);
+    }
+
+    #[test]
+    fn the_arc_floor_is_zero_on_the_band_and_the_distance_off_it() {
+        let (l, a) = (92.0_f64, 40.0_f64.to_radians());
+        let c = l * a.sin() / a;
+        let tip = |q: f64| (l - q * c * a.cos(), -q * c * a.sin());
+        let (uz, uy) = tip(1.0);
+        assert!(arc_floor_mm(uz, uy, l, 0.97, 1.05) < 1e-9);
+        // 10 % farther out along the chord: 5 % of the chord beyond the band's edge at its own
+        // angle; a slightly smaller angle, whose arc's chord is longer, comes a little nearer
+        let (uz, uy) = tip(1.10);
+        let d = arc_floor_mm(uz, uy, l, 0.97, 1.05);
+        assert!(
+            d <= 0.05 * c + 1e-9 && d > 0.9 * 0.05 * c,
+            "{d} against {}",
+            0.05 * c
+        );
+        // the undeformed tip itself is on the band (α = 0)
+        assert!(arc_floor_mm(0.0, 0.0, l, 0.97, 1.05) < 1e-9);
     }
 
     #[test]
