@@ -3,20 +3,13 @@
 //! faer orders with approximate minimum degree (AMD) by default. On the actuator, the contact
 //! pairs couple the facing walls of neighbouring bellows over their whole area, so a cut across
 //! the actuator must contain a wall: AMD then fills the factor far more than the mesh alone
-//! would. Nested dissection finds those separators. Measured on N = 11, T = 2, force mode with
-//! contact, one thread, two other processes running (`cargo bench --bench fe -- standard`
-//! times the factorisation with each ordering):
-//!
-//! | mesh | AMD nnz(L) | ND nnz(L) | AMD numeric LDLᵀ | ND numeric LDLᵀ |
-//! |---|---|---|---|---|
-//! | coarse (24 k dofs) | 7.09 M | 7.19 M | 0.125 s | 0.135 s |
-//! | standard (101 k dofs) | 64.5 M | 52.5 M | 2.02 s | 1.42–1.54 s |
-//! | standard, contact off | 38.1 M | 37.3 M | 0.84 s | 0.85 s |
+//! would. Nested dissection finds those separators.
 //!
 //! [`super::solver::LinearSolver::new`] computes both symbolic factorisations once per model
-//! and keeps the smaller factor, so the coarse mesh stays on AMD. METIS runs with a fixed
-//! seed on one thread: the ordering, and hence every result, does not depend on the number of
-//! threads.
+//! and keeps the smaller factor: nested dissection on the standard mesh, AMD on the coarse
+//! one. METIS runs with a fixed seed on one thread: the ordering, and hence every result,
+//! does not depend on the number of threads. The fill and factorisation times of both
+//! orderings are in `docs/SOLVER_MEASUREMENTS.md`.
 
 use super::assembly::{DofMap, Pattern};
 

@@ -7,8 +7,8 @@
 //! A Cholesky test of `K + τ I` (τ = 1e-10 · max |K_ii|) first: an element that passes is
 //! (up to τ) already PSD and is left as it is; the others are decomposed by nalgebra's
 //! symmetric eigen-solver (Householder tridiagonalisation and implicit QR, deterministic, on
-//! the stack: no allocation). It replaced cyclic Jacobi rotations, which took 76 % of the
-//! minimisation solver's time on the coarse ramp when most increments needed a projection.
+//! the stack: no allocation). What it costs against the alternative it replaced:
+//! `docs/SOLVER_MEASUREMENTS.md`.
 
 // Index loops mirror the matrix notation (i, j: rows and columns; p, q: the rotated pair).
 #![allow(clippy::needless_range_loop)]

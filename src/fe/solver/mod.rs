@@ -36,14 +36,15 @@
 //!   shifts between solves, so the walls touch to within [`AUGMENTED_GAP_TOL`] · ε.
 //! - **Stabilisation.** Only where plain load control has stopped (a limit point), so every
 //!   result that converged without it is unchanged, and only undamped equilibria are reported.
-//! - **Every iteration factorises.** Reusing factors (GMRES, modified Newton) did not pay on
-//!   the coarse mesh, where assembly weighs as much as the factor; with the factorisation on
-//!   one thread ([`linear::factor_parallelism`]) modified Newton in the augmented re-solves
-//!   ([`SolverSettings::reuse_factor`]) saves 13 % on the standard mesh and is the default
-//!   (results computed before keep their cache keys, see its docs).
+//! - **Factor reuse only where the load is fixed.** Every Newton iteration of the load path
+//!   factorises its tangent; the augmented re-solves, where the load does not change, keep
+//!   the last factor while each iteration contracts the residual enough (modified Newton,
+//!   [`SolverSettings::reuse_factor`], the default; results computed before keep their cache
+//!   keys, see its docs). The factorisation runs on one thread
+//!   ([`linear::factor_parallelism`]).
 //! - **Warm starts.** In a campaign the neighbouring case's converged state is a far better
-//!   start than the undeformed actuator ([`warm`]): about a tenth of the iterations. Where
-//!   Newton fails from it, a Newton homotopy from that state is tried before the load path.
+//!   start than the undeformed actuator ([`warm`]). Where Newton fails from it, a Newton
+//!   homotopy from that state is tried before the load path.
 //!
 //! The measurements behind each of these choices (iteration counts and wall times of the
 //! alternatives that were tried) are recorded in `docs/SOLVER_MEASUREMENTS.md`.

@@ -95,7 +95,7 @@ impl RegressorKind {
 /// Lower Cholesky factor in place (row-major `n × n`; the upper part is left as is).
 ///
 /// Written here rather than taken from faer so that retraining reproduces the shipped models
-/// bit for bit (faer's factor is faster but rounds differently: `src/rom/NOTES.md`).
+/// bit for bit (faer's factor is faster but rounds differently: `docs/rom_notes.md`).
 ///
 /// # Errors
 /// The index of the first non-positive pivot.
