@@ -1,7 +1,7 @@
 //! The calibration summary's words: the verdict on the fit and the reference study's line.
 //!
 //! The verdict compares the whitened residuals with the measurement scatter of the noise model
-//! (`objective.rs`): with `d` degrees of freedom (observations − fitted parameters), noise alone
+//! (`objective`): with `d` degrees of freedom (observations − fitted parameters), noise alone
 //! gives χ² ~ χ²_d, so `√(χ²/d)` is the residuals' size in units of the scatter. The fit
 //! misses the data when χ² lies above the 99 % quantile of χ²_d, and the stated scatter looks
 //! too large when it lies below the 1 % quantile; in between the model fits within the scatter.
