@@ -98,7 +98,7 @@ pub const VALIDATION_GROUPS: [Quantity; 5] = [MARKERS, TIP_UZ, TIP_UY, ANGLE, FO
 pub const QUERY_COLUMNS: [Quantity; 3] = [N_BELLOWS, WALL_THICKNESS, PRESSURE];
 
 /// The Ogden parameters `[μ₁, α₁, μ₂, α₂]` (a query's material when it has no
-/// [`MATERIAL`] column; the raw calibration parameters).
+/// [`MATERIAL`](super::MATERIAL) column; the raw calibration parameters).
 pub const OGDEN_COLUMNS: [Quantity; 4] = [MU1, ALPHA1, MU2, ALPHA2];
 
 /// The material's sampling coordinates `(μ0, s, α₁, α₂)` (the calibration's training space).

@@ -15,6 +15,8 @@
 //! - `options`: refinement levels and their overrides ([`MeshLevel`], [`MeshOptions`]);
 //! - `actuator`: the mesh of an actuator design with its node and face sets
 //!   ([`ActuatorMesh`]).
+//!
+//! [`Design::region`]: crate::fe::geometry::Design::region
 
 mod actuator;
 mod grid;
