@@ -18,9 +18,7 @@ use surrogate::rom::Surrogate;
 fn main() -> surrogate::Result<()> {
     let study = Path::new("fe_reference/diagnosis/blind");
     let model = Surrogate::load(Path::new("models/actuator_coarse.json"))?;
-    let sens = SweepSensitivities::read(Path::new(
-        "fe_reference/sensitivities/ogden002_coarse/baseline_sensitivities.json",
-    ))?;
+    let sens = SweepSensitivities::read(Path::new("data/sensitivities/ogden002_coarse.json"))?;
     let plan = StudyPlan::read(&study.join("plan.json"))?;
     let dirs = StudyDirs::under(study);
     // one sample per null group: the FE's exact outputs against the surrogate at its material

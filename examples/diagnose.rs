@@ -61,9 +61,7 @@ fn main() -> surrogate::Result<()> {
     }
 
     // Name: every effect's FE signature, the material's directions projected out
-    let sens = SweepSensitivities::read(Path::new(
-        "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json",
-    ))?;
+    let sens = SweepSensitivities::read(Path::new("data/sensitivities/calibrated_coarse.json"))?;
     let mut d = Diagnosis::new(&cal, &recordings, loc);
     // the model's own mesh error (its difference to the coarse-mesh model) is a candidate too
     let coarse = Surrogate::load(Path::new("models/actuator_coarse.json"))?;

@@ -70,7 +70,7 @@ fn diagnoses_the_shipped_experiments() {
         in_repo("training_data/bending_experiments.csv"),
         in_repo("training_data/blocked_force_experiments.csv"),
         in_repo("models/actuator_coarse.json"),
-        in_repo("fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json"),
+        in_repo("data/sensitivities/calibrated_coarse.json"),
     );
     assert_eq!(
         inputs,
@@ -339,7 +339,7 @@ fn runs_from_any_folder_and_names_the_defaults_it_read() {
         "models/actuator.json",
         "training_data/bending_experiments.csv",
         "training_data/blocked_force_experiments.csv",
-        "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json",
+        "data/sensitivities/calibrated_coarse.json",
     ] {
         let p = root.join(f);
         assert!(

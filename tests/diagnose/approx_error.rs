@@ -15,7 +15,7 @@ use surrogate::diagnose::study::{
 use surrogate::rom::Surrogate;
 
 const STUDY: &str = "fe_reference/diagnosis/blind";
-const SWEEP: &str = "fe_reference/sensitivities/ogden002_coarse/baseline_sensitivities.json";
+const SWEEP: &str = "data/sensitivities/ogden002_coarse.json";
 
 #[test]
 fn committed_twins_are_named_right_with_the_approximation_error() {

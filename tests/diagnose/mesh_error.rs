@@ -16,7 +16,7 @@ use surrogate::diagnose::name::NameSettings;
 use surrogate::diagnose::{diagnose, DiagnoseSettings};
 use surrogate::rom::Surrogate;
 
-const SWEEP: &str = "fe_reference/sensitivities/ogden002_coarse/baseline_sensitivities.json";
+const SWEEP: &str = "data/sensitivities/ogden002_coarse.json";
 
 /// `coarse + share × (standard − coarse)` at Ogden 002, at the shipped designs.
 fn truth(coarse: &Surrogate, standard: &Surrogate, share: f64) -> Vec<TrueOutputs> {

@@ -187,8 +187,7 @@ pub struct TwinStudyArgs {
     #[arg(long)]
     pub model: Option<PathBuf>,
     /// The FE sensitivities the Name and Model stages use [default:
-    /// fe_reference/sensitivities/ogden002_coarse/baseline_sensitivities.json of the
-    /// repository].
+    /// data/sensitivities/ogden002_coarse.json of the repository].
     #[arg(long)]
     pub sensitivities: Option<PathBuf>,
     /// Recordings whose designs, pressures and standard deviations the twins take [default:
@@ -255,8 +254,8 @@ pub struct DiagnoseArgs {
     /// `validate --sensitivities all`); the Name stage ranks the effects with them.
     /// `calibrated` runs that sweep now, at the material just calibrated (18 ramps on
     /// --sweep-mesh, cached in `<out>/fe_sensitivities`); `none` skips Name and Model
-    /// [default: fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json of
-    /// the repository, the sweep at the shipped experiments' calibrated material].
+    /// [default: data/sensitivities/calibrated_coarse.json of the repository, the sweep at the
+    /// shipped experiments' calibrated material].
     #[arg(long)]
     pub sensitivities: Option<PathBuf>,
     /// Model and show: `auto` refits the material with the effect the Name stage names (and
@@ -752,7 +751,7 @@ pub struct DemoArgs {
     #[arg(long)]
     pub live_model: Option<PathBuf>,
     /// Committed FE ramps of the calibrated set on the standard mesh [default:
-    /// fe_reference/calibration/standard/fe_standard_ramps/ of the repository].
+    /// data/demo/fe_standard_ramps/ of the repository].
     #[arg(long)]
     pub fe_cache: Option<PathBuf>,
 }

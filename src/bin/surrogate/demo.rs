@@ -39,25 +39,36 @@ use crate::args::DemoArgs;
 use crate::calibrate::{summary_text, write_outputs};
 use crate::files::{given_or_announced, repository_file, DEFAULT_MODEL};
 
-/// The committed adaptive refinements (`calibrate --refine`): what, where.
-const REFINEMENTS: [(&str, &str); 2] = [
-    (
-        "the coarse-mesh surrogate against coarse FE",
-        "fe_reference/calibration/refine_coarse",
-    ),
-    (
-        "the shipped surrogate against standard-mesh FE",
-        "fe_reference/calibration/refine_standard",
-    ),
+/// A committed adaptive refinement (`calibrate --refine`).
+struct CommittedRefinement {
+    /// What was refined against what.
+    what: &'static str,
+    /// Its rounds (the run's `refinement.json`), in the repository's `data/`.
+    rounds: &'static str,
+    /// The run's directory in the repository (its account `refinement.md`, its FE cases).
+    run: &'static str,
+}
+
+/// The committed adaptive refinements.
+const REFINEMENTS: [CommittedRefinement; 2] = [
+    CommittedRefinement {
+        what: "the coarse-mesh surrogate against coarse FE",
+        rounds: "data/demo/refine_coarse.json",
+        run: "fe_reference/calibration/refine_coarse",
+    },
+    CommittedRefinement {
+        what: "the shipped surrogate against standard-mesh FE",
+        rounds: "data/demo/refine_standard.json",
+        run: "fe_reference/calibration/refine_standard",
+    },
 ];
 
 /// The committed FE ramps of the calibrated set on the standard mesh, in the repository.
-const FE_CACHE: &str = "fe_reference/calibration/standard/fe_standard_ramps";
+const FE_CACHE: &str = "data/demo/fe_standard_ramps";
 
 /// The committed FE sensitivities of the effect library at the calibrated material, in the
 /// repository.
-const SENSITIVITIES: &str =
-    "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json";
+const SENSITIVITIES: &str = "data/sensitivities/calibrated_coarse.json";
 
 /// Runs the subcommand.
 pub fn run(a: DemoArgs) -> Result<()> {
@@ -95,8 +106,8 @@ pub fn run(a: DemoArgs) -> Result<()> {
     print!("{}", summary_text(&cal, None));
     println!("\n# 3. FE verification of the calibrated set (standard mesh, committed)\n");
     committed_fe(&fe, &cal, &fe_cache);
-    for (what, dir) in REFINEMENTS {
-        committed_refinement(what, &repository_file(dir));
+    for r in &REFINEMENTS {
+        committed_refinement(r);
     }
     // 4. one design live
     println!(
@@ -223,7 +234,7 @@ fn committed_fe(v: &FeVerification, cal: &Calibration, cache: &Path) {
     let done = n - v.incomplete;
     if done == 0 {
         println!(
-            "No committed FE ramp of the set {} in {} yet: `surrogate calibrate --verify-fe standard --per-configuration --out fe_reference/calibration/standard` computes them (18 ramps, a few core-hours) and caches each one.",
+            "No committed FE ramp of the set {} in {} yet: `surrogate calibrate --verify-fe standard --per-configuration --out fe_reference/calibration/standard --fe-cache data/demo/fe_standard_ramps` computes them (18 ramps, a few core-hours) and caches each one.",
             cal.best.rounded(4).spec(),
             cache.display()
         );
@@ -257,20 +268,22 @@ fn committed_fe(v: &FeVerification, cal: &Calibration, cache: &Path) {
     );
 }
 
-/// The rounds of a committed refinement (`DIR/refinement.json`), or how far it got.
-fn committed_refinement(what: &str, dir: &Path) {
-    let Ok(text) = std::fs::read_to_string(dir.join("refinement.json")) else {
+/// The rounds of a committed refinement, or how far it got.
+fn committed_refinement(c: &CommittedRefinement) {
+    let (what, rounds, dir) = (c.what, repository_file(c.rounds), repository_file(c.run));
+    let Ok(text) = std::fs::read_to_string(&rounds) else {
         println!(
-            "\nAdaptive refinement of {what}: not finished (`surrogate calibrate --refine 3 --out {}`; its FE cases are committed in {}/refine/ as they finish, and a rerun resumes).",
+            "\nAdaptive refinement of {what}: not finished (`surrogate calibrate --refine 3 --out {}`, then its refinement.json to {}; its FE cases are committed in {}/refine/ as they finish, and a rerun resumes).",
             dir.display(),
+            rounds.display(),
             dir.display()
         );
         return;
     };
     let Ok(r) = serde_json::from_str::<Refinement>(&text) else {
         println!(
-            "\n{}/refinement.json is not a refinement report of this version",
-            dir.display()
+            "\n{} is not a refinement report of this version",
+            rounds.display()
         );
         return;
     };

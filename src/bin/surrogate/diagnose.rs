@@ -28,8 +28,7 @@ use crate::files::{
 };
 
 /// The FE sensitivities `diagnose` reads without `--sensitivities`, in the repository.
-const DEFAULT_SENSITIVITIES: &str =
-    "fe_reference/sensitivities/calibrated_coarse/baseline_sensitivities.json";
+const DEFAULT_SENSITIVITIES: &str = "data/sensitivities/calibrated_coarse.json";
 
 /// The validated settings of the run.
 fn settings(a: &DiagnoseArgs) -> Result<DiagnoseSettings> {

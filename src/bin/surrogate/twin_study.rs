@@ -17,8 +17,7 @@ use crate::files::{given_or_announced, load_model, mesh_reference, write_file};
 /// The diagnosing surrogate of the study without `--model`, in the repository.
 const DEFAULT_MODEL: &str = "models/actuator_coarse.json";
 /// The FE sensitivities of the study without `--sensitivities`, in the repository.
-const DEFAULT_SENSITIVITIES: &str =
-    "fe_reference/sensitivities/ogden002_coarse/baseline_sensitivities.json";
+const DEFAULT_SENSITIVITIES: &str = "data/sensitivities/ogden002_coarse.json";
 /// The study's directory without `--out`, in the repository (its committed results).
 const DEFAULT_OUT: &str = "fe_reference/diagnosis/blind";
 

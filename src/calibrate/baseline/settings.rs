@@ -20,7 +20,7 @@ use crate::fe::solver::SolverSettings;
 /// with all 20 sensitivities, one core each: bending 96.6 → 60.5 s, blocked force 102.6 →
 /// 65.7 s; tip, force and every derivative the same to 10⁻⁸ relative. Over the whole sweep
 /// at the calibrated state every derivative of tip, angle and force is within 2.8 % of the
-/// committed sweep in steps of 0.05 bar (`fe_reference/sensitivities/calibrated_coarse/`)
+/// committed sweep in steps of 0.05 bar (`data/sensitivities/calibrated_coarse.json`)
 /// and the verdict is the same: `fe_reference/diagnosis/bench.md`.
 pub const SWEEP_MAX_PRESSURE_INCREMENT: f64 = 0.2;
 

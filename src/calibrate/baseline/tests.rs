@@ -132,7 +132,7 @@ fn committed_verification_ramps_keep_their_keys() {
     let material = crate::calibrate::verify::fe_material(&set).unwrap();
     let settings = SweepSettings::new(material, MeshOptions::level(MeshLevel::Standard));
     let bending = crate::calibrate::experiments::shipped_bending().unwrap();
-    let dir = committed("fe_reference/calibration/standard/fe_standard_ramps");
+    let dir = committed("data/demo/fe_standard_ramps");
     let ramps = cached_ramps(&settings, &recorded_designs(&bending), &dir).unwrap();
     assert_eq!(ramps.len(), 18);
     assert!(ramps.iter().all(|r| r.source == RampSource::Cache));
