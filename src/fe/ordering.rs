@@ -16,6 +16,11 @@ use super::assembly::{DofMap, Pattern};
 /// METIS's random seed (METIS is deterministic for a given seed).
 const METIS_SEED: i32 = 7;
 
+/// METIS keeps its random-number state in globals (GKlib's Mersenne twister), so two calls on
+/// different threads at once interleave their draws and give different orderings. Every call
+/// holds this lock: the ordering is the same whatever else runs.
+static METIS_LOCK: std::sync::Mutex<()> = std::sync::Mutex::new(());
+
 /// Nested-dissection ordering of the free equations, computed by METIS on the graph of the
 /// nodes that carry free equations (each node's equations stay together, in their order).
 ///
@@ -82,6 +87,10 @@ fn metis_node_nd(xadj: &mut [i32], adjncy: &mut [i32]) -> Option<Vec<usize>> {
     // SAFETY: `options` has METIS_NOPTIONS entries, as METIS_SetDefaultOptions requires.
     unsafe { metis_sys::METIS_SetDefaultOptions(options.as_mut_ptr()) };
     options[metis_sys::moptions_et_METIS_OPTION_SEED as usize] = METIS_SEED;
+    // a poisoned lock only means another call panicked; METIS's state is reseeded below
+    let _serial = METIS_LOCK
+        .lock()
+        .unwrap_or_else(std::sync::PoisonError::into_inner);
     // SAFETY: `xadj` has nv + 1 entries, `adjncy` xadj[nv] entries, all in 0..nv (built by
     // the caller from a symmetric adjacency); `perm` and `iperm` have nv entries; a null
     // vertex-weight pointer means unit weights. METIS writes only `perm` and `iperm`.
@@ -144,5 +153,34 @@ mod tests {
         }
         // deterministic
         assert_eq!(Some(perm), nested_dissection(&pattern, &dofs));
+    }
+
+    /// METIS's random state is global: orderings computed on several threads at once must
+    /// still all equal the one computed alone (the test suite and the campaign runner both
+    /// build solvers in parallel).
+    #[test]
+    fn orderings_computed_concurrently_are_identical() {
+        let fe = crate::fe::assembly::model::clamped_block(4);
+        let alone = nested_dissection(&fe.pattern, &fe.dofs).expect("METIS ordering");
+        let results: Vec<Vec<Vec<usize>>> = std::thread::scope(|s| {
+            let handles: Vec<_> = (0..4)
+                .map(|_| {
+                    s.spawn(|| {
+                        (0..6)
+                            .map(|_| nested_dissection(&fe.pattern, &fe.dofs).expect("METIS"))
+                            .collect()
+                    })
+                })
+                .collect();
+            handles
+                .into_iter()
+                .map(|h| h.join().expect("thread"))
+                .collect()
+        });
+        for (t, perms) in results.iter().enumerate() {
+            for (i, p) in perms.iter().enumerate() {
+                assert!(*p == alone, "thread {t}, call {i}: another ordering");
+            }
+        }
     }
 }
