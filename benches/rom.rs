@@ -65,11 +65,11 @@ fn bench(c: &mut Criterion) {
     shipped(c);
     // `gp_per_block`: one kernel per POD block (`train --kernel-per-block`)
     for (kind, per_block) in [
-        (RegressorKind::Gp, false),
-        (RegressorKind::Poly, false),
-        (RegressorKind::Gp, true),
+        (RegressorKind::GP, false),
+        (RegressorKind::POLY, false),
+        (RegressorKind::GP, true),
     ] {
-        let m = model(kind, per_block);
+        let m = model(kind.clone(), per_block);
         let name = if per_block {
             "gp_per_block"
         } else {

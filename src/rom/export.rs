@@ -11,6 +11,7 @@
 use std::fmt::Write as _;
 
 use super::model_form::{ModelFormError, LABEL};
+use super::regression::EmbeddedRegressor;
 use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES};
 use crate::case::Query;
@@ -56,63 +57,58 @@ impl<F: Real> EmbeddedTables<F> {
     /// Converts a surrogate (regressors that no block uses are left out).
     ///
     /// # Errors
-    /// More regression outputs than [`MAX_COEFS`].
+    /// More regression outputs than [`MAX_COEFS`]; [`RomError::NotExportable`] for a block
+    /// whose regressor the embedded predictor cannot evaluate.
     pub fn from_surrogate(s: &Surrogate) -> Result<Self, RomError> {
-        if s.gp.m > MAX_COEFS {
+        let m = s.n_coefs();
+        if m > MAX_COEFS {
             return Err(RomError::invalid(
                 "number of POD coefficients",
-                s.gp.m,
+                m,
                 &format!("≤ {MAX_COEFS} for the embedded predictor"),
             ));
         }
-        let uses = |k| s.blocks.iter().any(|b| b.regressor == k);
-        let use_gp = uses(super::regression::RegressorKind::Gp);
-        let use_poly = uses(super::regression::RegressorKind::Poly);
-        let blocks = s
-            .blocks
-            .iter()
-            .map(|b| OwnedBlock {
+        let (gp, poly, codes) = embedded_regressors(s)?;
+        let mut blocks = Vec::with_capacity(s.blocks.len());
+        for b in &s.blocks {
+            let code = s.regressors.position(&b.regressor).map(|r| codes[r]);
+            blocks.push(OwnedBlock {
                 n_quantities: b.pod.quantities.len(),
                 n_modes: b.pod.n_modes,
                 coef_offset: b.coef_offset,
-                regressor: match b.regressor {
-                    super::regression::RegressorKind::Gp => 0,
-                    super::regression::RegressorKind::Poly => 1,
-                },
+                regressor: code
+                    .ok_or_else(|| not_exportable(b.regressor.name(), "not in the model"))?,
                 mean: conv(&b.pod.mean),
                 scale: conv(&b.pod.scale),
                 modes: conv(&b.pod.modes),
-            })
-            .collect();
+            });
+        }
+        let (gp_groups, gp_inv_len, gp_xs, gp_alpha) = match gp {
+            Some(EmbeddedRegressor::Gp {
+                groups,
+                inv_len,
+                xs,
+                alpha,
+            }) => (groups, inv_len, xs, alpha),
+            _ => Default::default(),
+        };
+        let (poly_exponents, poly_coef) = match poly {
+            Some(EmbeddedRegressor::Poly { exponents, coef }) => (exponents, conv(&coef)),
+            _ => Default::default(),
+        };
         Ok(EmbeddedTables {
             n_allowed: s.n_allowed.clone(),
             feature_index: s.features.index.iter().map(|&i| i as u8).collect(),
             feature_center: conv(&s.features.center),
             feature_inv_half: conv(&s.features.inv_half),
             pressures: s.pressures.clone(),
-            n_coefs: s.gp.m,
-            gp_groups: if use_gp {
-                s.gp.groups.iter().map(|&b| b as u16).collect()
-            } else {
-                Vec::new()
-            },
-            gp_inv_len: conv(&s.gp.inv_len),
-            gp_xs: if use_gp { s.gp.xs.clone() } else { Vec::new() },
-            gp_alpha: if use_gp {
-                conv(&s.gp.alpha)
-            } else {
-                Vec::new()
-            },
-            poly_exponents: if use_poly {
-                s.poly.exponents.clone()
-            } else {
-                Vec::new()
-            },
-            poly_coef: if use_poly {
-                conv(&s.poly.coef)
-            } else {
-                Vec::new()
-            },
+            n_coefs: m,
+            gp_groups,
+            gp_inv_len,
+            gp_xs,
+            gp_alpha,
+            poly_exponents,
+            poly_coef,
             blocks,
             output_block: s.output_block.iter().map(|&b| b as u8).collect(),
             output_slot: s.output_slot.iter().map(|&b| b as u8).collect(),
@@ -159,6 +155,52 @@ impl<F: Real> EmbeddedTables<F> {
             output_slot: &self.output_slot,
         }
     }
+}
+
+fn not_exportable(regressor: &str, reason: &str) -> RomError {
+    RomError::NotExportable {
+        regressor: regressor.to_string(),
+        reason: reason.to_string(),
+    }
+}
+
+/// The embedded tables of the regressors the blocks use: the Gaussian process's, the
+/// polynomial's, and each regressor's block code (by index in the model's regressors).
+type UsedTables = (
+    Option<EmbeddedRegressor>,
+    Option<EmbeddedRegressor>,
+    Vec<u8>,
+);
+
+fn embedded_regressors(s: &Surrogate) -> Result<UsedTables, RomError> {
+    let (mut gp, mut poly) = (None, None);
+    let mut codes = vec![0u8; s.regressors.len()];
+    for (r, reg) in s.regressors.iter().enumerate() {
+        if !s.blocks.iter().any(|b| b.regressor.name() == reg.name()) {
+            continue;
+        }
+        let tables = reg.embedded().ok_or_else(|| {
+            not_exportable(
+                reg.name(),
+                "the embedded predictor (surrogate-predict) evaluates only a Gaussian process \
+                 and a polynomial",
+            )
+        })?;
+        codes[r] = tables.code();
+        let slot = match tables {
+            EmbeddedRegressor::Gp { .. } => &mut gp,
+            EmbeddedRegressor::Poly { .. } => &mut poly,
+        };
+        if slot.is_some() {
+            return Err(not_exportable(
+                reg.name(),
+                "the embedded predictor holds one regressor of each family, and another block \
+                 uses one of the same family",
+            ));
+        }
+        *slot = Some(tables);
+    }
+    Ok((gp, poly, codes))
 }
 
 /// Precision of an export.

@@ -3,15 +3,16 @@
 //! the GP kernel vector from the training inputs stored by feature (every prediction).
 //!
 //! A quantity `q` of a block is `y_q(P) = Σ_s w_s(P) (ȳ_e + s_e Σ_k Φ_ek a_k(x))` with
-//! `e = j_s·|Q| + slot_q` and coefficients linear in the regressor's basis,
-//! `a_k(x) = Σ_b φ_b(x) W_{b,k}` (the GP's kernel vector and `α`, or the polynomial's monomials
-//! and coefficients). So `y_q(P) = Σ_s w_s (ȳ_e + Σ_b φ_b(x) C_{b,j_s,q})` with the folded table
-//! `C_{b,j,q} = s_e Σ_k Φ_ek W_{b,k}`: per basis function, 4 stencil nodes × 4 quantities instead
-//! of all the modes of the four scalar blocks (32 columns for the shipped models). Same algebra,
-//! so the same values up to rounding (tested to 1e-12 relative).
+//! `e = j_s·|Q| + slot_q`, and a regressor with a linear basis ([`Regressor::linear_basis`]:
+//! the GP's kernel vector and `α`, the polynomial's monomials and coefficients) has
+//! coefficients `a_k(x) = Σ_b φ_b(x) W_{b,k}`. So `y_q(P) = Σ_s w_s (ȳ_e + Σ_b φ_b(x) C_{b,j_s,q})`
+//! with the folded table `C_{b,j,q} = s_e Σ_k Φ_ek W_{b,k}`: per basis function, 4 stencil nodes
+//! × 4 quantities instead of all the modes of the four scalar blocks (32 columns for the shipped
+//! models). Same algebra, so the same values up to rounding (tested to 1e-12 relative).
 //!
-//! With GP column groups (a kernel per block) each group's sources are folded apart and get
-//! the kernel vector of their group.
+//! A regressor with column groups (the GP with a kernel per block) has each group's sources
+//! folded apart, with the basis of their group. A scalar served by a regressor without a
+//! linear basis makes the scalar path the general one.
 //!
 //! The GP kernel vector is computed from the training inputs stored by feature (`d × n`), so
 //! that the distance loop and the branch-free Matérn both run over contiguous vectors; on
@@ -19,13 +20,13 @@
 //! No fused multiply-adds are formed, so every path gives bit-identical kernel values.
 //!
 //! The tables are derived from the model on first use (never stored in the model file).
+//!
+//! [`Regressor::linear_basis`]: super::regression::Regressor::linear_basis
 
 use std::sync::OnceLock;
 
 use super::pod::PodBasis;
-use super::regression::gp::Gp;
-use super::regression::poly::Poly;
-use super::regression::RegressorKind;
+use super::regression::Regressors;
 use surrogate_predict::Stencil;
 
 /// Quantities of the fast path: tip Uz, tip Uy, angle, force.
@@ -50,7 +51,7 @@ impl Derived {
     }
 }
 
-/// One regressor's part of the fast path.
+/// One regressor's (one column group's) part of the fast path.
 #[derive(Debug, Clone)]
 struct Part {
     /// Output indices served (in 18..22), at most 4.
@@ -63,16 +64,16 @@ struct Part {
     n_basis: usize,
 }
 
-/// Folded tables of the scalar quantities, per regressor kind (and per GP column group).
+/// Folded tables of the scalar quantities, per regressor and column group, and the regressor
+/// of each block.
 #[derive(Debug, Clone)]
 pub struct ScalarPath {
-    /// GP parts with their column group.
-    gp: Vec<(usize, Part)>,
-    poly: Option<Part>,
-    /// GP training inputs / length scales by feature, `d × n` per column group.
-    gp_xs_t: Vec<f64>,
-    gp_n: usize,
-    gp_groups: usize,
+    /// Parts with their regressor (index in the model's regressors) and column group.
+    parts: Vec<(usize, usize, Part)>,
+    /// Whether the parts serve every scalar (else the general path serves them).
+    complete: bool,
+    /// Index of each block's regressor among the model's regressors.
+    block_regressor: Vec<usize>,
 }
 
 /// Where each scalar quantity comes from: its block and slot.
@@ -81,8 +82,8 @@ pub struct Source<'a> {
     pub quantity: usize,
     /// Block's POD basis.
     pub pod: &'a PodBasis,
-    /// Block's regressor.
-    pub regressor: RegressorKind,
+    /// Block's regressor (index in the model's regressors).
+    pub regressor: usize,
     /// First coefficient column of the block.
     pub coef_offset: usize,
     /// Index of the quantity among the block's quantities.
@@ -124,103 +125,76 @@ fn fold(
 }
 
 impl ScalarPath {
-    /// Folds the POD bases of `sources` into the regressors' weights.
-    pub fn build(gp: &Gp, poly: &Poly, sources: &[Source<'_>], n_p: usize) -> Self {
-        let of = |k: RegressorKind| -> Vec<&Source<'_>> {
-            sources.iter().filter(|s| s.regressor == k).collect()
-        };
-        let (d, n) = (gp.d, gp.n);
-        let mut gp_xs_t = vec![0.0; gp.n_groups() * d * n];
-        for g in 0..gp.n_groups() {
-            let xs = gp.group_xs(g);
-            for i in 0..n {
-                for j in 0..d {
-                    gp_xs_t[(g * d + j) * n + i] = xs[i * d + j];
-                }
-            }
-        }
-        let gp_sources = of(RegressorKind::Gp);
-        let gp_parts = (0..gp.n_groups())
-            .filter_map(|g| {
-                let cols = gp.group_columns(g);
-                let mine: Vec<&Source<'_>> = gp_sources
+    /// Folds the POD bases of `sources` into the weights of the regressors with a linear
+    /// basis; `block_regressor` is the index of each block's regressor. Prepares every
+    /// regressor ([`Regressor::prepare`](super::regression::Regressor::prepare)).
+    pub fn build(
+        regressors: &Regressors,
+        sources: &[Source<'_>],
+        n_p: usize,
+        block_regressor: Vec<usize>,
+    ) -> Self {
+        let mut parts = Vec::new();
+        let mut served = 0;
+        for (r, reg) in regressors.iter().enumerate() {
+            reg.prepare();
+            let mine: Vec<&Source<'_>> = sources.iter().filter(|s| s.regressor == r).collect();
+            let Some(basis) = reg.linear_basis().filter(|_| !mine.is_empty()) else {
+                continue;
+            };
+            for (g, cols) in basis.groups.iter().enumerate() {
+                let in_group: Vec<&Source<'_>> = mine
                     .iter()
                     .copied()
                     .filter(|s| cols.contains(&s.coef_offset))
                     .collect();
-                fold(&mine, &gp.alpha, gp.m, gp.n, n_p).map(|p| (g, p))
-            })
-            .collect();
-        ScalarPath {
-            gp: gp_parts,
-            poly: fold(
-                &of(RegressorKind::Poly),
-                &poly.coef,
-                poly.m,
-                poly.n_terms(),
-                n_p,
-            ),
-            gp_xs_t,
-            gp_n: n,
-            gp_groups: gp.n_groups(),
-        }
-    }
-
-    /// The GP's coefficients `cols` at the scaled features `x` (the kernel vector from the
-    /// inputs stored by feature): the same values as [`Regressor::predict_cols_into`].
-    ///
-    /// [`Regressor::predict_cols_into`]: super::regression::Regressor::predict_cols_into
-    pub fn gp_coefficients_into(
-        &self,
-        gp: &Gp,
-        x: &[f64],
-        cols: std::ops::Range<usize>,
-        out: &mut [f64],
-        scratch: &mut [f64],
-    ) {
-        let k = &mut scratch[..gp.n];
-        for g in 0..gp.n_groups() {
-            let r = gp.group_columns(g);
-            let (lo, hi) = (cols.start.max(r.start), cols.end.min(r.end));
-            if lo < hi {
-                kernel_vector(self.group_xs_t(g), gp.group_inv_len(g), x, k);
-                gp.combine_into(k, lo..hi, out);
+                let m = reg.n_outputs();
+                if let Some(p) = fold(&in_group, basis.weights, m, basis.n_basis, n_p) {
+                    served += p.quantities.len();
+                    parts.push((r, g, p));
+                }
             }
         }
+        ScalarPath {
+            parts,
+            complete: served == sources.len(),
+            block_regressor,
+        }
     }
 
-    /// Training inputs of GP column group `g` by feature, `d × n`.
-    fn group_xs_t(&self, g: usize) -> &[f64] {
-        let len = self.gp_xs_t.len() / self.gp_groups.max(1);
-        &self.gp_xs_t[g * len..(g + 1) * len]
+    /// Whether the folded tables serve every scalar quantity.
+    pub fn is_complete(&self) -> bool {
+        self.complete
+    }
+
+    /// Index of block `b`'s regressor among the model's regressors.
+    #[inline]
+    pub fn block_regressor(&self, b: usize) -> usize {
+        self.block_regressor[b]
     }
 
     /// Length of the scratch buffer [`Self::predict_into`] needs.
     pub fn scratch_len(&self) -> usize {
-        let gp = self.gp.iter().map(|(_, p)| p.n_basis).max().unwrap_or(0);
-        gp.max(self.poly.as_ref().map_or(0, |p| p.n_basis))
-            .max(self.gp_n)
+        self.parts
+            .iter()
+            .map(|(_, _, p)| p.n_basis)
+            .max()
+            .unwrap_or(0)
     }
 
     /// The scalar quantities at the scaled features `x` and the pressure stencil `st` into
     /// `values` (indexed by output). No allocation.
     pub fn predict_into(
         &self,
-        gp: &Gp,
-        poly: &Poly,
+        regressors: &Regressors,
         x: &[f64],
         st: &Stencil<f64>,
         values: &mut [f64],
         scratch: &mut [f64],
     ) {
-        for (g, part) in &self.gp {
-            let k = &mut scratch[..part.n_basis];
-            kernel_vector(self.group_xs_t(*g), gp.group_inv_len(*g), x, k);
-            part.apply(k, st, values);
-        }
-        if let Some(part) = &self.poly {
+        for (r, g, part) in &self.parts {
             let phi = &mut scratch[..part.n_basis];
-            poly.basis_values_into(x, phi);
+            regressors.at(*r).basis_into(*g, x, phi);
             part.apply(phi, st, values);
         }
     }

@@ -98,6 +98,7 @@ macro_rules! simd_method {
 }
 
 pub mod batch;
+mod consistency;
 pub mod data;
 pub mod export;
 pub mod fast;
@@ -221,6 +222,15 @@ pub enum RomError {
     /// first few).
     #[error("{0}")]
     OutsideDomain(String),
+    /// A model whose regressor the embedded predictor cannot evaluate, asked for by
+    /// `surrogate export` ([`export`]).
+    #[error("regressor `{regressor}` cannot be exported: {reason}")]
+    NotExportable {
+        /// The regressor's name.
+        regressor: String,
+        /// Why.
+        reason: String,
+    },
     /// Input/output failure.
     #[error("{path}: {source}")]
     Io {

@@ -5,7 +5,9 @@
 //!  "model_form":{"checksum":"crc32:5e6f7a8b","content":{…}}}
 //! ```
 //! `model` is the serialised [`Surrogate`] (inputs with units and training bounds, scalers,
-//! POD bases, regression weights, validation errors, provenance). The checksum is the CRC-32
+//! POD bases, regression weights, validation errors, provenance); each fitted regressor is one
+//! entry of it under its name (`"gp": {…}, "poly": {…}`), read through a [`Registry`] (the
+//! built-ins unless one is given: [`Surrogate::from_json_with`], [`Surrogate::load_with`]). The checksum is the CRC-32
 //! of the exact text of `model`: the model's identity, which calibration reports quote.
 //! `model_form` (version 3, optional) is the model-form error learned from a calibration
 //! through that model ([`super::model_form`], `surrogate model-form`), with the CRC-32 of the
@@ -25,6 +27,7 @@ use serde::{Deserialize, Serialize};
 use serde_json::value::RawValue;
 
 use super::model_form::ModelFormError;
+use super::regression::{Registry, Regressors};
 use super::surrogate::Surrogate;
 use super::RomError;
 
@@ -112,11 +115,20 @@ impl Surrogate {
         Ok(checksum(&model))
     }
 
-    /// Parses model file text (`path` is only used in messages).
+    /// Parses model file text (`path` is only used in messages), its regressors through the
+    /// built-in registry.
     ///
     /// # Errors
     /// See the module docs.
     pub fn from_json(text: &str, path: &str) -> Result<Self, RomError> {
+        Self::from_json_with(text, path, &Registry::builtin())
+    }
+
+    /// [`Self::from_json`], reading the regressors `registry` knows.
+    ///
+    /// # Errors
+    /// See the module docs; a block whose regressor `registry` does not know is inconsistent.
+    pub fn from_json_with(text: &str, path: &str, registry: &Registry) -> Result<Self, RomError> {
         let fail = |message: String| RomError::ModelFile {
             path: path.to_string(),
             message,
@@ -147,6 +159,7 @@ impl Surrogate {
                 env.format_version
             ))
         })?;
+        model.regressors = Regressors::from_model_json(env.model.get(), registry).map_err(&fail)?;
         model
             .check_consistency()
             .map_err(|m| fail(format!("inconsistent model: {m}")))?;
@@ -194,11 +207,19 @@ impl Surrogate {
         self.save(path)
     }
 
-    /// Loads and verifies a model file.
+    /// Loads and verifies a model file (its regressors through the built-in registry).
     ///
     /// # Errors
     /// I/O, corrupt file, wrong format or version, checksum mismatch, inconsistent model.
     pub fn load(path: &Path) -> Result<Self, RomError> {
+        Self::load_with(path, &Registry::builtin())
+    }
+
+    /// [`Self::load`], reading the regressors `registry` knows.
+    ///
+    /// # Errors
+    /// As [`Self::load`].
+    pub fn load_with(path: &Path, registry: &Registry) -> Result<Self, RomError> {
         let text = std::fs::read_to_string(path).map_err(|source| {
             if source.kind() == std::io::ErrorKind::NotFound {
                 let abs = std::path::absolute(path).unwrap_or_else(|_| path.to_path_buf());
@@ -216,7 +237,7 @@ impl Surrogate {
                 }
             }
         })?;
-        Self::from_json(&text, &path.display().to_string())
+        Self::from_json_with(&text, &path.display().to_string(), registry)
     }
 }
 

@@ -14,10 +14,8 @@ use super::fast::{Derived, ScalarPath, Source, SCALARS};
 use super::metrics::Validation;
 use super::pod::PodBasis;
 pub use super::provenance::TrainingInfo;
-use super::regression::gp::{valid_group_bounds, Gp};
-use super::regression::poly::Poly;
-use super::regression::{Regressor, RegressorKind};
-use super::{RomError, QUANTITY_NAMES};
+use super::regression::{RegressorKind, Regressors};
+use super::RomError;
 use crate::case::{
     raw_features, BoundSnap, CaseInputs, Domain, DomainViolation, FeatureScaler, Query,
 };
@@ -43,19 +41,21 @@ pub const N_NOT_EXTRAPOLATED: &str =
      model that includes it";
 
 /// Buffers reused across predictions (so that `*_into` calls do not allocate).
+///
+/// One coefficient, variance and Jacobian buffer per regressor of the model.
 #[derive(Debug, Clone, Default)]
 struct Workspace {
     x: Vec<f64>,
-    coef: [Vec<f64>; 2],
-    var: [Vec<f64>; 2],
-    jac: [Vec<f64>; 2],
+    coef: Vec<Vec<f64>>,
+    var: Vec<Vec<f64>>,
+    jac: Vec<Vec<f64>>,
     scratch: Vec<f64>,
 }
 
 /// The outputs of a prediction, with optional standard deviations.
 #[derive(Debug, Clone, Default)]
 pub struct Prediction {
-    /// The 22 quantities in [`QUANTITY_NAMES`] order.
+    /// The 22 quantities in [`QUANTITY_NAMES`](super::QUANTITY_NAMES) order.
     pub values: [f64; 22],
     /// Their standard deviations (filled by [`Surrogate::predict_with_std_into`]): the
     /// surrogate against the FE model only, not the model against real actuators
@@ -151,7 +151,7 @@ impl Gradient {
 }
 
 impl Jacobian {
-    /// The gradient of quantity `q` (index in [`QUANTITY_NAMES`]).
+    /// The gradient of quantity `q` (index in [`QUANTITY_NAMES`](super::QUANTITY_NAMES)).
     ///
     /// # Panics
     /// `q ≥ 22`.
@@ -226,6 +226,10 @@ pub struct Block {
 }
 
 /// The reduced-order surrogate (see the [module docs](super)).
+///
+/// Read a model file with [`Surrogate::load`] or [`Surrogate::from_json`]: the regressors are
+/// read through a [`Registry`](super::regression::Registry) (deserialising the struct alone
+/// leaves them empty).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct Surrogate {
     /// Inputs with units and training bounds (N, T, P, μ₁, α₁, μ₂, α₂).
@@ -240,10 +244,10 @@ pub struct Surrogate {
     pub features: FeatureScaler,
     /// POD blocks.
     pub blocks: Vec<Block>,
-    /// Gaussian process over all blocks' coefficients.
-    pub gp: Gp,
-    /// Polynomial over all blocks' coefficients.
-    pub poly: Poly,
+    /// The fitted regressors, each over all blocks' coefficients (in the model file: one
+    /// entry per regressor under its name, `"gp": {…}, "poly": {…}`).
+    #[serde(flatten, skip_deserializing)]
+    pub regressors: Regressors,
     /// Block predicting each quantity.
     pub output_block: Vec<usize>,
     /// Index of each quantity among its block's quantities.
@@ -265,13 +269,6 @@ pub struct Surrogate {
     pub derived: Derived,
 }
 
-fn kind_index(k: RegressorKind) -> usize {
-    match k {
-        RegressorKind::Gp => 0,
-        RegressorKind::Poly => 1,
-    }
-}
-
 impl Surrogate {
     /// A prediction buffer sized for this model.
     pub fn new_prediction(&self) -> Prediction {
@@ -283,35 +280,51 @@ impl Surrogate {
     /// The folded tables of the scalar fast path (built on first call).
     fn scalar_path(&self) -> &ScalarPath {
         self.derived.get_or_build(|| {
+            // a block whose regressor the model lacks fails the consistency check
+            let block_regressor: Vec<usize> = self
+                .blocks
+                .iter()
+                .map(|b| self.regressors.position(&b.regressor).unwrap_or(usize::MAX))
+                .collect();
             let sources: Vec<Source<'_>> = SCALARS
                 .map(|q| {
                     let b = &self.blocks[self.output_block[q]];
                     Source {
                         quantity: q,
                         pod: &b.pod,
-                        regressor: b.regressor,
+                        regressor: block_regressor[self.output_block[q]],
                         coef_offset: b.coef_offset,
                         slot: self.output_slot[q],
                     }
                 })
                 .collect();
-            ScalarPath::build(&self.gp, &self.poly, &sources, self.pressures.len())
+            ScalarPath::build(
+                &self.regressors,
+                &sources,
+                self.pressures.len(),
+                block_regressor,
+            )
         })
     }
 
+    /// Number of regression outputs (the POD coefficients of all blocks).
+    pub fn n_coefs(&self) -> usize {
+        self.regressors.iter().next().map_or(0, |r| r.n_outputs())
+    }
+
     fn ensure_workspace(&self, w: &mut Workspace) {
-        let (d, m) = (self.features.dim(), self.gp.m);
+        let (d, m, nr) = (self.features.dim(), self.n_coefs(), self.regressors.len());
         let s = self
-            .gp
-            .scratch_len()
-            .max(self.poly.scratch_len())
-            .max(self.scalar_path().scratch_len());
-        if w.x.len() != d || w.coef[0].len() != m || w.scratch.len() != s || w.jac[0].len() != m * d
-        {
+            .regressors
+            .iter()
+            .map(|r| r.scratch_len())
+            .fold(self.scalar_path().scratch_len(), usize::max);
+        let sized = |v: &[Vec<f64>], len: usize| v.len() == nr && v.iter().all(|c| c.len() == len);
+        if w.x.len() != d || !sized(&w.coef, m) || w.scratch.len() != s || !sized(&w.jac, m * d) {
             w.x = vec![0.0; d];
-            w.coef = [vec![0.0; m], vec![0.0; m]];
-            w.var = [vec![0.0; m], vec![0.0; m]];
-            w.jac = [vec![0.0; m * d], vec![0.0; m * d]];
+            w.coef = vec![vec![0.0; m]; nr];
+            w.var = vec![vec![0.0; m]; nr];
+            w.jac = vec![vec![0.0; m * d]; nr];
             w.scratch = vec![0.0; s];
         }
     }
@@ -432,17 +445,19 @@ impl Surrogate {
         z
     }
 
-    /// For each regressor kind, the coefficient columns the quantities `range` need.
-    fn needed_cols(&self, range: std::ops::Range<usize>) -> [std::ops::Range<usize>; 2] {
-        let (mut lo, mut hi) = ([usize::MAX; 2], [0usize; 2]);
+    /// The coefficient columns of regressor `r` the quantities `range` need (empty if none).
+    fn needed_cols(&self, range: std::ops::Range<usize>, r: usize) -> std::ops::Range<usize> {
+        let path = self.scalar_path();
+        let (mut lo, mut hi) = (usize::MAX, 0usize);
         for q in range {
-            let b = &self.blocks[self.output_block[q]];
-            let k = kind_index(b.regressor);
-            lo[k] = lo[k].min(b.coef_offset);
-            hi[k] = hi[k].max(b.coef_offset + b.pod.n_modes);
+            let bi = self.output_block[q];
+            if path.block_regressor(bi) == r {
+                let b = &self.blocks[bi];
+                lo = lo.min(b.coef_offset);
+                hi = hi.max(b.coef_offset + b.pod.n_modes);
+            }
         }
-        // an unused kind gets an empty range
-        [lo[0].min(hi[0])..hi[0], lo[1].min(hi[1])..hi[1]]
+        lo.min(hi)..hi
     }
 
     /// Predicts all 22 quantities into `pred` (no allocation once `pred` is sized).
@@ -462,14 +477,16 @@ impl Surrogate {
     /// # Errors
     /// Invalid query.
     pub fn predict_scalars_into(&self, q: &Query, pred: &mut Prediction) -> Result<(), RomError> {
+        if !self.scalar_path().is_complete() {
+            return self.predict_range_into(q, pred, SCALARS);
+        }
         self.check_query(q)?;
         self.ensure_workspace(&mut pred.work);
         let w = &mut pred.work;
         self.features_into(q, w);
         let st = stencil(&self.pressures, q.p_bar);
         self.scalar_path().predict_into(
-            &self.gp,
-            &self.poly,
+            &self.regressors,
             &w.x,
             &st,
             &mut pred.values,
@@ -512,25 +529,19 @@ impl Surrogate {
         self.ensure_workspace(&mut pred.work);
         let w = &mut pred.work;
         self.features_into(q, w);
-        let [gp_cols, poly_cols] = self.needed_cols(range.clone());
-        if gp_cols.start < gp_cols.end {
-            self.scalar_path().gp_coefficients_into(
-                &self.gp,
-                &w.x,
-                gp_cols,
-                &mut w.coef[0],
-                &mut w.scratch,
-            );
+        for (r, reg) in self.regressors.iter().enumerate() {
+            let cols = self.needed_cols(range.clone(), r);
+            if cols.start < cols.end {
+                reg.predict_cols_into(&w.x, cols, &mut w.coef[r], &mut w.scratch);
+            }
         }
-        if poly_cols.start < poly_cols.end {
-            self.poly
-                .predict_cols_into(&w.x, poly_cols, &mut w.coef[1], &mut w.scratch);
-        }
+        let path = self.scalar_path();
         let st = stencil(&self.pressures, q.p_bar);
         for qi in range {
-            let b = &self.blocks[self.output_block[qi]];
+            let bi = self.output_block[qi];
+            let b = &self.blocks[bi];
             let coef =
-                &w.coef[kind_index(b.regressor)][b.coef_offset..b.coef_offset + b.pod.n_modes];
+                &w.coef[path.block_regressor(bi)][b.coef_offset..b.coef_offset + b.pod.n_modes];
             let nq = b.pod.quantities.len();
             let mut v = 0.0;
             for s in 0..st.len {
@@ -551,17 +562,18 @@ impl Surrogate {
     pub fn predict_with_std_into(&self, q: &Query, pred: &mut Prediction) -> Result<(), RomError> {
         self.predict_into(q, pred)?;
         let w = &mut pred.work;
-        let [gp_cols, poly_cols] = self.needed_cols(0..22);
-        if gp_cols.start < gp_cols.end {
-            self.gp.variance_into(&w.x, &mut w.var[0], &mut w.scratch);
+        for (r, reg) in self.regressors.iter().enumerate() {
+            if !self.needed_cols(0..22, r).is_empty() {
+                reg.variance_into(&w.x, &mut w.var[r], &mut w.scratch);
+            }
         }
-        if poly_cols.start < poly_cols.end {
-            self.poly.variance_into(&w.x, &mut w.var[1], &mut w.scratch);
-        }
+        let path = self.scalar_path();
         let st = stencil(&self.pressures, q.p_bar);
         for qi in 0..22 {
-            let b = &self.blocks[self.output_block[qi]];
-            let var = &w.var[kind_index(b.regressor)][b.coef_offset..b.coef_offset + b.pod.n_modes];
+            let bi = self.output_block[qi];
+            let b = &self.blocks[bi];
+            let var =
+                &w.var[path.block_regressor(bi)][b.coef_offset..b.coef_offset + b.pod.n_modes];
             let (nq, r) = (b.pod.quantities.len(), b.pod.n_modes);
             let mut total = 0.0;
             for (k, vk) in var.iter().enumerate() {
@@ -620,15 +632,12 @@ impl Surrogate {
         self.ensure_workspace(&mut pred.work);
         let w = &mut pred.work;
         self.features_into(q, w);
-        let [gp_cols, poly_cols] = self.needed_cols(range.clone());
-        if gp_cols.start < gp_cols.end {
-            self.gp
-                .jacobian_into(&w.x, &mut w.coef[0], &mut w.jac[0], &mut w.scratch);
+        for (r, reg) in self.regressors.iter().enumerate() {
+            if !self.needed_cols(range.clone(), r).is_empty() {
+                reg.jacobian_into(&w.x, &mut w.coef[r], &mut w.jac[r], &mut w.scratch);
+            }
         }
-        if poly_cols.start < poly_cols.end {
-            self.poly
-                .jacobian_into(&w.x, &mut w.coef[1], &mut w.jac[1], &mut w.scratch);
-        }
+        let path = self.scalar_path();
         // dz_f/du_i for u = (T, P, μ1, α1, μ2, α2), z = (N, T, ln μ0, α1, s, α2) with
         // k_i = μ_i α_i, μ0 = (k1 + k2)/2, s = k1/(k1 + k2)
         let (k1, k2) = (q.mu1 * q.alpha1, q.mu2 * q.alpha2);
@@ -652,7 +661,7 @@ impl Surrogate {
         let st = stencil(&self.pressures, q.p_bar);
         for qi in range {
             let b = &self.blocks[self.output_block[qi]];
-            let ki = kind_index(b.regressor);
+            let ki = path.block_regressor(self.output_block[qi]);
             let off = b.coef_offset;
             let coef = &w.coef[ki][off..off + b.pod.n_modes];
             let (nq, r) = (b.pod.quantities.len(), b.pod.n_modes);
@@ -683,99 +692,6 @@ impl Surrogate {
             }
         }
         pred.has_std = false;
-        Ok(())
-    }
-
-    /// Internal consistency of a (loaded) model.
-    ///
-    /// # Errors
-    /// A message naming the inconsistent part.
-    pub fn check_consistency(&self) -> Result<(), String> {
-        let (d, m) = (self.features.dim(), self.gp.m);
-        let f = &self.features;
-        if f.center.len() != d
-            || f.inv_half.len() != d
-            || f.index.windows(2).any(|w| w[0] >= w[1])
-            || f.index.iter().any(|&i| i >= N_FEATURES)
-        {
-            return Err(format!(
-                "feature scaling: {} active features of {N_FEATURES}, {} centres, {} widths; \
-                 expected increasing indices below {N_FEATURES}, one centre and width each",
-                d,
-                f.center.len(),
-                f.inv_half.len()
-            ));
-        }
-        if self.poly.m != m || self.gp.d != d || self.poly.d != d {
-            return Err(format!(
-                "regressor dimensions (gp {}x{}, poly {}x{}) do not match {d} features",
-                self.gp.d, self.gp.m, self.poly.d, self.poly.m
-            ));
-        }
-        let b = &self.gp.groups;
-        if !b.is_empty()
-            && (b.len() < 3
-                || !valid_group_bounds(b, m)
-                || self.blocks.iter().any(|blk| {
-                    b.iter()
-                        .any(|&e| e > blk.coef_offset && e < blk.coef_offset + blk.pod.n_modes)
-                }))
-        {
-            return Err(format!(
-                "Gaussian-process column groups {b:?}: expected increasing boundaries from 0 to {m} that do not split a block"
-            ));
-        }
-        let g = self.gp.n_groups();
-        if self.gp.x.len() != self.gp.n * d
-            || self.gp.xs.len() != g * self.gp.n * d
-            || self.gp.inv_len.len() != g * d
-            || self.gp.theta.len() != g * (d + 1)
-            || d > 8
-            || self.gp.alpha.len() != self.gp.n * m
-            || self.gp.sigma2.len() != m
-            || self.gp.chol.len() != g * self.gp.n * (self.gp.n + 1) / 2
-        {
-            return Err("Gaussian-process tables have inconsistent sizes".into());
-        }
-        if self.poly.coef.len() != self.poly.n_terms() * m {
-            return Err("polynomial tables have inconsistent sizes".into());
-        }
-        if self.pressures.len() < 2 || self.pressures.windows(2).any(|w| w[0] >= w[1]) {
-            return Err("pressure grid must have ≥ 2 increasing values".into());
-        }
-        if self.output_block.len() != 22
-            || self.std_scale.len() != 22
-            || self.output_slot.len() != 22
-            || self.inputs.len() != 7
-        {
-            return Err("output or input tables do not have 22 outputs / 7 inputs".into());
-        }
-        for b in &self.blocks {
-            let p = &b.pod;
-            let dim = p.dim();
-            if p.n_pressures != self.pressures.len()
-                || p.mean.len() != dim
-                || p.scale.len() != dim
-                || dim.checked_mul(p.n_modes) != Some(p.modes.len())
-                || b.coef_offset
-                    .checked_add(p.n_modes)
-                    .is_none_or(|end| end > m)
-            {
-                return Err(format!("block {} has inconsistent sizes", b.name));
-            }
-        }
-        for q in 0..22 {
-            let b = self
-                .blocks
-                .get(self.output_block[q])
-                .ok_or("output block index out of range")?;
-            if b.pod.quantities.get(self.output_slot[q]) != Some(&q) {
-                return Err(format!(
-                    "output {} is not mapped to its block",
-                    QUANTITY_NAMES[q]
-                ));
-            }
-        }
         Ok(())
     }
 }

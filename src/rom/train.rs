@@ -1,10 +1,12 @@
 //! Training: fit the pipeline, cross-validate by case, choose the predictor of each output.
 //!
-//! Stages: features → POD blocks → coefficients → GP and polynomial fits ([`fit_pipeline`]);
+//! Stages: features → POD blocks → coefficients → a fit of every regressor of the registry
+//! ([`TrainConfig::regressors`]; the GP and the polynomial by default) ([`fit_pipeline`]);
 //! k-fold cross-validation by case runs the same pipeline per fold (folds in parallel; each
 //! fold is deterministic, so results do not depend on the thread count); the held-out errors
 //! choose the regressor of the field block (by marker RMSE) and the source of each scalar
-//! (field or direct block, GP or polynomial, by its RMSE); the final model is fitted on all cases.
+//! (field or direct block, and its regressor, by its RMSE); the final model is fitted on all
+//! cases.
 
 use rand::seq::SliceRandom;
 use rand::SeedableRng;
@@ -15,9 +17,9 @@ use super::data::{CaseRamp, CaseSet, PartialRamp};
 use super::metrics::{ErrorAccumulator, InterpolationCheck, OutputValidation, Validation};
 use super::pod::PodBasis;
 use super::provenance::TrainingInfo;
-use super::regression::gp::{Gp, GpParams};
+use super::regression::gp::GpParams;
 use super::regression::poly::{Poly, PolyParams};
-use super::regression::{Data, Regressor, RegressorKind};
+use super::regression::{Data, DynRegressor, Registry, Regressor, RegressorKind, Regressors};
 use super::surrogate::{Block, InputSpec, Surrogate};
 use super::{RomError, N_MARKER_COMPONENTS, QUANTITY_NAMES, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
 use crate::case::{raw_features, CaseInputs, FeatureScaler};
@@ -49,10 +51,12 @@ pub struct TrainConfig {
     pub kernel_per_block: bool,
     /// Polynomial settings.
     pub poly: PolyParams,
-    /// Restrict the choice to one regressor family (tests, export checks).
+    /// The regressors fitted (every one, in order) and chosen among.
+    pub regressors: Registry,
+    /// Restrict the choice to one regressor of the registry (tests, export checks).
     pub only: Option<RegressorKind>,
-    /// Latency preference: the polynomial (≈ 1–2 µs) is kept unless the GP's held-out RMSE is
-    /// smaller by more than this relative margin (0: pure accuracy).
+    /// Latency preference: the polynomial (≈ 1–2 µs) is kept unless another regressor's
+    /// held-out RMSE is smaller by more than this relative margin (0: pure accuracy).
     pub prefer_poly_within: f64,
     /// Use truncated ramps (covering ≥ half the grid) for the regression, their coefficients
     /// fitted to the converged entries by gappy POD (they never enter the POD bases nor the
@@ -72,6 +76,7 @@ impl Default for TrainConfig {
             gp: GpParams::default(),
             kernel_per_block: false,
             poly: PolyParams::default(),
+            regressors: Registry::builtin(),
             only: None,
             prefer_poly_within: 0.0,
             fill_truncated: false,
@@ -140,8 +145,8 @@ struct RawHeldOut {
 pub struct Fitted {
     features: FeatureScaler,
     blocks: Vec<(String, PodBasis, usize)>,
-    gp: Gp,
-    poly: Poly,
+    /// One per registry entry, in its order.
+    regressors: Vec<Box<dyn DynRegressor>>,
 }
 
 const SCALARS: [(&str, usize); 4] = [
@@ -151,7 +156,7 @@ const SCALARS: [(&str, usize); 4] = [
     (schema::FORCE.name, Q_FORCE),
 ];
 
-/// Fits features, POD blocks and both regressors to `cases`.
+/// Fits features, POD blocks and every regressor of `cfg.regressors` to `cases`.
 ///
 /// # Errors
 /// Too few cases or a numerical failure.
@@ -219,25 +224,18 @@ pub fn fit_pipeline(
         m,
         weights: &weights,
     };
-    let gp = if cfg.kernel_per_block {
-        let mut groups: Vec<usize> = blocks.iter().map(|(_, _, off)| *off).collect();
-        groups.push(m);
-        Gp::fit(
-            &data,
-            &GpParams {
-                groups,
-                ..cfg.gp.clone()
-            },
-        )?
-    } else {
-        Gp::fit(&data, &cfg.gp)?
-    };
-    let poly = Poly::fit(&data, &cfg.poly)?;
+    let mut bounds: Vec<usize> = blocks.iter().map(|(_, _, off)| *off).collect();
+    bounds.push(m);
+    let regressors = cfg
+        .regressors
+        .entries()
+        .iter()
+        .map(|e| e.fit(&data, cfg, &bounds))
+        .collect::<Result<Vec<_>, _>>()?;
     Ok(Fitted {
         features,
         blocks,
-        gp,
-        poly,
+        regressors,
     })
 }
 
@@ -265,11 +263,13 @@ struct CandidateErrors {
 }
 
 /// Candidates: markers from the field block; each scalar from the field or its direct block.
-/// Index: `output (0 markers, 1..=4 scalars) × block kind (0 field, 1 direct) × regressor`.
+/// Index: `output (0 markers, 1..=4 scalars) × block kind (0 field, 1 direct) × regressor`
+/// ([`cand_index`]).
 type Table = Vec<CandidateErrors>;
 
-fn cand_index(output: usize, direct: usize, kind: usize) -> usize {
-    (output * 2 + direct) * 2 + kind
+/// Index of a candidate among `n_kinds` regressors.
+fn cand_index(output: usize, direct: usize, kind: usize, n_kinds: usize) -> usize {
+    (output * 2 + direct) * n_kinds + kind
 }
 
 fn evaluate_fold(
@@ -277,19 +277,26 @@ fn evaluate_fold(
     test: &[(usize, &CaseRamp)],
     repeat: usize,
 ) -> (Table, Vec<RawHeldOut>) {
-    let mut table = vec![CandidateErrors::default(); 5 * 2 * 2];
+    let regs = &fit.regressors;
+    let nk = regs.len();
+    let mut table = vec![CandidateErrors::default(); 5 * 2 * nk];
     let mut raw = Vec::new();
-    let (d, m) = (fit.features.dim(), fit.gp.m);
+    let (d, m) = (
+        fit.features.dim(),
+        regs.first().map_or(0, |r| r.n_outputs()),
+    );
     let mut x = vec![0.0; d];
-    let mut scratch = vec![0.0; fit.gp.scratch_len().max(fit.poly.scratch_len())];
-    let mut coef = [vec![0.0; m], vec![0.0; m]];
-    let mut var = [vec![0.0; m], vec![0.0; m]];
+    let mut scratch = vec![0.0; regs.iter().map(|r| r.scratch_len()).max().unwrap_or(0)];
+    let mut coef = vec![vec![0.0; m]; nk];
+    let mut var = vec![vec![0.0; m]; nk];
     for &(case_index, case) in test {
         fit.features.scale_into(&raw_features(&case.inputs), &mut x);
-        fit.gp.predict_into(&x, &mut coef[0], &mut scratch);
-        fit.poly.predict_into(&x, &mut coef[1], &mut scratch);
-        fit.gp.variance_into(&x, &mut var[0], &mut scratch);
-        fit.poly.variance_into(&x, &mut var[1], &mut scratch);
+        for (k, r) in regs.iter().enumerate() {
+            r.predict_into(&x, &mut coef[k], &mut scratch);
+        }
+        for (k, r) in regs.iter().enumerate() {
+            r.variance_into(&x, &mut var[k], &mut scratch);
+        }
         for (bi, (_, pod, off)) in fit.blocks.iter().enumerate() {
             let r = pod.n_modes;
             let truth = PodBasis::snapshot_of(&pod.quantities, case);
@@ -310,7 +317,7 @@ fn evaluate_fold(
                     let v: f64 = (0..r)
                         .map(|k| (pod.scale[e] * row[k]).powi(2) * var[kind][off + k])
                         .sum();
-                    let cand = cand_index(output, usize::from(bi > 0), kind);
+                    let cand = cand_index(output, usize::from(bi > 0), kind, nk);
                     if output > 0 {
                         raw.push(RawHeldOut {
                             cand,
@@ -351,13 +358,13 @@ fn fold_assignment(n: usize, k: usize, seed: u64) -> Vec<usize> {
 fn validation_entry(
     name: &str,
     output: usize,
-    direct: usize,
-    kind: usize,
+    (direct, kind): (usize, usize),
     t: &Table,
+    kinds: &[&str],
 ) -> OutputValidation {
-    let c = &t[cand_index(output, direct, kind)];
+    let c = &t[cand_index(output, direct, kind, kinds.len())];
     let block = if direct == 1 { "direct" } else { "field" };
-    let reg = if kind == 0 { "gp" } else { "poly" };
+    let reg = kinds[kind];
     OutputValidation {
         name: name.to_string(),
         source: format!("{block}/{reg}"),
@@ -418,26 +425,32 @@ fn interpolation_check(set: &CaseSet) -> Vec<InterpolationCheck> {
         .collect()
 }
 
-/// Chooses the regressors; returns (field regressor, per scalar (direct?, kind)), validation.
+/// Chooses the regressors (by index in the registry); returns (field regressor, per scalar
+/// (direct?, regressor)), validation.
 fn choose(
     table: &Table,
     cfg: &TrainConfig,
     scheme: String,
     n_cases: usize,
 ) -> (usize, [(usize, usize); 4], Validation) {
-    let kinds: Vec<usize> = match cfg.only {
-        Some(RegressorKind::Gp) => vec![0],
-        Some(RegressorKind::Poly) => vec![1],
-        None => vec![0, 1],
+    let names = cfg.regressors.names();
+    let nk = names.len();
+    let kinds: Vec<usize> = match &cfg.only {
+        Some(only) => names
+            .iter()
+            .position(|n| *n == only.name())
+            .into_iter()
+            .collect(),
+        None => (0..nk).collect(),
     };
-    // the GP must beat the (faster) polynomial by the factor 1 + prefer_poly_within
+    // another regressor must beat the (faster) polynomial by the factor 1 + prefer_poly_within
     let rmse = |o: usize, dir: usize, k: usize| {
-        let penalty = if k == 0 {
+        let penalty = if names[k] != Poly::NAME {
             1.0 + cfg.prefer_poly_within
         } else {
             1.0
         };
-        table[cand_index(o, dir, k)].total.rmse() * penalty
+        table[cand_index(o, dir, k, nk)].total.rmse() * penalty
     };
     let field_kind = *kinds
         .iter()
@@ -446,9 +459,9 @@ fn choose(
     let mut outputs = vec![validation_entry(
         schema::MARKERS.name,
         0,
-        0,
-        field_kind,
+        (0, field_kind),
         table,
+        &names,
     )];
     let mut candidates = Vec::new();
     let mut scalar_choice = [(0, field_kind); 4];
@@ -461,7 +474,7 @@ fn choose(
             .min_by(|a, b| rmse(o, a.0, a.1).total_cmp(&rmse(o, b.0, b.1)))
             .unwrap_or(&(0, field_kind));
         scalar_choice[si] = best;
-        outputs.push(validation_entry(name, o, best.0, best.1, table));
+        outputs.push(validation_entry(name, o, best, table, &names));
     }
     for o in 0..5 {
         let name = if o == 0 {
@@ -471,7 +484,7 @@ fn choose(
         };
         for dir in 0..(if o == 0 { 1 } else { 2 }) {
             for &k in &kinds {
-                candidates.push(validation_entry(name, o, dir, k, table));
+                candidates.push(validation_entry(name, o, (dir, k), table, &names));
             }
         }
     }
@@ -572,7 +585,7 @@ fn cross_validate_and_fit(
             Ok(out)
         })
         .collect();
-    let mut table = vec![CandidateErrors::default(); 20];
+    let mut table = vec![CandidateErrors::default(); 5 * 2 * cfg.regressors.entries().len()];
     let mut final_fit = None;
     let mut held_out = Vec::new();
     for r in results {
@@ -596,22 +609,16 @@ fn cross_validate_and_fit(
     Ok((table, fitted, held_out))
 }
 
-fn kind_of(i: usize) -> RegressorKind {
-    if i == 0 {
-        RegressorKind::Gp
-    } else {
-        RegressorKind::Poly
-    }
-}
-
 /// The surrogate from the final fit and the chosen sources of the outputs.
 fn assemble(
     set: &CaseSet,
     fitted: Fitted,
+    registry: &Registry,
     (field_kind, scalar_choice): (usize, [(usize, usize); 4]),
     validation: Validation,
     training: TrainingInfo,
 ) -> Surrogate {
+    let kind_of = |k: usize| registry.entries()[k].kind();
     let mut blocks: Vec<Block> = fitted
         .blocks
         .into_iter()
@@ -660,8 +667,7 @@ fn assemble(
         pressures: set.pressures.clone(),
         features: fitted.features,
         blocks,
-        gp: fitted.gp,
-        poly: fitted.poly,
+        regressors: Regressors::new(fitted.regressors),
         output_block,
         output_slot,
         std_scale,
@@ -691,6 +697,15 @@ pub fn train(
             "{n} complete cases; at least 4 are needed"
         )));
     }
+    if let Some(only) = &cfg.only {
+        if cfg.regressors.get(only.name()).is_none() {
+            return Err(RomError::invalid(
+                "only",
+                only,
+                &format!("one of the regressors {:?}", cfg.regressors.names()),
+            ));
+        }
+    }
     let k = cfg.folds.clamp(2, n);
     let (table, (fitted, final_fit_seconds), raw) = cross_validate_and_fit(set, k, cfg, progress)?;
     let scheme = match cfg.repeats.max(1) {
@@ -705,7 +720,7 @@ pub fn train(
         .into_iter()
         .filter(|h| {
             let (direct, kind) = scalar_choice[h.scalar];
-            h.cand == cand_index(h.scalar + 1, direct, kind)
+            h.cand == cand_index(h.scalar + 1, direct, kind, cfg.regressors.entries().len())
         })
         .map(|h| {
             let case = &set.cases[h.case];
@@ -741,6 +756,7 @@ pub fn train(
     let surrogate = assemble(
         set,
         fitted,
+        &cfg.regressors,
         (field_kind, scalar_choice),
         validation,
         training,

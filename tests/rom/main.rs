@@ -1,6 +1,6 @@
 //! The POD surrogate (`surrogate::rom`) and the embedded predictor: snapshot data, model files,
 //! gradients, the allocation-free and fast paths, ramps, exports, the training domain, the
-//! shared output schema, and the shipped models.
+//! shared output schema, the shipped models, and a regressor registered from outside the crate.
 //!
 //! One test binary; each module is one subject.
 
@@ -19,3 +19,4 @@ mod rom_gradients;
 mod rom_model;
 mod rom_ramp;
 mod shipped_model;
+mod toy_regressor;

@@ -53,8 +53,8 @@ fn max_relative_gap(m: &Surrogate) -> f64 {
 
 #[test]
 fn embedded_f32_agrees_with_library_poly_gp_and_mixed() {
-    for only in [Some(RegressorKind::Poly), Some(RegressorKind::Gp), None] {
-        let m = rom_common::small_model(only);
+    for only in [Some(RegressorKind::POLY), Some(RegressorKind::GP), None] {
+        let m = rom_common::small_model(only.clone());
         let gap = max_relative_gap(&m);
         println!("{only:?}: max relative gap {gap:e}");
         assert!(
@@ -69,7 +69,7 @@ fn embedded_f32_agrees_with_library_poly_gp_and_mixed() {
 
 #[test]
 fn embedded_rejects_bad_inputs_with_codes() {
-    let m = rom_common::small_model(Some(RegressorKind::Poly));
+    let m = rom_common::small_model(Some(RegressorKind::POLY));
     let tables = EmbeddedTables::<f64>::from_surrogate(&m).unwrap();
     let blocks = tables.block_tables();
     let model = tables.view(&blocks);
@@ -177,8 +177,8 @@ fn no_std_crate_compiles() {
 /// in f64, to 1e-5 of each quantity's largest |value| in f32.
 #[test]
 fn exported_ramp_agrees_with_the_library_ramp() {
-    for only in [Some(RegressorKind::Gp), None] {
-        let m = rom_common::small_model(only);
+    for only in [Some(RegressorKind::GP), None] {
+        let m = rom_common::small_model(only.clone());
         for q in held_out(&m).into_iter().step_by(6) {
             let ramp = m.ramp(&q).unwrap();
             let t64 = RampTables {

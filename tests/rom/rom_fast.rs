@@ -2,6 +2,7 @@
 //! gives the general path's values.
 use surrogate::case::Query;
 use surrogate::rom::fast::kernel_vector;
+use surrogate::rom::regression::gp::Gp;
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::Surrogate;
 
@@ -49,18 +50,18 @@ fn max_gap(m: &Surrogate) -> f64 {
 
 #[test]
 fn folded_scalar_path_matches_the_general_path() {
-    let gp = rom_common::small_model(Some(RegressorKind::Gp));
-    let poly = rom_common::small_model(Some(RegressorKind::Poly));
+    let gp = rom_common::small_model(Some(RegressorKind::GP));
+    let poly = rom_common::small_model(Some(RegressorKind::POLY));
     // mixed: both regressors are fitted on every coefficient, so a block may switch
     let mut mixed = gp.clone();
     let b = mixed.output_block[19];
-    mixed.blocks[b].regressor = RegressorKind::Poly;
+    mixed.blocks[b].regressor = RegressorKind::POLY;
     let mixed = Surrogate {
         derived: Default::default(),
         ..mixed
     };
     let grouped = rom_common::grouped_model();
-    assert!(grouped.gp.n_groups() == grouped.blocks.len());
+    assert!(grouped.regressors.get::<Gp>().unwrap().n_groups() == grouped.blocks.len());
     for (name, m) in [
         ("gp", &gp),
         ("poly", &poly),
@@ -73,7 +74,8 @@ fn folded_scalar_path_matches_the_general_path() {
     }
     // a perturbed weight changes the fast path too: it is not reading a cached answer
     let mut other = gp.clone();
-    other.gp.alpha.iter_mut().for_each(|a| *a *= 1.01);
+    let gp_of_other = other.regressors.get_mut::<Gp>().unwrap();
+    gp_of_other.alpha.iter_mut().for_each(|a| *a *= 1.01);
     let other = Surrogate {
         derived: Default::default(),
         ..other
@@ -87,19 +89,20 @@ fn folded_scalar_path_matches_the_general_path() {
 
 #[test]
 fn kernel_vector_by_feature_is_bit_identical() {
-    let m = rom_common::small_model(Some(RegressorKind::Gp));
-    let (n, d) = (m.gp.n, m.gp.d);
+    let model = rom_common::small_model(Some(RegressorKind::GP));
+    let m = model.regressors.get::<Gp>().unwrap();
+    let (n, d) = (m.n, m.d);
     let mut xs_t = vec![0.0; n * d];
     for i in 0..n {
         for j in 0..d {
-            xs_t[j * n + i] = m.gp.xs[i * d + j];
+            xs_t[j * n + i] = m.xs[i * d + j];
         }
     }
     for (s, x0) in [-1.0, -0.3, 0.0, 0.45, 1.2].iter().enumerate() {
         let x: Vec<f64> = (0..d).map(|j| x0 + 0.1 * (j + s) as f64).collect();
         let (mut k1, mut k2) = (vec![0.0; n], vec![0.0; n]);
-        m.gp.kernel_vector_into(0, &x, &mut k1);
-        kernel_vector(&xs_t, &m.gp.inv_len, &x, &mut k2);
+        m.kernel_vector_into(0, &x, &mut k1);
+        kernel_vector(&xs_t, &m.inv_len, &x, &mut k2);
         assert_eq!(k1, k2);
     }
 }

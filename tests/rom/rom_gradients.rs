@@ -12,7 +12,7 @@ use surrogate::rom::Jacobian;
 use crate::rom_common;
 
 /// Generic finite-difference check of `jacobian_into` (and of its values vs `predict_into`).
-fn check_regressor<R: Regressor>(r: &R, x: &[f64], name: &str) {
+pub(crate) fn check_regressor<R: Regressor>(r: &R, x: &[f64], name: &str) {
     let (d, m) = (x.len(), r.n_outputs());
     let mut scratch = vec![0.0; r.scratch_len()];
     let (mut out, mut jac) = (vec![0.0; m], vec![0.0; m * d]);
@@ -86,7 +86,8 @@ fn regressor_jacobians_match_finite_differences() {
 }
 
 fn check_surrogate(kind: RegressorKind) {
-    check_model(&rom_common::small_model(Some(kind)), &format!("{kind:?}"));
+    let name = kind.to_string();
+    check_model(&rom_common::small_model(Some(kind)), &name);
 }
 
 fn check_model(m: &surrogate::rom::Surrogate, kind: &str) {
@@ -146,7 +147,7 @@ fn check_model(m: &surrogate::rom::Surrogate, kind: &str) {
 
 #[test]
 fn surrogate_gradient_matches_finite_differences_gp() {
-    check_surrogate(RegressorKind::Gp);
+    check_surrogate(RegressorKind::GP);
 }
 
 #[test]
@@ -156,5 +157,5 @@ fn surrogate_gradient_matches_finite_differences_kernel_per_block() {
 
 #[test]
 fn surrogate_gradient_matches_finite_differences_poly() {
-    check_surrogate(RegressorKind::Poly);
+    check_surrogate(RegressorKind::POLY);
 }

@@ -462,7 +462,7 @@ fn repeated_folds_pool_every_assignment() {
         .validation
         .scheme
         .contains("3 fold assignments"));
-    assert_eq!(one.surrogate.gp, three.surrogate.gp);
+    assert_eq!(one.surrogate.regressors, three.surrogate.regressors);
     assert_eq!(one.surrogate.blocks, three.surrogate.blocks);
     // each (case, repeat) has one fold; each (case, repeat, output, pressure) appears once
     let mut fold_of: BTreeMap<(String, usize), usize> = BTreeMap::new();
@@ -504,12 +504,14 @@ fn repeated_folds_pool_every_assignment() {
 /// split a block are rejected by the consistency check.
 #[test]
 fn kernel_per_block_round_trip_and_consistency() {
+    use surrogate::rom::regression::gp::Gp;
     let m = rom_common::grouped_model();
-    assert_eq!(m.gp.n_groups(), m.blocks.len());
+    let gp = m.regressors.get::<Gp>().unwrap();
+    assert_eq!(gp.n_groups(), m.blocks.len());
     for (g, b) in m.blocks.iter().enumerate() {
-        assert_eq!(m.gp.group_columns(g).start, b.coef_offset);
+        assert_eq!(gp.group_columns(g).start, b.coef_offset);
     }
-    assert_ne!(m.gp.group_inv_len(0), m.gp.group_inv_len(1));
+    assert_ne!(gp.group_inv_len(0), gp.group_inv_len(1));
     let text = m.to_json().unwrap();
     assert!(text.contains("\"groups\":["));
     let back = Surrogate::from_json(&text, "m.json").unwrap();
@@ -521,14 +523,14 @@ fn kernel_per_block_round_trip_and_consistency() {
         .unwrap()
         .contains("\"groups\""));
     let mut split = m.clone();
-    split.gp.groups[1] += 1;
+    split.regressors.get_mut::<Gp>().unwrap().groups[1] += 1;
     let e = split.check_consistency().unwrap_err();
     assert!(
         e.contains("column groups") && e.contains("do not split a block"),
         "{e}"
     );
     let mut short = m.clone();
-    short.gp.inv_len.pop();
+    short.regressors.get_mut::<Gp>().unwrap().inv_len.pop();
     assert!(short
         .check_consistency()
         .unwrap_err()

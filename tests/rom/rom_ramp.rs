@@ -8,8 +8,8 @@ use crate::rom_common;
 
 #[test]
 fn ramp_matches_the_library_path_bit_for_bit() {
-    for only in [Some(RegressorKind::Gp), Some(RegressorKind::Poly), None] {
-        let m = rom_common::small_model(only);
+    for only in [Some(RegressorKind::GP), Some(RegressorKind::POLY), None] {
+        let m = rom_common::small_model(only.clone());
         let mut direct = m.new_prediction();
         let mut via = m.new_prediction();
         for (n, t, mat) in [

@@ -34,7 +34,7 @@ pub fn small_model(only: Option<RegressorKind>) -> Surrogate {
 
 /// The small model with one GP kernel per POD block (GP only).
 pub fn grouped_model() -> Surrogate {
-    small_model_with(Some(RegressorKind::Gp), true)
+    small_model_with(Some(RegressorKind::GP), true)
 }
 
 fn small_model_with(only: Option<RegressorKind>, kernel_per_block: bool) -> Surrogate {

@@ -132,8 +132,8 @@ fn train_config(a: &TrainArgs) -> TrainConfig {
         max_field_modes: usize::from(a.max_field_modes),
         max_direct_modes: usize::from(a.max_direct_modes),
         only: a.only.map(|o| match o {
-            OnlyArg::Gp => RegressorKind::Gp,
-            OnlyArg::Poly => RegressorKind::Poly,
+            OnlyArg::Gp => RegressorKind::GP,
+            OnlyArg::Poly => RegressorKind::POLY,
         }),
         prefer_poly_within: a.prefer_poly_within,
         kernel_per_block: a.kernel_per_block,

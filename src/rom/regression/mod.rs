@@ -1,20 +1,49 @@
 //! Regression of POD coefficients on the scaled case features.
 //!
-//! One trait, [`Regressor`], with two implementations: [`gp::Gp`] (Gaussian process, Matérn
-//! 5/2, ARD length scales shared by all outputs or per column group, predictive variance)
-//! and [`poly::Poly`] (ridge polynomial of total degree ≤ 3, degree and ridge chosen by
-//! PRESS). Both are multi-output: one fit predicts
+//! A regressor is a type implementing [`Regressor`] (linfa's fit / predict-into split): its
+//! fit, its allocation-free prediction, its serialisation into the model file (serde, under its
+//! [`Regressor::NAME`]) and, if the embedded predictor can evaluate it, its export tables
+//! ([`Regressor::embedded`]). The built-ins are listed once, in [`BUILTIN`]: training fits
+//! every regressor of a [`Registry`] (the built-ins by default), a model file holds each
+//! fitted one under its name, and loading reads the names the registry knows. Adding a
+//! regressor is one new file and one line in the list below; a regressor outside the crate
+//! (a test's) is added to a registry with [`Registry::with`].
+//!
+//! The built-ins: [`gp::Gp`] (Gaussian process, Matérn 5/2, ARD length scales shared by all
+//! outputs or per column group, predictive variance) and [`poly::Poly`] (ridge polynomial of
+//! total degree ≤ 3, degree and ridge chosen by PRESS). Both are multi-output: one fit predicts
 //! all POD coefficients of all blocks. Inputs are the active features scaled to `[−1, 1]` by
 //! [`FeatureScaler`](crate::case::FeatureScaler).
 
-pub mod gp;
-pub mod poly;
+mod registry;
 
+use std::fmt::Debug;
 use std::ops::Range;
 
-use serde::{Deserialize, Serialize};
+use serde::de::DeserializeOwned;
+use serde::Serialize;
 
+pub use registry::{
+    DynRegressor, EmbeddedRegressor, Entry, LinearBasis, Registry, RegressorKind, Regressors,
+};
+
+use super::train::TrainConfig;
 use super::RomError;
+
+/// Declares the built-in regressors' modules and lists them in [`BUILTIN`], in the order
+/// training fits them.
+macro_rules! builtin_regressors {
+    ($($module:ident :: $ty:ident),* $(,)?) => {
+        $(pub mod $module;)*
+        /// The built-in regressors, in the order training fits them and model files hold them.
+        pub const BUILTIN: &[Entry] = &[$(Entry::of::<$module::$ty>()),*];
+    };
+}
+
+builtin_regressors! {
+    gp::Gp,
+    poly::Poly,
+}
 
 /// Training data of a regressor: `n` points, `d` inputs, `m` outputs, row-major.
 #[derive(Debug, Clone, Copy)]
@@ -34,7 +63,18 @@ pub struct Data<'a> {
 }
 
 /// A multi-output regressor `ℝᵈ → ℝᵐ` (linfa-style fit / predict-into split).
-pub trait Regressor: Sized {
+///
+/// Required: the name, the fit and its settings, the sizes, the prediction of a range of
+/// outputs and the Jacobian. The rest has defaults: no predictive variance, no table checks
+/// beyond the sizes, the general (unfolded) prediction path, and no export to the embedded
+/// predictor (`surrogate export` then refuses the model).
+pub trait Regressor:
+    Sized + Clone + PartialEq + Debug + Serialize + DeserializeOwned + Send + Sync + 'static
+{
+    /// Name in the registry, in the model file (the key of the fitted tables, and each block's
+    /// `regressor`) and on the command line (`train --only`).
+    const NAME: &'static str;
+
     /// Fit settings.
     type Params;
 
@@ -43,6 +83,13 @@ pub trait Regressor: Sized {
     /// # Errors
     /// Too few points or a numerical failure.
     fn fit(data: &Data<'_>, params: &Self::Params) -> Result<Self, RomError>;
+
+    /// The fit settings of a training run: from `cfg`, and the column boundaries of the POD
+    /// blocks `[0, b₁, …, m]` (a regressor may treat blocks apart).
+    fn training_params(cfg: &TrainConfig, blocks: &[usize]) -> Self::Params;
+
+    /// Number of inputs `d`.
+    fn n_inputs(&self) -> usize;
 
     /// Number of outputs `m`.
     fn n_outputs(&self) -> usize;
@@ -68,27 +115,45 @@ pub trait Regressor: Sized {
     /// Outputs and their Jacobian `jac[c·d + j] = ∂out_c/∂x_j`. No allocation.
     fn jacobian_into(&self, x: &[f64], out: &mut [f64], jac: &mut [f64], scratch: &mut [f64]);
 
-    /// Predictive variance of each output. No allocation.
-    fn variance_into(&self, x: &[f64], var: &mut [f64], scratch: &mut [f64]);
-}
+    /// Predictive variance of each output. No allocation. Default: none (zeros; the
+    /// surrogate's standard deviations are then zero for the outputs it predicts).
+    fn variance_into(&self, x: &[f64], var: &mut [f64], scratch: &mut [f64]) {
+        let _ = (x, scratch);
+        var[..self.n_outputs()].iter_mut().for_each(|v| *v = 0.0);
+    }
 
-/// Which regressor family.
-#[derive(Debug, Clone, Copy, PartialEq, Eq, Serialize, Deserialize)]
-#[serde(rename_all = "lowercase")]
-pub enum RegressorKind {
-    /// Gaussian process.
-    Gp,
-    /// Ridge polynomial.
-    Poly,
-}
+    /// Consistency of the tables of a loaded regressor whose sizes match the model (`d` inputs,
+    /// `m` outputs); `blocks` are the coefficient columns of the POD blocks. Default: nothing
+    /// more to check.
+    ///
+    /// # Errors
+    /// A message naming the inconsistent table.
+    fn check(&self, blocks: &[Range<usize>]) -> Result<(), String> {
+        let _ = blocks;
+        Ok(())
+    }
 
-impl RegressorKind {
-    /// Short name.
-    pub fn name(self) -> &'static str {
-        match self {
-            RegressorKind::Gp => "gp",
-            RegressorKind::Poly => "poly",
-        }
+    /// The outputs as linear combinations of basis functions, `out_c = Σ_b φ_b(x) W[b·m + c]`
+    /// per column group, with `φ` from [`Self::basis_into`]: the surrogate then folds the POD
+    /// basis into `W` (its scalar fast path). Default: `None` (the general path).
+    fn linear_basis(&self) -> Option<LinearBasis<'_>> {
+        None
+    }
+
+    /// The basis functions of column group `group` of [`Self::linear_basis`] at `x` into `phi`
+    /// (length `n_basis`). No allocation. Called only when [`Self::linear_basis`] is `Some`.
+    fn basis_into(&self, group: usize, x: &[f64], phi: &mut [f64]) {
+        let _ = (group, x, phi);
+    }
+
+    /// Builds tables derived from the fitted ones (not stored) ahead of the first prediction,
+    /// so that no prediction allocates. Default: none.
+    fn prepare(&self) {}
+
+    /// The tables of the embedded predictor (`surrogate export`), or `None` if it cannot
+    /// evaluate this regressor. Default: `None`.
+    fn embedded(&self) -> Option<EmbeddedRegressor> {
+        None
     }
 }
 

@@ -10,7 +10,11 @@ use std::ops::Range;
 
 use serde::{Deserialize, Serialize};
 
-use super::{cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse, Data, Regressor};
+use super::{
+    cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse, Data, EmbeddedRegressor,
+    LinearBasis, Regressor,
+};
+use crate::rom::train::TrainConfig;
 use crate::rom::RomError;
 
 /// Fit settings of the polynomial.
@@ -187,7 +191,14 @@ fn solve(
 }
 
 impl Regressor for Poly {
+    const NAME: &'static str = "poly";
+
     type Params = PolyParams;
+
+    /// `cfg.poly`.
+    fn training_params(cfg: &TrainConfig, _blocks: &[usize]) -> PolyParams {
+        cfg.poly.clone()
+    }
 
     fn fit(data: &Data<'_>, params: &PolyParams) -> Result<Self, RomError> {
         let weight = |c: usize| data.weights.get(c).copied().unwrap_or(1.0);
@@ -242,6 +253,10 @@ impl Regressor for Poly {
             s2,
             var_norm: 1.0 + p as f64 / data.n as f64,
         })
+    }
+
+    fn n_inputs(&self) -> usize {
+        self.d
     }
 
     fn n_outputs(&self) -> usize {
@@ -311,6 +326,34 @@ impl Regressor for Poly {
         for (c, v) in var[..self.m].iter_mut().enumerate() {
             *v = self.s2[c] * (1.0 + h) / self.var_norm;
         }
+    }
+
+    fn check(&self, _blocks: &[Range<usize>]) -> Result<(), String> {
+        if self.coef.len() != self.n_terms() * self.m {
+            return Err("polynomial tables have inconsistent sizes".into());
+        }
+        Ok(())
+    }
+
+    /// The monomials, weighted by the coefficients.
+    fn linear_basis(&self) -> Option<LinearBasis<'_>> {
+        Some(LinearBasis {
+            weights: &self.coef,
+            n_basis: self.n_terms(),
+            groups: std::iter::once(0..self.m).collect(),
+        })
+    }
+
+    #[inline]
+    fn basis_into(&self, _group: usize, x: &[f64], phi: &mut [f64]) {
+        basis_into(&self.exponents, x, phi);
+    }
+
+    fn embedded(&self) -> Option<EmbeddedRegressor> {
+        Some(EmbeddedRegressor::Poly {
+            exponents: self.exponents.clone(),
+            coef: self.coef.clone(),
+        })
     }
 }
 

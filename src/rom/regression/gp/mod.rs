@@ -18,15 +18,21 @@
 //! kernel vector per group it needs. Without groups (the default) one kernel serves all
 //! columns, as above.
 
-use rand::seq::SliceRandom;
-use rand::{Rng, SeedableRng};
-use rand_xoshiro::Xoshiro256PlusPlus;
+mod likelihood;
+
 use serde::{Deserialize, Serialize};
 
 use std::ops::Range;
+use std::sync::OnceLock;
 
-use super::{cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse, Data, Regressor};
+use super::{
+    cholesky_in_place, dot, solve_lower, solve_lower_t, Data, EmbeddedRegressor, LinearBasis,
+    Regressor,
+};
+use crate::rom::fast::kernel_vector;
+use crate::rom::train::TrainConfig;
 use crate::rom::RomError;
+use likelihood::{correlation, optimise};
 
 /// Fit settings of the Gaussian process.
 #[derive(Debug, Clone)]
@@ -60,11 +66,8 @@ impl Default for GpParams {
     }
 }
 
-const LN_LEN_BOUNDS: (f64, f64) = (-3.5, 3.5);
-
 /// Largest number of inputs (the hot paths scale the query in fixed arrays of this size).
 pub const MAX_INPUTS: usize = 8;
-const LN_NUGGET_BOUNDS: (f64, f64) = (-18.4, -2.3);
 
 /// A fitted Gaussian process.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -93,31 +96,21 @@ pub struct Gp {
     pub sigma2: Vec<f64>,
     /// Lower Cholesky factor of each group's `R`, packed by rows (`n(n+1)/2` values per group).
     pub chol: Vec<f64>,
+    /// `xs` stored by feature, `d × n` per group (built on first use, not stored).
+    #[serde(skip)]
+    by_feature: ByFeature,
 }
 
-struct Eval {
-    nll: f64,
-    grad: Vec<f64>,
-}
+/// The training inputs over the length scales stored by feature, so that the kernel vector's
+/// distance loop runs over contiguous vectors ([`kernel_vector`]); derived from `xs`, equal for
+/// equal processes (comparisons ignore it).
+#[derive(Debug, Clone, Default)]
+struct ByFeature(OnceLock<Vec<f64>>);
 
-/// Correlation matrix `R = K + ηI` (row-major) for hyperparameters `theta`.
-fn correlation(x: &[f64], n: usize, d: usize, theta: &[f64]) -> Vec<f64> {
-    let inv_len: Vec<f64> = theta[..d].iter().map(|t| (-t).exp()).collect();
-    let eta = theta[d].exp();
-    let mut r = vec![0.0; n * n];
-    for i in 0..n {
-        r[i * n + i] = 1.0 + eta;
-        for j in 0..i {
-            let k = kernel(scaled_dist(
-                &x[i * d..(i + 1) * d],
-                &x[j * d..(j + 1) * d],
-                &inv_len,
-            ));
-            r[i * n + j] = k;
-            r[j * n + i] = k;
-        }
+impl PartialEq for ByFeature {
+    fn eq(&self, _: &Self) -> bool {
+        true
     }
-    r
 }
 
 /// Matérn-5/2 value with the branch-free [`surrogate_predict::exp_nonpos`] (shared with the
@@ -138,201 +131,7 @@ fn kernel_and_g(r: f64) -> (f64, f64) {
     )
 }
 
-#[inline]
-fn scaled_dist(a: &[f64], b: &[f64], inv_len: &[f64]) -> f64 {
-    let mut r2 = 0.0;
-    for j in 0..a.len() {
-        let t = (a[j] - b[j]) * inv_len[j];
-        r2 += t * t;
-    }
-    r2.sqrt()
-}
-
-/// Negative profiled log-likelihood and its gradient; `None` if `R` is not positive definite.
-fn neg_log_likelihood(data: &Data<'_>, yw: &[f64], theta: &[f64]) -> Option<Eval> {
-    let (n, d, m) = (data.n, data.d, data.m);
-    let mut l = correlation(data.x, n, d, theta);
-    cholesky_in_place(&mut l, n).ok()?;
-    let mut a = vec![0.0; n * m];
-    let mut col = vec![0.0; n];
-    let mut s = 0.0;
-    for c in 0..m {
-        for i in 0..n {
-            col[i] = yw[i * m + c];
-        }
-        solve_lower(&l, n, &mut col);
-        s += dot(&col, &col);
-        solve_lower_t(&l, n, &mut col);
-        for i in 0..n {
-            a[i * m + c] = col[i];
-        }
-    }
-    let sigma2 = (s / (n * m) as f64).max(1e-300);
-    let logdet: f64 = 2.0 * (0..n).map(|i| l[i * n + i].ln()).sum::<f64>();
-    let nll = 0.5 * (n * m) as f64 * sigma2.ln() + 0.5 * m as f64 * logdet;
-    let rinv = spd_inverse(&l, n);
-    let inv_len: Vec<f64> = theta[..d].iter().map(|t| (-t).exp()).collect();
-    let mut grad = vec![0.0; d + 1];
-    for i in 0..n {
-        let xi = &data.x[i * d..(i + 1) * d];
-        let wii = dot(&a[i * m..(i + 1) * m], &a[i * m..(i + 1) * m]) / sigma2
-            - m as f64 * rinv[i * n + i];
-        grad[d] -= 0.5 * wii * theta[d].exp();
-        for j in 0..i {
-            // symmetric pair (i, j) and (j, i)
-            let w = dot(&a[i * m..(i + 1) * m], &a[j * m..(j + 1) * m]) / sigma2
-                - m as f64 * rinv[i * n + j];
-            let xj = &data.x[j * d..(j + 1) * d];
-            let (_, g) = kernel_and_g(scaled_dist(xi, xj, &inv_len));
-            for k in 0..d {
-                let t = (xi[k] - xj[k]) * inv_len[k];
-                grad[k] -= w * g * t * t;
-            }
-        }
-    }
-    Some(Eval { nll, grad })
-}
-
-fn project(theta: &mut [f64]) {
-    let d = theta.len() - 1;
-    for t in theta[..d].iter_mut() {
-        *t = t.clamp(LN_LEN_BOUNDS.0, LN_LEN_BOUNDS.1);
-    }
-    theta[d] = theta[d].clamp(LN_NUGGET_BOUNDS.0, LN_NUGGET_BOUNDS.1);
-}
-
-/// Projected Barzilai–Borwein descent with Armijo backtracking from `theta0`.
-fn minimise(
-    data: &Data<'_>,
-    yw: &[f64],
-    theta0: Vec<f64>,
-    max_iter: usize,
-) -> Option<(Vec<f64>, f64)> {
-    let mut theta = theta0;
-    project(&mut theta);
-    let mut cur = neg_log_likelihood(data, yw, &theta)?;
-    let gmax = cur.grad.iter().fold(0.0f64, |a, g| a.max(g.abs()));
-    let mut step = 0.5 / gmax.max(1e-12);
-    for _ in 0..max_iter {
-        let mut accepted = None;
-        let mut trial_step = step;
-        for _ in 0..12 {
-            let mut t: Vec<f64> = theta
-                .iter()
-                .zip(&cur.grad)
-                .map(|(t, g)| t - trial_step * g)
-                .collect();
-            project(&mut t);
-            let decrease: f64 = theta
-                .iter()
-                .zip(&t)
-                .zip(&cur.grad)
-                .map(|((a, b), g)| g * (a - b))
-                .sum();
-            if let Some(e) = neg_log_likelihood(data, yw, &t) {
-                if e.nll <= cur.nll - 1e-4 * decrease {
-                    accepted = Some((t, e));
-                    break;
-                }
-            }
-            trial_step *= 0.25;
-        }
-        let Some((t, e)) = accepted else { break };
-        let s: Vec<f64> = t.iter().zip(&theta).map(|(a, b)| a - b).collect();
-        let yv: Vec<f64> = e.grad.iter().zip(&cur.grad).map(|(a, b)| a - b).collect();
-        let sy = dot(&s, &yv);
-        let ss = dot(&s, &s);
-        let small = s.iter().fold(0.0f64, |a, v| a.max(v.abs())) < 1e-5
-            || (cur.nll - e.nll).abs() < 1e-9 * (1.0 + cur.nll.abs());
-        step = if sy > 0.0 {
-            (ss / sy).clamp(1e-8, 1e4)
-        } else {
-            trial_step * 2.0
-        };
-        theta = t;
-        cur = e;
-        if small {
-            break;
-        }
-    }
-    Some((theta, cur.nll))
-}
-
-fn optimise(data: &Data<'_>, params: &GpParams) -> Result<Vec<f64>, RomError> {
-    let (n, d, m) = (data.n, data.d, data.m);
-    let mut rng = Xoshiro256PlusPlus::seed_from_u64(params.seed);
-    // the likelihood costs O(n³) per step: above `max_points`, search on a seeded subset
-    let mut rows: Vec<usize> = (0..n).collect();
-    if n > params.max_points {
-        rows.shuffle(&mut rng);
-        rows.truncate(params.max_points);
-        rows.sort_unstable();
-    }
-    let ns = rows.len();
-    let xs: Vec<f64> = rows
-        .iter()
-        .flat_map(|&i| data.x[i * d..(i + 1) * d].iter().copied())
-        .collect();
-    let ys: Vec<f64> = rows
-        .iter()
-        .flat_map(|&i| data.y[i * m..(i + 1) * m].iter().copied())
-        .collect();
-    let mut yw = ys.clone();
-    for i in 0..ns {
-        for c in 0..m {
-            yw[i * m + c] *= data.weights.get(c).copied().unwrap_or(1.0);
-        }
-    }
-    let data = &Data {
-        x: &xs,
-        y: &ys,
-        n: ns,
-        ..*data
-    };
-    let mut best: Option<(Vec<f64>, f64)> = None;
-    for s in 0..params.n_start.max(1) {
-        let mut t0 = vec![(0.7f64).ln(); d + 1];
-        t0[d] = (1e-6f64).ln();
-        if s > 0 {
-            for t in t0[..d].iter_mut() {
-                *t = rng.gen_range(-1.6..1.1);
-            }
-            t0[d] = rng.gen_range(-18.0..-7.0);
-        }
-        if let Some((t, f)) = minimise(data, &yw, t0, params.max_iter) {
-            if best.as_ref().is_none_or(|b| f < b.1) {
-                best = Some((t, f));
-            }
-        }
-    }
-    best.map(|b| b.0).ok_or_else(|| RomError::Numerical {
-        stage: "GP hyperparameters".into(),
-        message: "correlation matrix not positive definite at every start".into(),
-    })
-}
-
 impl Gp {
-    /// `out[cols] = αᵀ k(x)`; the same code for every instruction set (no fused
-    /// multiply-adds are formed, so the results are bit-identical).
-    #[inline(always)]
-    fn predict_cols_body(
-        &self,
-        x: &[f64],
-        cols: Range<usize>,
-        out: &mut [f64],
-        scratch: &mut [f64],
-    ) {
-        let k = &mut scratch[..self.n];
-        for g in 0..self.n_groups() {
-            let r = self.group_columns(g);
-            let (lo, hi) = (cols.start.max(r.start), cols.end.min(r.end));
-            if lo < hi {
-                self.kernel_vector_into(g, x, k);
-                self.combine_body(k, lo..hi, out);
-            }
-        }
-    }
-
     simd_method! {
         Gp;
         /// `out[cols] = αᵀ k` for a kernel vector `k` (length `n`). No allocation.
@@ -473,6 +272,24 @@ impl Gp {
         &self.xs[g * nd..(g + 1) * nd]
     }
 
+    /// Scaled training inputs of group `g` by feature, `d × n` (built on first call).
+    pub fn group_xs_by_feature(&self, g: usize) -> &[f64] {
+        let (n, d) = (self.n, self.d);
+        let t = self.by_feature.0.get_or_init(|| {
+            let mut t = vec![0.0; self.n_groups() * d * n];
+            for g in 0..self.n_groups() {
+                let xs = self.group_xs(g);
+                for i in 0..n {
+                    for j in 0..d {
+                        t[(g * d + j) * n + i] = xs[i * d + j];
+                    }
+                }
+            }
+            t
+        });
+        &t[g * d * n..(g + 1) * d * n]
+    }
+
     /// The kernel vector of group `g`, `k_i = k(x, x_i)`, at the scaled features `x` into `k`
     /// (length `n`): squared distances, then the branch-free Matérn over the contiguous vector
     /// (this loop vectorises).
@@ -507,7 +324,21 @@ impl Gp {
 }
 
 impl Regressor for Gp {
+    const NAME: &'static str = "gp";
+
     type Params = GpParams;
+
+    /// `cfg.gp`; with `cfg.kernel_per_block`, one kernel per POD block.
+    fn training_params(cfg: &TrainConfig, blocks: &[usize]) -> GpParams {
+        if cfg.kernel_per_block {
+            GpParams {
+                groups: blocks.to_vec(),
+                ..cfg.gp.clone()
+            }
+        } else {
+            cfg.gp.clone()
+        }
+    }
 
     fn fit(data: &Data<'_>, params: &GpParams) -> Result<Self, RomError> {
         let (n, d, m) = (data.n, data.d, data.m);
@@ -605,7 +436,12 @@ impl Regressor for Gp {
             alpha,
             sigma2,
             chol,
+            by_feature: ByFeature::default(),
         })
+    }
+
+    fn n_inputs(&self) -> usize {
+        self.d
     }
 
     fn n_outputs(&self) -> usize {
@@ -618,15 +454,24 @@ impl Regressor for Gp {
         2 * self.n + self.m * self.d
     }
 
-    simd_method! {
-        Gp;
-        fn predict_cols_into(
-            &self,
-            x: &[f64],
-            cols: Range<usize>,
-            out: &mut [f64],
-            scratch: &mut [f64],
-        ) => predict_cols_body
+    /// `out[cols] = αᵀ k(x)`, a kernel vector per column group the columns meet (by feature:
+    /// [`kernel_vector`]).
+    fn predict_cols_into(
+        &self,
+        x: &[f64],
+        cols: Range<usize>,
+        out: &mut [f64],
+        scratch: &mut [f64],
+    ) {
+        let k = &mut scratch[..self.n];
+        for g in 0..self.n_groups() {
+            let r = self.group_columns(g);
+            let (lo, hi) = (cols.start.max(r.start), cols.end.min(r.end));
+            if lo < hi {
+                self.basis_into(g, x, k);
+                self.combine_into(k, lo..hi, out);
+            }
+        }
     }
 
     simd_method! {
@@ -637,6 +482,73 @@ impl Regressor for Gp {
     simd_method! {
         Gp;
         fn variance_into(&self, x: &[f64], var: &mut [f64], scratch: &mut [f64]) => variance_body
+    }
+
+    /// Column groups that cover the outputs without splitting a block, and tables of the
+    /// sizes the groups and dimensions give.
+    fn check(&self, blocks: &[Range<usize>]) -> Result<(), String> {
+        let (d, m, n) = (self.d, self.m, self.n);
+        let b = &self.groups;
+        if !b.is_empty()
+            && (b.len() < 3
+                || !valid_group_bounds(b, m)
+                || blocks
+                    .iter()
+                    .any(|blk| b.iter().any(|&e| e > blk.start && e < blk.end)))
+        {
+            return Err(format!(
+                "Gaussian-process column groups {b:?}: expected increasing boundaries from 0 to {m} that do not split a block"
+            ));
+        }
+        let g = self.n_groups();
+        if self.x.len() != n * d
+            || self.xs.len() != g * n * d
+            || self.inv_len.len() != g * d
+            || self.theta.len() != g * (d + 1)
+            || d > MAX_INPUTS
+            || self.alpha.len() != n * m
+            || self.sigma2.len() != m
+            || self.chol.len() != g * n * (n + 1) / 2
+        {
+            return Err("Gaussian-process tables have inconsistent sizes".into());
+        }
+        Ok(())
+    }
+
+    /// The kernel vector of each column group, weighted by `α`.
+    fn linear_basis(&self) -> Option<LinearBasis<'_>> {
+        Some(LinearBasis {
+            weights: &self.alpha,
+            n_basis: self.n,
+            groups: (0..self.n_groups())
+                .map(|g| self.group_columns(g))
+                .collect(),
+        })
+    }
+
+    /// The kernel vector of group `group` from the inputs stored by feature.
+    #[inline]
+    fn basis_into(&self, group: usize, x: &[f64], phi: &mut [f64]) {
+        kernel_vector(
+            self.group_xs_by_feature(group),
+            self.group_inv_len(group),
+            x,
+            phi,
+        );
+    }
+
+    /// The inputs stored by feature.
+    fn prepare(&self) {
+        let _ = self.group_xs_by_feature(0);
+    }
+
+    fn embedded(&self) -> Option<EmbeddedRegressor> {
+        Some(EmbeddedRegressor::Gp {
+            groups: self.groups.iter().map(|&b| b as u16).collect(),
+            inv_len: self.inv_len.clone(),
+            xs: self.xs.clone(),
+            alpha: self.alpha.clone(),
+        })
     }
 }
 
@@ -670,46 +582,5 @@ mod tests {
         assert!(!valid_group_bounds(&[0, 4], 5));
         assert!(!valid_group_bounds(&[0, 3, 3, 5], 5));
         assert!(!valid_group_bounds(&[0, 4, 2, 5], 5));
-    }
-
-    #[test]
-    fn likelihood_gradient_matches_finite_differences() {
-        let n = 12;
-        let d = 2;
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
-        let x: Vec<f64> = (0..n * d).map(|_| rng.gen_range(-1.0..1.0)).collect();
-        let y: Vec<f64> = (0..n)
-            .flat_map(|i| {
-                [
-                    (2.0 * x[2 * i]).sin() + x[2 * i + 1],
-                    x[2 * i] * x[2 * i + 1],
-                ]
-            })
-            .collect();
-        let data = Data {
-            x: &x,
-            y: &y,
-            n,
-            d,
-            m: 2,
-            weights: &[],
-        };
-        let theta = vec![-0.3, 0.2, -6.0];
-        let e = neg_log_likelihood(&data, &y, &theta).unwrap();
-        for k in 0..3 {
-            let h = 1e-5;
-            let mut tp = theta.clone();
-            tp[k] += h;
-            let mut tm = theta.clone();
-            tm[k] -= h;
-            let fd = (neg_log_likelihood(&data, &y, &tp).unwrap().nll
-                - neg_log_likelihood(&data, &y, &tm).unwrap().nll)
-                / (2.0 * h);
-            assert!(
-                (fd - e.grad[k]).abs() < 1e-4 * (1.0 + fd.abs()),
-                "k={k} fd={fd} an={}",
-                e.grad[k]
-            );
-        }
     }
 }
