@@ -230,12 +230,12 @@ impl Domain {
         })
     }
 
-    /// This domain with the plan's nominal ends (`nominal`: [`Plan::domain`]'s box) wherever
+    /// This domain with the plan's nominal ends (`nominal`: [`Ranges::domain`]'s box) wherever
     /// this domain (the span of the cases) comes within one stratum of them, `1/plan_cases`
     /// of the nominal range (in `ln μ0` for μ0); see the [module docs](self). `N`, the
     /// pressure and an unconstrained or single-valued input are kept.
     ///
-    /// [`Plan::domain`]: crate::snapshots::plan::Plan::domain
+    /// [`Ranges::domain`]: crate::snapshots::plan::Ranges::domain
     pub fn with_plan_ends(&self, nominal: &Domain, plan_cases: usize) -> Domain {
         let mut out = self.clone();
         let k = plan_cases.max(1) as f64;

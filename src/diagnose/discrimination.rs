@@ -204,22 +204,15 @@ impl Discrimination {
             .insert_column(self.nuisance.ncols(), 0.0);
         let last = g.ncols() - 1;
         g.set_column(last, &self.signatures[rival]);
-        let svd = g.clone().svd(true, true);
-        let (u, vt) = (
-            svd.u.expect("u was asked for"),
-            svd.v_t.expect("v was asked for"),
-        );
-        let smax = svd.singular_values.max();
-        let keep: Vec<usize> = (0..svd.singular_values.len())
-            .filter(|&i| svd.singular_values[i] > 1e-10 * smax)
-            .collect();
+        let svd = thin_svd(&g);
+        let keep = svd.kept();
         let u = if keep.is_empty() {
             DMatrix::zeros(g.nrows(), 0)
         } else {
-            DMatrix::from_columns(&keep.iter().map(|&i| u.column(i)).collect::<Vec<_>>())
+            DMatrix::from_columns(&keep.iter().map(|&i| svd.u.column(i)).collect::<Vec<_>>())
         };
-        let to_reduced = DMatrix::from_fn(vt.ncols(), keep.len(), |r, c| {
-            vt[(keep[c], r)] / svd.singular_values[keep[c]]
+        let to_reduced = DMatrix::from_fn(svd.v.nrows(), keep.len(), |r, c| {
+            svd.v[(r, keep[c])] / svd.s[keep[c]]
         });
         let v = &self.signatures[truth] * self.sizes[truth];
         Direction {
@@ -355,17 +348,79 @@ pub(crate) fn orthonormal(a: &DMatrix<f64>) -> DMatrix<f64> {
     if a.ncols() == 0 {
         return DMatrix::zeros(a.nrows(), 0);
     }
-    let svd = a.clone().svd(true, false);
-    let u = svd.u.expect("u was asked for");
-    let smax = svd.singular_values.max();
-    let keep: Vec<DVector<f64>> = (0..svd.singular_values.len())
-        .filter(|&i| svd.singular_values[i] > 1e-10 * smax)
-        .map(|i| u.column(i).into_owned())
+    let svd = thin_svd(a);
+    let keep: Vec<DVector<f64>> = svd
+        .kept()
+        .into_iter()
+        .map(|i| svd.u.column(i).into_owned())
         .collect();
     if keep.is_empty() {
         return DMatrix::zeros(a.nrows(), 0);
     }
     DMatrix::from_columns(&keep)
+}
+
+/// A thin SVD `A = U Σ Vᵀ` (`U`: `m × k`, `V`: `n × k`, `k = min(m, n)`; singular values
+/// non-increasing).
+struct ThinSvd {
+    u: DMatrix<f64>,
+    s: Vec<f64>,
+    v: DMatrix<f64>,
+}
+
+impl ThinSvd {
+    /// Indices of the singular values above 10⁻¹⁰ of the largest; every index when they are
+    /// NaN (a matrix with non-finite entries), so that the NaN reaches the caller's result.
+    fn kept(&self) -> Vec<usize> {
+        let smax = self.s.first().copied().unwrap_or(0.0);
+        (0..self.s.len())
+            .filter(|&i| self.s[i] > 1e-10 * smax || smax.is_nan())
+            .collect()
+    }
+}
+
+/// The thin SVD of `a` by faer, computed sequentially (`Par::Seq`: the result does not depend
+/// on the number of threads). A matrix with non-finite entries, on which the iteration does not
+/// converge, gives NaN factors.
+fn thin_svd(a: &DMatrix<f64>) -> ThinSvd {
+    use faer::dyn_stack::{MemBuffer, MemStack};
+    use faer::linalg::svd::{svd, svd_scratch, ComputeSvdVectors};
+    let (m, n) = (a.nrows(), a.ncols());
+    let k = m.min(n);
+    let mat = faer::Mat::<f64>::from_fn(m, n, |i, j| a[(i, j)]);
+    let mut u = faer::Mat::<f64>::zeros(m, k);
+    let mut v = faer::Mat::<f64>::zeros(n, k);
+    let mut s = faer::diag::Diag::<f64>::zeros(k);
+    let (par, thin) = (faer::Par::Seq, ComputeSvdVectors::Thin);
+    let mut mem = MemBuffer::new(svd_scratch::<f64>(
+        m,
+        n,
+        thin,
+        thin,
+        par,
+        Default::default(),
+    ));
+    let done = svd(
+        mat.as_ref(),
+        s.as_mut(),
+        Some(u.as_mut()),
+        Some(v.as_mut()),
+        par,
+        MemStack::new(&mut mem),
+        Default::default(),
+    );
+    if done.is_err() {
+        return ThinSvd {
+            u: DMatrix::from_element(m, k, f64::NAN),
+            s: vec![f64::NAN; k],
+            v: DMatrix::from_element(n, k, f64::NAN),
+        };
+    }
+    ThinSvd {
+        u: DMatrix::from_fn(m, k, |i, j| u[(i, j)]),
+        s: s.column_vector().iter().copied().collect(),
+        v: DMatrix::from_fn(n, k, |i, j| v[(i, j)]),
+    }
 }
 
 #[cfg(test)]
@@ -435,7 +490,15 @@ mod tests {
                     p.items[chosen[i - n]].candidates[a]
                 }
         });
-        let beta = g.clone().svd(true, true).solve(&v, 1e-12).unwrap();
+        // least squares through the SVD, singular values below 10⁻¹² dropped
+        let svd = thin_svd(&g);
+        let ut_v = svd.u.transpose() * &v;
+        let beta = DVector::from_fn(g.ncols(), |r, _| {
+            (0..svd.s.len())
+                .filter(|&k| svd.s[k] > 1e-12)
+                .map(|k| svd.v[(r, k)] * ut_v[k] / svd.s[k])
+                .sum()
+        });
         (v - g * beta).norm_squared()
     }
 
