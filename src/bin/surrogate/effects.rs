@@ -2,15 +2,33 @@
 
 use std::io::Write;
 
-use surrogate::fe::effects::{Acts, Kind, EFFECTS};
+use serde::Serialize;
+use surrogate::fe::effects::{Acts, EffectInfo, Kind, BUILTIN_EFFECTS};
 
 use crate::args::EffectsArgs;
+
+/// One effect as listed: its name, its description and its rig.
+#[derive(Serialize)]
+struct Entry {
+    effect: &'static str,
+    #[serde(flatten)]
+    info: &'static EffectInfo,
+    acts_on: Acts,
+}
 
 /// Prints the library.
 pub fn run(a: EffectsArgs) -> anyhow::Result<()> {
     let mut out = std::io::stdout().lock();
     if a.json {
-        writeln!(out, "{}", serde_json::to_string_pretty(&EFFECTS)?)?;
+        let entries: Vec<Entry> = BUILTIN_EFFECTS
+            .iter()
+            .map(|e| Entry {
+                effect: e.name(),
+                info: e.info(),
+                acts_on: e.acts_on(),
+            })
+            .collect();
+        writeln!(out, "{}", serde_json::to_string_pretty(&entries)?)?;
         return Ok(());
     }
     writeln!(
@@ -18,8 +36,9 @@ pub fn run(a: EffectsArgs) -> anyhow::Result<()> {
         "{:<24} {:<7} {:>7} {:>15}  {:<7} {:<10} meaning",
         "name", "unit", "neutral", "range", "rig", "kind"
     )?;
-    for e in &EFFECTS {
-        let rig = match e.acts_on {
+    for &effect in BUILTIN_EFFECTS {
+        let e = effect.info();
+        let rig = match effect.acts_on() {
             Acts::Both => "both",
             Acts::Force => "force",
         };

@@ -67,21 +67,24 @@ impl Unknown {
             "wall_law_inverse_cavity" => Unknown::WallLawInverseCavity,
             n => match Parameter::from_name(n) {
                 Ok(Parameter::Material(m)) => Unknown::Material(m),
-                Ok(Parameter::Effect(e)) => match e {
-                    Effect::GapBias
-                    | Effect::BaseBias
-                    | Effect::DuctBias
-                    | Effect::WallBiasSide
-                    | Effect::FreeLengthBias => {
-                        return Err(CalibrateError::input(
-                            "unknown",
-                            n,
-                            "the dimension itself (gap, base, duct, side_wall, free_length), \
-                             not its bias",
-                        ))
-                    }
-                    e => Unknown::Effect(e),
-                },
+                Ok(Parameter::Effect(e))
+                    if [
+                        Effect::GapBias,
+                        Effect::BaseBias,
+                        Effect::DuctBias,
+                        Effect::WallBiasSide,
+                        Effect::FreeLengthBias,
+                    ]
+                    .contains(&e) =>
+                {
+                    return Err(CalibrateError::input(
+                        "unknown",
+                        n,
+                        "the dimension itself (gap, base, duct, side_wall, free_length), \
+                         not its bias",
+                    ))
+                }
+                Ok(Parameter::Effect(e)) => Unknown::Effect(e),
                 Err(_) => {
                     return Err(CalibrateError::input(
                         "unknown",

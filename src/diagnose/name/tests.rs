@@ -9,7 +9,7 @@ use crate::calibrate::objective::Output;
 use crate::diagnose::approx_error::ErrorSpread;
 use crate::diagnose::mesh_error::ErrorDirection;
 use crate::diagnose::signature::derivative_of;
-use crate::fe::effects::{Effect, Effects};
+use crate::fe::effects::{Acts, Effect, Effects};
 use crate::fe::material::Material;
 use crate::fe::mesh::{MeshLevel, MeshOptions};
 use crate::fe::sensitivity::{
@@ -74,12 +74,10 @@ fn sweep(seed: u64) -> SweepSensitivities {
                             .iter()
                             .map(|i| {
                                 let mut o = random_outputs(&mut rng);
-                                if let Parameter::Effect(
-                                    Effect::PlateOffset
-                                    | Effect::PlateCompliance
-                                    | Effect::ForceScale,
-                                ) = i.parameter
-                                {
+                                if matches!(
+                                    i.parameter,
+                                    Parameter::Effect(e) if e.acts_on() == Acts::Force
+                                ) {
                                     o = Outputs {
                                         tip_uz_mm: 0.0,
                                         tip_uy_mm: 0.0,

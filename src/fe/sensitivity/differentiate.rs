@@ -16,7 +16,7 @@ use super::{
     SENSITIVITY_FORMAT_VERSION,
 };
 use crate::fe::assembly::LoadLevel;
-use crate::fe::effects::Effect;
+use crate::fe::effects::{Differentiation, Target};
 use crate::fe::material::Material;
 use crate::fe::simulate::{
     run, run_warm, ActuatorModel, Case, ConvergedState, Mode, Ran, Response, StepResult, BAR,
@@ -116,6 +116,9 @@ fn check(case: &Case, parameters: &[Parameter]) -> Result<(), SensitivityError> 
                     parameter: p.name(),
                     why: "the material is not a second-order Ogden law".into(),
                 })
+            }
+            Parameter::Effect(e) if e.differentiation() == Differentiation::Unsupported => {
+                return Err(super::not_differentiated(*e))
             }
             _ => {}
         }
@@ -381,8 +384,9 @@ fn differentiate_state(
     for (pj, p) in perturbed.iter_mut().enumerate() {
         let d = match p.points.first().map(|q| &q.how) {
             None => Outputs::zero(&y0),
+            // dF/ds = F/s
             Some(How::ForceScale) => Outputs {
-                force_n: Some(raw_force),
+                force_n: y0.force_n.map(|f| f / p.value),
                 ..Outputs::zero(&y0)
             },
             Some(_) => {
@@ -392,7 +396,7 @@ fn differentiate_state(
         };
         if at.self_weight && ramp.force_rig {
             p.plate_shift = d.tip_uy_mm
-                - if p.parameter == Parameter::Effect(Effect::PlateOffset) {
+                - if p.acts_on(Target::PlateOffset) {
                     1.0
                 } else {
                     0.0
@@ -418,7 +422,7 @@ fn parameter_derivative(
     // the plate follows the sagged tip (and the spring), not at P = 0
     let shift = if terms.at.self_weight {
         0.0
-    } else if p.parameter == Parameter::Effect(Effect::PlateCompliance) {
+    } else if p.acts_on(Target::PlateCompliance) {
         p.plate_shift - terms.raw_force
     } else {
         p.plate_shift

@@ -21,7 +21,9 @@
 //! eigenvalues ≈ 10⁻⁶ of its largest), and a forward difference's relative error of 10⁻⁷
 //! already moved `d tip/d wall_bias_bellows` by 12 %.
 //!
-//! How each parameter enters `R`:
+//! How each parameter enters `R` (an effect declares it,
+//! [`CaseEffect::differentiation`](crate::fe::effects::CaseEffect::differentiation); by default
+//! its target's, [`Target::differentiation`]; the library's are):
 //!
 //! | parameter | perturbed |
 //! |---|---|
@@ -77,7 +79,7 @@ pub use differentiate::{
 };
 pub use params::{OgdenParameter, Parameter};
 
-use crate::fe::effects::{Effect, EffectError, Effects};
+use crate::fe::effects::{Acts, Differentiation, Effect, EffectError, Effects, Target};
 use crate::fe::element::ElementError;
 use crate::fe::geometry::{Design, GeometryError};
 use crate::fe::material::{Material, MaterialError, MaterialLaw, Ogden2};
@@ -365,6 +367,11 @@ struct Perturbation {
 }
 
 impl Perturbation {
+    /// Whether the parameter is an effect on `target`.
+    fn acts_on(&self, target: Target) -> bool {
+        matches!(self.parameter, Parameter::Effect(e) if e.target() == target)
+    }
+
     fn describe(&self) -> &'static str {
         self.points
             .first()
@@ -462,6 +469,10 @@ fn point(
         }
         Parameter::Effect(e) => e,
     };
+    // the force rig's own effects move nothing in bending
+    if e.acts_on() == Acts::Force && case.mode != Mode::Force {
+        return Ok(None);
+    }
     let info = e.info();
     let value = case.effects.get(e);
     let effects = case.effects.clone().with(e, at)?;
@@ -474,15 +485,8 @@ fn point(
             &effects,
         )?)))
     };
-    let how = match e {
-        Effect::WallBias
-        | Effect::WallBiasBellows
-        | Effect::WallBiasSkin
-        | Effect::WallBiasSide
-        | Effect::GapBias
-        | Effect::BaseBias
-        | Effect::DuctBias
-        | Effect::FreeLengthBias => {
+    let how = match e.differentiation() {
+        Differentiation::MovedMesh => {
             let moved: Design = effects.printed_design(case.design.params()).validate()?;
             let mesh =
                 base.mesh
@@ -493,19 +497,31 @@ fn point(
                     })?;
             return Ok(Some((other_model(mesh, &moved)?, moved.free_length())));
         }
-        Effect::ClampCompliance | Effect::ClampShearCompliance if value == 0.0 => {
-            let normal = e == Effect::ClampCompliance;
-            How::RigidClamp([!normal, !normal, normal])
-        }
-        Effect::ClampCompliance | Effect::ClampShearCompliance => {
-            other_model(base.mesh.clone(), design)?
-        }
-        Effect::PressureLoss | Effect::PressureOffset => How::Pressure(effects),
-        Effect::Density => How::Gravity(at / value),
-        Effect::Anisotropy => How::Material(effects.printed_material(&case.material)?),
-        Effect::PlateOffset | Effect::PlateCompliance if case.mode == Mode::Force => How::Plate,
-        Effect::ForceScale if case.mode == Mode::Force => How::ForceScale,
-        Effect::PlateOffset | Effect::PlateCompliance | Effect::ForceScale => return Ok(None),
+        Differentiation::ClampSprings => match e.target() {
+            Target::Clamp(dirs) if rigid_clamp(&case.effects, dirs) => How::RigidClamp(dirs),
+            _ => other_model(base.mesh.clone(), design)?,
+        },
+        Differentiation::LoadLevel if e.target() == Target::Gravity => How::Gravity(at / value),
+        Differentiation::LoadLevel => How::Pressure(effects),
+        Differentiation::Material => How::Material(effects.printed_material(&case.material)?),
+        Differentiation::Plate => How::Plate,
+        Differentiation::Reading => How::ForceScale,
+        Differentiation::Unsupported => return Err(not_differentiated(e)),
     };
     Ok(Some((how, lf)))
+}
+
+/// Whether the clamp is rigid in every direction of `dirs` (no spring there).
+fn rigid_clamp(effects: &Effects, dirs: [bool; 3]) -> bool {
+    dirs.iter()
+        .zip(effects.clamp_springs())
+        .all(|(&on, spring)| !on || spring.is_none())
+}
+
+/// The error of an effect that declares no differentiation.
+fn not_differentiated(e: Effect) -> SensitivityError {
+    SensitivityError::Unsupported {
+        parameter: e.name(),
+        why: "the effect declares no differentiation (Differentiation::Unsupported)".into(),
+    }
 }
