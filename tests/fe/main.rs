@@ -18,6 +18,7 @@ mod minimise;
 mod model_doc;
 mod sensitivities;
 mod solver_stabilization;
+mod toy_effect;
 mod verification_cantilever;
 mod verification_cook;
 mod verification_cylinder;
