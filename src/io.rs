@@ -6,9 +6,11 @@
 use std::io::Write;
 use std::path::Path;
 
-/// Writes `bytes` to `path` atomically: a hidden temporary file `.{name}.{pid}.tmp` in the
-/// same directory, `fsync`, rename over `path`, `fsync` of the directory (so the rename
-/// itself is durable). An existing file is replaced; the directory must exist.
+/// Writes `bytes` to `path` atomically: a hidden temporary file `.{name}.{pid}-{k}.tmp` in
+/// the same directory (`k` counts this process's writes, so that threads writing the same
+/// file never share a temporary), `fsync`, rename over
+/// `path`, `fsync` of the directory (so the rename itself is durable). An existing file is
+/// replaced; the directory must exist; the last rename wins.
 ///
 /// A temporary file left by a killed process keeps that name (a `.`-prefixed `.tmp`), so
 /// whoever owns the directory can recognise and remove it (the snapshot store does on resume).
@@ -22,7 +24,10 @@ pub fn write_atomic(path: &Path, bytes: &[u8]) -> std::io::Result<()> {
         _ => Path::new("."),
     };
     let name = path.file_name().and_then(|n| n.to_str()).unwrap_or("out");
-    let tmp = dir.join(format!(".{name}.{}.tmp", std::process::id()));
+    static WRITES: std::sync::atomic::AtomicUsize = std::sync::atomic::AtomicUsize::new(0);
+    let k = WRITES.fetch_add(1, std::sync::atomic::Ordering::Relaxed);
+    let pid = std::process::id();
+    let tmp = dir.join(format!(".{name}.{pid}-{k}.tmp"));
     let written = std::fs::File::create(&tmp).and_then(|mut f| {
         f.write_all(bytes)?;
         f.sync_all()?;

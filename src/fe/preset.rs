@@ -28,7 +28,8 @@ use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
 use super::geometry::{
-    Design, DesignParams, GeometryError, PartStiffness, PART_STIFFNESS_RANGE, PRINTED_WALL_RANGE,
+    Design, DesignParams, GeometryError, PartStiffness, MIN_CAVITY_LENGTH, PART_STIFFNESS_RANGE,
+    PRINTED_WALL_RANGE, T_RANGE,
 };
 
 /// Physical range of the gap between neighbouring bellows (mm).
@@ -302,6 +303,41 @@ impl Geometry {
         self.free_length_mm / n as f64 - self.gap_mm - 2.0 * t
     }
 
+    /// The largest wall thickness `T` (mm) inside [`T_RANGE`] at which design `(n, T)` is a
+    /// valid actuator with these dimensions (the buildability limit of `N`), or `None` when
+    /// even the thinnest `T` is not.
+    ///
+    /// For [`Geometry::as_modelled`] this is the drawn rule `(Lf/N − g − 0.5)/2` less
+    /// 10⁻⁹ mm, capped at the range's top. Otherwise it is found by bisection to 10⁻⁹ mm on
+    /// [`Geometry::params`]'s validity, which a wall law makes nonlinear in `T` (a printed
+    /// cavity `c − 2(a + b/c)` shrinks with `T` for `b ≥ 0`); the value returned is itself
+    /// checked valid.
+    pub fn max_wall_thickness(&self, n: usize) -> Option<f64> {
+        let (t_lo, t_hi) = T_RANGE;
+        let valid = |t: f64| self.params(n, t).validate().is_ok();
+        if self.is_as_modelled() {
+            let drawn = (self.free_length_mm / n as f64 - self.gap_mm - MIN_CAVITY_LENGTH) / 2.0;
+            let t = (drawn - 1e-9).min(t_hi);
+            return (t >= t_lo).then_some(t);
+        }
+        if !valid(t_lo) {
+            return None;
+        }
+        if valid(t_hi) {
+            return Some(t_hi);
+        }
+        let (mut lo, mut hi) = (t_lo, t_hi);
+        while hi - lo > 1e-9 {
+            let mid = 0.5 * (lo + hi);
+            if valid(mid) {
+                lo = mid;
+            } else {
+                hi = mid;
+            }
+        }
+        Some(lo)
+    }
+
     /// The validated design `(n, t)` with these dimensions.
     ///
     /// # Errors
@@ -434,5 +470,49 @@ mod tests {
             assert_eq!(c.lo[0], 1.2);
             assert_eq!(c.hi[1], 22.0 - t);
         }
+    }
+
+    /// The buildability limit: as modelled it is the drawn rule; with a wall law that
+    /// thickens the walls of short cavities it is lower, valid, and 10⁻⁶ mm more is not.
+    #[test]
+    fn the_largest_buildable_wall_follows_the_wall_law() {
+        let m = Geometry::as_modelled();
+        for n in 7..=15 {
+            let t = m
+                .max_wall_thickness(n)
+                .expect("every N has a T as modelled");
+            let drawn = (92.0 / n as f64 - 1.0 - MIN_CAVITY_LENGTH) / 2.0 - 1e-9;
+            assert_eq!(t, drawn.min(T_RANGE.1), "N = {n}");
+        }
+        let identified = Geometry {
+            name: "law".into(),
+            gap_mm: 0.2,
+            side_wall_mm: Some(2.9),
+            wall_law: Some(WallLaw {
+                offset_mm: -0.28,
+                inverse_cavity_mm2: 1.33,
+            }),
+            ..Geometry::as_modelled()
+        };
+        for n in 7..=15 {
+            let t = identified.max_wall_thickness(n).expect("a T for every N");
+            assert!(identified.design(n, t).is_ok(), "N = {n}, T = {t}");
+            if t < T_RANGE.1 {
+                assert!(identified.design(n, t + 1e-6).is_err(), "N = {n}, T = {t}");
+                // the printed cavity closes before the drawn one: the limit is below the drawn rule
+                let drawn = (92.0 / n as f64 - 0.2 - MIN_CAVITY_LENGTH) / 2.0;
+                assert!(t < drawn - 0.1, "N = {n}: {t} against {drawn}");
+            }
+        }
+        assert_eq!(identified.max_wall_thickness(7), Some(T_RANGE.1));
+        let closed = Geometry {
+            gap_mm: 2.0,
+            wall_law: Some(WallLaw {
+                offset_mm: -0.28,
+                inverse_cavity_mm2: 3.0,
+            }),
+            ..identified
+        };
+        assert_eq!(closed.max_wall_thickness(15), None);
     }
 }

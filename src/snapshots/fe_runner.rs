@@ -8,15 +8,17 @@ use super::plan::{PlanSettings, PlannedCase};
 use super::store::{CaseOutcome, StepOutputs};
 use crate::fe::simulate::{simulate_with, Case, Mode, StepResult};
 
-/// The FE case (bending or blocked-force test) of a planned case, with the plan's fixed
-/// effects and the case's sampled ones.
+/// The FE case (bending or blocked-force test) of a planned case, built with the plan's
+/// geometry preset, with the plan's fixed effects and the case's sampled ones.
 ///
 /// # Errors
 /// The design, material or effect error as text (plans are validated on load, so only a
 /// hand-built case can fail here).
 pub fn fe_case(case: &PlannedCase, settings: &PlanSettings, mode: Mode) -> Result<Case, String> {
     Ok(Case {
-        design: case.design().map_err(|e| e.to_string())?,
+        design: case
+            .design_with(&settings.geometry())
+            .map_err(|e| e.to_string())?,
         material: case
             .material(settings.bulk_ratio)
             .map_err(|e| e.to_string())?,

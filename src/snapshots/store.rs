@@ -26,7 +26,7 @@
 //! ## Shard directory
 //!
 //! `plan.json`, `plan_hash` and `cases/case_<id>.csv` (see [`super`]); case files are written
-//! to `cases/.case_<id>.csv.<pid>.tmp`, fsynced, renamed, and the directory fsynced
+//! to `cases/.case_<id>.csv.<pid>-<k>.tmp`, fsynced, renamed, and the directory fsynced
 //! ([`crate::io::write_atomic`]).
 
 use std::collections::BTreeMap;
@@ -395,12 +395,13 @@ impl ShardDir {
                 let dir = Self {
                     root: root.to_path_buf(),
                 };
-                let cases = dir.cases_dir();
-                std::fs::create_dir_all(&cases).map_err(|e| SnapshotError::io(&cases, e))?;
+                std::fs::create_dir_all(root).map_err(|e| SnapshotError::io(root, e))?;
                 let plan_file = root.join(PLAN_FILE);
                 crate::io::write_atomic(&plan_file, plan.pretty_json().as_bytes())
                     .map_err(|e| SnapshotError::io(&plan_file, e))?;
-                // the hash marker last: it commits the directory to the plan
+                // the hash marker commits the directory to the plan; the case folder comes
+                // after it (below), so that a shard starting beside this one never sees a case
+                // folder without a hash (both write the same files, atomically)
                 let hash_file = root.join(PLAN_HASH_FILE);
                 let hash = format!("{}\n", plan.hash());
                 crate::io::write_atomic(&hash_file, hash.as_bytes())

@@ -507,3 +507,120 @@ fn effect_columns_survive_run_resume_and_merge() {
     surrogate::rom::data::SnapshotSet::read(&out).unwrap();
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// The identified preset shipped in `data/geometry/`.
+fn identified() -> surrogate::fe::preset::Geometry {
+    let path = concat!(env!("CARGO_MANIFEST_DIR"), "/data/geometry/identified.json");
+    surrogate::fe::preset::Geometry::load(std::path::Path::new(path)).unwrap()
+}
+
+/// A plan built with a geometry preset: it stores the preset, samples T only up to each N's
+/// buildability limit with it (the wall law closes short cavities before the drawn rule
+/// does), every case builds with it, the FE case is that design, and the plan round-trips.
+/// A plan without a preset writes no field (its hash is unchanged).
+#[test]
+fn plans_carry_their_geometry_and_stay_buildable() {
+    use surrogate::snapshots::fe_runner::fe_case;
+    let g = identified();
+    let settings = surrogate::snapshots::PlanSettings {
+        geometry: Some(g.clone()),
+        ..small_settings()
+    };
+    let p = Plan::generate(90, 4, Ranges::default(), settings).unwrap();
+    assert_eq!(p.settings.geometry(), g);
+    for n in 7..=15 {
+        let limit = surrogate::snapshots::plan::max_wall_thickness_in(&g, n);
+        let ts: Vec<f64> = p
+            .cases
+            .iter()
+            .filter(|c| c.n_bellows == n)
+            .map(|c| c.wall_thickness_mm)
+            .collect();
+        assert_eq!(ts.len(), 10, "N = {n}");
+        assert!(ts.iter().all(|&t| t <= limit), "N = {n}: {ts:?} > {limit}");
+        if limit < 2.8 {
+            // the limit is the preset's, below the drawn rule of the modelled geometry
+            assert!(limit < surrogate::snapshots::plan::max_wall_thickness(n) - 0.2);
+            assert!(ts.iter().any(|&t| t > limit - 0.3), "N = {n}: {ts:?}");
+        }
+    }
+    for c in &p.cases {
+        let fe = fe_case(c, &p.settings, surrogate::fe::simulate::Mode::Bending).unwrap();
+        let design = g.design(c.n_bellows, c.wall_thickness_mm).unwrap();
+        assert_eq!(format!("{:?}", fe.design), format!("{design:?}"));
+    }
+    let json = p.pretty_json();
+    assert!(json.contains("\"wall_law\""));
+    assert_eq!(Plan::from_json(&json, "round trip").unwrap(), p);
+    assert!(!plan(20, 4).pretty_json().contains("\"geometry\""));
+}
+
+/// A preset outside its physical range, or one that leaves a case no actuator, is refused
+/// naming the field.
+#[test]
+fn bad_geometry_in_plans_is_named() {
+    let settings = surrogate::snapshots::PlanSettings {
+        geometry: Some(identified()),
+        ..small_settings()
+    };
+    let p = Plan::generate(18, 4, Ranges::default(), settings).unwrap();
+    let mut v: serde_json::Value = serde_json::from_str(&p.pretty_json()).unwrap();
+    v["settings"]["geometry"]["gap_mm"] = serde_json::json!(0.05);
+    let e = Plan::from_json(&v.to_string(), "bad gap")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("settings.geometry.gap_mm") && e.contains("0.05"),
+        "{e}"
+    );
+    // N = 15 cannot be built at T = 2.6 with the identified walls
+    let mut v: serde_json::Value = serde_json::from_str(&p.pretty_json()).unwrap();
+    let i = p.cases.iter().position(|c| c.n_bellows == 15).unwrap();
+    v["cases"][i]["wall_thickness_mm"] = serde_json::json!(2.6);
+    let e = Plan::from_json(&v.to_string(), "closed")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains(&format!("cases[{i}]")) && e.contains("2.6"),
+        "{e}"
+    );
+    // the same check when generating: every N must be buildable at the lowest T
+    let ranges = Ranges {
+        wall_thickness_mm: [2.5, 2.8],
+        ..Ranges::default()
+    };
+    let settings = surrogate::snapshots::PlanSettings {
+        geometry: Some(identified()),
+        ..small_settings()
+    };
+    let e = Plan::generate(18, 4, ranges, settings)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        e.contains("ranges.n_bellows") && e.contains("identified"),
+        "{e}"
+    );
+}
+
+/// Shards started together on a fresh directory (one per core, as the docs recommend) all
+/// open it: none sees a case folder before the plan hash that commits it.
+#[test]
+fn shards_starting_together_share_a_fresh_directory() {
+    let p = plan(6, 3);
+    let root = scratch("concurrent_create");
+    for round in 0..20 {
+        let dir = root.join(format!("round_{round}"));
+        let results: Vec<_> = std::thread::scope(|s| {
+            let handles: Vec<_> = (0..4)
+                .map(|_| s.spawn(|| surrogate::snapshots::ShardDir::create(&dir, &p)))
+                .collect();
+            handles.into_iter().map(|h| h.join().unwrap()).collect()
+        });
+        for r in results {
+            assert!(r.is_ok(), "round {round}: {:?}", r.err());
+        }
+        assert!(surrogate::snapshots::ShardDir::existing(&dir, &p)
+            .unwrap()
+            .is_some());
+    }
+}

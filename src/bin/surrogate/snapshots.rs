@@ -11,6 +11,7 @@ use clap::{Args, Subcommand, ValueEnum};
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::fe::effects::Effects;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::fe::preset::Geometry;
 use surrogate::snapshots::fe_runner::fe_runner;
 use surrogate::snapshots::merge::{merge_with, sidecar_path};
 use surrogate::snapshots::run::{shard_status, AnalyticRunner, Progress};
@@ -164,6 +165,11 @@ pub struct PlanArgs {
     /// uniform in [LO, HI] (inside the effect's range), e.g. --effect-range wall_bias=-0.2,0.2.
     #[arg(long, value_name = "NAME=LO,HI", allow_hyphen_values = true)]
     pub effect_range: Vec<String>,
+    /// The unstated dimensions every case is built with: `as_modelled` or a geometry preset
+    /// file (`identify` writes one, `geometry.json`). It is stored in the plan, and T is
+    /// sampled up to each N's buildability limit with it.
+    #[arg(long, default_value = "as_modelled")]
+    pub geometry: String,
 }
 
 /// `snapshots merge`.
@@ -266,6 +272,13 @@ fn effect_ranges(items: &[String]) -> Result<BTreeMap<String, [f64; 2]>> {
     Ok(out)
 }
 
+/// The plan's geometry preset: none for `as_modelled` (the plan then reads as before the
+/// field existed, with the same hash), the preset otherwise.
+fn plan_geometry(name: &str) -> Result<Option<Geometry>> {
+    let g = Geometry::from_name(name).with_context(|| format!("--geometry {name}"))?;
+    Ok((!g.is_as_modelled()).then_some(g))
+}
+
 /// A comma list, or `max:step` from 0.
 fn plan(a: PlanArgs) -> Result<()> {
     let ranges = Ranges {
@@ -288,6 +301,7 @@ fn plan(a: PlanArgs) -> Result<()> {
         },
         bulk_ratio: a.bulk_ratio,
         effects: Effects::parse(a.effect.iter().map(String::as_str))?,
+        geometry: plan_geometry(&a.geometry)?,
         ..PlanSettings::default()
     };
     let plan = Plan::generate(a.cases, a.seed, ranges, settings)?;

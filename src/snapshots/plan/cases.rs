@@ -6,6 +6,7 @@ use super::settings::{no_effects, PlanSettings};
 use crate::fe::effects::{Effect, EffectError, Effects};
 use crate::fe::geometry::{Design, DesignParams, GeometryError};
 use crate::fe::material::{Material, MaterialError, MaterialLaw, Ogden2};
+use crate::fe::preset::{Geometry, PresetError};
 use crate::schema;
 use crate::snapshots::SnapshotError;
 
@@ -96,10 +97,45 @@ impl PlannedCase {
         Ok(())
     }
 
-    /// Checks design and material; errors name `cases[index]`.
-    pub(super) fn validate(&self, index: usize) -> Result<(), SnapshotError> {
+    /// The case's design built with `geometry`'s dimensions; [`Self::design`] bit for bit
+    /// for [`Geometry::as_modelled`].
+    ///
+    /// # Errors
+    /// [`PresetError`] if the preset is out of range or leaves this design no valid actuator.
+    pub fn design_with(&self, geometry: &Geometry) -> Result<Design, PresetError> {
+        geometry.design(self.n_bellows, self.wall_thickness_mm)
+    }
+
+    /// Checks design (with `geometry`) and material; errors name `cases[index]`.
+    pub(super) fn validate(&self, index: usize, geometry: &Geometry) -> Result<(), SnapshotError> {
         let at = |f: &str| format!("cases[{index}] (id {}).{f}", self.id);
-        match self.design() {
+        let design = match self.design_with(geometry) {
+            Ok(d) => Ok(d),
+            // a design that the preset's own dimensions break (a wall law that closes a short
+            // cavity) is a T beyond this N's buildability limit with the preset
+            Err(PresetError::Design { source, .. }) if !geometry.is_as_modelled() => {
+                let limit = geometry
+                    .max_wall_thickness(self.n_bellows)
+                    .map_or("no T in range".to_owned(), |t| format!("T ≤ {t:.3} mm"));
+                return Err(SnapshotError::field(
+                    at(schema::WALL_THICKNESS.name),
+                    self.wall_thickness_mm,
+                    &format!(
+                        "a thickness buildable with geometry '{}' (N = {} needs {limit}: {source})",
+                        geometry.name, self.n_bellows
+                    ),
+                ));
+            }
+            Err(PresetError::Design { source, .. }) => Err(source),
+            Err(e) => {
+                return Err(SnapshotError::field(
+                    at("design"),
+                    &geometry.name,
+                    &e.to_string(),
+                ))
+            }
+        };
+        match design {
             Ok(_) => {}
             Err(GeometryError::OutOfRange {
                 field,

@@ -51,8 +51,9 @@ impl Plan {
                 &format!("{FORMAT_VERSION}"),
             ));
         }
-        self.ranges.validate()?;
         self.settings.validate()?;
+        let geometry = self.settings.geometry();
+        self.ranges.validate_in(&geometry)?;
         let sampled: Vec<Effect> = self
             .ranges
             .sampled_effects()?
@@ -82,7 +83,7 @@ impl Plan {
                     "an id not used by an earlier case",
                 ));
             }
-            c.validate(i)?;
+            c.validate(i, &geometry)?;
             c.validate_effects(i, &sampled)?;
         }
         Ok(())

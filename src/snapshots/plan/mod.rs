@@ -96,7 +96,7 @@ mod settings;
 
 pub use cases::{case_name, PlannedCase};
 pub use format::{Plan, FORMAT_VERSION};
-pub use ranges::{max_wall_thickness, Ranges};
+pub use ranges::{max_wall_thickness, max_wall_thickness_in, Ranges};
 pub(crate) use sampling::unit_lhs;
 pub use sampling::SAMPLER;
 pub use settings::PlanSettings;

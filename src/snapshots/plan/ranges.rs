@@ -10,6 +10,7 @@ use crate::case::Domain;
 use crate::fe::effects::{Effect, EffectError, Effects};
 use crate::fe::geometry::{DesignParams, MIN_CAVITY_LENGTH, N_RANGE};
 use crate::fe::material::{literature_sets, Hyperelastic, MaterialError, MaterialLaw};
+use crate::fe::preset::Geometry;
 use crate::snapshots::SnapshotError;
 
 /// Sampling ranges (see the [module docs](crate::snapshots::plan) for the parametrisation).
@@ -73,12 +74,31 @@ pub fn max_wall_thickness(n: usize) -> f64 {
     (d.free_length / n as f64 - d.gap - MIN_CAVITY_LENGTH) / 2.0 - 1e-9
 }
 
+/// The largest buildable wall thickness of `n` bellows with `geometry`'s dimensions:
+/// [`max_wall_thickness`] as modelled (bit for bit), [`Geometry::max_wall_thickness`]
+/// otherwise (`−∞` when no `T` in range is buildable).
+pub fn max_wall_thickness_in(geometry: &Geometry, n: usize) -> f64 {
+    if geometry.is_as_modelled() {
+        max_wall_thickness(n)
+    } else {
+        geometry.max_wall_thickness(n).unwrap_or(f64::NEG_INFINITY)
+    }
+}
+
 impl Ranges {
-    /// Checks every range.
+    /// Checks every range, for the geometry as modelled.
     ///
     /// # Errors
     /// [`SnapshotError::PlanField`] naming the first bad range (`ranges.<name>`).
     pub fn validate(&self) -> Result<(), SnapshotError> {
+        self.validate_in(&Geometry::as_modelled())
+    }
+
+    /// Checks every range; every `N` must be buildable at the smallest `T` with `geometry`.
+    ///
+    /// # Errors
+    /// [`SnapshotError::PlanField`] naming the first bad range (`ranges.<name>`).
+    pub fn validate_in(&self, geometry: &Geometry) -> Result<(), SnapshotError> {
         let n = &self.n_bellows;
         let n_ok = !n.is_empty()
             && n.windows(2).all(|w| w[0] < w[1])
@@ -102,14 +122,15 @@ impl Ranges {
             &t_expected,
         )?;
         for &v in n {
-            if max_wall_thickness(v) < self.wall_thickness_mm[0] {
+            let t_max = max_wall_thickness_in(geometry, v);
+            if t_max < self.wall_thickness_mm[0] {
                 return Err(SnapshotError::field(
                     "ranges.n_bellows",
                     v,
                     &format!(
-                        "values of N that leave a cavity at T = {} mm (N = {v} needs T ≤ {:.3} mm)",
-                        self.wall_thickness_mm[0],
-                        max_wall_thickness(v)
+                        "values of N that leave a cavity at T = {} mm with geometry '{}' (N = \
+                         {v} needs T ≤ {t_max:.3} mm)",
+                        self.wall_thickness_mm[0], geometry.name
                     ),
                 ));
             }
@@ -159,6 +180,7 @@ impl Ranges {
         &self,
         id: usize,
         n: usize,
+        t_max: f64,
         u: [f64; 5],
         sampled: &[(Effect, [f64; 2])],
         v: &[f64],
@@ -166,7 +188,7 @@ impl Ranges {
         let lerp = |r: [f64; 2], x: f64| r[0] + x * (r[1] - r[0]);
         let t_range = [
             self.wall_thickness_mm[0],
-            self.wall_thickness_mm[1].min(max_wall_thickness(n)),
+            self.wall_thickness_mm[1].min(t_max),
         ];
         let mu0 = lerp([self.mu0_mpa[0].ln(), self.mu0_mpa[1].ln()], u[1]).exp();
         let s = lerp(self.term1_share, u[2]);

@@ -7,7 +7,7 @@ use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256Plus;
 
 use super::format::{Plan, FORMAT_VERSION};
-use super::ranges::Ranges;
+use super::ranges::{max_wall_thickness_in, Ranges};
 use super::settings::PlanSettings;
 use crate::fe::mesh::MeshOptions;
 use crate::snapshots::SnapshotError;
@@ -41,8 +41,9 @@ impl Plan {
         ranges: Ranges,
         settings: PlanSettings,
     ) -> Result<Self, SnapshotError> {
-        ranges.validate()?;
         settings.validate()?;
+        let geometry = settings.geometry();
+        ranges.validate_in(&geometry)?;
         if n_cases == 0 {
             return Err(SnapshotError::field("cases", 0, "at least 1 case"));
         }
@@ -61,8 +62,9 @@ impl Plan {
                 let n = ranges.n_bellows[stratum[i]];
                 let x = [u[[i, 1]], u[[i, 2]], u[[i, 3]], u[[i, 4]], u[[i, 5]]];
                 let v: Vec<f64> = (6..dims).map(|d| u[[i, d]]).collect();
+                let t_max = max_wall_thickness_in(&geometry, n);
                 ranges
-                    .case_at(i, n, x, &sampled, &v)
+                    .case_at(i, n, t_max, x, &sampled, &v)
                     .map_err(|e| SnapshotError::field("ranges.effects", &e, "values in range"))
             })
             .collect::<Result<_, _>>()?;

@@ -4,6 +4,7 @@ use serde::{Deserialize, Serialize};
 
 use crate::fe::effects::Effects;
 use crate::fe::mesh::{MeshLevel, MeshOptions};
+use crate::fe::preset::{Geometry, PresetError};
 use crate::fe::simulate::ContactSettings;
 use crate::fe::simulate::{validate_pressures, SimulateError};
 use crate::fe::solver::SolverSettings;
@@ -29,6 +30,10 @@ pub struct PlanSettings {
     /// Effects fixed for every case (none: not written).
     #[serde(default, skip_serializing_if = "no_effects")]
     pub effects: Effects,
+    /// The unstated dimensions every case is built with, a geometry preset (none: not
+    /// written, [`Geometry::as_modelled`]; a plan written before the field reads as that).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub geometry: Option<Geometry>,
 }
 
 /// Whether no effect is set (a plan without effects writes no `effects` field).
@@ -48,11 +53,17 @@ impl Default for PlanSettings {
             solver: SolverSettings::default(),
             contact: ContactSettings::default(),
             effects: Effects::default(),
+            geometry: None,
         }
     }
 }
 
 impl PlanSettings {
+    /// The geometry preset of every case ([`Geometry::as_modelled`] when none is set).
+    pub fn geometry(&self) -> Geometry {
+        self.geometry.clone().unwrap_or_default()
+    }
+
     /// Checks the pressures, bulk ratio, mesh and solver settings.
     ///
     /// # Errors
@@ -98,6 +109,32 @@ impl PlanSettings {
                 value,
                 &expected,
             ));
+        }
+        if let Some(g) = &self.geometry {
+            match g.validate() {
+                Ok(()) => {}
+                Err(PresetError::OutOfRange {
+                    field,
+                    value,
+                    lo,
+                    hi,
+                    unit,
+                    ..
+                }) => {
+                    return Err(SnapshotError::field(
+                        format!("settings.geometry.{field}"),
+                        value,
+                        &format!("{lo} … {hi}{unit} (its physical range)"),
+                    ))
+                }
+                Err(e) => {
+                    return Err(SnapshotError::field(
+                        "settings.geometry",
+                        &g.name,
+                        &e.to_string(),
+                    ))
+                }
+            }
         }
         Ok(())
     }
