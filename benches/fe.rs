@@ -9,7 +9,7 @@
 
 use criterion::{criterion_group, criterion_main, Criterion};
 use surrogate::fe::assembly::projection::project_psd;
-use surrogate::fe::assembly::LoadLevel;
+use surrogate::fe::assembly::{LoadFactor, LoadLevel};
 use surrogate::fe::element::{residual_tangent, ElementWork, DOFS};
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
@@ -40,11 +40,9 @@ fn fe(c: &mut Criterion) {
             }
         })
         .collect();
-    let level = LoadLevel {
-        pressure: 0.1,
-        gravity: 1.0,
-        ..Default::default()
-    };
+    let level = LoadLevel::ZERO
+        .with(LoadFactor::PRESSURE, 0.1)
+        .with(LoadFactor::GRAVITY, 1.0);
 
     let e = fe.mesh.n_elements() / 2;
     let ue: [[f64; 3]; 27] =
@@ -119,11 +117,9 @@ fn orderings(c: &mut Criterion) {
     .expect("mesh");
     let fe = &model.fe;
     let u = vec![0.0; 3 * fe.mesh.n_nodes()];
-    let level = LoadLevel {
-        pressure: 0.01,
-        gravity: 1.0,
-        ..Default::default()
-    };
+    let level = LoadLevel::ZERO
+        .with(LoadFactor::PRESSURE, 0.01)
+        .with(LoadFactor::GRAVITY, 1.0);
     let mut r = vec![0.0; u.len()];
     let mut k = vec![0.0; fe.pattern.nnz()];
     fe.assemble(&u, &level, &mut r, Some(&mut k))

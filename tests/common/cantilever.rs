@@ -22,7 +22,7 @@
 //! (elastica: δ/L = 0.3017, 0.4935, 0.6033 at k = 1, 2, 3, the classical Bisshopp–Drucker values).
 
 use super::{fix, node_at, plane_strain_layer, ramp, uniform, Check};
-use surrogate::fe::assembly::{FeModel, LoadLevel};
+use surrogate::fe::assembly::{FeModel, LoadFactor, LoadLevel};
 use surrogate::fe::material::Material;
 use surrogate::fe::solver::{solve_path, SolverSettings};
 
@@ -102,10 +102,7 @@ pub fn tip_displacements_with(nx: usize, ny: usize, predictor: bool) -> (Vec<(f6
             model.add_dead_traction(&face, [0.0, -force / THICKNESS, 0.0]);
         }
     }
-    let full = LoadLevel {
-        traction: 1.0,
-        ..Default::default()
-    };
+    let full = LoadLevel::ZERO.with(LoadFactor::TRACTION, 1.0);
     let tip = node_at(&gm, [LENGTH, 0.5 * THICKNESS, 0.0]);
     let settings = SolverSettings {
         predictor,

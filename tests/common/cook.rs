@@ -9,7 +9,7 @@
 //! 6.89 mm of the issue (within 2 % on a 16×16 Q2 mesh); the coarser meshes show convergence.
 
 use super::{fix, node_at, plane_strain_layer, ramp, solve, uniform, Check};
-use surrogate::fe::assembly::{FeModel, LoadLevel};
+use surrogate::fe::assembly::{FeModel, LoadFactor, LoadLevel};
 use surrogate::fe::material::{Material, MaterialLaw, NeoHookean};
 use surrogate::fe::solver::SolverSettings;
 
@@ -58,10 +58,7 @@ pub fn corner_displacement(n: usize) -> f64 {
     }
     let total: f64 = model.f_traction.iter().skip(1).step_by(3).sum();
     assert!((total - FORCE).abs() < 1e-9 * FORCE, "shear load {total} N");
-    let full = LoadLevel {
-        traction: 1.0,
-        ..Default::default()
-    };
+    let full = LoadLevel::ZERO.with(LoadFactor::TRACTION, 1.0);
     let settings = SolverSettings {
         line_search: true,
         ..Default::default()

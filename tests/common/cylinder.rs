@@ -21,7 +21,7 @@
 //! FE inner displacement `a − A` is compared with the analytic one at the applied pressure.
 
 use super::{fix, nodes_on, plane_strain_layer, uniform, Check};
-use surrogate::fe::assembly::{FeModel, LoadLevel};
+use surrogate::fe::assembly::{FeModel, LoadFactor, LoadLevel};
 use surrogate::fe::material::Material;
 use surrogate::fe::solver::{solve_path, SolverSettings};
 
@@ -92,10 +92,7 @@ pub fn inner_radii_with(nr: usize, nt: usize, predictor: bool) -> (Vec<f64>, usi
         .expect("valid cylinder mesh");
     let levels: Vec<LoadLevel> = STRETCHES
         .iter()
-        .map(|&l| LoadLevel {
-            pressure: pressure(l),
-            ..Default::default()
-        })
+        .map(|&l| LoadLevel::ZERO.with(LoadFactor::PRESSURE, pressure(l)))
         .collect();
     let settings = SolverSettings {
         initial_pressure_increment: 0.05,

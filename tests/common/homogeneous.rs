@@ -28,7 +28,7 @@
 //! bound is `10 μ0/κ = 10⁻⁴`.
 
 use super::{block, fix, node_at, ramp, residual, solve, Check};
-use surrogate::fe::assembly::{FeModel, LoadLevel};
+use surrogate::fe::assembly::{FeModel, LoadFactor, LoadLevel};
 use surrogate::fe::material::Material;
 use surrogate::fe::solver::SolverSettings;
 
@@ -118,10 +118,7 @@ pub fn run(mode: Mode, stretch: f64) -> Vec<Check> {
         Mode::Planar => cons.extend(fix(&gm.nodes_on_plane(1, 1.0), &[1], 0.0)),
     }
     let model = FeModel::new(gm.mesh.clone(), material, &cons, &[], &[]).expect("unit cube");
-    let full = LoadLevel {
-        prescribed: 1.0,
-        ..Default::default()
-    };
+    let full = LoadLevel::ZERO.with(LoadFactor::PRESCRIBED, 1.0);
     let settings = SolverSettings {
         rtol: 1e-9,
         // Needed with κ = 10⁵ μ0: the first iterate of a step (faces moved, interior not)

@@ -11,7 +11,7 @@
 
 use super::{block, fix, ramp, solve, Check};
 use nalgebra::Matrix3;
-use surrogate::fe::assembly::{FeModel, LoadLevel};
+use surrogate::fe::assembly::{FeModel, LoadFactor, LoadLevel};
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::GridMesh;
 use surrogate::fe::solver::SolverSettings;
@@ -77,10 +77,7 @@ pub fn run(n: usize, scale: f64) -> Vec<Check> {
     assert!(interior > 0, "patch without interior nodes");
     let model = FeModel::new(gm.mesh.clone(), material.clone(), &cons, &[], &[])
         .expect("distorted mesh is valid");
-    let full = LoadLevel {
-        prescribed: 1.0,
-        ..Default::default()
-    };
+    let full = LoadLevel::ZERO.with(LoadFactor::PRESCRIBED, 1.0);
     let settings = SolverSettings {
         rtol: 1e-12,
         line_search: true,
@@ -91,7 +88,7 @@ pub fn run(n: usize, scale: f64) -> Vec<Check> {
     let refinement = format!("{n}^3,|A|={scale}");
     let mut checks = Vec::new();
     for (level, u) in levels.iter().zip(&states) {
-        let s = level.prescribed;
+        let s = level.prescribed();
         let mut err: f64 = 0.0;
         let mut size: f64 = 0.0;
         for node in 0..x.len() {

@@ -3,7 +3,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use surrogate::fe::assembly::LoadLevel;
+use surrogate::fe::assembly::{LoadFactor, LoadLevel};
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
@@ -99,11 +99,9 @@ fn tangent_with_a_compliant_clamp_matches_finite_differences() {
     let nf = fe.dofs.n_free;
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
     for (pressure, tol) in [(0.0, 1e-6), (0.1, 1e-3)] {
-        let level = LoadLevel {
-            pressure,
-            gravity: 1.0,
-            ..Default::default()
-        };
+        let level = LoadLevel::ZERO
+            .with(LoadFactor::PRESSURE, pressure)
+            .with(LoadFactor::GRAVITY, 1.0);
         let free: Vec<f64> = (0..nf).map(|_| rng.gen_range(-0.02..=0.02)).collect();
         let v: Vec<f64> = (0..nf).map(|_| rng.gen_range(-1.0..1.0)).collect();
         let rel = directional_fd_error(fe, &free, &level, &v);
@@ -128,11 +126,9 @@ fn actuator_tangent_matches_directional_finite_differences() {
     .unwrap();
     let fe = &model.fe;
     let nf = fe.dofs.n_free;
-    let level = LoadLevel {
-        pressure: 0.1,
-        gravity: 1.0,
-        ..Default::default()
-    };
+    let level = LoadLevel::ZERO
+        .with(LoadFactor::PRESSURE, 0.1)
+        .with(LoadFactor::GRAVITY, 1.0);
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(11);
     for amplitude in [0.0, 0.02] {
         let mut free: Vec<f64> = (0..nf)
@@ -202,11 +198,9 @@ fn actuator_residual_is_the_gradient_of_the_total_potential() {
     let fe = &model.fe;
     let n = 3 * fe.mesh.n_nodes();
     let nf = fe.dofs.n_free;
-    let level = LoadLevel {
-        pressure: 0.2,
-        gravity: 1.0,
-        ..Default::default()
-    };
+    let level = LoadLevel::ZERO
+        .with(LoadFactor::PRESSURE, 0.2)
+        .with(LoadFactor::GRAVITY, 1.0);
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(17);
     let free: Vec<f64> = (0..nf).map(|_| rng.gen_range(-0.02..0.02)).collect();
     let v: Vec<f64> = (0..nf).map(|_| rng.gen_range(-1.0..1.0)).collect();
@@ -264,11 +258,9 @@ fn tangent_with_contact(closest_point: bool) {
     assert!(!fe.pairs.is_empty());
     let n = 3 * fe.mesh.n_nodes();
     let nf = fe.dofs.n_free;
-    let level = LoadLevel {
-        pressure: 0.1,
-        gravity: 1.0,
-        ..Default::default()
-    };
+    let level = LoadLevel::ZERO
+        .with(LoadFactor::PRESSURE, 0.1)
+        .with(LoadFactor::GRAVITY, 1.0);
     let p = design.free_length() / 9.0;
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(5);
     let mut u = vec![0.0; n];

@@ -4,7 +4,9 @@
 //! tangential reaction (0.046 N of 0.8 N at 0.3 mm); the closest-point gap, frictionless by
 //! construction, gives the same reaction as the reference-matched one.
 
-use surrogate::fe::assembly::{pair_couplings, AssemblyInfo, Constraint, FeModel, LoadLevel};
+use surrogate::fe::assembly::{
+    pair_couplings, AssemblyInfo, Constraint, FeModel, LoadFactor, LoadLevel,
+};
 use surrogate::fe::contact::{pair_orientation, FacePair, PairSettings};
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{GridMesh, TensorGrid};
@@ -114,11 +116,9 @@ fn two_blocks(
 /// Solves the full load (traction and prescribed slide); returns the displacement, the
 /// residual (reactions at constrained dofs) and the assembly information.
 fn solve_loaded(model: &FeModel) -> (Vec<f64>, Vec<f64>, AssemblyInfo) {
-    let level = LoadLevel {
-        traction: 1.0,
-        prescribed: 1.0,
-        ..Default::default()
-    };
+    let level = LoadLevel::ZERO
+        .with(LoadFactor::TRACTION, 1.0)
+        .with(LoadFactor::PRESCRIBED, 1.0);
     let settings = SolverSettings {
         initial_fraction: 0.25,
         ..SolverSettings::default()

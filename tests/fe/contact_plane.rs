@@ -1,7 +1,7 @@
 //! Rigid-plane contact: global equilibrium of a block pressed on a plate, penetration, and the
 //! tangent with contact active against finite differences.
 
-use surrogate::fe::assembly::{Constraint, FeModel, LoadLevel};
+use surrogate::fe::assembly::{Constraint, FeModel, LoadFactor, LoadLevel};
 use surrogate::fe::contact::RigidPlane;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{GridMesh, TensorGrid};
@@ -57,10 +57,7 @@ fn plate_reaction_equals_applied_load_and_penetration_is_small() {
     let traction = 0.5; // MPa on a 2 × 2 mm top face: 2 N
     for stiffness in [100.0, 1000.0] {
         let model = block(traction, stiffness);
-        let levels = [LoadLevel {
-            traction: 1.0,
-            ..Default::default()
-        }];
+        let levels = [LoadLevel::ZERO.with(LoadFactor::TRACTION, 1.0)];
         let mut u = Vec::new();
         // no Dirichlet support in y: the plate alone carries the block
         let settings = SolverSettings {
@@ -104,10 +101,7 @@ fn tangent_with_active_contact_matches_finite_differences() {
     for &(d, _) in &model.dofs.constrained {
         u[d] = 0.0;
     }
-    let level = LoadLevel {
-        traction: 1.0,
-        ..Default::default()
-    };
+    let level = LoadLevel::ZERO.with(LoadFactor::TRACTION, 1.0);
     let mut r = vec![0.0; n];
     let mut k = vec![0.0; model.pattern.nnz()];
     let info = model.assemble(&u, &level, &mut r, Some(&mut k)).unwrap();
@@ -183,10 +177,7 @@ fn augmented_lagrangian_makes_the_block_touch_whatever_the_penalty() {
     let mut heights_plain = Vec::new();
     for stiffness in [20.0, 200.0] {
         let model = block(traction, stiffness);
-        let levels = [LoadLevel {
-            traction: 1.0,
-            ..Default::default()
-        }];
+        let levels = [LoadLevel::ZERO.with(LoadFactor::TRACTION, 1.0)];
         let run = |augmented_updates: usize| {
             let settings = SolverSettings {
                 initial_fraction: 0.2,
@@ -247,10 +238,7 @@ fn augmented_lagrangian_makes_the_block_touch_whatever_the_penalty() {
 #[test]
 fn reusing_the_factor_in_uzawa_resolves_gives_the_same_solution() {
     let model = block(0.5, 20.0);
-    let levels = [LoadLevel {
-        traction: 1.0,
-        ..Default::default()
-    }];
+    let levels = [LoadLevel::ZERO.with(LoadFactor::TRACTION, 1.0)];
     let run = |reuse_factor: bool| {
         let settings = SolverSettings {
             initial_fraction: 0.2,

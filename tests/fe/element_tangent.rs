@@ -2,7 +2,7 @@
 
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use surrogate::fe::assembly::{Constraint, FeModel, LoadLevel};
+use surrogate::fe::assembly::{Constraint, FeModel, LoadFactor, LoadLevel};
 use surrogate::fe::element::{residual_tangent, ElementGeometry, ElementWork, DOFS};
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{GridMesh, TensorGrid};
@@ -121,10 +121,7 @@ fn global_tangent_with_pressure_matches_finite_differences() {
         for &(d, _) in &model.dofs.constrained {
             u[d] = 0.0;
         }
-        let level = LoadLevel {
-            pressure: 0.3,
-            ..Default::default()
-        };
+        let level = LoadLevel::ZERO.with(LoadFactor::PRESSURE, 0.3);
         let mut r = vec![0.0; n];
         let mut k = vec![0.0; model.pattern.nnz()];
         model.assemble(&u, &level, &mut r, Some(&mut k)).unwrap();

@@ -19,6 +19,7 @@ mod model_doc;
 mod sensitivities;
 mod solver_stabilization;
 mod toy_effect;
+mod toy_load_term;
 mod verification_cantilever;
 mod verification_cook;
 mod verification_cylinder;

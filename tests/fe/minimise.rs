@@ -6,7 +6,7 @@
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use surrogate::fe::assembly::terms::barrier::IpcBarrier;
-use surrogate::fe::assembly::{FeModel, LoadLevel};
+use surrogate::fe::assembly::{FeModel, LoadFactor, LoadLevel};
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
@@ -53,11 +53,9 @@ fn potential_gradient_and_hessian_match_finite_differences_with_barrier_contact(
     let model = model_with_active_barrier();
     let fe = &model.fe;
     let (n, nf) = (3 * fe.mesh.n_nodes(), fe.dofs.n_free);
-    let level = LoadLevel {
-        pressure: 0.1,
-        gravity: 1.0,
-        ..Default::default()
-    };
+    let level = LoadLevel::ZERO
+        .with(LoadFactor::PRESSURE, 0.1)
+        .with(LoadFactor::GRAVITY, 1.0);
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(22);
     let free: Vec<f64> = (0..nf).map(|_| rng.gen_range(-0.01..=0.01)).collect();
     let v: Vec<f64> = (0..nf).map(|_| rng.gen_range(-1.0..1.0)).collect();
@@ -115,11 +113,9 @@ fn projected_tangent_keeps_the_residual_and_is_positive_semidefinite() {
     let model = model_with_active_barrier();
     let fe = &model.fe;
     let (n, nf) = (3 * fe.mesh.n_nodes(), fe.dofs.n_free);
-    let level = LoadLevel {
-        pressure: 0.2,
-        gravity: 1.0,
-        ..Default::default()
-    };
+    let level = LoadLevel::ZERO
+        .with(LoadFactor::PRESSURE, 0.2)
+        .with(LoadFactor::GRAVITY, 1.0);
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(7);
     let free: Vec<f64> = (0..nf).map(|_| rng.gen_range(-0.02..=0.02)).collect();
     let mut u = vec![0.0; n];

@@ -4,7 +4,7 @@
 //! branch, and every reported state is an undamped equilibrium.
 
 use crate::common::{fix, node_at, plane_strain_layer, uniform};
-use surrogate::fe::assembly::{FeModel, LoadLevel};
+use surrogate::fe::assembly::{FeModel, LoadFactor, LoadLevel};
 use surrogate::fe::material::Material;
 use surrogate::fe::solver::{solve_path, SolverError, SolverSettings, StepReport};
 
@@ -35,10 +35,7 @@ fn arch() -> (FeModel, usize) {
 
 fn ramp(q: f64, steps: usize) -> Vec<LoadLevel> {
     (1..=steps)
-        .map(|k| LoadLevel {
-            traction: q * k as f64 / steps as f64,
-            ..Default::default()
-        })
+        .map(|k| LoadLevel::ZERO.with(LoadFactor::TRACTION, q * k as f64 / steps as f64))
         .collect()
 }
 
@@ -112,7 +109,7 @@ fn stabilised_continuation_snaps_the_arch_through_to_undamped_equilibria() {
         assert!(
             rn <= 1e-6 * scale,
             "q = {}: residual {rn:e}, force scale {scale:e}",
-            level.traction
+            level.traction()
         );
     }
 }

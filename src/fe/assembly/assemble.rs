@@ -5,7 +5,7 @@
 // Index loops over the planes mirror the per-plane outputs.
 #![allow(clippy::needless_range_loop)]
 
-use super::load::LoadLevel;
+use super::load::{LoadFactor, LoadLevel};
 use super::model::{AssemblyInfo, FeModel};
 use super::projection::project_psd;
 use super::scatter::{ColouredScatter, GlobalSystem};
@@ -22,6 +22,26 @@ impl FeModel {
             .chain(self.extra_terms.iter().map(|t| &**t))
             .map(|t| t.name())
             .collect()
+    }
+
+    /// The load factors this model's loads are scaled by, in slot order: the dead loads'
+    /// (gravity, traction), the constraints' (prescribed) and those its element terms declare
+    /// ([`ElementTerm::load_factor`](super::ElementTerm::load_factor)). A level's other factors
+    /// have no effect on it.
+    pub fn load_factors(&self) -> Vec<LoadFactor> {
+        let mut out = vec![
+            LoadFactor::GRAVITY,
+            LoadFactor::TRACTION,
+            LoadFactor::PRESCRIBED,
+        ];
+        let terms = ELEMENT_TERMS
+            .iter()
+            .copied()
+            .chain(self.extra_terms.iter().map(|t| &**t));
+        out.extend(terms.filter_map(|t| t.load_factor()));
+        out.sort_unstable();
+        out.dedup();
+        out
     }
 
     /// Assembles the residual over all dofs (`r_full`, reactions at constrained dofs) and,

@@ -324,7 +324,7 @@ impl FeModel {
             }
         }
         for &(d, v) in &self.dofs.constrained {
-            out[d] = level.prescribed * v;
+            out[d] = level.prescribed() * v;
         }
     }
 

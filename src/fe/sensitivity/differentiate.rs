@@ -15,7 +15,7 @@ use super::{
     SensitivityCost, SensitivityError, StepSensitivities, CONTACT_STIFFENING, SENSITIVITY_FORMAT,
     SENSITIVITY_FORMAT_VERSION,
 };
-use crate::fe::assembly::LoadLevel;
+use crate::fe::assembly::{LoadFactor, LoadLevel};
 use crate::fe::effects::{Differentiation, Target};
 use crate::fe::material::Material;
 use crate::fe::simulate::{
@@ -564,8 +564,10 @@ fn configure<'a>(
 ) -> (&'a mut ActuatorModel, LoadLevel, Option<Material>) {
     let mut level = st.level;
     match how {
-        How::Pressure(e) => level.pressure = BAR * e.effective_pressure_bar(st.pressure_bar),
-        How::Gravity(f) => level.gravity *= *f,
+        How::Pressure(e) => {
+            level[LoadFactor::PRESSURE] = BAR * e.effective_pressure_bar(st.pressure_bar)
+        }
+        How::Gravity(f) => level[LoadFactor::GRAVITY] *= *f,
         _ => {}
     }
     let (model, saved) = match how {

@@ -32,7 +32,7 @@ use super::measure::{measure, Response, StepResult};
 use super::model::ActuatorModel;
 use super::SimulateError;
 use crate::fe::assembly::terms::barrier::IpcBarrier;
-use crate::fe::assembly::LoadLevel;
+use crate::fe::assembly::{LoadFactor, LoadLevel};
 use crate::fe::geometry::Design;
 use crate::fe::solver::{
     solve_path_from, solve_path_guided, LevelGuess, PathState, SolverError, SolverKind,
@@ -204,14 +204,13 @@ impl<'c> LoadPath<'c> {
         let g = if case.gravity { 1.0 } else { 0.0 };
         let first_is_zero = case.pressures_bar[0] == 0.0;
         let ramp_bar = &case.pressures_bar[usize::from(first_is_zero)..];
-        let mut levels = vec![LoadLevel {
-            gravity: g,
-            ..Default::default()
-        }];
-        levels.extend(ramp_bar.iter().map(|&p| LoadLevel {
-            pressure: case.effects.effective_pressure_bar(p) * BAR,
-            gravity: g,
-            ..Default::default()
+        let weight = LoadLevel::ZERO.with(LoadFactor::GRAVITY, g);
+        let mut levels = vec![weight];
+        levels.extend(ramp_bar.iter().map(|&p| {
+            weight.with(
+                LoadFactor::PRESSURE,
+                case.effects.effective_pressure_bar(p) * BAR,
+            )
         }));
         Self {
             levels,

@@ -22,7 +22,7 @@ impl<P: NonlinearProblem> Solver<'_, P> {
         target: LoadLevel,
     ) -> Result<StepReport, SolverError> {
         let start = state.level;
-        let dp = (target.pressure - start.pressure).abs();
+        let dp = start.bounded_increment(&target);
         let mut frac = self.settings.initial_fraction.min(1.0);
         if dp > 0.0 {
             let first = self
@@ -154,8 +154,8 @@ impl<P: NonlinearProblem> Solver<'_, P> {
         self.model
             .expand(&state.u_free, &state.level, &mut state.u_full);
         SolverError::NotConverged {
-            target,
-            reached: state.level,
+            target: Box::new(target),
+            reached: Box::new(state.level),
             cutbacks,
             residual,
             completed: 0,

@@ -286,7 +286,7 @@ impl LinearSolver {
 #[cfg(test)]
 mod tests {
     use super::*;
-    use crate::fe::assembly::LoadLevel;
+    use crate::fe::assembly::{LoadFactor, LoadLevel};
 
     /// A 4×4×4 block of Q2 hexes clamped at z = 0, loaded by gravity and pressure-free:
     /// both orderings must give the same Newton step.
@@ -295,10 +295,7 @@ mod tests {
         let mut fe = crate::fe::assembly::model::clamped_block(4);
         fe.set_body_force([0.1, -0.2, 0.3]);
         let u = vec![0.0; 3 * fe.mesh.n_nodes()];
-        let level = LoadLevel {
-            gravity: 1.0,
-            ..Default::default()
-        };
+        let level = LoadLevel::ZERO.with(LoadFactor::GRAVITY, 1.0);
         let mut r_full = vec![0.0; u.len()];
         let mut k = vec![0.0; fe.pattern.nnz()];
         fe.assemble(&u, &level, &mut r_full, Some(&mut k))

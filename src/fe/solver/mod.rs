@@ -3,7 +3,9 @@
 //! [`NonlinearProblem`] (the actuator's [`FeModel`] is one).
 //!
 //! Each load step solves `r(u; λ) = 0` on the free unknowns for a load level λ
-//! ([`LoadLevel`]). A reader can take the parts one at a time:
+//! ([`LoadLevel`], a vector of named load factors: the solver ramps, extrapolates and compares
+//! levels factor by factor, whatever factors the model's load terms read). A reader can take
+//! the parts one at a time:
 //!
 //! | file | concern |
 //! |---|---|

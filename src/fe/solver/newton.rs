@@ -272,9 +272,8 @@ impl<P: NonlinearProblem> Solver<'_, P> {
     ) {
         if self.settings.trace {
             eprintln!(
-                "  newton {it:2}{}  level p={:.4} g={:.2}  |r|/f = {normalised:.3e}  (|r| = {rn:.3e}, f = {scale:.3e})",
+                "  newton {it:2}{}  level {level}  |r|/f = {normalised:.3e}  (|r| = {rn:.3e}, f = {scale:.3e})",
                 if modified { " (reused factor)" } else { "" },
-                level.pressure, level.gravity
             );
         }
     }

@@ -43,24 +43,20 @@ impl<P: NonlinearProblem> Solver<'_, P> {
 }
 
 /// The free unknowns extrapolated along the path to `level` into `out`: quadratic through the
-/// last three converged states, linear through two, in the one load component that varies;
-/// the number of states used (3 or 2), `None` if the history does not allow it.
+/// last three converged states, linear through two, in the one load factor that varies (the
+/// states used are those that differ from `level` in that factor alone); the number of states
+/// used (3 or 2), `None` if the history does not allow it.
 pub(super) fn extrapolate(
     state: &PathState,
     level: &LoadLevel,
     out: &mut Vec<f64>,
 ) -> Option<usize> {
-    let parts = |l: &LoadLevel| [l.pressure, l.gravity, l.traction, l.prescribed];
-    let (now, target) = (parts(&state.level), parts(level));
-    let varying: Vec<usize> = (0..4).filter(|&c| now[c] != target[c]).collect();
-    let [c] = varying[..] else {
+    let mut varying = state.level.changing(level);
+    let (Some(c), None) = (varying.next(), varying.next()) else {
         return None;
     };
-    let same_path = |l: &LoadLevel| {
-        let p = parts(l);
-        (0..4).all(|i| i == c || p[i] == target[i])
-    };
-    let param = |l: &LoadLevel| parts(l)[c];
+    let same_path = |l: &LoadLevel| l.changing(level).all(|f| f == c);
+    let param = |l: &LoadLevel| l[c];
     let k = state.history.len();
     let usable = state
         .history

@@ -19,12 +19,15 @@ pub struct SolverSettings {
     pub max_cutbacks: usize,
     /// Initial load increment as a fraction of an output step.
     pub initial_fraction: f64,
-    /// First pressure increment of a step (MPa); later increments adapt.
+    /// First pressure increment of a step (MPa); later increments adapt. Measured as
+    /// [`LoadLevel::bounded_increment`]: the change of the load factors with
+    /// [`FactorInfo::bounds_increment`](crate::fe::assembly::FactorInfo::bounds_increment).
     pub initial_pressure_increment: f64,
     /// An increment that converged in at most this many Newton iterations is followed by one
     /// 1.5 times larger.
     pub grow_below_iterations: usize,
-    /// Largest pressure increment in one substep (MPa).
+    /// Largest pressure increment in one substep (MPa), measured as
+    /// [`Self::initial_pressure_increment`].
     pub max_pressure_increment: f64,
     /// Line-search on/off.
     pub line_search: bool,
@@ -329,10 +332,10 @@ pub enum SolverError {
          cut-backs (last normalised residual {residual:.3e}); {completed} output steps had converged"
     )]
     NotConverged {
-        /// The output level aimed at.
-        target: LoadLevel,
+        /// The output level aimed at (boxed, as `reached`: the error stays small).
+        target: Box<LoadLevel>,
         /// The last converged level.
-        reached: LoadLevel,
+        reached: Box<LoadLevel>,
         /// Cut-backs made.
         cutbacks: usize,
         /// Last residual.

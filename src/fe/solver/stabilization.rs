@@ -48,8 +48,8 @@ impl<P: NonlinearProblem> Solver<'_, P> {
         }
         if self.settings.trace {
             eprintln!(
-                "  stabilised continuation from p={:.4} (β = {beta:.1e})",
-                state.level.pressure
+                "  stabilised continuation from {} (β = {beta:.1e})",
+                state.level
             );
         }
         self.stab = Some(Stabilization {

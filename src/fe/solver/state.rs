@@ -46,14 +46,7 @@ pub(super) struct Stabilization {
 /// First pressure increment (MPa) of the stabilised continuation.
 pub(super) const STABILIZED_INCREMENT: f64 = 0.0025;
 
-/// Whether `level` is where `state` already is (no load increment to take).
+/// Whether `level` is where `state` already is (no load factor changes).
 pub(super) fn level_is_zero_increment(state: &PathState, level: &LoadLevel) -> bool {
-    level_distance(&state.level, level) == 0.0
-}
-
-fn level_distance(a: &LoadLevel, b: &LoadLevel) -> f64 {
-    (a.pressure - b.pressure).abs() * 10.0
-        + (a.gravity - b.gravity).abs()
-        + (a.traction - b.traction).abs()
-        + (a.prescribed - b.prescribed).abs()
+    state.level.changing(level).next().is_none()
 }

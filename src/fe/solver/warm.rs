@@ -127,8 +127,7 @@ impl<P: NonlinearProblem> Solver<'_, P> {
         let out = self.newton(state, &target, false)?;
         if self.settings.trace {
             eprintln!(
-                "  warm start at p={:.4}: {} after {} iterations",
-                target.pressure,
+                "  warm start at {target}: {} after {} iterations",
                 if out.converged { "converged" } else { "failed" },
                 out.iterations
             );
@@ -207,8 +206,7 @@ impl<P: NonlinearProblem> Solver<'_, P> {
         let (out, spent) = outcome;
         if self.settings.trace {
             eprintln!(
-                "  homotopy at p={:.4}: {} after {} steps, {} iterations",
-                target.pressure,
+                "  homotopy at {target}: {} after {} steps, {} iterations",
                 if out.is_some() {
                     "converged"
                 } else {
@@ -393,8 +391,7 @@ pub fn solve_path_guided<P: NonlinearProblem>(
             Ok(rep) => {
                 if solver.settings.trace {
                     eprintln!(
-                        "  level p={:.4}: {} Newton iterations{}{}",
-                        level.pressure,
+                        "  level {level}: {} Newton iterations{}{}",
                         rep.newton_iterations,
                         if rep.warm_start { ", warm start" } else { "" },
                         if rep.homotopy_steps > 0 {
@@ -417,7 +414,7 @@ pub fn solve_path_guided<P: NonlinearProblem>(
 mod tests {
     use super::*;
     use crate::fe::assembly::model::clamped_block;
-    use crate::fe::assembly::FeModel;
+    use crate::fe::assembly::{FeModel, LoadFactor};
     use crate::fe::solver::solve_path_from;
 
     /// A clamped block under a large oblique body force, its elements' stiffness scaled.
@@ -433,10 +430,7 @@ mod tests {
     /// with the failed jump's in the step's report.
     #[test]
     fn the_homotopy_reaches_the_cold_solution_where_the_jump_fails() {
-        let level = LoadLevel {
-            gravity: 1.0,
-            ..LoadLevel::default()
-        };
+        let level = LoadLevel::ZERO.with(LoadFactor::GRAVITY, 1.0);
         let settings = SolverSettings {
             rtol: 1e-10,
             augmented_updates: 0,
@@ -514,10 +508,7 @@ mod tests {
     /// the load path then starts from there as usual.
     #[test]
     fn a_failing_homotopy_gives_up_and_restores_the_state() {
-        let level = LoadLevel {
-            gravity: 1.0,
-            ..LoadLevel::default()
-        };
+        let level = LoadLevel::ZERO.with(LoadFactor::GRAVITY, 1.0);
         let settings = SolverSettings {
             rtol: 1e-10,
             augmented_updates: 0,

@@ -18,7 +18,7 @@ pub fn add(
 ) -> f64 {
     let mut ext2 = 0.0;
     for d in 0..r_full.len() {
-        let dead = level.gravity * model.f_gravity[d] + level.traction * model.f_traction[d];
+        let dead = level.gravity() * model.f_gravity[d] + level.traction() * model.f_traction[d];
         r_full[d] -= dead;
         if let Some(en) = energy.as_deref_mut() {
             *en -= dead * u[d];

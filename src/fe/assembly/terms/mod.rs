@@ -14,7 +14,12 @@
 //! ([`term::LocalSystem`]); the assembly evaluates [`ELEMENT_TERMS`] and then the model's added terms
 //! ([`FeModel::add_element_term`]) on every element, in that order, and scatters the sum once.
 //! A new physical term is one new file implementing [`term::ElementTerm`] and one entry in that list
-//! (or one call to `add_element_term` where a case builds its model).
+//! (or one call to `add_element_term` where a case builds its model). A load term with its own
+//! load factor declares it ([`term::ElementTerm::load_factor`]) and reads it from the level
+//! (`cx.level[factor]`); the factor is one more line in
+//! [`LOAD_FACTORS`](crate::fe::assembly::LOAD_FACTORS) (or one
+//! [`LoadFactor::register`](crate::fe::assembly::LoadFactor::register) call), and the solver
+//! ramps it with the others (`tests/fe/toy_load_term.rs` adds one from outside the crate).
 
 pub mod barrier;
 pub mod dead_load;

@@ -7,6 +7,7 @@
 #![allow(clippy::needless_range_loop)]
 
 use super::term::{ElementContext, ElementTerm, LocalSystem};
+use crate::fe::assembly::load::LoadFactor;
 use crate::fe::assembly::model::FeModel;
 use crate::fe::element::ElementError;
 use crate::fe::loads;
@@ -19,6 +20,10 @@ impl ElementTerm<FeModel> for Pressure {
         "pressure"
     }
 
+    fn load_factor(&self) -> Option<LoadFactor> {
+        Some(LoadFactor::PRESSURE)
+    }
+
     fn add(
         &self,
         model: &FeModel,
@@ -29,7 +34,7 @@ impl ElementTerm<FeModel> for Pressure {
             let xf: [[f64; 3]; 9] = pf.local.map(|l| cx.position(l));
             let mut rf = [0.0; 27];
             let mut kf = [0.0; 729];
-            let p = cx.level.pressure * pf.scale;
+            let p = cx.level[LoadFactor::PRESSURE] * pf.scale;
             loads::pressure_face(p, &xf, &mut rf, cx.with_tangent.then_some(&mut kf));
             if cx.with_energy {
                 let o = model.pressure_origin;

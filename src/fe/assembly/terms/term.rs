@@ -1,7 +1,7 @@
 //! What an element term is ([`ElementTerm`]), what it sees ([`ElementContext`]) and what it
 //! adds to ([`LocalSystem`]).
 
-use crate::fe::assembly::load::LoadLevel;
+use crate::fe::assembly::load::{LoadFactor, LoadLevel};
 use crate::fe::assembly::scatter::LocalVectors;
 use crate::fe::element::{ElementError, ElementWork, DOFS};
 
@@ -105,6 +105,12 @@ impl LocalVectors for LocalSystem {
 pub trait ElementTerm<M: ?Sized>: Send + Sync {
     /// Short name (for traces and documentation).
     fn name(&self) -> &'static str;
+
+    /// The load factor the term scales its load by (`cx.level[factor]`), if it is a load:
+    /// what [`FeModel::load_factors`](crate::fe::assembly::FeModel::load_factors) lists.
+    fn load_factor(&self) -> Option<LoadFactor> {
+        None
+    }
 
     /// Adds the term's contribution of element `cx.element` to `local`. The first term of
     /// [`ELEMENT_TERMS`](super::ELEMENT_TERMS) (the volume) sets the local residual and tangent; every later one

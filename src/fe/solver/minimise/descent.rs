@@ -193,8 +193,8 @@ impl<P: NonlinearProblem> Minimiser<'_, P> {
         out.iterations = it;
         if self.settings.trace {
             eprintln!(
-                "  minimise {it:2}  level p={:.4} g={:.2}  |r|/f = {:.3e}  Π = {energy:.10e}",
-                level.pressure, level.gravity, out.residual
+                "  minimise {it:2}  level {level}  |r|/f = {:.3e}  Π = {energy:.10e}",
+                out.residual
             );
         }
         (rn, scale)

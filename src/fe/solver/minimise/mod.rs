@@ -163,7 +163,7 @@ impl<'m, P: NonlinearProblem> Minimiser<'m, P> {
         target: LoadLevel,
     ) -> Result<StepReport, SolverError> {
         let start = state.level;
-        let dp = (target.pressure - start.pressure).abs();
+        let dp = start.bounded_increment(&target);
         let max_increment = self.settings.max_pressure_increment;
         let max_frac = |dp: f64| {
             if dp > 0.0 {
@@ -249,8 +249,8 @@ impl<'m, P: NonlinearProblem> Minimiser<'m, P> {
                     self.model
                         .expand(&state.u_free, &state.level, &mut state.u_full);
                     return Err(SolverError::NotConverged {
-                        target,
-                        reached: state.level,
+                        target: Box::new(target),
+                        reached: Box::new(state.level),
                         cutbacks: report.cutbacks,
                         residual: out.residual,
                         completed: 0,
