@@ -17,9 +17,11 @@ use super::data::{CaseRamp, CaseSet, PartialRamp};
 use super::metrics::{ErrorAccumulator, InterpolationCheck, OutputValidation, Validation};
 use super::pod::PodBasis;
 use super::provenance::TrainingInfo;
-use super::regression::gp::GpParams;
+use super::regression::gp::{Gp, GpParams};
 use super::regression::poly::{Poly, PolyParams};
-use super::regression::{Data, DynRegressor, Registry, Regressor, RegressorKind, Regressors};
+use super::regression::{
+    Data, DynRegressor, Registry, Regressor, RegressorKind, Regressors, TrainingSettings,
+};
 use super::surrogate::{Block, InputSpec, Surrogate};
 use super::{RomError, N_MARKER_COMPONENTS, QUANTITY_NAMES, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
 use crate::case::{raw_features, CaseInputs, FeatureScaler};
@@ -226,11 +228,18 @@ pub fn fit_pipeline(
     };
     let mut bounds: Vec<usize> = blocks.iter().map(|(_, _, off)| *off).collect();
     bounds.push(m);
+    let params: [(&str, &(dyn std::any::Any + Send + Sync)); 2] =
+        [(Gp::NAME, &cfg.gp), (Poly::NAME, &cfg.poly)];
+    let settings = TrainingSettings {
+        blocks: &bounds,
+        kernel_per_block: cfg.kernel_per_block,
+        params: &params,
+    };
     let regressors = cfg
         .regressors
         .entries()
         .iter()
-        .map(|e| e.fit(&data, cfg, &bounds))
+        .map(|e| e.fit(&data, &settings))
         .collect::<Result<Vec<_>, _>>()?;
     Ok(Fitted {
         features,

@@ -8,7 +8,7 @@ use std::ops::Range;
 use serde::{Deserialize, Serialize};
 use surrogate::case::{raw_features, Query};
 use surrogate::rom::export::EmbeddedTables;
-use surrogate::rom::regression::{Data, Registry, Regressor, RegressorKind};
+use surrogate::rom::regression::{Data, Registry, Regressor, RegressorKind, TrainingSettings};
 use surrogate::rom::{RomError, Surrogate, TrainConfig};
 
 use crate::rom_common;
@@ -75,7 +75,7 @@ impl Regressor for Affine {
         Ok(Affine { d, m, coef })
     }
 
-    fn training_params(_: &TrainConfig, _: &[usize]) {}
+    fn training_params(_: &TrainingSettings<'_>) {}
 
     fn n_inputs(&self) -> usize {
         self.d
@@ -240,7 +240,7 @@ fn a_registry_refuses_a_name_taken_or_reserved() {
         fn fit(data: &Data<'_>, _: &()) -> Result<Self, RomError> {
             Affine::fit(data, &()).map(Blocks)
         }
-        fn training_params(_: &TrainConfig, _: &[usize]) {}
+        fn training_params(_: &TrainingSettings<'_>) {}
         fn n_inputs(&self) -> usize {
             self.0.d
         }

@@ -10,11 +10,8 @@ use std::ops::Range;
 
 use serde::{Deserialize, Serialize};
 
-use super::{
-    cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse, Data, EmbeddedRegressor,
-    LinearBasis, Regressor,
-};
-use crate::rom::train::TrainConfig;
+use super::linalg::{cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse};
+use super::regressor::{Data, EmbeddedRegressor, LinearBasis, Regressor, TrainingSettings};
 use crate::rom::RomError;
 
 /// Fit settings of the polynomial.
@@ -195,9 +192,12 @@ impl Regressor for Poly {
 
     type Params = PolyParams;
 
-    /// `cfg.poly`.
-    fn training_params(cfg: &TrainConfig, _blocks: &[usize]) -> PolyParams {
-        cfg.poly.clone()
+    /// The settings given under `"poly"`, else the defaults.
+    fn training_params(settings: &TrainingSettings<'_>) -> PolyParams {
+        settings
+            .params_of::<PolyParams>(Self::NAME)
+            .cloned()
+            .unwrap_or_default()
     }
 
     fn fit(data: &Data<'_>, params: &PolyParams) -> Result<Self, RomError> {

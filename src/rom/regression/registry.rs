@@ -2,7 +2,7 @@
 //!
 //! [`Entry::of`] turns a [`Regressor`] type into a registry line (its name, its fit in a
 //! training run, its reading from a model file); a [`Registry`] is a list of them (the
-//! built-ins, [`super::BUILTIN`], plus any added with [`Registry::with`]). A fitted regressor
+//! built-ins, [`BUILTIN`], plus any added with [`Registry::with`]). A fitted regressor
 //! is held as a [`DynRegressor`] (implemented for every [`Regressor`]), and a model's fitted
 //! regressors as [`Regressors`], written into the model object under their names, in order.
 
@@ -16,9 +16,14 @@ use serde::ser::{Error as _, SerializeMap};
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 use serde_json::value::RawValue;
 
-use super::{gp, poly, Data, Regressor};
-use crate::rom::train::TrainConfig;
+use super::gp::Gp;
+use super::poly::Poly;
+use super::regressor::{Data, EmbeddedRegressor, LinearBasis, Regressor, TrainingSettings};
 use crate::rom::RomError;
+
+/// The built-in regressors, in the order training fits them and model files hold them: a new
+/// regressor is one file (its `mod` line in [`super`]) and one line here.
+pub const BUILTIN: &[Entry] = &[Entry::of::<Gp>(), Entry::of::<Poly>()];
 
 /// The keys of a model object that are not regressors (the fields of
 /// [`Surrogate`](crate::rom::Surrogate)): no regressor may take one as its name.
@@ -43,10 +48,10 @@ const RESERVED: &[&str] = &[
 pub struct RegressorKind(Cow<'static, str>);
 
 impl RegressorKind {
-    /// The Gaussian process ([`gp::Gp`]).
-    pub const GP: RegressorKind = RegressorKind::of::<gp::Gp>();
-    /// The ridge polynomial ([`poly::Poly`]).
-    pub const POLY: RegressorKind = RegressorKind::of::<poly::Poly>();
+    /// The Gaussian process ([`Gp`]).
+    pub const GP: RegressorKind = RegressorKind::of::<Gp>();
+    /// The ridge polynomial ([`Poly`]).
+    pub const POLY: RegressorKind = RegressorKind::of::<Poly>();
 
     /// The kind of regressor type `R`.
     pub const fn of<R: Regressor>() -> Self {
@@ -67,53 +72,6 @@ impl RegressorKind {
 impl fmt::Display for RegressorKind {
     fn fmt(&self, f: &mut fmt::Formatter<'_>) -> fmt::Result {
         f.write_str(&self.0)
-    }
-}
-
-/// A regressor's outputs as linear combinations of basis functions (see
-/// [`Regressor::linear_basis`]).
-#[derive(Debug, Clone)]
-pub struct LinearBasis<'a> {
-    /// Weights `W`, `n_basis × m` (row `b` holds basis function `b`'s weight of every output).
-    pub weights: &'a [f64],
-    /// Number of basis functions of each column group.
-    pub n_basis: usize,
-    /// The column groups, each with basis functions of its own (one group: `0..m`).
-    pub groups: Vec<Range<usize>>,
-}
-
-/// The tables of a regressor the embedded predictor (`surrogate-predict`) evaluates: its
-/// [`surrogate_predict::GpTables`] or [`surrogate_predict::PolyTables`].
-#[derive(Debug, Clone, PartialEq)]
-pub enum EmbeddedRegressor {
-    /// A Gaussian process.
-    Gp {
-        /// Column-group boundaries (empty: one group).
-        groups: Vec<u16>,
-        /// Inverse length scales, `d` per group.
-        inv_len: Vec<f64>,
-        /// Training inputs over the length scales, `n × d` per group.
-        xs: Vec<f64>,
-        /// Weights, `n × m`.
-        alpha: Vec<f64>,
-    },
-    /// A polynomial.
-    Poly {
-        /// Exponents, `n_terms × d`.
-        exponents: Vec<u8>,
-        /// Coefficients, `n_terms × m`.
-        coef: Vec<f64>,
-    },
-}
-
-impl EmbeddedRegressor {
-    /// The embedded predictor's code of the regressor of a block
-    /// ([`surrogate_predict::BlockTables::regressor`]).
-    pub fn code(&self) -> u8 {
-        match self {
-            EmbeddedRegressor::Gp { .. } => 0,
-            EmbeddedRegressor::Poly { .. } => 1,
-        }
     }
 }
 
@@ -224,16 +182,15 @@ impl<R: Regressor> DynRegressor for R {
 }
 
 /// Fits `R` with its training settings.
-type FitFn = fn(&Data<'_>, &TrainConfig, &[usize]) -> Result<Box<dyn DynRegressor>, RomError>;
+type FitFn = fn(&Data<'_>, &TrainingSettings<'_>) -> Result<Box<dyn DynRegressor>, RomError>;
 /// Reads `R` from its model-file text.
 type LoadFn = fn(&str) -> Result<Box<dyn DynRegressor>, serde_json::Error>;
 
 fn fit_boxed<R: Regressor>(
     data: &Data<'_>,
-    cfg: &TrainConfig,
-    blocks: &[usize],
+    settings: &TrainingSettings<'_>,
 ) -> Result<Box<dyn DynRegressor>, RomError> {
-    Ok(Box::new(R::fit(data, &R::training_params(cfg, blocks))?))
+    Ok(Box::new(R::fit(data, &R::training_params(settings))?))
 }
 
 fn load_boxed<R: Regressor>(text: &str) -> Result<Box<dyn DynRegressor>, serde_json::Error> {
@@ -268,18 +225,17 @@ impl Entry {
         RegressorKind(Cow::Borrowed(self.name))
     }
 
-    /// Fits the regressor with its settings of a training run (`blocks`: the column
-    /// boundaries of the POD blocks, [`Regressor::training_params`]).
+    /// Fits the regressor with its settings of a training run
+    /// ([`Regressor::training_params`]).
     ///
     /// # Errors
     /// As the regressor's fit.
     pub fn fit(
         &self,
         data: &Data<'_>,
-        cfg: &TrainConfig,
-        blocks: &[usize],
+        settings: &TrainingSettings<'_>,
     ) -> Result<Box<dyn DynRegressor>, RomError> {
-        (self.fit)(data, cfg, blocks)
+        (self.fit)(data, settings)
     }
 
     /// Reads the regressor from its model-file text.
@@ -310,10 +266,10 @@ impl Default for Registry {
 }
 
 impl Registry {
-    /// The built-in regressors ([`super::BUILTIN`]).
+    /// The built-in regressors ([`BUILTIN`]).
     pub fn builtin() -> Self {
         Registry {
-            entries: super::BUILTIN.to_vec(),
+            entries: BUILTIN.to_vec(),
         }
     }
 

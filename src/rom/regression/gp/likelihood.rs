@@ -5,8 +5,9 @@ use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use super::super::{cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse, Data};
-use super::{kernel, kernel_and_g, GpParams};
+use super::super::linalg::{cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse};
+use super::super::regressor::Data;
+use super::kernel::{kernel, kernel_and_g};
 use crate::rom::RomError;
 
 const LN_LEN_BOUNDS: (f64, f64) = (-3.5, 3.5);
@@ -157,14 +158,22 @@ fn minimise(
     Some((theta, cur.nll))
 }
 
-pub(super) fn optimise(data: &Data<'_>, params: &GpParams) -> Result<Vec<f64>, RomError> {
+/// The hyperparameters of the best of `n_start` seeded starts (`GpParams`' fields of the same
+/// names).
+pub(super) fn optimise(
+    data: &Data<'_>,
+    seed: u64,
+    n_start: usize,
+    max_iter: usize,
+    max_points: usize,
+) -> Result<Vec<f64>, RomError> {
     let (n, d, m) = (data.n, data.d, data.m);
-    let mut rng = Xoshiro256PlusPlus::seed_from_u64(params.seed);
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
     // the likelihood costs O(n³) per step: above `max_points`, search on a seeded subset
     let mut rows: Vec<usize> = (0..n).collect();
-    if n > params.max_points {
+    if n > max_points {
         rows.shuffle(&mut rng);
-        rows.truncate(params.max_points);
+        rows.truncate(max_points);
         rows.sort_unstable();
     }
     let ns = rows.len();
@@ -189,7 +198,7 @@ pub(super) fn optimise(data: &Data<'_>, params: &GpParams) -> Result<Vec<f64>, R
         ..*data
     };
     let mut best: Option<(Vec<f64>, f64)> = None;
-    for s in 0..params.n_start.max(1) {
+    for s in 0..n_start.max(1) {
         let mut t0 = vec![(0.7f64).ln(); d + 1];
         t0[d] = (1e-6f64).ln();
         if s > 0 {
@@ -198,7 +207,7 @@ pub(super) fn optimise(data: &Data<'_>, params: &GpParams) -> Result<Vec<f64>, R
             }
             t0[d] = rng.gen_range(-18.0..-7.0);
         }
-        if let Some((t, f)) = minimise(data, &yw, t0, params.max_iter) {
+        if let Some((t, f)) = minimise(data, &yw, t0, max_iter) {
             if best.as_ref().is_none_or(|b| f < b.1) {
                 best = Some((t, f));
             }

@@ -18,6 +18,7 @@
 //! kernel vector per group it needs. Without groups (the default) one kernel serves all
 //! columns, as above.
 
+mod kernel;
 mod likelihood;
 
 use serde::{Deserialize, Serialize};
@@ -25,13 +26,11 @@ use serde::{Deserialize, Serialize};
 use std::ops::Range;
 use std::sync::OnceLock;
 
-use super::{
-    cholesky_in_place, dot, solve_lower, solve_lower_t, Data, EmbeddedRegressor, LinearBasis,
-    Regressor,
-};
-use crate::rom::fast::kernel_vector;
-use crate::rom::train::TrainConfig;
+use super::linalg::{cholesky_in_place, dot, solve_lower, solve_lower_t};
+use super::regressor::{Data, EmbeddedRegressor, LinearBasis, Regressor, TrainingSettings};
 use crate::rom::RomError;
+pub use kernel::kernel_vector;
+use kernel::{kernel, kernel_and_g};
 use likelihood::{correlation, optimise};
 
 /// Fit settings of the Gaussian process.
@@ -111,24 +110,6 @@ impl PartialEq for ByFeature {
     fn eq(&self, _: &Self) -> bool {
         true
     }
-}
-
-/// Matérn-5/2 value with the branch-free [`surrogate_predict::exp_nonpos`] (shared with the
-/// embedded predictor) and `std`'s square root.
-#[inline]
-fn kernel(r: f64) -> f64 {
-    kernel_and_g(r).0
-}
-
-/// Matérn-5/2 value and `g = −(1/r) dk/dr` (see [`surrogate_predict::matern52`]).
-#[inline]
-fn kernel_and_g(r: f64) -> (f64, f64) {
-    const S5: f64 = 2.236_067_977_499_79;
-    let e = surrogate_predict::exp_nonpos(-S5 * r);
-    (
-        (1.0 + S5 * r + 5.0 / 3.0 * r * r) * e,
-        5.0 / 3.0 * (1.0 + S5 * r) * e,
-    )
 }
 
 impl Gp {
@@ -328,15 +309,20 @@ impl Regressor for Gp {
 
     type Params = GpParams;
 
-    /// `cfg.gp`; with `cfg.kernel_per_block`, one kernel per POD block.
-    fn training_params(cfg: &TrainConfig, blocks: &[usize]) -> GpParams {
-        if cfg.kernel_per_block {
+    /// The settings given under `"gp"` (else the defaults); with `kernel_per_block`, one
+    /// kernel per POD block.
+    fn training_params(settings: &TrainingSettings<'_>) -> GpParams {
+        let base = settings
+            .params_of::<GpParams>(Self::NAME)
+            .cloned()
+            .unwrap_or_default();
+        if settings.kernel_per_block {
             GpParams {
-                groups: blocks.to_vec(),
-                ..cfg.gp.clone()
+                groups: settings.blocks.to_vec(),
+                ..base
             }
         } else {
-            cfg.gp.clone()
+            base
         }
     }
 
@@ -398,7 +384,13 @@ impl Regressor for Gp {
             };
             let t = match &params.theta {
                 Some(t) => t[g * (d + 1)..(g + 1) * (d + 1)].to_vec(),
-                None => optimise(&sub, params)?,
+                None => optimise(
+                    &sub,
+                    params.seed,
+                    params.n_start,
+                    params.max_iter,
+                    params.max_points,
+                )?,
             };
             let mut l = correlation(data.x, n, d, &t);
             cholesky_in_place(&mut l, n).map_err(|i| RomError::Numerical {
