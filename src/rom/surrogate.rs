@@ -703,7 +703,7 @@ impl Surrogate {
         self.model_form.as_ref()
     }
 
-    /// The model-form error at `q`'s pressure, per output ([`ModelFormEstimate`]); `None` when
+    /// The model-form error at `q`'s pressure, per output ([`ModelFormEstimate`](super::model_form::ModelFormEstimate)); `None` when
     /// the model carries none. The surrogate's own error is [`Surrogate::predict_with_std_into`].
     pub fn model_form_error(&self, q: &Query) -> Option<super::model_form::ModelFormEstimate> {
         self.model_form.as_ref().map(|m| m.at(q.p_bar))
