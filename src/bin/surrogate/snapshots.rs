@@ -55,7 +55,7 @@ pub struct SnapshotsArgs {
 #[derive(Debug, Subcommand)]
 pub enum SnapshotsCommand {
     /// Write a sampling plan (maximin Latin hypercube, stratified over N).
-    Plan(PlanArgs),
+    Plan(Box<PlanArgs>),
     /// Run a shard of a plan into a directory (resumes where a previous run stopped).
     Run(RunArgs),
     /// A subset of a plan's cases on another mesh (the high-fidelity part of a multi-fidelity
@@ -216,7 +216,7 @@ pub struct VerifyArgs {
 /// Runs the subcommand.
 pub fn run(a: SnapshotsArgs) -> Result<()> {
     match (a.command, a.run) {
-        (Some(SnapshotsCommand::Plan(p)), _) => plan(p),
+        (Some(SnapshotsCommand::Plan(p)), _) => plan(*p),
         (Some(SnapshotsCommand::Subset(s)), _) => subset(s),
         (Some(SnapshotsCommand::Run(r)), _) | (None, Some(r)) => run_plan(r),
         (Some(SnapshotsCommand::Merge(m)), _) => merge_dirs(m),
