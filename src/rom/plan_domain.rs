@@ -1,5 +1,6 @@
 //! The domain a surrogate states from the snapshot plan its training cases were run with.
 use super::data::CaseSet;
+use super::provenance::BuiltWith;
 use super::Surrogate;
 use crate::snapshots::plan::Plan;
 
@@ -10,6 +11,9 @@ impl Surrogate {
     /// plan's nominal ends where the cases come within one stratum of them
     /// ([`Plan::stated_domain`]). A plan that does not hold every case (another plan's) states
     /// nothing, and `false` is returned: the domain stays the box of the cases.
+    ///
+    /// A plan with a geometry preset or fixed effects also states them
+    /// ([`TrainingInfo::built_with`](super::provenance::TrainingInfo::built_with)).
     pub fn state_plan_domain(&mut self, plan: &Plan, cases: &CaseSet, label: &str) -> bool {
         let held = cases
             .cases
@@ -18,6 +22,13 @@ impl Surrogate {
         if held {
             let sampled = self.sampled_domain();
             self.training.plan_domain = Some(plan.stated_domain(&sampled, label));
+            let fixed = plan.settings.effects.clone();
+            self.training.built_with = (plan.settings.geometry.is_some()
+                || fixed.iter().next().is_some())
+            .then(|| BuiltWith {
+                geometry: plan.settings.geometry(),
+                effects: fixed,
+            });
         }
         held
     }

@@ -6,6 +6,8 @@ use serde::{Deserialize, Serialize};
 use super::metrics::{ErrorStats, Validation};
 use super::warp::WarpInfo;
 use crate::case::PlanDomain;
+use crate::fe::effects::Effects;
+use crate::fe::preset::Geometry;
 
 /// Provenance of a trained model.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
@@ -32,6 +34,23 @@ pub struct TrainingInfo {
     /// plan, or written before this field): the domain is the box of the training cases.
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub plan_domain: Option<PlanDomain>,
+    /// How the training cases' actuators were built, where their plan says it: its geometry
+    /// preset and its fixed effects (the force rig's plate, ...). Absent: the geometry as
+    /// modelled, no fixed effect (or a model trained without its plan).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub built_with: Option<BuiltWith>,
+}
+
+/// The geometry and the fixed effects every training case was built with (from its plan's
+/// settings): what an FE run must use to be compared with the model.
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+pub struct BuiltWith {
+    /// The geometry preset ([`Geometry::as_modelled`] when the plan names none).
+    pub geometry: Geometry,
+    /// The effects fixed for every case.
+    #[serde(default)]
+    pub effects: Effects,
 }
 
 /// How a training set was corrected (stored in the model's training information).

@@ -761,6 +761,7 @@ pub fn train(
         n_treatment: "numeric regression input; predictions only at trained N".into(),
         correction: None,
         plan_domain: None,
+        built_with: None,
     };
     let surrogate = assemble(
         set,

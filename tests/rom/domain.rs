@@ -225,3 +225,33 @@ fn values_within_the_tolerance_of_an_end_are_moved_onto_it() {
 fn names_of(v: &[surrogate::case::BoundSnap]) -> Vec<String> {
     v.iter().map(|d| d.name.clone()).collect()
 }
+
+/// A plan with a geometry preset and fixed effects states them in the model it trains
+/// (`training.built_with`), and the model file carries them through a round trip; the shipped
+/// plan names neither, so the shipped models carry none (their files are unchanged).
+#[test]
+fn models_state_the_geometry_their_cases_were_built_with() {
+    use surrogate::fe::effects::Effects;
+    use surrogate::fe::preset::Geometry;
+    use surrogate::rom::data::SnapshotSet;
+    let plan_path = "training_data/snapshots_coarse.plan.json";
+    let mut plan = Plan::read(&repo(plan_path)).unwrap();
+    let cases = SnapshotSet::read(&repo("training_data/snapshots_coarse.csv"))
+        .unwrap()
+        .into_cases()
+        .unwrap();
+    let shipped = Surrogate::load(&repo("models/actuator_coarse.json")).unwrap();
+    assert_eq!(shipped.training.built_with, None);
+    let mut m = shipped.clone();
+    assert!(m.state_plan_domain(&plan, &cases, plan_path));
+    assert_eq!(m.training.built_with, None);
+    let identified = Geometry::load(&repo("data/geometry/identified.json")).unwrap();
+    plan.settings.geometry = Some(identified.clone());
+    plan.settings.effects = Effects::parse(["plate_offset=-4.5"]).unwrap();
+    assert!(m.state_plan_domain(&plan, &cases, plan_path));
+    let built = m.training.built_with.clone().expect("stated");
+    assert_eq!(built.geometry, identified);
+    assert_eq!(built.effects, plan.settings.effects);
+    let back = Surrogate::from_json(&m.to_json().unwrap(), "round trip").unwrap();
+    assert_eq!(back.training.built_with, Some(built));
+}
