@@ -250,6 +250,20 @@ fn state_plan_domain(a: &TrainArgs, cases: &CaseSet, surrogate: &mut Surrogate) 
             ranges.join(", ")
         );
     }
+    if let Some(built) = &surrogate.training.built_with {
+        let effects: Vec<String> = built
+            .effects
+            .iter()
+            .map(|(e, v)| format!("{}={v}", e.name()))
+            .collect();
+        println!(
+            "built with geometry '{}'{}{} (stated in the model: an FE run compared with it must \
+             use the same)",
+            built.geometry.name,
+            if effects.is_empty() { "" } else { " and " },
+            effects.join(", ")
+        );
+    }
     Ok(())
 }
 
