@@ -80,9 +80,10 @@ pub fn fe_material(p: &OgdenSet) -> Result<Material, CalibrateError> {
         .map_err(|e| CalibrateError::input("material", p.spec(), &e.expected()))
 }
 
-/// Runs (or reads from `cache`) the FE ramps of every recorded design at `params` on `mesh`
-/// and compares them with the experiments and the surrogate; `progress(done, total)` after
-/// each ramp.
+/// Runs (or reads from `cache`) the FE ramps of every recorded design at `params` on `mesh`,
+/// with the geometry and fixed effects the model's training cases were built with
+/// ([`SweepSettings::built_as`]), and compares them with the experiments and the surrogate;
+/// `progress(done, total)` after each ramp.
 ///
 /// # Errors
 /// A design outside the FE model's range, an unwritable cache, or a surrogate error.
@@ -94,7 +95,8 @@ pub fn verify_fe(
     cache: &Path,
     progress: impl Fn(usize, usize) + Sync,
 ) -> Result<FeVerification, CalibrateError> {
-    let settings = SweepSettings::new(fe_material(params)?, mesh);
+    let settings =
+        SweepSettings::new(fe_material(params)?, mesh).built_as(model.training.built_with.as_ref());
     let rows = run_baseline(&settings, &rec.bending, &rec.force, Some(cache), progress)?;
     compare_fe(model, params, mesh, rows)
 }
@@ -111,7 +113,8 @@ pub fn cached_verification(
     mesh: MeshOptions,
     cache: &Path,
 ) -> Result<FeVerification, CalibrateError> {
-    let settings = SweepSettings::new(fe_material(params)?, mesh);
+    let settings =
+        SweepSettings::new(fe_material(params)?, mesh).built_as(model.training.built_with.as_ref());
     let rows = cached_baseline(&settings, &rec.bending, &rec.force, cache)?;
     compare_fe(model, params, mesh, rows)
 }

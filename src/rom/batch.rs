@@ -212,7 +212,7 @@ fn parse_query(
             return Err(cell_err(
                 0,
                 &format!(
-                    "a trained number of bellows {:?} ({})",
+                    "a number of bellows the model predicts {:?} ({})",
                     model.n_allowed,
                     super::surrogate::N_NOT_EXTRAPOLATED
                 ),

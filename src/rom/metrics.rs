@@ -120,6 +120,11 @@ pub struct Validation {
     pub candidates: Vec<OutputValidation>,
     /// Error of the pressure interpolation alone, on the training ramps.
     pub pressure_interpolation: Vec<InterpolationCheck>,
+    /// With `N` ordinal: the errors at numbers of bellows held out of a second training
+    /// ([`super::held_out_n`]), the evidence that the model interpolates in `N`. Absent:
+    /// not measured.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub held_out_n: Option<super::held_out_n::HeldOutNReport>,
 }
 
 /// Pressure-interpolation error of one output: each interior node of every training ramp is

@@ -103,6 +103,7 @@ pub mod data;
 pub mod export;
 pub mod fast;
 pub mod fidelity;
+pub mod held_out_n;
 pub mod material_spec;
 pub mod metrics;
 pub mod model;

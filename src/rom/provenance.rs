@@ -41,6 +41,14 @@ pub struct TrainingInfo {
     pub built_with: Option<BuiltWith>,
 }
 
+impl TrainingInfo {
+    /// Whether the model was trained with `N` as an ordinal input
+    /// ([`super::TrainConfig::ordinal_n`]).
+    pub fn ordinal_n(&self) -> bool {
+        self.n_treatment == super::train::N_ORDINAL
+    }
+}
+
 /// The geometry and the fixed effects every training case was built with (from its plan's
 /// settings): what an FE run must use to be compared with the model.
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]

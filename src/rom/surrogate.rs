@@ -34,11 +34,12 @@ pub const GRAD_INPUT_NAMES: [&str; N_GRAD_INPUTS] = [
     schema::ALPHA2.name,
 ];
 
-/// Why an untrained number of bellows is refused, whatever the caller allows: `N` is a
-/// discrete input, neither interpolated nor extrapolated.
+/// Why a number of bellows outside the model's list is refused, whatever the caller allows:
+/// `N` is never extrapolated, and interpolated only by a model trained with `N` as an ordinal
+/// input.
 pub const N_NOT_EXTRAPOLATED: &str =
-    "N is neither interpolated nor extrapolated, not even with --allow-extrapolation: train a \
-     model that includes it";
+    "N is never extrapolated, not even with --allow-extrapolation, and interpolated only by a \
+     model trained with --ordinal-n: train a model that includes it";
 
 /// Buffers reused across predictions (so that `*_into` calls do not allocate).
 ///
@@ -236,8 +237,14 @@ pub struct Surrogate {
     pub inputs: Vec<InputSpec>,
     /// Output names and units.
     pub outputs: Vec<String>,
-    /// Numbers of bellows present in training.
+    /// Numbers of bellows the model predicts: the trained ones or, with `N` as an ordinal
+    /// input ([`TrainConfig::ordinal_n`](super::TrainConfig::ordinal_n)), every integer
+    /// between the trained ends.
     pub n_allowed: Vec<u32>,
+    /// Numbers of bellows present in training, where they differ from [`Self::n_allowed`]
+    /// (ordinal `N`); empty otherwise ([`Self::n_trained`]).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub n_trained: Vec<u32>,
     /// Pressure grid, bar.
     pub pressures: Vec<f64>,
     /// Feature scaling.
@@ -270,6 +277,15 @@ pub struct Surrogate {
 }
 
 impl Surrogate {
+    /// Numbers of bellows present in training (a subset of [`Self::n_allowed`]).
+    pub fn n_trained(&self) -> &[u32] {
+        if self.n_trained.is_empty() {
+            &self.n_allowed
+        } else {
+            &self.n_trained
+        }
+    }
+
     /// A prediction buffer sized for this model.
     pub fn new_prediction(&self) -> Prediction {
         let mut p = Prediction::default();
@@ -345,7 +361,7 @@ impl Surrogate {
                 "n",
                 q.n,
                 &format!(
-                    "one of the trained numbers of bellows {:?} ({N_NOT_EXTRAPOLATED})",
+                    "one of the numbers of bellows the model predicts {:?} ({N_NOT_EXTRAPOLATED})",
                     self.n_allowed
                 ),
             ));

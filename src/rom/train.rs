@@ -64,6 +64,12 @@ pub struct TrainConfig {
     /// fitted to the converged entries by gappy POD (they never enter the POD bases nor the
     /// held-out sets).
     pub fill_truncated: bool,
+    /// `N` as an ordinal input: the model predicts every integer `N` between the smallest
+    /// and the largest trained one (the regression already treats `N` as a number), not
+    /// only the trained ones. Off: only the trained `N` are predicted. Whether the
+    /// interpolation in `N` is accurate enough is measured by holding `N` values out
+    /// ([`super::held_out_n`]).
+    pub ordinal_n: bool,
 }
 
 impl Default for TrainConfig {
@@ -82,6 +88,7 @@ impl Default for TrainConfig {
             only: None,
             prefer_poly_within: 0.0,
             fill_truncated: false,
+            ordinal_n: false,
         }
     }
 }
@@ -506,6 +513,7 @@ fn choose(
             outputs,
             candidates,
             pressure_interpolation: Vec::new(),
+            held_out_n: None,
         },
     )
 }
@@ -651,9 +659,7 @@ fn assemble(
     if training.filled_cases > 0 {
         regression_points.extend(set.partial.iter().map(|c| c.inputs));
     }
-    let mut n_allowed: Vec<u32> = regression_points.iter().map(|c| c.n_bellows).collect();
-    n_allowed.sort_unstable();
-    n_allowed.dedup();
+    let (n_allowed, n_trained) = predicted_n(&regression_points, training.ordinal_n());
     let std_scale = (0..22)
         .map(|q| {
             let o = if q < N_MARKER_COMPONENTS {
@@ -673,6 +679,7 @@ fn assemble(
         inputs: input_specs(&regression_points, &set.pressures),
         outputs: QUANTITY_NAMES.iter().map(|s| s.to_string()).collect(),
         n_allowed,
+        n_trained,
         pressures: set.pressures.clone(),
         features: fitted.features,
         blocks,
@@ -686,6 +693,33 @@ fn assemble(
         derived: Default::default(),
     }
 }
+
+/// The numbers of bellows a model predicts and, when they differ (ordinal `N`), the trained
+/// ones: every integer between the trained ends, or the trained ones alone.
+fn predicted_n(points: &[CaseInputs], ordinal: bool) -> (Vec<u32>, Vec<u32>) {
+    let mut trained: Vec<u32> = points.iter().map(|c| c.n_bellows).collect();
+    trained.sort_unstable();
+    trained.dedup();
+    match (ordinal, trained.first(), trained.last()) {
+        (true, Some(&lo), Some(&hi)) if (hi - lo + 1) as usize > trained.len() => {
+            ((lo..=hi).collect(), trained)
+        }
+        _ => (trained, Vec::new()),
+    }
+}
+
+/// How a model treats `N`, as its training information states it.
+fn n_treatment(ordinal: bool) -> String {
+    if ordinal {
+        N_ORDINAL.into()
+    } else {
+        "numeric regression input; predictions only at trained N".into()
+    }
+}
+
+/// [`TrainingInfo::n_treatment`] of a model trained with [`TrainConfig::ordinal_n`].
+pub const N_ORDINAL: &str =
+    "ordinal regression input; predictions at every integer N between the trained ends";
 
 /// Trains a surrogate on a case set: cross-validation, choice, final fit.
 /// `progress(done, total)` is called after each fold and after the final fit.
@@ -758,7 +792,7 @@ pub fn train(
         },
         skipped_unconverged,
         code_version: env!("CARGO_PKG_VERSION").to_string(),
-        n_treatment: "numeric regression input; predictions only at trained N".into(),
+        n_treatment: n_treatment(cfg.ordinal_n),
         correction: None,
         plan_domain: None,
         built_with: None,

@@ -830,3 +830,41 @@ fn a_missing_named_model_says_where_it_was_looked_for() {
     assert_eq!(err.matches("not found").count(), 1, "{err}");
     assert_eq!(err.lines().count(), 1, "{err}");
 }
+
+/// `--ordinal-n`: the model predicts every integer N between its trained ends; `--hold-out-n`
+/// first trains without those N, prints their errors and stores them in the model; a held-out
+/// N at an end, or `--hold-out-n` without `--ordinal-n`, is refused before training.
+#[test]
+fn ordinal_n_predicts_between_trained_n_and_hold_out_n_measures_it() {
+    let path = dir().join("ordinal.json");
+    let train = |extra: &[&str]| {
+        bin()
+            .args(["train", "--force", "--synthetic", "30", "--folds", "3"])
+            .args(["--quiet", "--out"])
+            .arg(&path)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let o = train(&["--ordinal-n", "--hold-out-n", "11"]);
+    let (out, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        out.contains("held-out N") && out.contains("trained on N = [9, 13]"),
+        "{out}"
+    );
+    let json = std::fs::read_to_string(&path).unwrap();
+    assert!(json.contains("\"n_trained\"") && json.contains("\"held_out_n\""));
+    let o = bin()
+        .args(["predict", "--n", "10", "--t", "2.0", "--pressure", "1"])
+        .args(["--material", "ogden_002", "--model"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    assert!(o.status.success(), "{}", text(&o).1);
+    fails_with(
+        &train(&["--ordinal-n", "--hold-out-n", "13"]),
+        &["13", "strictly between"],
+    );
+    fails_with(&train(&["--hold-out-n", "11"]), &["--ordinal-n"]);
+}

@@ -10,6 +10,7 @@ mod rom_common;
 mod domain;
 mod fuzz_parsers;
 mod model_form;
+mod ordinal_n;
 mod output_schema;
 mod rom_alloc;
 mod rom_data;

@@ -426,6 +426,15 @@ pub struct TrainArgs {
     /// Also use truncated ramps (≥ half the grid converged) for the regression, through gappy POD.
     #[arg(long)]
     pub fill_truncated: bool,
+    /// N as an ordinal input: the model predicts every integer N between the smallest and the
+    /// largest trained one, not only the trained ones (check it with --hold-out-n).
+    #[arg(long)]
+    pub ordinal_n: bool,
+    /// With --ordinal-n: first train without the cases of these numbers of bellows (each
+    /// strictly between the trained ends), predict them and store the errors in the model's
+    /// validation (tip, angle, force), then train the model on every case. One training more.
+    #[arg(long, value_delimiter = ',', requires = "ordinal_n")]
+    pub hold_out_n: Vec<u32>,
     /// Learning curve: also train on the first K cases (by case id) for each K of this
     /// comma-separated list and print the held-out RMSE of every output per K (the model
     /// saved is the one trained on all cases).

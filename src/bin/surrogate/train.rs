@@ -3,6 +3,7 @@ use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::rom::data::{CaseSet, SnapshotSet};
 use surrogate::rom::fidelity::correct_low_fidelity;
+use surrogate::rom::held_out_n;
 use surrogate::rom::provenance::CorrectionInfo;
 use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
@@ -81,8 +82,10 @@ pub fn run(a: TrainArgs) -> Result<()> {
     if !a.learning_curve.is_empty() {
         learning_curve(&cases, &source, skipped, &cfg, &a.learning_curve)?;
     }
+    let held_out_n = hold_out_n(&a, &cases, &source, &cfg)?;
     let mut report = train_with_progress(&cases, &source, skipped, &cfg, a.quiet)?;
     report.surrogate.training.correction = correction;
+    report.surrogate.validation.held_out_n = held_out_n;
     state_plan_domain(&a, &cases, &mut report.surrogate)?;
     report
         .surrogate
@@ -90,6 +93,23 @@ pub fn run(a: TrainArgs) -> Result<()> {
         .with_context(|| format!("saving {}", a.out.display()))?;
     describe_model(&report, &a.out);
     write_held_out_outputs(&a, &report)
+}
+
+/// With `--hold-out-n`: the errors of a model trained without those numbers of bellows at
+/// their cases, printed.
+fn hold_out_n(
+    a: &TrainArgs,
+    cases: &CaseSet,
+    source: &str,
+    cfg: &TrainConfig,
+) -> Result<Option<held_out_n::HeldOutNReport>> {
+    if a.hold_out_n.is_empty() {
+        return Ok(None);
+    }
+    eprintln!("holding out N = {:?}: training without them", a.hold_out_n);
+    let report = held_out_n::study(cases, source, &a.hold_out_n, cfg, &|_, _| {})?;
+    println!("held-out N (model trained without them):\n{}", report.table());
+    Ok(Some(report))
 }
 
 /// The checks made before minutes of training, not after: the output file, the margin.
@@ -138,6 +158,7 @@ fn train_config(a: &TrainArgs) -> TrainConfig {
         prefer_poly_within: a.prefer_poly_within,
         kernel_per_block: a.kernel_per_block,
         fill_truncated: a.fill_truncated,
+        ordinal_n: a.ordinal_n,
         ..Default::default()
     }
 }

@@ -12,6 +12,7 @@ use crate::fe::preset::Geometry;
 use crate::fe::sensitivity::Parameter;
 use crate::fe::simulate::{Case, ContactSettings, Mode, SimulateError};
 use crate::fe::solver::SolverSettings;
+use crate::rom::provenance::BuiltWith;
 
 /// Largest pressure increment of a sensitivity sweep's load steps (bar; the diagnoser's sweep
 /// at the calibrated state and the identification's sweeps), four times the solver's
@@ -86,6 +87,18 @@ impl SweepSettings {
             warm: None,
             warm_point: Vec::new(),
         }
+    }
+
+    /// These settings with the geometry and the fixed effects a surrogate's training cases
+    /// were built with ([`BuiltWith`], from the model's training information), so that its
+    /// FE runs are the model's own; `None` (the geometry as modelled, no fixed effect) leaves
+    /// them as they are.
+    pub fn built_as(mut self, built: Option<&BuiltWith>) -> Self {
+        if let Some(b) = built {
+            self.geometry = b.geometry.clone();
+            self.effects = b.effects.clone();
+        }
+        self
     }
 
     /// The FE case of design `(n, t)` in `mode` through `pressures_bar`.
