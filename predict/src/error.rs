@@ -7,7 +7,7 @@ use crate::outputs::N_INPUTS;
 pub enum EmbeddedError {
     /// An input is NaN or infinite (index into `N, T, P, μ₁, α₁, μ₂, α₂`).
     NonFinite(usize),
-    /// `N` is not one of the trained numbers of bellows.
+    /// `N` is not one of the numbers of bellows the model predicts (`n_allowed`).
     UnknownN,
     /// `μ₁α₁ ≤ 0` or `μ₂α₂ ≤ 0`.
     Inadmissible,
@@ -35,7 +35,9 @@ impl core::fmt::Display for EmbeddedError {
                 Some(name) => write!(f, "input {name} is not finite"),
                 None => write!(f, "input {i} is not finite"),
             },
-            EmbeddedError::UnknownN => f.write_str("N is not a trained number of bellows"),
+            EmbeddedError::UnknownN => {
+                f.write_str("N is not a number of bellows the model predicts")
+            }
             EmbeddedError::Inadmissible => {
                 f.write_str("inadmissible Ogden material (mu1*alpha1 <= 0 or mu2*alpha2 <= 0)")
             }
@@ -61,7 +63,7 @@ mod tests {
             (
                 EmbeddedError::UnknownN,
                 2,
-                "N is not a trained number of bellows",
+                "N is not a number of bellows the model predicts",
             ),
             (
                 EmbeddedError::Inadmissible,
