@@ -110,6 +110,30 @@ pub(super) fn check_t(model: &Surrogate, field: &str, t: f64) -> Result<f64, Des
     ))
 }
 
+/// The bounds of `T`: finite, MIN ≤ MAX, inside the model's range (within its tolerance,
+/// onto whose ends they are moved).
+fn check_t_bounds(model: &Surrogate, (a, b): (f64, f64)) -> Result<(f64, f64), DesignError> {
+    let shown = format!("{a}..={b}");
+    if !(a.is_finite() && b.is_finite() && a <= b) {
+        return Err(DesignError::invalid(
+            "bounds.t_mm",
+            shown,
+            "MIN..=MAX, finite, with MIN ≤ MAX",
+        ));
+    }
+    let inside = |t: f64| {
+        check_t(model, "bounds.t_mm", t).map_err(|_| {
+            let [lo, hi] = model_t_range(model);
+            DesignError::invalid(
+                "bounds.t_mm",
+                &shown,
+                format!("a range inside the model's T [{lo}, {hi}] mm"),
+            )
+        })
+    };
+    Ok((inside(a)?, inside(b)?))
+}
+
 /// The targets: at least one, finite values, positive tolerances, pressures in the grid.
 fn check_targets(model: &Surrogate, targets: &[Target]) -> Result<(), DesignError> {
     if targets.is_empty() {
@@ -259,18 +283,7 @@ impl<'a> Problem<'a> {
         check_targets(model, targets)?;
         check_settings(settings)?;
         let n_values = check_n(model, bounds.n)?;
-        let (a, b) = bounds.t_mm;
-        if !(a.is_finite() && b.is_finite() && a <= b) {
-            return Err(DesignError::invalid(
-                "bounds.t_mm",
-                format!("{a}..={b}"),
-                "MIN..=MAX, finite, with MIN ≤ MAX",
-            ));
-        }
-        let (a, b) = (
-            check_t(model, "bounds.t_mm", a)?,
-            check_t(model, "bounds.t_mm", b)?,
-        );
+        let (a, b) = check_t_bounds(model, bounds.t_mm)?;
         let [lo, hi] = model_t_range(model);
         let material = check_material(model, material)?;
         Ok(Problem {
