@@ -28,17 +28,19 @@
 //!   ΔT = − Σ_k J_k r_k / Σ_k J_k²,    T ← clamp(T + λ ΔT, T_lo, T_hi(N)),
 //! ```
 //!
-//! with `λ = 1, ½, ¼, …` until `Φ` does not grow, runs from [`DesignSearch::starts`] values
-//! spread evenly over the interval, and keeps the end point of least cost. It stops when the
+//! with `λ = 1, ½, ¼, …` until `Φ` does not grow, runs from every local minimum of `Φ` over
+//! a scan of [`DesignSearch::starts`] values spread evenly over the interval (values only,
+//! through the scalar fast path [`Surrogate::predict_scalars_into`]: one descent per basin the
+//! scan sees, not one per start), and keeps the end point of least cost. It stops when the
 //! step is below [`DesignSearch::step_tolerance_mm`], when it stands on a bound and the
 //! descent points out of the interval, when no shortened step lowers `Φ`, when the
 //! derivative vanishes, or after [`DesignSearch::max_iterations`] ([`Stop`]). An optimum on a
 //! bound is reported with the bound and what sets it ([`BoundHit`]): a target no design
 //! reaches drives `T` to the end that comes closest.
 //!
-//! The loop evaluates the surrogate into one [`Prediction`](crate::rom::Prediction) and one
-//! [`Jacobian`](crate::rom::Jacobian), once per distinct target pressure and iteration,
-//! without allocating.
+//! The scan and the descents evaluate the surrogate into one
+//! [`Prediction`](crate::rom::Prediction) and one [`Jacobian`](crate::rom::Jacobian), once per
+//! distinct target pressure and trial wall, without allocating.
 //!
 //! ## Two errors of the pick
 //!
@@ -81,6 +83,7 @@
 //! [`Surrogate`]: crate::rom::Surrogate
 //! [`Surrogate::domain`]: crate::rom::Surrogate::domain
 //! [`Surrogate::gradient_range_into`]: crate::rom::Surrogate::gradient_range_into
+//! [`Surrogate::predict_scalars_into`]: crate::rom::Surrogate::predict_scalars_into
 //! [`Surrogate::predict_with_std_into`]: crate::rom::Surrogate::predict_with_std_into
 //! [`max_wall_thickness_in`]: crate::snapshots::plan::max_wall_thickness_in
 //! [`TrainingInfo::built_with`]: crate::rom::provenance::TrainingInfo::built_with
@@ -93,7 +96,8 @@ mod target;
 
 pub use map::{map, DesignMap};
 pub use report::{
-    Accuracy, BoundHit, Candidate, DesignAtN, DesignReport, Pick, PickedOutput, Side, Stop, TLimit,
+    Accuracy, BoundHit, Candidate, DesignAtN, DesignReport, Evaluations, Pick, PickedOutput, Side,
+    Stop, TLimit,
 };
 pub use search::search;
 pub use target::{DesignBounds, DesignSearch, Output, Target};

@@ -347,6 +347,21 @@ impl<'a> Problem<'a> {
         Ok(e)
     }
 
+    /// `Φ` at `(n, t)` through the scalar fast path (values only, no allocation).
+    pub fn cost(&self, n: u32, t: f64, pred: &mut Prediction) -> Result<f64, DesignError> {
+        let mut cost = 0.0;
+        for group in &self.groups {
+            let q = Query::new(n, t, group.p_bar, self.material);
+            self.model.predict_scalars_into(&q, pred)?;
+            for &k in &group.members {
+                let target = &self.targets[k];
+                let r = (pred.values[target.output.index()] - target.value) / target.tolerance;
+                cost += r * r;
+            }
+        }
+        Ok(cost)
+    }
+
     /// The predicted value of each target's output at `(n, t)`, into `out` (one per target).
     pub fn values_into(
         &self,

@@ -180,6 +180,15 @@ impl fmt::Display for Accuracy {
     }
 }
 
+/// Surrogate evaluations of a search, each at one design and one pressure.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Eq, Serialize, Deserialize)]
+pub struct Evaluations {
+    /// Values only, on the starting scans (the scalar fast path).
+    pub scan: usize,
+    /// Values and derivatives in `T`, in the descents.
+    pub gradient: usize,
+}
+
 /// The result of [`super::search`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DesignReport {
@@ -195,8 +204,8 @@ pub struct DesignReport {
     pub pick: Pick,
     /// Whether the model-form errors of the pick are known.
     pub accuracy: Accuracy,
-    /// Surrogate evaluations (value and derivative at one pressure) the search made.
-    pub evaluations: usize,
+    /// Surrogate evaluations the search made.
+    pub evaluations: Evaluations,
 }
 
 impl DesignReport {

@@ -3,7 +3,8 @@
 
 use super::problem::{Eval, Problem};
 use super::report::{
-    Accuracy, BoundHit, Candidate, DesignAtN, DesignReport, Pick, PickedOutput, Side, Stop, TLimit,
+    Accuracy, BoundHit, Candidate, DesignAtN, DesignReport, Evaluations, Pick, PickedOutput, Side,
+    Stop, TLimit,
 };
 use super::target::{DesignBounds, DesignSearch, Target};
 use super::DesignError;
@@ -29,7 +30,7 @@ pub fn search(
     let problem = Problem::new(model, material, targets, bounds, settings)?;
     let mut pred = model.new_prediction();
     let mut jac = Jacobian::default();
-    let mut evaluations = 0;
+    let mut evaluations = Evaluations::default();
     let mut designs = Vec::with_capacity(problem.n_values.len());
     for &n in &problem.n_values {
         let (lo, hi, limit) = problem.t_interval(n);
@@ -73,13 +74,20 @@ pub fn search(
 struct Work<'w> {
     pred: &'w mut Prediction,
     jac: &'w mut Jacobian,
-    evaluations: &'w mut usize,
+    evaluations: &'w mut Evaluations,
 }
 
 impl Work<'_> {
+    /// `Φ` and its Gauss–Newton terms at `(n, t)`.
     fn eval(&mut self, p: &Problem<'_>, n: u32, t: f64) -> Result<Eval, DesignError> {
-        *self.evaluations += p.groups.len();
+        self.evaluations.gradient += p.groups.len();
         p.evaluate(n, t, self.pred, self.jac)
+    }
+
+    /// `Φ` at `(n, t)`, values only.
+    fn scan(&mut self, p: &Problem<'_>, n: u32, t: f64) -> Result<f64, DesignError> {
+        self.evaluations.scan += p.groups.len();
+        p.cost(n, t, self.pred)
     }
 }
 
@@ -143,7 +151,8 @@ fn descend(
     Ok(end(t, e, s.max_iterations, Stop::Iterations))
 }
 
-/// The best of the starts spread over `[lo, hi]` for `n` bellows.
+/// The best end point of the descents from the local minima of `Φ` over the starting scan
+/// of `[lo, hi]` for `n` bellows ([module docs](super)).
 fn best_wall(
     p: &Problem<'_>,
     n: u32,
@@ -151,20 +160,33 @@ fn best_wall(
     s: &DesignSearch,
     ws: &mut Work<'_>,
 ) -> Result<Candidate, DesignError> {
-    let mut best: Option<Run> = None;
-    for k in 0..s.starts {
-        let t0 = if s.starts == 1 {
+    let start = |k: usize| {
+        if s.starts == 1 {
             0.5 * (lo + hi)
         } else {
             lo + (hi - lo) * k as f64 / (s.starts - 1) as f64
-        };
-        let run = descend(p, n, t0, (lo, hi), s, ws)?;
-        if best.as_ref().is_none_or(|b| run.cost < b.cost) {
-            best = Some(run);
         }
+    };
+    let mut best: Option<Run> = None;
+    let (mut before, mut here) = (f64::INFINITY, ws.scan(p, n, start(0))?);
+    for k in 0..s.starts {
+        let after = if k + 1 < s.starts {
+            ws.scan(p, n, start(k + 1))?
+        } else {
+            f64::INFINITY
+        };
+        if here <= before && here <= after {
+            let run = descend(p, n, start(k), (lo, hi), s, ws)?;
+            if best.as_ref().is_none_or(|b| run.cost < b.cost) {
+                best = Some(run);
+            }
+        }
+        (before, here) = (here, after);
     }
-    let Some(run) = best else {
-        return Err(DesignError::invalid("settings.starts", 0, "at least 1"));
+    // a scan without a finite minimum: one descent from its first wall
+    let run = match best {
+        Some(run) => run,
+        None => descend(p, n, start(0), (lo, hi), s, ws)?,
     };
     let mut predicted = vec![0.0; p.targets.len()];
     p.values_into(n, run.t, ws.pred, ws.jac, &mut predicted)?;

@@ -44,11 +44,12 @@ fn more_starts_do_not_allocate_more() {
         };
         let before = allocs();
         let report = search(model, CALIBRATED, &targets, &bounds, &settings).unwrap();
-        (allocs() - before, report.evaluations)
+        let e = report.evaluations;
+        (allocs() - before, e.scan + e.gradient)
     };
     run(2); // builds the model's derived tables
     let (few, few_evals) = run(3);
     let (many, many_evals) = run(30);
-    assert!(many_evals > 5 * few_evals, "{few_evals} {many_evals}");
+    assert!(many_evals > 2 * few_evals, "{few_evals} {many_evals}");
     assert_eq!(few, many, "allocations with 3 and 30 starts");
 }
