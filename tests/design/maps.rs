@@ -49,4 +49,3 @@ fn a_map_holds_the_predictions_and_greys_out_unbuildable_walls() {
     assert_eq!(lines.len(), 1 + 3 * 3 * 2);
     assert!(lines.contains(&"15,2.5,3,false,,"), "{text}");
 }
-
