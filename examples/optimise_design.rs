@@ -49,7 +49,13 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         Target::new(Output::ForceN, pressure, target_force, 0.05),
     ];
     let bounds = DesignBounds::of_model(&model);
-    let report = search(&model, material, &targets, &bounds, &DesignSearch::default())?;
+    let report = search(
+        &model,
+        material,
+        &targets,
+        &bounds,
+        &DesignSearch::default(),
+    )?;
     for d in &report.designs {
         let Some(c) = &d.best else {
             println!("N = {:2}: no buildable wall", d.n);

@@ -85,7 +85,10 @@ fn design_prints_a_row_per_n_and_the_pick_with_its_errors() {
         serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
     assert_eq!(report["designs"].as_array().unwrap().len(), 3);
     assert!(report["pick"]["t_mm"].as_f64().unwrap() > 1.0);
-    assert!(err.contains("wrote") && err.contains("(the default)"), "{err}");
+    assert!(
+        err.contains("wrote") && err.contains("(the default)"),
+        "{err}"
+    );
 }
 
 #[test]
