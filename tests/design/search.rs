@@ -154,3 +154,45 @@ fn the_pick_states_whether_its_accuracy_is_known() {
         "{json}"
     );
 }
+
+#[test]
+fn buildability_follows_the_geometry_the_model_was_trained_with() {
+    use surrogate::design::map;
+    use surrogate::fe::preset::Geometry;
+    use surrogate::rom::provenance::BuiltWith;
+    let path = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("fe_reference/identification/wall_law/geometry.json");
+    let geometry = Geometry::load(&path).unwrap();
+    let mut model = synthetic().clone();
+    model.training.built_with = Some(BuiltWith {
+        geometry: geometry.clone(),
+        effects: Default::default(),
+    });
+    let force = &angle_and_force(0.0, 100.0)[1..];
+    let report = search_all(&model, OGDEN_002, force);
+    let as_modelled = search_all(synthetic(), OGDEN_002, force);
+    assert_eq!(report.geometry, geometry.name);
+    // the model's own range: the largest T of the plain search at N = 7 (5.8 mm buildable)
+    let model_t_max = as_modelled.at(7).unwrap().t_max_mm;
+    for d in &report.designs {
+        let limit = geometry.max_wall_thickness(d.n as usize).unwrap();
+        let expected = if limit < model_t_max {
+            (limit, TLimit::Buildable)
+        } else {
+            (model_t_max, TLimit::Model)
+        };
+        assert_eq!((d.t_max_mm, d.t_max_limit), expected, "{d:?}");
+    }
+    let (wall_law, plain) = (report.at(15).unwrap(), as_modelled.at(15).unwrap());
+    assert!(wall_law.t_max_mm < plain.t_max_mm, "{wall_law:?} {plain:?}");
+    let m = map(
+        &model,
+        OGDEN_002,
+        &[surrogate::design::Output::ForceN],
+        &[2.0],
+        &[15],
+        &[2.0],
+    )
+    .unwrap();
+    assert_eq!(m.t_max_buildable_mm, vec![wall_law.t_max_mm]);
+}
