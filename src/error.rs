@@ -54,6 +54,9 @@ pub enum Error {
     /// Twin recordings.
     #[error(transparent)]
     Twin(#[from] crate::calibrate::twin::TwinError),
+    /// The design search and maps.
+    #[error(transparent)]
+    Design(#[from] crate::design::DesignError),
     /// The discrepancy diagnosis.
     #[error(transparent)]
     Diagnose(#[from] crate::diagnose::DiagnoseError),

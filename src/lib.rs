@@ -45,6 +45,7 @@
 
 pub mod calibrate;
 pub mod case;
+pub mod design;
 pub mod diagnose;
 pub mod error;
 pub mod fe;

@@ -10,6 +10,7 @@ mod snapshots_common;
 
 mod calibrate_cli;
 mod defaults_cli;
+mod design_cli;
 mod diagnose_cli;
 mod fe_cli;
 mod figures;

@@ -39,6 +39,8 @@ const FLOORS: &[Floor] = &[
     ("rom", &["rom"]),
     // the calibrator
     ("calibrate", &["calibrate"]),
+    // the design loop through the surrogate: N and T for target outputs, maps
+    ("design", &["design"]),
     // the diagnoser
     ("diagnose", &["diagnose"]),
     // the crate's front: its root and the error that gathers every floor's errors

@@ -3,6 +3,8 @@ use std::path::PathBuf;
 
 use clap::{Args, Parser, Subcommand, ValueEnum};
 
+use crate::files::material_spec;
+
 /// Finite-element model and reduced-order surrogate of soft pneumatic bellow actuators.
 #[derive(Debug, Parser)]
 #[command(name = "surrogate", version, about)]
@@ -54,6 +56,12 @@ pub enum Command {
     /// Identify the material and the dimensions the reference study leaves unstated (gap,
     /// base, side walls, the force rig's plate) jointly, straight on the FE model.
     Identify(IdentifyArgs),
+    /// Design through the surrogate: the number of bellows and the wall thickness that reach
+    /// target outputs (angle, force, tip) at given pressures, the best wall for every N.
+    Design(crate::design::DesignArgs),
+    /// Maps of the outputs over N and T at a few pressures (SVG heat maps and CSV), walls
+    /// that leave no cavity greyed out.
+    Maps(crate::maps::MapsArgs),
 }
 
 /// `surrogate identify`.
@@ -763,10 +771,4 @@ pub struct DemoArgs {
     /// data/demo/fe_standard_ramps/ of the repository].
     #[arg(long)]
     pub fe_cache: Option<PathBuf>,
-}
-
-/// A `--material` value with a calibration report (`DIR/report.json`) replaced by its
-/// calibrated set at full precision (`surrogate::rom::material_spec`); any other spec as given.
-fn material_spec(spec: &str) -> Result<String, String> {
-    surrogate::rom::material_spec::expand(spec).map_err(|e| e.to_string())
 }

@@ -130,3 +130,9 @@ pub fn write_file(path: &Path, bytes: &[u8]) -> Result<()> {
     }
     surrogate::io::write_atomic(path, bytes).with_context(|| format!("writing {}", path.display()))
 }
+
+/// A `--material` value with a calibration report (`DIR/report.json`) replaced by its
+/// calibrated set at full precision (`surrogate::rom::material_spec`); any other spec as given.
+pub fn material_spec(spec: &str) -> Result<String, String> {
+    surrogate::rom::material_spec::expand(spec).map_err(|e| e.to_string())
+}

@@ -6,6 +6,7 @@ mod calibrate;
 mod calibrate_plots;
 mod campaign;
 mod demo;
+mod design;
 mod diagnose;
 mod diagnose_plots;
 mod effects;
@@ -13,6 +14,8 @@ mod export;
 mod figure;
 mod files;
 mod identify;
+mod maps;
+mod maps_plots;
 mod model_form;
 mod predict;
 mod simulate;
@@ -46,6 +49,8 @@ fn main() -> ExitCode {
         args::Command::TwinStudy(a) => twin_study::run(a),
         args::Command::ApproximationError(a) => approximation_error::run(a),
         args::Command::Identify(a) => identify::run(a),
+        args::Command::Design(a) => design::run(a),
+        args::Command::Maps(a) => maps::run(a),
     };
     match result {
         Ok(()) => ExitCode::SUCCESS,

@@ -1,0 +1,79 @@
+//! The full design search (`surrogate::design::search`): every N the model predicts, a
+//! multi-start Gauss–Newton in T each, angle and blocked-force targets at 2 bar, the pick with
+//! its std and model-form error. On the shipped model (N = 9, 11, 13) at the material
+//! calibrated on the shipped experiments, and on a synthetic model over N = 7 … 15 (300 cases,
+//! the size of the shipped set) at Ogden 002.
+use std::hint::black_box;
+use std::path::Path;
+use std::time::Duration;
+
+use criterion::{criterion_group, criterion_main, Criterion};
+use surrogate::design::{search, DesignBounds, DesignSearch, Output, Target};
+use surrogate::rom::data::SnapshotSet;
+use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
+use surrogate::rom::{train, Surrogate, TrainConfig};
+
+/// The set calibrated on the shipped experiments (`fe_reference/calibration/surrogate/`).
+const CALIBRATED: [f64; 4] = [
+    0.03821164173136228,
+    5.99612765572898,
+    -5.194862363697796,
+    -1.996454844367204,
+];
+const OGDEN_002: [f64; 4] = [1.13, 3.11, -13.17, -0.6];
+
+fn synthetic() -> Surrogate {
+    let cfg = SyntheticConfig {
+        n_cases: 300,
+        n_values: (7..=15).collect(),
+        ..Default::default()
+    };
+    let mut buf = Vec::new();
+    write_csv(&cfg, &mut buf).unwrap();
+    let cases = SnapshotSet::from_reader(buf.as_slice(), "bench")
+        .unwrap()
+        .into_cases()
+        .unwrap();
+    let tc = TrainConfig {
+        folds: 2,
+        ..Default::default()
+    };
+    train(&cases, "bench", 0, &tc, &|_, _| {})
+        .unwrap()
+        .surrogate
+}
+
+fn bench(c: &mut Criterion) {
+    let targets = [
+        Target::new(Output::AngleDeg, 2.0, 40.0, 1.0),
+        Target::new(Output::ForceN, 2.0, 1.3, 0.05),
+    ];
+    let shipped =
+        Surrogate::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator.json"))
+            .unwrap();
+    let mut g = c.benchmark_group("design_search");
+    g.measurement_time(Duration::from_secs(8)).sample_size(20);
+    for (name, model, material) in [
+        ("shipped_n9_13", shipped, CALIBRATED),
+        ("synthetic_n7_15", synthetic(), OGDEN_002),
+    ] {
+        let bounds = DesignBounds::of_model(&model);
+        let settings = DesignSearch::default();
+        let report = search(&model, material, &targets, &bounds, &settings).unwrap();
+        eprintln!(
+            "{name}: pick N = {}, T = {:.3} mm, {} scan and {} gradient evaluations over {} N",
+            report.pick.n,
+            report.pick.t_mm,
+            report.evaluations.scan,
+            report.evaluations.gradient,
+            report.designs.len()
+        );
+        g.bench_function(name, |b| {
+            b.iter(|| search(&model, black_box(material), &targets, &bounds, &settings).unwrap())
+        });
+    }
+    g.finish();
+}
+
+criterion_group!(benches, bench);
+criterion_main!(benches);
