@@ -15,66 +15,12 @@
 //! zero: the tip as the distance between the predicted and the FE tip positions (mm), the
 //! bending angle (°) and the blocked force (N).
 
-use serde::{Deserialize, Serialize};
+pub use super::metrics::{HeldOutErrors, HeldOutNReport};
 
 use super::data::CaseSet;
 use super::train::{train, TrainConfig};
 use super::{RomError, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
 use crate::case::Query;
-
-/// Mean absolute errors of the scalar outputs over a set of held-out cases.
-#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
-pub struct HeldOutErrors {
-    /// Number of held-out cases.
-    pub cases: usize,
-    /// Compared (case, pressure) points.
-    pub points: usize,
-    /// Mean distance between predicted and FE tip positions, mm.
-    pub tip_mm: f64,
-    /// Mean |angle error|, degrees.
-    pub angle_deg: f64,
-    /// Mean |blocked-force error|, N.
-    pub force_n: f64,
-    /// Largest tip distance, mm.
-    pub max_tip_mm: f64,
-}
-
-/// The result of [`study`].
-#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
-pub struct HeldOutNReport {
-    /// The numbers of bellows held out.
-    pub held_out: Vec<u32>,
-    /// The numbers of bellows trained on.
-    pub trained: Vec<u32>,
-    /// Training cases.
-    pub training_cases: usize,
-    /// Errors per held-out `N`, in `held_out` order.
-    pub per_n: Vec<HeldOutErrors>,
-    /// Errors over every held-out case.
-    pub all: HeldOutErrors,
-}
-
-impl HeldOutNReport {
-    /// A text table: one row per held-out `N` and one for all.
-    pub fn table(&self) -> String {
-        let mut s = format!(
-            "trained on N = {:?} ({} cases); mean |error| over every held-out case and pressure > 0\n",
-            self.trained, self.training_cases
-        );
-        s.push_str("  N      cases  points  tip mm  (max)   angle °  force N\n");
-        let row = |label: String, e: &HeldOutErrors| {
-            format!(
-                "  {label:<6} {:>5}  {:>6}  {:>6.3}  ({:>5.2})  {:>7.3}  {:>7.4}\n",
-                e.cases, e.points, e.tip_mm, e.max_tip_mm, e.angle_deg, e.force_n
-            )
-        };
-        for (n, e) in self.held_out.iter().zip(&self.per_n) {
-            s.push_str(&row(n.to_string(), e));
-        }
-        s.push_str(&row("all".into(), &self.all));
-        s
-    }
-}
 
 /// Trains on the cases of `set` whose `N` is not in `held_out` (with `N` ordinal, whatever
 /// `cfg` says) and measures the model on the held-out cases.

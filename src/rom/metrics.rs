@@ -124,7 +124,7 @@ pub struct Validation {
     /// ([`super::held_out_n`]), the evidence that the model interpolates in `N`. Absent:
     /// not measured.
     #[serde(default, skip_serializing_if = "Option::is_none")]
-    pub held_out_n: Option<super::held_out_n::HeldOutNReport>,
+    pub held_out_n: Option<HeldOutNReport>,
 }
 
 /// Pressure-interpolation error of one output: each interior node of every training ramp is
@@ -192,6 +192,60 @@ impl Validation {
                 ));
             }
         }
+        s
+    }
+}
+
+/// Mean absolute errors of the scalar outputs over a set of held-out cases.
+#[derive(Debug, Clone, Copy, Default, PartialEq, Serialize, Deserialize)]
+pub struct HeldOutErrors {
+    /// Number of held-out cases.
+    pub cases: usize,
+    /// Compared (case, pressure) points.
+    pub points: usize,
+    /// Mean distance between predicted and FE tip positions, mm.
+    pub tip_mm: f64,
+    /// Mean |angle error|, degrees.
+    pub angle_deg: f64,
+    /// Mean |blocked-force error|, N.
+    pub force_n: f64,
+    /// Largest tip distance, mm.
+    pub max_tip_mm: f64,
+}
+
+/// The result of [`super::held_out_n::study`].
+#[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
+pub struct HeldOutNReport {
+    /// The numbers of bellows held out.
+    pub held_out: Vec<u32>,
+    /// The numbers of bellows trained on.
+    pub trained: Vec<u32>,
+    /// Training cases.
+    pub training_cases: usize,
+    /// Errors per held-out `N`, in `held_out` order.
+    pub per_n: Vec<HeldOutErrors>,
+    /// Errors over every held-out case.
+    pub all: HeldOutErrors,
+}
+
+impl HeldOutNReport {
+    /// A text table: one row per held-out `N` and one for all.
+    pub fn table(&self) -> String {
+        let mut s = format!(
+            "trained on N = {:?} ({} cases); mean |error| over every held-out case and pressure > 0\n",
+            self.trained, self.training_cases
+        );
+        s.push_str("  N      cases  points  tip mm  (max)   angle °  force N\n");
+        let row = |label: String, e: &HeldOutErrors| {
+            format!(
+                "  {label:<6} {:>5}  {:>6}  {:>6.3}  ({:>5.2})  {:>7.3}  {:>7.4}\n",
+                e.cases, e.points, e.tip_mm, e.max_tip_mm, e.angle_deg, e.force_n
+            )
+        };
+        for (n, e) in self.held_out.iter().zip(&self.per_n) {
+            s.push_str(&row(n.to_string(), e));
+        }
+        s.push_str(&row("all".into(), &self.all));
         s
     }
 }

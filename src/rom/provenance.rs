@@ -41,11 +41,16 @@ pub struct TrainingInfo {
     pub built_with: Option<BuiltWith>,
 }
 
+/// [`TrainingInfo::n_treatment`] of a model trained with
+/// [`TrainConfig::ordinal_n`](super::TrainConfig::ordinal_n).
+pub const N_ORDINAL: &str =
+    "ordinal regression input; predictions at every integer N between the trained ends";
+
 impl TrainingInfo {
     /// Whether the model was trained with `N` as an ordinal input
     /// ([`super::TrainConfig::ordinal_n`]).
     pub fn ordinal_n(&self) -> bool {
-        self.n_treatment == super::train::N_ORDINAL
+        self.n_treatment == N_ORDINAL
     }
 }
 

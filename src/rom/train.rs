@@ -16,7 +16,7 @@ use rayon::prelude::*;
 use super::data::{CaseRamp, CaseSet, PartialRamp};
 use super::metrics::{ErrorAccumulator, InterpolationCheck, OutputValidation, Validation};
 use super::pod::PodBasis;
-use super::provenance::TrainingInfo;
+use super::provenance::{TrainingInfo, N_ORDINAL};
 use super::regression::gp::{Gp, GpParams};
 use super::regression::poly::{Poly, PolyParams};
 use super::regression::{
@@ -716,10 +716,6 @@ fn n_treatment(ordinal: bool) -> String {
         "numeric regression input; predictions only at trained N".into()
     }
 }
-
-/// [`TrainingInfo::n_treatment`] of a model trained with [`TrainConfig::ordinal_n`].
-pub const N_ORDINAL: &str =
-    "ordinal regression input; predictions at every integer N between the trained ends";
 
 /// Trains a surrogate on a case set: cross-validation, choice, final fit.
 /// `progress(done, total)` is called after each fold and after the final fit.

@@ -862,6 +862,16 @@ fn ordinal_n_predicts_between_trained_n_and_hold_out_n_measures_it() {
         .output()
         .unwrap();
     assert!(o.status.success(), "{}", text(&o).1);
+    let o = bin()
+        .args(["predict", "--validation", "--model"])
+        .arg(&path)
+        .output()
+        .unwrap();
+    let out = text(&o).0;
+    assert!(
+        out.contains("ordinal regression input") && out.contains("trained on N = [9, 13]"),
+        "{out}"
+    );
     fails_with(
         &train(&["--ordinal-n", "--hold-out-n", "13"]),
         &["13", "strictly between"],

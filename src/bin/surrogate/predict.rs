@@ -33,6 +33,13 @@ pub fn run(a: PredictArgs) -> Result<()> {
                 text.push_str(&format!("\n{}", e.table()));
             }
         }
+        if let Some(h) = &model.validation.held_out_n {
+            text.push_str(&format!(
+                "\nN {}; numbers of bellows held out of a second training:\n{}",
+                model.training.n_treatment,
+                h.table()
+            ));
+        }
         match model.model_form() {
             Some(m) => text.push_str(&format!("\n{}", m.table())),
             None => text.push_str(&format!("\n{}\n", no_model_form())),
