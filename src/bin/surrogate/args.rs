@@ -1,7 +1,9 @@
 //! Command-line arguments (clap derive), one struct per subcommand.
 use std::path::PathBuf;
 
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use surrogate::rom::regression::{Registry, RegressorKind};
 
 /// Finite-element model and reduced-order surrogate of soft pneumatic bellow actuators.
 #[derive(Debug, Parser)]
@@ -348,15 +350,6 @@ pub struct EffectsArgs {
     pub json: bool,
 }
 
-/// Regressor family restriction.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum OnlyArg {
-    /// Gaussian process only.
-    Gp,
-    /// Polynomial only.
-    Poly,
-}
-
 /// `surrogate train`.
 #[derive(Debug, Args)]
 pub struct TrainArgs {
@@ -416,9 +409,9 @@ pub struct TrainArgs {
     /// vector per block it needs.
     #[arg(long)]
     pub kernel_per_block: bool,
-    /// Restrict the regressor to one family.
-    #[arg(long, value_enum)]
-    pub only: Option<OnlyArg>,
+    /// Restrict the choice to one regressor of the registry, by name.
+    #[arg(long, value_name = "REGRESSOR", value_parser = registered_regressor())]
+    pub only: Option<RegressorKind>,
     /// Keep the faster polynomial unless the GP's held-out RMSE is smaller by more than this
     /// relative margin (e.g. 0.2); 0 chooses by accuracy alone.
     #[arg(long, default_value_t = 0.0)]
@@ -760,4 +753,10 @@ pub struct DemoArgs {
 /// calibrated set at full precision (`surrogate::rom::material_spec`); any other spec as given.
 fn material_spec(spec: &str) -> Result<String, String> {
     surrogate::rom::material_spec::expand(spec).map_err(|e| e.to_string())
+}
+
+/// A regressor of the built-in registry by name (`--only`): the registry's names are the
+/// possible values, listed in the help and in the error for any other.
+fn registered_regressor() -> impl TypedValueParser<Value = RegressorKind> {
+    PossibleValuesParser::new(Registry::builtin().names()).map(|name| RegressorKind::named(&name))
 }
