@@ -379,47 +379,24 @@ impl ThinSvd {
     }
 }
 
-/// The thin SVD of `a` by faer, computed sequentially (`Par::Seq`: the result does not depend
-/// on the number of threads). A matrix with non-finite entries, on which the iteration does not
-/// converge, gives NaN factors.
+/// The thin SVD of `a` ([`crate::rom::svd::thin_svd`]: computed sequentially, so that the
+/// result does not depend on the number of threads). A matrix with non-finite entries, on which
+/// the iteration does not converge, gives NaN factors.
 fn thin_svd(a: &DMatrix<f64>) -> ThinSvd {
-    use faer::dyn_stack::{MemBuffer, MemStack};
-    use faer::linalg::svd::{svd, svd_scratch, ComputeSvdVectors};
     let (m, n) = (a.nrows(), a.ncols());
     let k = m.min(n);
     let mat = faer::Mat::<f64>::from_fn(m, n, |i, j| a[(i, j)]);
-    let mut u = faer::Mat::<f64>::zeros(m, k);
-    let mut v = faer::Mat::<f64>::zeros(n, k);
-    let mut s = faer::diag::Diag::<f64>::zeros(k);
-    let (par, thin) = (faer::Par::Seq, ComputeSvdVectors::Thin);
-    let mut mem = MemBuffer::new(svd_scratch::<f64>(
-        m,
-        n,
-        thin,
-        thin,
-        par,
-        Default::default(),
-    ));
-    let done = svd(
-        mat.as_ref(),
-        s.as_mut(),
-        Some(u.as_mut()),
-        Some(v.as_mut()),
-        par,
-        MemStack::new(&mut mem),
-        Default::default(),
-    );
-    if done.is_err() {
+    let Ok(svd) = crate::rom::svd::thin_svd(mat.as_ref()) else {
         return ThinSvd {
             u: DMatrix::from_element(m, k, f64::NAN),
             s: vec![f64::NAN; k],
             v: DMatrix::from_element(n, k, f64::NAN),
         };
-    }
+    };
     ThinSvd {
-        u: DMatrix::from_fn(m, k, |i, j| u[(i, j)]),
-        s: s.column_vector().iter().copied().collect(),
-        v: DMatrix::from_fn(n, k, |i, j| v[(i, j)]),
+        u: DMatrix::from_fn(m, k, |i, j| svd.u[(i, j)]),
+        s: svd.s,
+        v: DMatrix::from_fn(n, k, |i, j| svd.v[(i, j)]),
     }
 }
 

@@ -115,6 +115,7 @@ pub mod provenance;
 pub mod ramp;
 pub mod regression;
 pub mod surrogate;
+pub(crate) mod svd;
 pub mod synthetic;
 pub mod train;
 pub mod warp;

@@ -11,6 +11,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::data::CaseRamp;
+use super::svd::thin_svd;
 use super::{RomError, N_MARKER_COMPONENTS};
 
 /// A POD basis of one block of quantities.
@@ -107,7 +108,11 @@ impl PodBasis {
             .map(|e| group_scale[scale_group(quantities[e % nq])])
             .collect();
         let mat = faer::Mat::<f64>::from_fn(dim, n, |e, c| (snaps[c][e] - mean[e]) / scale[e]);
-        let (u, sv) = thin_svd_sequential(&mat)?;
+        let svd = thin_svd(mat.as_ref()).map_err(|e| RomError::Numerical {
+            stage: "POD thin SVD".into(),
+            message: format!("{e:?}"),
+        })?;
+        let (u, sv) = (svd.u, svd.s);
         let r = modes_to_keep(&sv, tol, max_modes);
         let mut modes = vec![0.0; dim * r];
         for e in 0..dim {
@@ -218,43 +223,6 @@ impl PodBasis {
             0.0
         }
     }
-}
-
-/// Thin SVD `A = U Σ Vᵀ` computed sequentially (`Par::Seq`), so that the basis does not depend on
-/// the number of threads; returns `U` and the singular values (non-increasing).
-fn thin_svd_sequential(a: &faer::Mat<f64>) -> Result<(faer::Mat<f64>, Vec<f64>), RomError> {
-    use faer::dyn_stack::{MemBuffer, MemStack};
-    use faer::linalg::svd::{svd, svd_scratch, ComputeSvdVectors};
-    let (m, n) = (a.nrows(), a.ncols());
-    let size = m.min(n);
-    let mut u = faer::Mat::<f64>::zeros(m, size);
-    let mut v = faer::Mat::<f64>::zeros(n, size);
-    let mut s = faer::diag::Diag::<f64>::zeros(size);
-    let par = faer::Par::Seq;
-    let thin = ComputeSvdVectors::Thin;
-    let mut mem = MemBuffer::new(svd_scratch::<f64>(
-        m,
-        n,
-        thin,
-        thin,
-        par,
-        Default::default(),
-    ));
-    svd(
-        a.as_ref(),
-        s.as_mut(),
-        Some(u.as_mut()),
-        Some(v.as_mut()),
-        par,
-        MemStack::new(&mut mem),
-        Default::default(),
-    )
-    .map_err(|e| RomError::Numerical {
-        stage: "POD thin SVD".into(),
-        message: format!("{e:?}"),
-    })?;
-    let sv = s.column_vector().iter().copied().collect();
-    Ok((u, sv))
 }
 
 /// Smallest `r ≥ 1` with discarded energy `≤ tol`, capped at `max_modes`.

@@ -793,6 +793,50 @@ fn train_refuses_to_overwrite_without_force() {
     assert!(left.is_empty(), "{left:?}");
 }
 
+/// `--only` takes the name of any regressor of the registry, and refuses another naming the
+/// flag, the value and the registered names.
+#[test]
+fn train_only_takes_a_registered_regressor_by_name() {
+    let path = dir().join("only_gp.json");
+    let train = |only: &str| {
+        bin()
+            .args([
+                "train",
+                "--force",
+                "--synthetic",
+                "12",
+                "--folds",
+                "2",
+                "--quiet",
+                "--only",
+                only,
+                "--out",
+            ])
+            .arg(&path)
+            .output()
+            .unwrap()
+    };
+    let names = surrogate::rom::regression::Registry::builtin().names();
+    let mut needles = vec!["--only", "'kriging'"];
+    needles.extend(&names);
+    fails_with(&train("kriging"), &needles);
+    assert!(!path.exists(), "a refused flag wrote {}", path.display());
+    for name in names {
+        let o = train(name);
+        assert!(o.status.success(), "--only {name}: {}", text(&o).1);
+        let model = surrogate::rom::Surrogate::load(&path).unwrap();
+        assert!(
+            model.blocks.iter().all(|b| b.regressor.name() == name),
+            "--only {name}: {:?}",
+            model
+                .blocks
+                .iter()
+                .map(|b| b.regressor.name())
+                .collect::<Vec<_>>()
+        );
+    }
+}
+
 /// A missing default model says where it was looked for, once (no repeated cause).
 #[test]
 fn a_missing_named_model_says_where_it_was_looked_for() {

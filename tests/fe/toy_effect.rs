@@ -1,9 +1,12 @@
 //! A program's own effect, outside the crate: one type implementing `CaseEffect` (here a
 //! gauge reading low, the cavities at `(1 + g)·P`) and one registration line. It parses by
-//! name, acts on the coarse actuator exactly as the pressure it stands for, and its
-//! sensitivity (the method its target declares: the load level's pressure) matches finite
-//! differences of full runs.
+//! name (in effect assignments, parameter lists and JSON), acts on the coarse actuator exactly
+//! as the pressure it stands for, and its sensitivity (the method its target declares: the
+//! load level's pressure) matches finite differences of full runs.
 
+use std::collections::BTreeMap;
+
+use serde::de::DeserializeSeed;
 use surrogate::fe::effects::{
     CaseEffect, Differentiation, Effect, EffectError, EffectInfo, EffectRegistry, Effects, Kind,
     Target,
@@ -11,7 +14,9 @@ use surrogate::fe::effects::{
 use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
-use surrogate::fe::sensitivity::{simulate_with_sensitivities, Outputs, Parameter};
+use surrogate::fe::sensitivity::{
+    simulate_with_sensitivities, OgdenParameter, Outputs, Parameter, SensitivityError,
+};
 use surrogate::fe::simulate::{simulate, Case, ContactSettings, Mode, StepResult};
 use surrogate::fe::solver::SolverSettings;
 
@@ -101,6 +106,70 @@ fn a_registered_effect_parses_by_name_and_is_refused_elsewhere() {
     assert!(matches!(
         registry.with(GAUGE_GAIN),
         Err(EffectError::Invalid { .. })
+    ));
+}
+
+#[test]
+fn a_registered_effect_is_a_parameter_and_reads_from_json_through_its_registry() {
+    let registry = registry();
+    // a parameter list names it beside the material and the library's effects
+    let mu1 = Parameter::Material(OgdenParameter::Mu1);
+    let (toy, wall) = (
+        Parameter::Effect(GAUGE_GAIN),
+        Parameter::Effect(Effect::WallBias),
+    );
+    assert_eq!(
+        Parameter::parse_list_with("mu1, gauge_gain, wall_bias", &registry).unwrap(),
+        [mu1, toy, wall]
+    );
+    let all = Parameter::parse_list_with("all", &registry).unwrap();
+    assert_eq!(all.last(), Some(&toy));
+    assert_eq!(all.len(), Parameter::all().len() + 1);
+    // the library alone refuses it, naming it and the names it knows
+    let err = Parameter::parse_list("mu1,gauge_gain").unwrap_err();
+    assert!(
+        matches!(&err, SensitivityError::Unknown { name, .. } if name == "gauge_gain"),
+        "{err}"
+    );
+    let text = err.to_string();
+    assert!(
+        text.contains("'gauge_gain'") && text.contains("wall_bias"),
+        "{text}"
+    );
+    assert_eq!(text.matches("gauge_gain").count(), 1, "{text}");
+    // a `{name: value}` object reads through the registry, range checked
+    let read = |text: &str| registry.deserialize(&mut serde_json::Deserializer::from_str(text));
+    let json = r#"{"gauge_gain":0.2,"wall_bias":0.1}"#;
+    let e = read(json).unwrap();
+    assert_eq!(
+        e,
+        registry.parse(["gauge_gain=0.2", "wall_bias=0.1"]).unwrap()
+    );
+    assert_eq!(serde_json::to_string(&e).unwrap(), json);
+    let err = read(r#"{"gauge_gain":0.7}"#).unwrap_err().to_string();
+    assert!(
+        err.contains("gauge_gain = 0.7") && err.contains("[0, 0.5]"),
+        "{err}"
+    );
+    // and the library's reading refuses it, naming it and the library's names
+    let err = serde_json::from_str::<Effects>(json)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains(r#"unknown effect "gauge_gain": expected one of wall_bias"#),
+        "{err}"
+    );
+    let map: BTreeMap<String, f64> = [("gauge_gain".to_string(), 0.2)].into();
+    assert_eq!(
+        registry
+            .effects_from_map(map.clone())
+            .unwrap()
+            .get(GAUGE_GAIN),
+        0.2
+    );
+    assert!(matches!(
+        Effects::try_from(map),
+        Err(EffectError::Unknown { name, .. }) if name == "gauge_gain"
     ));
 }
 

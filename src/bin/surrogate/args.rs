@@ -1,7 +1,9 @@
 //! Command-line arguments (clap derive), one struct per subcommand.
 use std::path::PathBuf;
 
+use clap::builder::{PossibleValuesParser, TypedValueParser};
 use clap::{Args, Parser, Subcommand, ValueEnum};
+use surrogate::rom::regression::{Registry, RegressorKind};
 
 use crate::files::material_spec;
 
@@ -356,15 +358,6 @@ pub struct EffectsArgs {
     pub json: bool,
 }
 
-/// Regressor family restriction.
-#[derive(Debug, Clone, Copy, ValueEnum)]
-pub enum OnlyArg {
-    /// Gaussian process only.
-    Gp,
-    /// Polynomial only.
-    Poly,
-}
-
 /// `surrogate train`.
 #[derive(Debug, Args)]
 pub struct TrainArgs {
@@ -424,9 +417,9 @@ pub struct TrainArgs {
     /// vector per block it needs.
     #[arg(long)]
     pub kernel_per_block: bool,
-    /// Restrict the regressor to one family.
-    #[arg(long, value_enum)]
-    pub only: Option<OnlyArg>,
+    /// Restrict the choice to one regressor of the registry, by name.
+    #[arg(long, value_name = "REGRESSOR", value_parser = registered_regressor())]
+    pub only: Option<RegressorKind>,
     /// Keep the faster polynomial unless the GP's held-out RMSE is smaller by more than this
     /// relative margin (e.g. 0.2); 0 chooses by accuracy alone.
     #[arg(long, default_value_t = 0.0)]
@@ -771,4 +764,10 @@ pub struct DemoArgs {
     /// data/demo/fe_standard_ramps/ of the repository].
     #[arg(long)]
     pub fe_cache: Option<PathBuf>,
+}
+
+/// A regressor of the built-in registry by name (`--only`): the registry's names are the
+/// possible values, listed in the help and in the error for any other.
+fn registered_regressor() -> impl TypedValueParser<Value = RegressorKind> {
+    PossibleValuesParser::new(Registry::builtin().names()).map(|name| RegressorKind::named(&name))
 }

@@ -5,7 +5,6 @@ use surrogate::rom::data::{CaseSet, SnapshotSet};
 use surrogate::rom::fidelity::correct_low_fidelity;
 use surrogate::rom::held_out_n;
 use surrogate::rom::provenance::CorrectionInfo;
-use surrogate::rom::regression::RegressorKind;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::train::{HeldOutPoint, TrainReport};
 use surrogate::rom::{train, Surrogate, TrainConfig};
@@ -13,7 +12,7 @@ use surrogate::schema;
 use surrogate::snapshots::merge::sidecar_path;
 use surrogate::snapshots::plan::Plan;
 
-use crate::args::{OnlyArg, TrainArgs};
+use crate::args::TrainArgs;
 
 /// Trains on the first `k` cases (by case id) for each `k` and prints the held-out RMSE of
 /// every output: how accuracy grows with the size of the set.
@@ -151,10 +150,7 @@ fn train_config(a: &TrainArgs) -> TrainConfig {
         pod_tol: a.pod_tol,
         max_field_modes: usize::from(a.max_field_modes),
         max_direct_modes: usize::from(a.max_direct_modes),
-        only: a.only.map(|o| match o {
-            OnlyArg::Gp => RegressorKind::GP,
-            OnlyArg::Poly => RegressorKind::POLY,
-        }),
+        only: a.only.clone(),
         prefer_poly_within: a.prefer_poly_within,
         kernel_per_block: a.kernel_per_block,
         fill_truncated: a.fill_truncated,

@@ -24,10 +24,11 @@ use crate::fe::material::{Material, MaterialError};
 /// the reported force). The hooks of other targets are never called. A hook is only called
 /// with a value other than the neutral one: at its neutral value an effect changes nothing.
 ///
-/// An implementation is a unit struct in a file of its own; [`Effect::new`] makes it a
-/// handle, and [`BUILTIN_EFFECTS`](super::BUILTIN_EFFECTS) lists the library's. A program adds
-/// its own to an [`EffectRegistry`](super::EffectRegistry) (for names on its command line or in
-/// its files) or sets its handle straight into [`Effects`](super::Effects).
+/// An implementation is a unit struct in a file of its own, or a value of a shape several
+/// effects share (the wall biases'); [`Effect::new`] makes it a handle, and
+/// [`BUILTIN_EFFECTS`](super::BUILTIN_EFFECTS) lists the library's. A program adds its own to
+/// an [`EffectRegistry`](super::EffectRegistry) (for names on its command line or in its
+/// files) or sets its handle straight into [`Effects`](super::Effects).
 pub trait CaseEffect: Send + Sync {
     /// Name, meaning, unit, neutral value, range, kind and source.
     fn info(&self) -> &EffectInfo;

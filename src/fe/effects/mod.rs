@@ -66,15 +66,16 @@
 //!   newton), which lowers the force the tip builds up against it.
 
 //!
-//! **An open library.** Each effect is a type implementing [`CaseEffect`], in a file of its
-//! own here: its description ([`EffectInfo`]), the part of the case it acts on ([`Target`]:
-//! geometry, pressure, self-weight, material, clamp, force plate, reported force), how it is
-//! applied there (a hook of the trait) and how it is differentiated ([`Differentiation`],
-//! by default its target's). [`BUILTIN_EFFECTS`] lists the library's, one line each, in the
-//! order they are listed and applied; [`Effect`] is the handle the rest of the crate passes
-//! around. A program adds its own without changing the crate: `Effect::new(&MINE)` can be
-//! set into [`Effects`] and differentiated like the library's, and
-//! [`EffectRegistry::with`] makes its name known to the program's parsing.
+//! **An open library.** Each effect implements [`CaseEffect`] in a file of its own here (the
+//! three wall biases as values of one shape, `walls.rs`, each file naming its walls): its
+//! description ([`EffectInfo`]), the part of the case it acts on ([`Target`]: geometry,
+//! pressure, self-weight, material, clamp, force plate, reported force), how it is applied
+//! there (a hook of the trait) and how it is differentiated ([`Differentiation`], by default
+//! its target's). [`BUILTIN_EFFECTS`] lists the library's, one line each, in the order they
+//! are listed and applied; [`Effect`] is the handle the rest of the crate passes around. A
+//! program adds its own without changing the crate: `Effect::new(&MINE)` can be set into
+//! [`Effects`] and differentiated like the library's, and [`EffectRegistry::with`] makes its
+//! name known to the program's parsing.
 
 mod effect;
 mod registry;
@@ -97,6 +98,7 @@ mod wall_bias;
 mod wall_bias_bellows;
 mod wall_bias_side;
 mod wall_bias_skin;
+mod walls;
 
 pub use effect::{
     Acts, CaseEffect, Differentiation, Effect, EffectError, EffectInfo, Kind, Target,

@@ -2,6 +2,9 @@
 //! with a program's own ([`EffectRegistry`]): the names the command line, the files and the
 //! sensitivities know.
 
+use std::collections::BTreeMap;
+
+use serde::de::{DeserializeSeed, Error as _};
 use serde::{Deserialize, Deserializer};
 
 use super::effect::{Effect, EffectError};
@@ -68,6 +71,15 @@ fn parse<'a>(
             });
         }
         out.set(e, v)?;
+    }
+    Ok(out)
+}
+
+/// The effects of a `{name: value}` map (a file's), the names among `effects`.
+fn from_map(effects: &[Effect], values: BTreeMap<String, f64>) -> Result<Effects, EffectError> {
+    let mut out = Effects::default();
+    for (name, v) in values {
+        out.set(find(effects, &name)?, v)?;
     }
     Ok(out)
 }
@@ -172,15 +184,31 @@ impl EffectRegistry {
     ) -> Result<Effects, EffectError> {
         parse(&self.effects, items)
     }
+
+    /// The effects of a `{name: value}` map read from a file, the names among the registered
+    /// ones (what [`Effects`] read from JSON are, with the library's names only).
+    ///
+    /// # Errors
+    /// [`EffectError::Unknown`] or [`EffectError::OutOfRange`] for the first bad entry.
+    pub fn effects_from_map(&self, values: BTreeMap<String, f64>) -> Result<Effects, EffectError> {
+        from_map(&self.effects, values)
+    }
 }
 
-impl TryFrom<std::collections::BTreeMap<String, f64>> for Effects {
+/// Reads [`Effects`] (a `{name: value}` object) with the registered names:
+/// `registry.deserialize(&mut serde_json::Deserializer::from_str(text))`.
+impl<'de> DeserializeSeed<'de> for &EffectRegistry {
+    type Value = Effects;
+    fn deserialize<D: Deserializer<'de>>(self, d: D) -> Result<Effects, D::Error> {
+        let values = BTreeMap::<String, f64>::deserialize(d)?;
+        self.effects_from_map(values).map_err(D::Error::custom)
+    }
+}
+
+/// The library's effects of a `{name: value}` map (how [`Effects`] are read from files).
+impl TryFrom<BTreeMap<String, f64>> for Effects {
     type Error = EffectError;
-    fn try_from(m: std::collections::BTreeMap<String, f64>) -> Result<Self, EffectError> {
-        let mut e = Effects::default();
-        for (name, v) in m {
-            e.set(Effect::from_name(&name)?, v)?;
-        }
-        Ok(e)
+    fn try_from(values: BTreeMap<String, f64>) -> Result<Self, EffectError> {
+        from_map(BUILTIN_EFFECTS, values)
     }
 }

@@ -15,7 +15,8 @@ use crate::fe::material::{Material, MaterialError};
 /// Serialised as a map `{name: value}` of the effects that are set; a case without effects
 /// writes none (`#[serde(skip_serializing_if = "Effects::is_neutral")]`), so its files and
 /// hashes are those of a case written before effects existed. Read back, the names are the
-/// library's.
+/// library's; a program's own are read through its
+/// [`EffectRegistry`](super::EffectRegistry) (a `DeserializeSeed`).
 #[derive(Clone, Debug, Default, PartialEq, Serialize, Deserialize)]
 #[serde(try_from = "BTreeMap<String, f64>", into = "BTreeMap<String, f64>")]
 pub struct Effects {

@@ -1,10 +1,11 @@
 //! The parameters outputs are differentiated with respect to: the four Ogden parameters of the
-//! material and every effect of the library ([`crate::fe::effects`]).
+//! material and every effect of the library ([`crate::fe::effects`]), or of a program's
+//! [`EffectRegistry`] (the `*_with` functions).
 
 use serde::{Deserialize, Deserializer, Serialize, Serializer};
 
 use super::SensitivityError;
-use crate::fe::effects::Effect;
+use crate::fe::effects::{Effect, EffectRegistry};
 
 /// A parameter of the second-order Ogden law (ANSYS convention).
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Hash)]
@@ -76,43 +77,68 @@ impl Parameter {
 
     /// Every parameter: the four material ones, then the effects in the library's order.
     pub fn all() -> Vec<Parameter> {
+        Parameter::all_with(&EffectRegistry::builtin())
+    }
+
+    /// Every parameter a program knows: the four material ones, then the effects of
+    /// `registry` in its order.
+    pub fn all_with(registry: &EffectRegistry) -> Vec<Parameter> {
         OgdenParameter::ALL
             .into_iter()
             .map(Parameter::Material)
-            .chain(Effect::all().map(Parameter::Effect))
+            .chain(registry.iter().map(Parameter::Effect))
             .collect()
     }
 
-    /// The parameter called `name`.
+    /// The parameter called `name` (a material parameter or an effect of the library).
     ///
     /// # Errors
     /// [`SensitivityError::Unknown`] listing the names.
     pub fn from_name(name: &str) -> Result<Parameter, SensitivityError> {
-        Parameter::all()
-            .into_iter()
+        Parameter::from_name_with(name, &EffectRegistry::builtin())
+    }
+
+    /// The parameter called `name`: a material parameter or an effect of `registry`.
+    ///
+    /// # Errors
+    /// [`SensitivityError::Unknown`] listing the names.
+    pub fn from_name_with(
+        name: &str,
+        registry: &EffectRegistry,
+    ) -> Result<Parameter, SensitivityError> {
+        let all = Parameter::all_with(registry);
+        all.iter()
+            .copied()
             .find(|p| p.name() == name)
             .ok_or_else(|| SensitivityError::Unknown {
                 name: name.to_string(),
-                known: Parameter::all()
-                    .iter()
-                    .map(|p| p.name())
-                    .collect::<Vec<_>>()
-                    .join(", "),
+                known: all.iter().map(|p| p.name()).collect::<Vec<_>>().join(", "),
             })
     }
 
-    /// A list `NAME,NAME,…` or `all`.
+    /// A list `NAME,NAME,…` or `all`, the effects among the library's.
     ///
     /// # Errors
     /// [`SensitivityError::Unknown`] for a name that is not a parameter (or an empty list),
     /// [`SensitivityError::Duplicate`] for one given twice.
     pub fn parse_list(text: &str) -> Result<Vec<Parameter>, SensitivityError> {
+        Parameter::parse_list_with(text, &EffectRegistry::builtin())
+    }
+
+    /// A list `NAME,NAME,…` or `all`, the effects among those of `registry`.
+    ///
+    /// # Errors
+    /// See [`Self::parse_list`].
+    pub fn parse_list_with(
+        text: &str,
+        registry: &EffectRegistry,
+    ) -> Result<Vec<Parameter>, SensitivityError> {
         if text.trim() == "all" {
-            return Ok(Parameter::all());
+            return Ok(Parameter::all_with(registry));
         }
         let mut out: Vec<Parameter> = Vec::new();
         for name in text.split(',').map(str::trim) {
-            let p = Parameter::from_name(name)?;
+            let p = Parameter::from_name_with(name, registry)?;
             if out.contains(&p) {
                 return Err(SensitivityError::Duplicate {
                     name: name.to_string(),

@@ -194,10 +194,7 @@ impl Regressor for Poly {
 
     /// The settings given under `"poly"`, else the defaults.
     fn training_params(settings: &TrainingSettings<'_>) -> PolyParams {
-        settings
-            .params_of::<PolyParams>(Self::NAME)
-            .cloned()
-            .unwrap_or_default()
+        settings.params_or_default::<Self>()
     }
 
     fn fit(data: &Data<'_>, params: &PolyParams) -> Result<Self, RomError> {

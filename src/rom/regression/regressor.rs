@@ -140,6 +140,17 @@ impl TrainingSettings<'_> {
             .find(|(n, _)| *n == name)
             .and_then(|(_, p)| p.downcast_ref::<P>())
     }
+
+    /// The settings given for regressor `R` (under its [`Regressor::NAME`]), else its default
+    /// settings.
+    pub fn params_or_default<R: Regressor>(&self) -> R::Params
+    where
+        R::Params: Clone + Default + 'static,
+    {
+        self.params_of::<R::Params>(R::NAME)
+            .cloned()
+            .unwrap_or_default()
+    }
 }
 
 /// A regressor's outputs as linear combinations of basis functions (see

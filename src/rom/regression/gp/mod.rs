@@ -312,10 +312,7 @@ impl Regressor for Gp {
     /// The settings given under `"gp"` (else the defaults); with `kernel_per_block`, one
     /// kernel per POD block.
     fn training_params(settings: &TrainingSettings<'_>) -> GpParams {
-        let base = settings
-            .params_of::<GpParams>(Self::NAME)
-            .cloned()
-            .unwrap_or_default();
+        let base = settings.params_or_default::<Self>();
         if settings.kernel_per_block {
             GpParams {
                 groups: settings.blocks.to_vec(),
