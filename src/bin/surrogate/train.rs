@@ -107,7 +107,10 @@ fn hold_out_n(
     }
     eprintln!("holding out N = {:?}: training without them", a.hold_out_n);
     let report = held_out_n::study(cases, source, &a.hold_out_n, cfg, &|_, _| {})?;
-    println!("held-out N (model trained without them):\n{}", report.table());
+    println!(
+        "held-out N (model trained without them):\n{}",
+        report.table()
+    );
     Ok(Some(report))
 }
 
