@@ -227,6 +227,19 @@ fn refinement_adds_the_fe_at_the_optimum_until_the_surrogate_agrees() {
     .unwrap();
     assert!(again.rounds.iter().all(|x| x.fe_cases_run == 0));
     assert_eq!(again.final_round().set, r.final_round().set);
+    // the report reads back from its file, and one without rounds is refused at the door
+    let text = serde_json::to_string(&r).unwrap();
+    let back: Refinement = serde_json::from_str(&text).unwrap();
+    assert_eq!(back.final_round().set, r.final_round().set);
+    let mut empty: serde_json::Value = serde_json::from_str(&text).unwrap();
+    empty["rounds"] = serde_json::json!([]);
+    let err = serde_json::from_value::<Refinement>(empty)
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("refinement rounds = []: expected at least one round"),
+        "{err}"
+    );
     let _ = std::fs::remove_dir_all(&dir);
 }
 

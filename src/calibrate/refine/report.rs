@@ -2,7 +2,8 @@
 
 use std::path::PathBuf;
 
-use serde::{Deserialize, Serialize};
+use serde::de::Error as _;
+use serde::{Deserialize, Deserializer, Serialize};
 
 use super::shift::DataSpaceShift;
 use crate::calibrate::fit::Calibration;
@@ -71,7 +72,8 @@ pub struct RefineRound {
 /// The whole refinement.
 #[derive(Clone, Debug, Serialize, Deserialize)]
 pub struct Refinement {
-    /// Every round, in order.
+    /// Every round, in order (at least one; a file without is refused).
+    #[serde(deserialize_with = "at_least_one_round")]
     pub rounds: Vec<RefineRound>,
     /// Why it stopped.
     pub stop: RefineStop,
@@ -91,8 +93,22 @@ pub struct Refinement {
     pub models: Vec<PathBuf>,
 }
 
+/// The rounds of a refinement read from a file: at least one.
+fn at_least_one_round<'de, D: Deserializer<'de>>(d: D) -> Result<Vec<RefineRound>, D::Error> {
+    let rounds = Vec::<RefineRound>::deserialize(d)?;
+    if rounds.is_empty() {
+        return Err(D::Error::custom(
+            "refinement rounds = []: expected at least one round",
+        ));
+    }
+    Ok(rounds)
+}
+
 impl Refinement {
     /// The round whose FE verifies the final set: the last one.
+    ///
+    /// # Panics
+    /// A refinement built without rounds (one read from a file has at least one).
     pub fn final_round(&self) -> &RefineRound {
         self.rounds
             .last()
