@@ -448,9 +448,9 @@ fn print_plan(p: &MeasurementPlan) {
 pub fn print_candidates(n: &Naming, top: usize) {
     for c in n.candidates.iter().take(top) {
         println!(
-            "- {:<24} {:+.4} ± {:.4} {:<7} explains {:>5.1} % (p = {:.2e}{})",
+            "- {:<24} {} ± {:.4} {:<7} explains {:>5.1} % (p = {:.2e}{})",
             c.effect,
-            c.estimate,
+            c.size_text(4),
             c.std_error,
             c.unit,
             100.0 * c.explained,

@@ -97,6 +97,19 @@ impl Candidate {
         };
         self.base.unwrap_or_else(neutral) + self.estimate
     }
+
+    /// Its estimate in words with `decimals` decimals: `+0.120`, or from a sweep that fixed
+    /// the effect, its size with the sweep's value and the estimate, `-4.200 (-4.5 +0.300)`.
+    pub fn size_text(&self, decimals: usize) -> String {
+        match self.base {
+            None => format!("{:+.decimals$}", self.estimate),
+            Some(b) => format!(
+                "{:.decimals$} ({b} {:+.decimals$})",
+                self.size(),
+                self.estimate
+            ),
+        }
+    }
 }
 
 /// Two candidates the recordings cannot tell apart.

@@ -22,13 +22,9 @@ pub(crate) fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_materia
     effect_named(top, c, pairs, &implausible)
 }
 
-/// A candidate's estimate in words: `+0.120`, or from a sweep that fixed the effect, its
-/// size with the sweep's value and the estimate, `-4.000 (-4.5 +0.500)`.
+/// A candidate's estimate in the verdict's words ([`Candidate::size_text`]).
 fn sized(t: &Candidate) -> String {
-    match t.base {
-        None => format!("{:+.3}", t.estimate),
-        Some(b) => format!("{:.3} ({b} {:+.3})", t.size(), t.estimate),
-    }
+    t.size_text(3)
 }
 
 /// No candidate significant at a plausible size: nothing named, and why.
