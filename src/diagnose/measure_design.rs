@@ -388,6 +388,7 @@ mod tests {
     use crate::fe::effects::Effects;
     use crate::fe::material::Material;
     use crate::fe::mesh::{MeshLevel, MeshOptions};
+    use crate::fe::preset::Geometry;
     use crate::fe::sensitivity::{
         OgdenParameter, Outputs, ParameterInfo, Sensitivities, SensitivityCost, StepSensitivities,
     };
@@ -472,6 +473,7 @@ mod tests {
             version: 1,
             material: Material::from_spec("ogden_002", 1000.0).unwrap(),
             mesh: MeshOptions::level(MeshLevel::Coarse),
+            geometry: Geometry::as_modelled(),
             effects: Effects::neutral(),
             designs,
             missing: Vec::new(),

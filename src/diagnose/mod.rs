@@ -133,6 +133,22 @@ pub enum DiagnoseError {
         /// What is allowed.
         expected: String,
     },
+    /// FE sensitivities of another actuator than the model's: their sweep's geometry or fixed
+    /// effects are not those the model's training cases were built with
+    /// ([`sweep::check_built_as`]).
+    #[error(
+        "the FE sensitivities were computed with {what} {sweep}, the model's training cases \
+         were built with {what} {model}: a sweep of another actuator than the model's \
+         (`--sensitivities calibrated` computes one on the model's)"
+    )]
+    SweepBuiltOtherwise {
+        /// `geometry` or `fixed effects`.
+        what: &'static str,
+        /// The sweep's, in words.
+        sweep: String,
+        /// The model's, in words.
+        model: String,
+    },
     /// The calibration, or a surrogate query made through it.
     #[error(transparent)]
     Calibrate(#[from] crate::calibrate::CalibrateError),

@@ -8,7 +8,7 @@ use super::measure_design::{plan, MeasurementPlan, PlanSettings};
 use super::mesh_error::{mesh_error, MeshError};
 use super::name::{name_refitted, NameSettings, Naming};
 use super::refit::{refit, Refit, RefitSettings};
-use super::sweep::SweepCoverage;
+use super::sweep::{check_built_as, SweepCoverage};
 use super::DiagnoseError;
 use crate::calibrate::fit::describe_exclusions;
 use crate::calibrate::inputs::InputFile;
@@ -196,14 +196,16 @@ impl Diagnosis {
     /// coverage of the table by `sens` ([`Self::cover`]).
     ///
     /// # Errors
-    /// See [`name_refitted`]; too few cells with sensitivities (the stage is then recorded
-    /// as not run, [`Self::cover`]).
+    /// Sensitivities of another actuator than `model`'s ([`check_built_as`]); see
+    /// [`name_refitted`]; too few cells with sensitivities (the stage is then recorded as not
+    /// run, [`Self::cover`]).
     pub fn name_with(
         &mut self,
         sens: &crate::calibrate::baseline::SweepSensitivities,
         model: &Surrogate,
         settings: &NameSettings,
     ) -> Result<&Naming, DiagnoseError> {
+        check_built_as(sens, model.training.built_with.as_ref())?;
         let coverage = self.cover(sens);
         if !coverage.enough() {
             return Err(DiagnoseError::input(
@@ -302,13 +304,14 @@ impl Diagnosis {
     /// `model` (the surrogate the calibration used), and records it.
     ///
     /// # Errors
-    /// See [`refit`].
+    /// Sensitivities of another actuator than `model`'s ([`check_built_as`]); see [`refit`].
     pub fn refit_with(
         &mut self,
         sens: &crate::calibrate::baseline::SweepSensitivities,
         model: &Surrogate,
         settings: &RefitSettings,
     ) -> Result<&Refit, DiagnoseError> {
+        check_built_as(sens, model.training.built_with.as_ref())?;
         let r = refit(
             &self.locate.cells,
             sens,

@@ -6,6 +6,7 @@ use super::measure_design::PlanSettings;
 use super::name::{NameSettings, Naming};
 use super::refit::{confirm_with_fe, FeConfirmSettings, Refit, RefitSettings};
 use super::report::Diagnosis;
+use super::sweep::check_built_as;
 use super::DiagnoseError;
 use crate::calibrate::baseline::SweepSensitivities;
 use crate::rom::Surrogate;
@@ -60,7 +61,8 @@ impl Diagnosis {
     /// confirmed refit. `progress(done, total)` after every FE ramp.
     ///
     /// # Errors
-    /// No refit yet ([`Self::refit_with`] first); as [`confirm_with_fe`].
+    /// Sensitivities of another actuator than `model`'s ([`check_built_as`]); no refit yet
+    /// ([`Self::refit_with`] first); as [`confirm_with_fe`].
     pub fn confirm_refit_with_fe(
         &mut self,
         sens: &SweepSensitivities,
@@ -69,6 +71,7 @@ impl Diagnosis {
         fe: &FeConfirmSettings,
         progress: &(dyn Fn(usize, usize) + Sync),
     ) -> Result<&Refit, DiagnoseError> {
+        check_built_as(sens, model.training.built_with.as_ref())?;
         let first = self.refitted().cloned().ok_or_else(|| {
             DiagnoseError::input(
                 "FE confirmation",

@@ -537,9 +537,9 @@ fn naming(s: &mut String, n: &crate::diagnose::name::Naming) {
     for c in &n.candidates {
         let _ = writeln!(
             s,
-            "| {} | {:+.4} | {:.4} | {} | {:.0} % | {:.1} % | {:.2} | {:.2e} | {} | {:+.1} | {:+.1} | {} |",
+            "| {} | {} | {:.4} | {} | {:.0} % | {:.1} % | {:.2} | {:.2e} | {} | {:+.1} | {:+.1} | {} |",
             c.effect,
-            c.estimate,
+            c.size_text(4),
             c.std_error,
             c.unit,
             100.0 * c.absorbed_by_material,

@@ -16,10 +16,13 @@ use crate::calibrate::baseline::{
     SWEEP_MAX_PRESSURE_INCREMENT, SWEEP_RTOL,
 };
 use crate::calibrate::{CalibrateError, OgdenSet, Recordings};
+use crate::fe::effects::{Effect, Effects};
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::mesh::MeshOptions;
+use crate::fe::preset::Geometry;
 use crate::fe::sensitivity::Parameter;
 use crate::fe::simulate::Mode;
+use crate::rom::provenance::BuiltWith;
 
 /// Cells with FE sensitivities the Name stage needs at least: the material's four directions
 /// are projected out and each effect is tested against what is left, on one degree of freedom
@@ -27,7 +30,8 @@ use crate::fe::simulate::Mode;
 pub const MIN_NAME_CELLS: usize = 7;
 
 /// Runs (or reads from `cache`) the bending and blocked-force ramps of every recorded design
-/// at `material` on `mesh`, with the sensitivities of the four material parameters and every
+/// at `material` on `mesh`, built as the model's training cases were (`built`: the model's
+/// [`BuiltWith`], none for the geometry as modelled without fixed effects), with the sensitivities of the four material parameters and every
 /// effect of the library, in load steps of at most [`SWEEP_MAX_PRESSURE_INCREMENT`] to the
 /// tolerance [`SWEEP_RTOL`];
 /// `progress(done, total)` after every ramp.
@@ -38,6 +42,7 @@ pub fn sweep_at(
     material: &OgdenSet,
     rec: &Recordings,
     mesh: MeshOptions,
+    built: Option<&BuiltWith>,
     cache: &Path,
     progress: impl Fn(usize, usize) + Sync,
 ) -> Result<SweepSensitivities, DiagnoseError> {
@@ -46,7 +51,7 @@ pub fn sweep_at(
     })?;
     let mut settings = SweepSettings {
         sensitivities: Parameter::all(),
-        ..SweepSettings::new(m, mesh)
+        ..SweepSettings::new(m, mesh).built_as(built)
     };
     settings.solver.max_pressure_increment = SWEEP_MAX_PRESSURE_INCREMENT;
     settings.solver.rtol = SWEEP_RTOL;
@@ -55,6 +60,66 @@ pub fn sweep_at(
     // read back from the cache the sweep just filled: no FE
     let ramps = cached_ramps(&settings, &designs, cache).map_err(CalibrateError::from)?;
     Ok(SweepSensitivities::of(&settings, &ramps))
+}
+
+/// Whether `sens` were computed on the model's actuator: the geometry and the fixed effects
+/// of their sweep those the model's training cases were built with (`built`, the model's
+/// [`BuiltWith`]; none: the geometry as modelled, no fixed effect). The effects' sizes of the
+/// Name and Model stages are measured from the sweep's values and added to the model's
+/// predictions, so a sweep of another actuator would count its differences twice or not at
+/// all. A geometry is compared by its dimensions, not its name.
+///
+/// # Errors
+/// [`DiagnoseError::SweepBuiltOtherwise`] naming the geometry or the fixed effects of both.
+pub fn check_built_as(
+    sens: &SweepSensitivities,
+    built: Option<&BuiltWith>,
+) -> Result<(), DiagnoseError> {
+    let as_modelled = Geometry::as_modelled();
+    let neutral = Effects::neutral();
+    let (geometry, effects) = built.map_or((&as_modelled, &neutral), |b| (&b.geometry, &b.effects));
+    let dimensions = |g: &Geometry| Geometry {
+        name: String::new(),
+        ..g.clone()
+    };
+    if dimensions(&sens.geometry) != dimensions(geometry) {
+        return Err(DiagnoseError::SweepBuiltOtherwise {
+            what: "geometry",
+            sweep: geometry_text(&sens.geometry),
+            model: geometry_text(geometry),
+        });
+    }
+    if Effect::all().any(|e| sens.effects.get(e) != effects.get(e)) {
+        return Err(DiagnoseError::SweepBuiltOtherwise {
+            what: "fixed effects",
+            sweep: effects_text(&sens.effects),
+            model: effects_text(effects),
+        });
+    }
+    Ok(())
+}
+
+/// A geometry in words: its name and dimensions.
+fn geometry_text(g: &Geometry) -> String {
+    format!(
+        "'{}' ({})",
+        g.name,
+        serde_json::to_string(g).unwrap_or_default()
+    )
+}
+
+/// Effects in words: `plate_offset = -4.5`, or `none`.
+fn effects_text(e: &Effects) -> String {
+    let set: Vec<String> = e
+        .iter()
+        .filter(|&(e, v)| v != e.info().neutral)
+        .map(|(e, v)| format!("{} = {v}", e.name()))
+        .collect();
+    if set.is_empty() {
+        "none".into()
+    } else {
+        set.join(", ")
+    }
 }
 
 /// What computes the sensitivities a sweep lacks, in the command line's words.

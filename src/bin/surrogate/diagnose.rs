@@ -117,7 +117,13 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
     d.inputs.splice(0..0, inputs.files.drain(..1));
     d.inputs.append(&mut inputs.files);
     let sens = match choices.sweep_at_calibrated {
-        Some(mesh) => Some(sensitivities_at_calibrated(&a.out, &d, &inputs.rec, mesh)?),
+        Some(mesh) => Some(sensitivities_at_calibrated(
+            &a.out,
+            &d,
+            &inputs.rec,
+            &inputs.model,
+            mesh,
+        )?),
         None => sens,
     };
     if let Some((reference, name)) = &inputs.reference {
@@ -248,11 +254,12 @@ impl Choices {
 }
 
 /// `--sensitivities calibrated`: the FE sweep at the material just calibrated, on `mesh`,
-/// cached in `<out>/fe_sensitivities`.
+/// of the actuator `model`'s training cases were built as, cached in `<out>/fe_sensitivities`.
 fn sensitivities_at_calibrated(
     out: &Path,
     d: &Diagnosis,
     rec: &Recordings,
+    model: &Surrogate,
     mesh: MeshLevel,
 ) -> Result<SweepSensitivities> {
     let cache = out.join("fe_sensitivities");
@@ -267,6 +274,7 @@ fn sensitivities_at_calibrated(
         &d.calibration.best,
         rec,
         MeshOptions::level(mesh),
+        model.training.built_with.as_ref(),
         &cache,
         |k, n| eprintln!("FE ramp {k} of {n} done"),
     )?)
@@ -307,7 +315,8 @@ fn model_and_show(
     if let Some(level) = confirm {
         let cache = a.fe_cache.clone().unwrap_or_else(|| a.out.join("fe_ramps"));
         let fe = FeConfirmSettings::new(
-            SweepSettings::new(sens.material.clone(), MeshOptions::level(level)),
+            SweepSettings::new(sens.material.clone(), MeshOptions::level(level))
+                .built_as(model.training.built_with.as_ref()),
             &cache,
         );
         eprintln!(
@@ -439,9 +448,9 @@ fn print_plan(p: &MeasurementPlan) {
 pub fn print_candidates(n: &Naming, top: usize) {
     for c in n.candidates.iter().take(top) {
         println!(
-            "- {:<24} {:+.4} ± {:.4} {:<7} explains {:>5.1} % (p = {:.2e}{})",
+            "- {:<24} {} ± {:.4} {:<7} explains {:>5.1} % (p = {:.2e}{})",
             c.effect,
-            c.estimate,
+            c.size_text(4),
             c.std_error,
             c.unit,
             100.0 * c.explained,

@@ -8,9 +8,10 @@ use serde::{Deserialize, Serialize};
 use super::cache::BaselineError;
 use super::ramps::SweepRamp;
 use super::settings::SweepSettings;
-use crate::fe::effects::Effects;
+use crate::fe::effects::{Effect, Effects};
 use crate::fe::material::Material;
 use crate::fe::mesh::MeshOptions;
+use crate::fe::preset::Geometry;
 use crate::fe::sensitivity::Sensitivities;
 use crate::fe::simulate::Mode;
 
@@ -46,6 +47,11 @@ pub struct SweepSensitivities {
     pub material: Material,
     /// The mesh.
     pub mesh: MeshOptions,
+    /// The geometry of every ramp's design; written only when it is not
+    /// [`Geometry::as_modelled`], so a file of the historical geometry is what it was before
+    /// the field existed, and such a file reads back as modelled.
+    #[serde(default, skip_serializing_if = "Geometry::is_as_modelled")]
+    pub geometry: Geometry,
     /// The effects of every ramp (neutral: none).
     pub effects: Effects,
     /// One per ramp that finished.
@@ -85,6 +91,7 @@ impl SweepSensitivities {
             version: SWEEP_SENSITIVITY_VERSION,
             material: settings.material.clone(),
             mesh: settings.mesh,
+            geometry: settings.geometry.clone(),
             effects: settings.effects.clone(),
             designs,
             missing,
@@ -109,6 +116,13 @@ impl SweepSensitivities {
             ));
         }
         Ok(s)
+    }
+
+    /// The value of effect `e` in every ramp of the sweep: the point its sensitivities are
+    /// taken at, from which an effect's estimated size is measured (its neutral value unless
+    /// the sweep fixed it, as for a model trained with the force rig's plate).
+    pub fn base(&self, e: Effect) -> f64 {
+        self.effects.get(e)
     }
 
     /// The sensitivities of design `(n, t)` in `mode`, if there.

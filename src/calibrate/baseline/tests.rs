@@ -1,5 +1,6 @@
 //! Tests of the sweep: the order of its queue, the committed caches read under their keys, a
-//! cached ramp reused only under its own key, the reference study's nine and the summary.
+//! cached ramp reused only under its own key, the reference study's nine and the summary, the
+//! sensitivities file with its geometry.
 
 use std::path::{Path, PathBuf};
 
@@ -233,4 +234,42 @@ fn summary_separates_the_paper_nine_and_the_top_pressure() {
     assert!((s.mean_force_error_top_pressure_n - 1.0).abs() < 1e-12);
     assert!(s.mean_force_error_n.abs() < 1e-12);
     assert_eq!(s.top_pressure_bar, 3.0);
+}
+
+/// The committed sensitivities (written before the sweep's geometry was recorded) read as of
+/// the geometry as modelled and write back byte for byte; another geometry is written and
+/// read back.
+#[test]
+fn sensitivities_keep_their_geometry_and_old_files_read_as_modelled() {
+    for f in [
+        "data/sensitivities/calibrated_coarse.json",
+        "data/sensitivities/ogden002_coarse.json",
+    ] {
+        let path = committed(f);
+        let s = SweepSensitivities::read(&path).unwrap();
+        assert_eq!(s.geometry, Geometry::as_modelled());
+        let text = std::fs::read_to_string(&path).unwrap();
+        assert_eq!(serde_json::to_string(&s).unwrap(), text.trim_end(), "{f}");
+    }
+    let mut s =
+        SweepSensitivities::read(&committed("data/sensitivities/ogden002_coarse.json")).unwrap();
+    s.geometry = Geometry {
+        name: "identified".into(),
+        gap_mm: 1.2,
+        side_wall_mm: Some(1.4),
+        ..Geometry::as_modelled()
+    };
+    s.effects = Effects::neutral()
+        .with(crate::fe::effects::Effect::PlateOffset, -4.5)
+        .unwrap();
+    let text = serde_json::to_string(&s).unwrap();
+    assert!(text.contains(r#""geometry":{"name":"identified","gap_mm":1.2,"#));
+    let dir = std::env::temp_dir().join(format!("sweep_geometry_{}", std::process::id()));
+    std::fs::create_dir_all(&dir).unwrap();
+    let path = dir.join("sensitivities.json");
+    std::fs::write(&path, &text).unwrap();
+    let back = SweepSensitivities::read(&path).unwrap();
+    std::fs::remove_dir_all(&dir).unwrap();
+    assert_eq!(back, s);
+    assert_eq!(back.base(crate::fe::effects::Effect::PlateOffset), -4.5);
 }

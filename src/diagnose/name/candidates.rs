@@ -10,6 +10,7 @@ use super::naming::{Candidate, Untestable};
 use super::projection::PastMaterial;
 use super::table::UsedCells;
 use super::whiten::Whitening;
+use crate::calibrate::baseline::SweepSensitivities;
 use crate::diagnose::mesh_error::{ErrorDirection, MODEL_ERROR_UNIT, PLAUSIBLE_MODEL_ERROR};
 use crate::diagnose::DiagnoseError;
 use crate::fe::sensitivity::Parameter;
@@ -18,7 +19,11 @@ use crate::fe::sensitivity::Parameter;
 pub(crate) struct Tested {
     name: String,
     unit: String,
-    neutral: f64,
+    /// The value the estimate is measured from: the sweep's ([`SweepSensitivities::base`]),
+    /// zero for a model error.
+    base: f64,
+    /// Whether `base` is not the effect's neutral value.
+    fixed: bool,
     range: (f64, f64),
     /// `S_j` (σ-scaled), per used cell.
     column: DVector<f64>,
@@ -60,8 +65,10 @@ pub(crate) fn check_model_errors(
     Ok(())
 }
 
-/// The columns to test: every effect of the sweep (`params`), then the model's own errors.
+/// The columns to test: every effect of the sweep (`params`, measured from the sweep's
+/// values of `sens`), then the model's own errors.
 pub(crate) fn columns(
+    sens: &SweepSensitivities,
     params: &[Parameter],
     used: &UsedCells<'_>,
     model_errors: &[ErrorDirection],
@@ -71,10 +78,12 @@ pub(crate) fn columns(
     for (j, p) in params.iter().enumerate() {
         let Parameter::Effect(e) = *p else { continue };
         let info = e.info();
+        let base = sens.base(e);
         tested.push(Tested {
             name: e.name().into(),
             unit: info.unit.into(),
-            neutral: info.neutral,
+            base,
+            fixed: base != info.neutral,
             range: info.range,
             column: used.column(j),
             parameter: Some(*p),
@@ -84,7 +93,8 @@ pub(crate) fn columns(
         tested.push(Tested {
             name: nu.name.clone(),
             unit: MODEL_ERROR_UNIT.into(),
-            neutral: 0.0,
+            base: 0.0,
+            fixed: false,
             range: PLAUSIBLE_MODEL_ERROR,
             column: DVector::from_iterator(
                 used.len(),
@@ -171,10 +181,11 @@ fn test_one(
         .map(|d| 1.0 - d.cdf(f))
         .unwrap_or(f64::NAN);
     let estimate = -proj / (kept * kept);
-    let size = t.neutral + estimate;
+    let size = t.base + estimate;
     let candidate = Candidate {
         effect: t.name.clone(),
         unit: t.unit,
+        base: t.fixed.then_some(t.base),
         model_error: t.parameter.is_none(),
         signature_norm: norm,
         absorbed_by_material: 1.0 - (kept / norm).powi(2),

@@ -128,7 +128,7 @@ fn name_inner(
     let whiten = Whitening::of(s.error_spread.as_ref(), cells, &used.rows, &used.row_cell)?;
     let fit = PastMaterial::fit(&used, &material, local.is_some(), &whiten);
     candidates::check_model_errors(&s.model_errors, cells.len())?;
-    let tested = candidates::columns(&params, &used, &s.model_errors);
+    let tested = candidates::columns(sens, &params, &used, &s.model_errors);
     let tests = candidates::test_all(tested, &fit, &whiten, s.alpha);
     // what separates a tied pair: the sweep's unrecorded outputs, the material refitted
     let effects: Vec<Parameter> = params

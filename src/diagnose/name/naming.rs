@@ -3,8 +3,11 @@
 
 use serde::{Deserialize, Serialize};
 
+#[cfg(doc)]
+use crate::calibrate::baseline::SweepSensitivities;
 use crate::diagnose::approx_error::ErrorSpread;
 use crate::diagnose::mesh_error::ErrorDirection;
+use crate::fe::effects::Effect;
 
 /// Settings of [`name`](super::name).
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -50,11 +53,16 @@ pub struct Candidate {
     pub signature_norm: f64,
     /// Share of `|s|²` the material absorbs.
     pub absorbed_by_material: f64,
-    /// Its estimated size `θ̂` (unit of the effect, from its neutral value).
+    /// Its estimated size `θ̂` (unit of the effect, from [`Self::base`]).
     pub estimate: f64,
+    /// The sweep's value of the effect, which `θ̂` is measured from, when it is not the
+    /// effect's neutral value (a sweep of a model built with the effect fixed, such as the
+    /// force rig's plate: [`SweepSensitivities::base`]); none: the neutral value.
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub base: Option<f64>,
     /// Standard error of `θ̂`.
     pub std_error: f64,
-    /// Whether `θ̂` lies in the library's plausible range.
+    /// Whether its size ([`Self::size`]) lies in the library's plausible range.
     pub plausible: bool,
     /// `Δχ²` of adding it to the material re-fit.
     pub delta_chi2: f64,
@@ -74,6 +82,34 @@ pub struct Candidate {
     /// past what the material can mimic, in that number's σ.
     #[serde(default)]
     pub max_move_sigma: f64,
+}
+
+impl Candidate {
+    /// Its size: [`Self::base`] (the effect's neutral value when none, zero for an error of
+    /// the model) plus the estimate; what `--effect NAME=VALUE` takes and what its
+    /// plausibility is judged on.
+    pub fn size(&self) -> f64 {
+        let neutral = || {
+            Effect::from_name(&self.effect)
+                .ok()
+                .filter(|_| !self.model_error)
+                .map_or(0.0, |e| e.info().neutral)
+        };
+        self.base.unwrap_or_else(neutral) + self.estimate
+    }
+
+    /// Its estimate in words with `decimals` decimals: `+0.120`, or from a sweep that fixed
+    /// the effect, its size with the sweep's value and the estimate, `-4.200 (-4.5 +0.300)`.
+    pub fn size_text(&self, decimals: usize) -> String {
+        match self.base {
+            None => format!("{:+.decimals$}", self.estimate),
+            Some(b) => format!(
+                "{:.decimals$} ({b} {:+.decimals$})",
+                self.size(),
+                self.estimate
+            ),
+        }
+    }
 }
 
 /// Two candidates the recordings cannot tell apart.

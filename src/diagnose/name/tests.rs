@@ -12,6 +12,7 @@ use crate::diagnose::signature::derivative_of;
 use crate::fe::effects::{Acts, Effect, Effects};
 use crate::fe::material::Material;
 use crate::fe::mesh::{MeshLevel, MeshOptions};
+use crate::fe::preset::Geometry;
 use crate::fe::sensitivity::{
     Outputs, ParameterInfo, Sensitivities, SensitivityCost, StepSensitivities,
 };
@@ -100,6 +101,7 @@ fn sweep(seed: u64) -> SweepSensitivities {
         version: 1,
         material: Material::from_spec("ogden_002", 1000.0).unwrap(),
         mesh: MeshOptions::level(MeshLevel::Coarse),
+        geometry: Geometry::as_modelled(),
         effects: Effects::neutral(),
         designs,
         missing: Vec::new(),
@@ -165,6 +167,68 @@ fn a_planted_effect_is_named_with_its_size() {
     assert!(n.candidates[1..].iter().all(|c| !c.significant));
     // force-rig effects move nothing a bending recording holds
     assert!(n.untestable.iter().any(|u| u.effect == "plate_offset"));
+}
+
+/// A sweep with `plate_offset` fixed at `base` (a model trained with the force rig's plate),
+/// the effect given a signature in bending so that these cells can test it.
+fn sweep_with_plate(seed: u64, base: f64) -> SweepSensitivities {
+    let mut sens = sweep(seed);
+    let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed + 100);
+    let plate = Parameter::Effect(Effect::PlateOffset);
+    let j = sens.designs[0]
+        .sensitivities
+        .parameters
+        .iter()
+        .position(|i| i.parameter == plate)
+        .unwrap();
+    for d in &mut sens.designs {
+        for st in &mut d.sensitivities.steps {
+            st.derivatives[j] = random_outputs(&mut rng);
+        }
+    }
+    sens.effects = Effects::neutral().with(Effect::PlateOffset, base).unwrap();
+    sens
+}
+
+/// The `plate_offset` candidate of the Name stage on `sens` with the plate planted `theta`
+/// from the sweep's.
+fn plate_candidate(sens: &SweepSensitivities, theta: f64) -> (Candidate, Naming) {
+    let planted = [(Effect::PlateOffset, theta)];
+    let n = name(&cells(sens, &planted, 2), sens, &NameSettings::default()).unwrap();
+    let c = n.candidates.iter().find(|c| c.effect == "plate_offset");
+    (c.unwrap().clone(), n)
+}
+
+#[test]
+fn a_size_is_measured_from_the_sweeps_value_of_the_effect() {
+    let sens = sweep_with_plate(1, -4.5);
+    // 0.3 mm further than the sweep's plate: −4.2 mm, inside the range
+    let (c, n) = plate_candidate(&sens, 0.3);
+    assert_eq!(c.base, Some(-4.5));
+    assert!((c.estimate - 0.3).abs() < 3.0 * c.std_error, "{c:#?}");
+    assert_eq!(c.size(), -4.5 + c.estimate);
+    assert!(c.significant && c.plausible, "{c:#?}");
+    assert!(
+        n.verdict.starts_with(&format!(
+            "plate_offset explains {:.0} % of the residual left after the material re-fit \
+             (size {:.3} (-4.5 {:+.3}) ±",
+            100.0 * c.explained,
+            c.size(),
+            c.estimate
+        )),
+        "{}",
+        n.verdict
+    );
+    // 0.3 mm closer: −4.8 mm, beyond the range's −4.5, so not named
+    let (c, n) = plate_candidate(&sens, -0.3);
+    assert!(c.significant && !c.plausible && c.size() < -4.5, "{c:#?}");
+    assert!(n.named().is_none_or(|c| c.effect != "plate_offset"));
+    // the same estimate from the neutral plate is a plausible −0.3 mm
+    let neutral = sweep_with_plate(1, 0.0);
+    let (c, _) = plate_candidate(&neutral, -0.3);
+    assert_eq!(c.base, None);
+    assert_eq!(c.size(), c.estimate);
+    assert!(c.significant && c.plausible, "{c:#?}");
 }
 
 #[test]

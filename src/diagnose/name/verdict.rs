@@ -11,7 +11,7 @@ pub(crate) fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_materia
         .iter()
         .filter(|t| t.significant && !t.plausible)
         .take(3)
-        .map(|t| format!("{} ({:+.3}{})", t.effect, t.estimate, unit_suffix(&t.unit)))
+        .map(|t| format!("{} ({}{})", t.effect, sized(t), unit_suffix(&t.unit)))
         .collect();
     let Some(top) = c.iter().find(|t| t.significant && t.plausible) else {
         return nothing_named(&implausible, chi2_material);
@@ -20,6 +20,11 @@ pub(crate) fn verdict(c: &[Candidate], pairs: &[Indistinguishable], chi2_materia
         return model_error_named(top, c);
     }
     effect_named(top, c, pairs, &implausible)
+}
+
+/// A candidate's estimate in the verdict's words ([`Candidate::size_text`]).
+fn sized(t: &Candidate) -> String {
+    t.size_text(3)
 }
 
 /// No candidate significant at a plausible size: nothing named, and why.
@@ -46,10 +51,10 @@ fn model_error_named(top: &Candidate, c: &[Candidate]) -> String {
         .find(|t| t.significant && t.plausible && !t.model_error)
         .map_or(String::new(), |t| {
             format!(
-                "; of the effects, {} would explain {:.0} % ({:+.3}{})",
+                "; of the effects, {} would explain {:.0} % ({}{})",
                 t.effect,
                 100.0 * t.explained,
-                t.estimate,
+                sized(t),
                 unit_suffix(&t.unit)
             )
         });
@@ -77,11 +82,11 @@ fn effect_named(
     implausible: &[String],
 ) -> String {
     let mut s = format!(
-        "{} explains {:.0} % of the residual left after the material re-fit (size {:+.3} ± \
+        "{} explains {:.0} % of the residual left after the material re-fit (size {} ± \
          {:.3}{}, F = {:.1}, p = {:.2e})",
         top.effect,
         100.0 * top.explained,
-        top.estimate,
+        sized(top),
         top.std_error,
         unit_suffix(&top.unit),
         top.f,
@@ -111,10 +116,10 @@ fn effect_named(
         .take(2)
         .map(|t| {
             format!(
-                "{} ({:.0} %, {:+.3}{})",
+                "{} ({:.0} %, {}{})",
                 t.effect,
                 100.0 * t.explained,
-                t.estimate,
+                sized(t),
                 unit_suffix(&t.unit)
             )
         })

@@ -13,7 +13,6 @@ use crate::calibrate::objective::Output;
 use crate::calibrate::{OgdenSet, ParamSpace};
 use crate::diagnose::cells::Cell;
 use crate::diagnose::DiagnoseError;
-use crate::fe::effects::Effects;
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::simulate::Mode;
 use crate::rom::Surrogate;
@@ -21,8 +20,9 @@ use crate::rom::Surrogate;
 /// Settings of [`confirm_with_fe`].
 #[derive(Clone, Debug)]
 pub struct FeConfirmSettings {
-    /// The sweep's FE settings (mesh, contact, solver); its material and effects are replaced
-    /// by the refitted ones each round.
+    /// The FE settings (mesh, contact, solver); the material is the refitted one each round,
+    /// the geometry and the effects those of the sensitivities' sweep with the refitted
+    /// effects set.
     pub sweep: SweepSettings,
     /// Where the ramps are cached (round 1; round k > 1 in `round_k/` inside it): an
     /// interrupted confirmation resumes.
@@ -76,11 +76,11 @@ pub type FeEvaluation = (Vec<Option<f64>>, usize, Vec<String>);
 /// An FE model for the confirmation: `(material, effect values) → FeEvaluation`.
 pub type FeModel<'a> = dyn FnMut(&OgdenSet, &[f64]) -> Result<FeEvaluation, DiagnoseError> + 'a;
 
-/// Confirms `refit` with the FE model: the recorded designs run with the refitted material
-/// and the effect(s) switched on at their refitted values; where FE and the linearised
-/// prediction differ by more than `fe.tolerance` (rms over the cells, in σ), the difference
-/// becomes the correction `cᵢ` of the prediction and the refit is redone around it, at most
-/// `fe.rounds` times. Each round is recorded in [`Refit::fe`]; the refit returned is the last.
+/// Confirms `refit` with the FE model: the recorded designs, built as in the sweep of `sens`
+/// (its geometry and effects), run with the refitted material and the effect(s) set to their
+/// refitted values; where FE and the linearised prediction differ by more than
+/// `fe.tolerance` (rms over the cells, in σ), the difference becomes the correction `cᵢ` of
+/// the prediction and the refit is redone around it, at most `fe.rounds` times. Each round is recorded in [`Refit::fe`]; the refit returned is the last.
 /// `progress(done, total)` after every FE ramp.
 ///
 /// # Errors
@@ -130,7 +130,8 @@ pub fn confirm_with_fe(
         } else {
             fe.cache.join(format!("round_{round}"))
         };
-        let mut effects = Effects::default();
+        // the sweep's actuator (its geometry and fixed effects), the refitted effects set
+        let mut effects = sens.effects.clone();
         for (e, v) in s.effects.iter().zip(values) {
             effects
                 .set(*e, *v)
@@ -140,6 +141,7 @@ pub fn confirm_with_fe(
             material: Material::from_spec(&material.spec(), DEFAULT_BULK_RATIO).map_err(|e| {
                 DiagnoseError::input("refitted material", material.spec(), &e.to_string())
             })?,
+            geometry: sens.geometry.clone(),
             effects,
             sensitivities: Vec::new(),
             ..fe.sweep.clone()
@@ -197,7 +199,8 @@ pub(crate) fn confirm_with(
             s.effects
                 .iter()
                 .zip(&current.after.effects)
-                .map(|(e, v)| v - e.info().neutral),
+                .zip(&rows.base)
+                .map(|((_, v), base)| v - base),
         );
         let pb = Problem::new(&rows, model, space.clone(), &s.effects, s.effects.len());
         let lin = pb.predictions(&x)?;
@@ -319,6 +322,83 @@ mod tests {
         theta + 2.0 * theta * theta
     }
 
+    /// Rows of recordings `model` makes at `m` with an effect of size `theta` (from the
+    /// sweep's value `base`) along a fixed pattern over the cells.
+    fn planted(model: &Surrogate, m: &OgdenSet, theta: f64, base: f64) -> Rows {
+        let mut rows = Rows {
+            base: vec![base],
+            cells: Vec::new(),
+            d: Vec::new(),
+            offset: Vec::new(),
+        };
+        for (n, t) in DESIGNS {
+            for p in [1.0, 2.0, 3.0] {
+                for o in [Output::TipUz, Output::TipUy, Output::Angle] {
+                    let d = match o {
+                        Output::TipUz => 2.0 * p * (2.7 - t),
+                        Output::TipUy => -0.8 * p,
+                        _ => 0.4 * p * f64::from(n) / 11.0,
+                    };
+                    let mut c = Cell::unit(n, t, p, o, 0.0);
+                    c.recorded = value(model, m, n, t, p, o) + theta * d;
+                    rows.cells.push(c);
+                    rows.d.push(vec![d]);
+                    rows.offset.push(0.0);
+                }
+            }
+        }
+        rows
+    }
+
+    #[test]
+    fn sizes_are_measured_from_the_sweeps_value_and_kept_in_range_from_it() {
+        let model = Surrogate::load(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator_coarse.json"),
+        )
+        .unwrap();
+        let m = OgdenSet::literature("ogden_002").unwrap();
+        // a sweep with the plate 4.5 mm closer (the force rig's), the actuator's 0.3 mm further
+        let rows = planted(&model, &m, 0.3, -4.5);
+        let s = RefitSettings::new(vec![Effect::PlateOffset]);
+        let first = fit_rows(&rows, &model, &m, &s).unwrap();
+        let e = &first.effects[0];
+        assert!((e.estimate - 0.3).abs() < 1e-3, "{e:?}");
+        assert_eq!(e.value, -4.5 + e.estimate);
+        assert!(e.interval.0 <= e.value && e.value <= e.interval.1, "{e:?}");
+        assert!(e.at_bound.is_none(), "{e:?}");
+        assert_eq!(first.after.effects, vec![e.value]);
+        let held = first.held_out.as_ref().unwrap();
+        assert!(held
+            .designs
+            .iter()
+            .all(|d| (d.effects[0] + 4.2).abs() < 1e-2));
+        // the FE of the sweep's actuator with the effect at its refitted value agrees
+        let mut fe = |mat: &OgdenSet, v: &[f64]| -> Result<FeEvaluation, DiagnoseError> {
+            Ok((
+                rows.cells
+                    .iter()
+                    .zip(&rows.d)
+                    .map(|(c, d)| {
+                        let at = (c.n_bellows, c.wall_thickness_mm, c.pressure_bar);
+                        Some(value(&model, mat, at.0, at.1, at.2, c.output) + (v[0] + 4.5) * d[0])
+                    })
+                    .collect(),
+                0,
+                Vec::new(),
+            ))
+        };
+        let r = confirm_with(&rows, &model, first.clone(), &s, 3, 0.01, &mut fe).unwrap();
+        assert_eq!(r.fe.len(), 1);
+        assert!(r.fe[0].rms_fe_minus_linear < 1e-6, "{:?}", r.fe[0]);
+        // 0.3 mm closer than the sweep's plate is beyond the range's −4.5: the fit stops there
+        let rows = planted(&model, &m, -0.3, -4.5);
+        let mut s = s;
+        s.held_out = false;
+        let e = fit_rows(&rows, &model, &m, &s).unwrap().effects[0].clone();
+        assert_eq!((e.value, e.estimate), (-4.5, 0.0), "{e:?}");
+        assert!(e.at_bound.is_some(), "{e:?}");
+    }
+
     #[test]
     fn fe_rounds_correct_a_nonlinear_effect_that_the_linearisation_misjudges() {
         let model = Surrogate::load(
@@ -328,6 +408,7 @@ mod tests {
         let m = OgdenSet::literature("ogden_002").unwrap();
         let truth = 0.1;
         let mut rows = Rows {
+            base: vec![0.0],
             cells: Vec::new(),
             d: Vec::new(),
             offset: Vec::new(),

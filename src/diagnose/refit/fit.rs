@@ -65,13 +65,14 @@ pub(crate) fn fit_rows(
             let info = e.info();
             let est = f1.x[4 + i];
             let se = (scale * cov[(4 + i, 4 + i)]).sqrt();
+            let value = rows.value(i, est);
             EffectSize {
                 effect: info.name.into(),
                 unit: info.unit.into(),
-                value: info.neutral + est,
+                value,
                 estimate: est,
                 std_error: se,
-                interval: (info.neutral + est - t * se, info.neutral + est + t * se),
+                interval: (value - t * se, value + t * se),
                 at_bound: f1.active[4 + i].then(|| {
                     format!(
                         "stopped at the end of its range [{}, {}]",

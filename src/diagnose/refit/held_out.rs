@@ -80,9 +80,7 @@ pub(crate) fn held_out(
             wall_thickness_mm: t,
             before: q0,
             after: q1,
-            effects: (0..k)
-                .map(|i| effects[i].info().neutral + g1.x[4 + i])
-                .collect(),
+            effects: (0..k).map(|i| rows.value(i, g1.x[4 + i])).collect(),
         });
     }
     let wmean = |v: &[(f64, usize)]| {

@@ -6,7 +6,8 @@
 //! with weight 1 and its own `σ` (the Name stage's cells: the outputs the calibration's
 //! objective left out count here, or a force-rig effect could not be estimated). The
 //! prediction of cell `i` with the material at unit-box point `u` and effect sizes `θ` (from
-//! their neutral values) is
+//! the sweep's values: neutral, unless the sweep fixed an effect as the model's training
+//! cases did, [`SweepSensitivities::base`]) is
 //!
 //! ```text
 //!   ŷᵢ(u, θ) = surrogateᵢ(u) + Σₖ θₖ ∂yᵢ/∂θₖ + cᵢ
@@ -15,8 +16,8 @@
 //! the effect linearised with the FE sensitivities of the sweep (at about the calibrated
 //! material), `cᵢ` a correction that the FE confirmation sets (zero before it: see
 //! [`confirm_with_fe`]). Both fits are bounded Levenberg–Marquardt on the surrogate's
-//! analytic Jacobian: the material inside the surrogate's training box, each effect inside
-//! its library range; a bound that stops a fit is reported.
+//! analytic Jacobian: the material inside the surrogate's training box, each effect's value
+//! (the sweep's plus `θ`) inside its library range; a bound that stops a fit is reported.
 //!
 //! - **Before**: the material alone on every used cell (4 parameters); **after**: material and
 //!   effect(s) (4 + k). The nested F test `F = (Δχ²/k) / (χ²₁/(n − 4 − k))`.
@@ -79,6 +80,7 @@ pub(crate) fn material_refit(
         ));
     }
     let rows = Rows {
+        base: Vec::new(),
         cells: idx.iter().map(|&i| cells[i].clone()).collect(),
         d: vec![Vec::new(); n],
         offset: vec![0.0; n],

@@ -63,9 +63,10 @@ pub struct EffectSize {
     pub effect: String,
     /// Its unit.
     pub unit: String,
-    /// Its value (neutral + estimate), what `--effect NAME=VALUE` takes.
+    /// Its value (the sweep's value + estimate), what `--effect NAME=VALUE` takes.
     pub value: f64,
-    /// Its estimate from the neutral value.
+    /// Its estimate from the sweep's value (the neutral value unless the sweep fixed it,
+    /// [`crate::calibrate::baseline::SweepSensitivities::base`]).
     pub estimate: f64,
     /// Standard error.
     pub std_error: f64,

@@ -45,10 +45,11 @@ impl<'a> Problem<'a> {
     ) -> Self {
         let mut lo = vec![0.0; 4];
         let mut hi = vec![1.0; 4];
-        for e in &effects[..k] {
+        // each effect's size from the sweep's value, its value inside its range
+        for (e, base) in effects[..k].iter().zip(&rows.base) {
             let i = e.info();
-            lo.push(i.range.0 - i.neutral);
-            hi.push(i.range.1 - i.neutral);
+            lo.push(i.range.0 - base);
+            hi.push(i.range.1 - base);
         }
         Problem {
             rows,

@@ -91,15 +91,13 @@ pub(crate) fn summary(
             active_bounds.push(format!(
                 "{} at the end of its range ({})",
                 e.name,
-                e.neutral + f.x[i]
+                pb.rows.value(i - 4, f.x[i])
             ));
         }
     }
     Ok(FitSummary {
         material: pb.space.ogden(&u)?,
-        effects: (0..pb.k)
-            .map(|k| effects[k].info().neutral + f.x[4 + k])
-            .collect(),
+        effects: (0..pb.k).map(|k| pb.rows.value(k, f.x[4 + k])).collect(),
         quality: quality(&pb.rows.cells, &pb.predictions(&f.x)?),
         iterations: f.iterations,
         stop: f.stop.to_string(),

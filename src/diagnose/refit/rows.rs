@@ -11,6 +11,9 @@ use crate::fe::sensitivity::Parameter;
 /// The used cells and their linearised effect columns.
 #[derive(Clone, Debug)]
 pub(crate) struct Rows {
+    /// The sweep's value of each effect ([`SweepSensitivities::base`]): the effect sizes `θ`
+    /// of the fit are measured from it, `[k]`.
+    pub(crate) base: Vec<f64>,
     pub(crate) cells: Vec<Cell>,
     /// `∂yᵢ/∂θₖ` (unit of the output per unit of the effect), `[i][k]`.
     pub(crate) d: Vec<Vec<f64>>,
@@ -26,6 +29,7 @@ impl Rows {
         effects: &[Effect],
     ) -> Result<Self, DiagnoseError> {
         let mut out = Rows {
+            base: effects.iter().map(|&e| sens.base(e)).collect(),
             cells: Vec::new(),
             d: Vec::new(),
             offset: Vec::new(),
@@ -66,10 +70,16 @@ impl Rows {
             .filter(|&i| keep(&self.cells[i]))
             .collect();
         Rows {
+            base: self.base.clone(),
             cells: idx.iter().map(|&i| self.cells[i].clone()).collect(),
             d: idx.iter().map(|&i| self.d[i].clone()).collect(),
             offset: idx.iter().map(|&i| self.offset[i]).collect(),
         }
+    }
+
+    /// The value of effect `k` at size `theta` from the sweep's.
+    pub(crate) fn value(&self, k: usize, theta: f64) -> f64 {
+        self.base[k] + theta
     }
 
     pub(crate) fn observations(&self) -> ObservationSet {

@@ -96,10 +96,9 @@ pub fn score_twin(
         if let Some(i) = n.candidates.iter().position(|c| &c.effect == t) {
             rank = Some(i + 1);
             let c = &n.candidates[i];
-            let info = Effect::from_name(t)
-                .map_err(|e| DiagnoseError::input("key effect", t, &e.to_string()))?
-                .info();
-            name_estimate = Some((info.neutral + c.estimate, c.std_error));
+            Effect::from_name(t)
+                .map_err(|e| DiagnoseError::input("key effect", t, &e.to_string()))?;
+            name_estimate = Some((c.size(), c.std_error));
         }
         if let Some(f) = &first {
             indistinguishable = n
