@@ -231,7 +231,9 @@ pub fn spread_materials(
 }
 
 /// Samples the approximation error of `model` (named `model_name`): the reference FE of
-/// every design of `noise_from` on `s.mesh` at each of `s.materials`, without any effect
+/// every design of `noise_from` on `s.mesh` at each of `s.materials`, built as the model was
+/// (its geometry and fixed effects, [`crate::rom::provenance::TrainingInfo::built_with`];
+/// as modelled when it states none) and without any other effect
 /// (cached and resumable, 2 ramps per design and material), its exact outputs against the
 /// model's. `progress(material, ramps done, ramps)` after every ramp.
 ///
@@ -251,7 +253,9 @@ pub fn sample(
         let spec = m.spec();
         let material = Material::from_spec(&spec, DEFAULT_BULK_RATIO)
             .map_err(|e| DiagnoseError::input("material", &spec, &e.expected()))?;
-        let t = TwinSettings::new(material, &spec, s.mesh, Effects::neutral(), 0, &s.cache);
+        let mut t = TwinSettings::new(material, &spec, s.mesh, Effects::neutral(), 0, &s.cache);
+        // the reference is built as the model was (its geometry and fixed effects)
+        t.sweep = t.sweep.built_as(model.training.built_with.as_ref());
         let dir = t.ramp_dir();
         let ramps = if s.run_fe {
             run_ramps(&t.sweep, &designs, Some(&dir), |d, n| progress(k, d, n))

@@ -103,3 +103,42 @@ fn a_sweep_of_another_geometry_is_refused_naming_both() {
     check_built_as(&own, Some(&built)).unwrap();
     assert!(check_built_as(&own, None).is_err());
 }
+
+/// The approximation error's reference FE is sought where the model's own actuator is
+/// cached (its geometry and fixed effects in the cache key), not as modelled.
+#[test]
+fn the_approximation_errors_reference_is_built_as_the_model() {
+    use surrogate::calibrate::{OgdenSet, Recordings};
+    use surrogate::diagnose::approx_error::{sample, SampleSettings};
+    use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+
+    let mut model = Surrogate::load(Path::new("models/actuator.json")).unwrap();
+    let rec = Recordings::shipped().unwrap();
+    let cache = std::env::temp_dir().join(format!("approx_built_{}", std::process::id()));
+    let settings = SampleSettings {
+        mesh: MeshOptions::level(MeshLevel::Standard),
+        materials: vec![OgdenSet::literature("ogden_002").unwrap(); 2],
+        cache: cache.clone(),
+        run_fe: false,
+    };
+    // nothing is cached: the error names the folder the ramps were sought in
+    let folder = |model: &Surrogate| {
+        let e = sample(model, "m", &settings, &rec, &|_, _, _| {}).unwrap_err();
+        let text = e.to_string();
+        assert!(text.contains("ramps not in"), "{text}");
+        text
+    };
+    let as_modelled = folder(&model);
+    model.training.built_with = Some(BuiltWith {
+        geometry: identified(),
+        effects: plate(-4.5),
+    });
+    let built = folder(&model);
+    assert_ne!(as_modelled, built);
+    // the same folder the built actuator's twins use
+    model.training.built_with = Some(BuiltWith {
+        geometry: Geometry::as_modelled(),
+        effects: Effects::neutral(),
+    });
+    assert_eq!(folder(&model), as_modelled);
+}
