@@ -37,7 +37,7 @@ use serde::{Deserialize, Serialize};
 use super::approx_error::ErrorSpread;
 use super::cells::Cell;
 use super::discrimination::Pick;
-use super::measurements::{candidates, discrimination, Measurement};
+use super::measurements::{candidates, discrimination, Measurement, MeasurementKind};
 use super::name::{derivs_of, sweep_parameters, whitening, Naming};
 use super::DiagnoseError;
 use crate::calibrate::baseline::SweepSensitivities;
@@ -55,6 +55,10 @@ pub struct PlanSettings {
     /// The diagnosing model's error covariance over the cells, as the Name stage weighs them
     /// ([`super::name::NameSettings::error_spread`]).
     pub error_spread: Option<ErrorSpread>,
+    /// The kinds of measurement the plan may propose (empty: every kind the sweep
+    /// evaluates). A lab that cannot move its plate, or the blind study, whose twins' FE
+    /// holds the recorded designs only, narrows it.
+    pub kinds: Vec<MeasurementKind>,
 }
 
 impl PlanSettings {
@@ -63,6 +67,7 @@ impl PlanSettings {
         PlanSettings {
             k,
             error_spread: None,
+            kinds: Vec::new(),
         }
     }
 
@@ -224,7 +229,7 @@ pub fn plan(
         .collect::<Result<Vec<_>, _>>()
         .map_err(|e| DiagnoseError::input("tied candidate", e, "an effect of the library"))?;
     let (z, columns) = recorded(cells, sens, s.error_spread.as_ref())?;
-    let items = candidates(cells, sens, &params);
+    let items = menu(cells, sens, &params, &s.kinds);
     let column = |p: Parameter| {
         params
             .iter()
@@ -267,6 +272,21 @@ pub fn plan(
         items: planned,
         note,
     })
+}
+
+/// The measurements of [`candidates`] whose kind `kinds` admits (empty: every kind), with
+/// their rows in the order of `params`.
+pub(crate) fn menu(
+    cells: &[Cell],
+    sens: &SweepSensitivities,
+    params: &[Parameter],
+    kinds: &[MeasurementKind],
+) -> Vec<(Measurement, Vec<f64>)> {
+    let mut items = candidates(cells, sens, params);
+    if !kinds.is_empty() {
+        items.retain(|(m, _)| kinds.contains(&m.kind));
+    }
+    items
 }
 
 fn empty(leader: &str, note: String) -> MeasurementPlan {

@@ -189,9 +189,15 @@ pub struct TwinStudyArgs {
     /// Seed of the standard plan's material draws (when it is written).
     #[arg(long, default_value_t = 2026)]
     pub draw_seed: u64,
-    /// What to run: twins (the FE, resumable), diagnose (the twins made so far), or all.
+    /// What to run: twins (the FE, resumable), diagnose (the twins made so far), all (both),
+    /// or loop: each twin diagnosed, the measurements its plan proposes made on the twin's
+    /// FE with fresh noise and the twin diagnosed again, against as many measurements drawn at
+    /// random (results_loop*.json / .md).
     #[arg(long, default_value = "all")]
     pub stage: String,
+    /// Measurements planned per twin by `--stage loop` (1 to 3).
+    #[arg(long, default_value_t = 3)]
+    pub loop_k: usize,
     /// The diagnosing surrogate [default: models/actuator_coarse.json of the repository the
     /// program was built from, from any working directory].
     #[arg(long)]

@@ -6,8 +6,8 @@ use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::{ParamSpace, Recordings};
 use surrogate::diagnose::approx_error::ApproximationError;
 use surrogate::diagnose::study::{
-    make_twins, null_approximation_error, ramps_to_run, run_diagnoses, study_markdown, Diagnoser,
-    StudyDirs, StudyPlan,
+    close_loop, loop_markdown, make_twins, null_approximation_error, ramps_to_run, run_diagnoses,
+    study_markdown, Diagnoser, StudyDirs, StudyPlan,
 };
 use surrogate::rom::Surrogate;
 
@@ -24,7 +24,7 @@ const DEFAULT_OUT: &str = "fe_reference/diagnosis/blind";
 /// Runs the subcommand: the plan read (or the standard one written), then the stages asked
 /// for: the twins made, the twins diagnosed and scored.
 pub fn run(a: TwinStudyArgs) -> Result<()> {
-    let (twins, diagnoses) = stages(&a.stage)?;
+    let (twins, diagnoses, closed_loop) = stages(&a.stage)?;
     let (model_path, _) = given_or_announced("model", a.model.as_deref(), DEFAULT_MODEL);
     let model = load_model(&model_path)?;
     let (noise_dir, _) = given_or_announced("noise-from", a.noise_from.as_deref(), "training_data");
@@ -57,19 +57,20 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
     if twins {
         study.make_twins()?;
     }
-    if diagnoses {
-        study.diagnose(&a, markers)?;
+    if diagnoses || closed_loop {
+        study.diagnose(&a, markers, closed_loop)?;
     }
     Ok(())
 }
 
-/// The stages of `--stage`: (make the twins, diagnose them).
-fn stages(stage: &str) -> Result<(bool, bool)> {
+/// The stages of `--stage`: (make the twins, diagnose them, close the loop).
+fn stages(stage: &str) -> Result<(bool, bool, bool)> {
     Ok(match stage {
-        "twins" => (true, false),
-        "diagnose" => (false, true),
-        "all" => (true, true),
-        other => anyhow::bail!("--stage {other}: expected twins, diagnose or all"),
+        "twins" => (true, false, false),
+        "diagnose" => (false, true, false),
+        "all" => (true, true, false),
+        "loop" => (false, false, true),
+        other => anyhow::bail!("--stage {other}: expected twins, diagnose, all or loop"),
     })
 }
 
@@ -124,7 +125,7 @@ impl Study {
 
     /// Every twin diagnosed without its key (with or without `markers`) and scored; the
     /// results written as JSON and Markdown, the Markdown printed.
-    fn diagnose(&self, a: &TwinStudyArgs, markers: bool) -> Result<()> {
+    fn diagnose(&self, a: &TwinStudyArgs, markers: bool, closed_loop: bool) -> Result<()> {
         let (sens_path, _) = given_or_announced(
             "sensitivities",
             a.sensitivities.as_deref(),
@@ -141,18 +142,38 @@ impl Study {
             markers,
             approximation: approximation.as_ref(),
         };
-        let results = run_diagnoses(&self.plan, &self.noise_from, &self.dirs, &by, &|line| {
-            eprintln!("{line}")
-        })?;
         let stem = results_stem(
             markers,
             self.plan.markers,
             reference.is_some(),
             approximation.is_some(),
         );
+        if closed_loop {
+            return self.close_loop(&by, a.loop_k, &stem);
+        }
+        let results = run_diagnoses(&self.plan, &self.noise_from, &self.dirs, &by, &|line| {
+            eprintln!("{line}")
+        })?;
         let p = self.out.join(format!("{stem}.json"));
         write_file(&p, serde_json::to_string_pretty(&results)?.as_bytes())?;
         let md = study_markdown(&self.plan, &results);
+        let q = self.out.join(format!("{stem}.md"));
+        write_file(&q, md.as_bytes())?;
+        print!("{md}");
+        eprintln!("wrote {} and {}", p.display(), q.display());
+        Ok(())
+    }
+
+    /// The closed loop (`--stage loop`): results written to `<stem with _loop>.json` and
+    /// `.md`, the Markdown printed.
+    fn close_loop(&self, by: &Diagnoser<'_>, k: usize, stem: &str) -> Result<()> {
+        let results = close_loop(&self.plan, &self.noise_from, &self.dirs, by, k, &|line| {
+            eprintln!("{line}")
+        })?;
+        let stem = stem.replacen("results", "results_loop", 1);
+        let p = self.out.join(format!("{stem}.json"));
+        write_file(&p, serde_json::to_string_pretty(&results)?.as_bytes())?;
+        let md = loop_markdown(&results);
         let q = self.out.join(format!("{stem}.md"));
         write_file(&q, md.as_bytes())?;
         print!("{md}");

@@ -40,12 +40,34 @@ pub struct Diagnoser<'a> {
 /// # Errors
 /// As [`diagnose`] and the stages.
 pub fn diagnose_twin(dir: &Path, by: &Diagnoser<'_>) -> Result<Diagnosis, DiagnoseError> {
-    let (model, sens) = (by.model, by.sens);
+    diagnose_recordings(twin_recordings(dir, by)?, by)
+}
+
+/// A twin's recordings as [`diagnose_twin`] reads them: without its markers unless `by`
+/// uses them.
+///
+/// # Errors
+/// Unreadable recordings.
+pub fn twin_recordings(dir: &Path, by: &Diagnoser<'_>) -> Result<Recordings, DiagnoseError> {
     let mut rec = Recordings::read_dir(dir)?;
     if !by.markers {
         rec.markers.clear();
         rec.markers_source.clear();
     }
+    Ok(rec)
+}
+
+/// Diagnoses recordings as [`diagnose_twin`] diagnoses a twin's: corrected by the
+/// approximation error's mean, calibrated through the model, located, the mesh error
+/// measured, named with the sensitivities, the named effect refitted.
+///
+/// # Errors
+/// As [`diagnose`] and the stages.
+pub fn diagnose_recordings(
+    mut rec: Recordings,
+    by: &Diagnoser<'_>,
+) -> Result<Diagnosis, DiagnoseError> {
+    let (model, sens) = (by.model, by.sens);
     if let Some(a) = by.approximation {
         rec = a.correct(&rec);
     }

@@ -179,3 +179,89 @@ fn every_twin(o: &mut String, r: &StudyResults) {
         let _ = writeln!(o, "\nPending (FE not run yet): {}.", r.pending.join(", "));
     }
 }
+
+/// The closed loop's results in Markdown: the three columns (before, planned, random) against
+/// the targets, then every twin with the measurements each chooser added.
+pub fn loop_markdown(r: &super::closed_loop::LoopResults) -> String {
+    let mut o = String::new();
+    let _ = writeln!(o, "# Blind twin study: the measurement plans, tested\n");
+    let _ = writeln!(
+        o,
+        "{} twins; up to {} measurements per twin, chosen by the diagnosis's plan (T-optimal \
+         discrimination) or drawn at random from the same menu ({}), made on the twin's own FE \
+         with fresh noise; markers of the recordings {}. A twin whose diagnosis leaves no tie \
+         gets no measurement.\n",
+        r.twins.len(),
+        r.k,
+        r.kinds
+            .iter()
+            .map(|k| k.label())
+            .collect::<Vec<_>>()
+            .join(", "),
+        if r.markers { "used" } else { "left out" },
+    );
+    let rows: [(&str, fn(&StudySummary) -> (usize, usize)); 5] = [
+        (
+            "concealed effect ranked first (visible twins; target ≥ 90 %)",
+            |s| (s.visible_first, s.visible),
+        ),
+        ("… first or tied with the first", |s| {
+            (s.visible_first_or_indistinguishable, s.visible)
+        }),
+        ("… named by the verdict", |s| (s.visible_named, s.visible)),
+        ("every effect twin ranked first", |s| {
+            (s.effect_first, s.effect_twins)
+        }),
+        ("false alarms on null twins (target ≤ 10 %)", |s| {
+            (s.false_alarms, s.nulls)
+        }),
+    ];
+    let _ = writeln!(o, "| | before | planned | random |");
+    let _ = writeln!(o, "|---|---|---|---|");
+    for (label, f) in rows {
+        let cell = |s: &StudySummary| {
+            let (a, b) = f(s);
+            pct(a, b)
+        };
+        let _ = writeln!(
+            o,
+            "| {label} | {} | {} | {} |",
+            cell(&r.before),
+            cell(&r.planned),
+            cell(&r.random)
+        );
+    }
+    let _ = writeln!(
+        o,
+        "| other candidates tied with the first (mean, visible twins) | {:.1} | {:.1} | {:.1} |\n",
+        r.before.visible_mean_tied.0, r.planned.visible_mean_tied.0, r.random.visible_mean_tied.0
+    );
+    let _ = writeln!(
+        o,
+        "| twin | concealed | first: before | planned | random | planned measurements |"
+    );
+    let _ = writeln!(o, "|---|---|---|---|---|---|");
+    for t in &r.twins {
+        let first = |s: &super::score::TwinScore| s.first.clone().unwrap_or_else(|| "—".into());
+        let items = if t.planned.is_empty() {
+            t.note.clone()
+        } else {
+            t.planned
+                .iter()
+                .map(|m| m.measurement.text())
+                .collect::<Vec<_>>()
+                .join("; ")
+        };
+        let _ = writeln!(
+            o,
+            "| {} | {} | {} | {} | {} | {} |",
+            t.twin,
+            t.before.truth.as_deref().unwrap_or("none"),
+            first(&t.before),
+            first(&t.after_planned),
+            first(&t.after_random),
+            items
+        );
+    }
+    o
+}

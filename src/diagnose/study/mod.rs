@@ -33,6 +33,7 @@
 //! to the two discretisations and the surrogate's own error, which the null twins measure).
 //! The targets count the twins whose effect moves the tip by more than 2 σ.
 
+mod closed_loop;
 mod diagnosis;
 mod markdown;
 mod plan;
@@ -40,8 +41,13 @@ mod results;
 mod score;
 mod twins;
 
-pub use diagnosis::{diagnose_twin, null_approximation_error, Diagnoser};
-pub use markdown::study_markdown;
+pub use closed_loop::{
+    close_loop, AddedMeasurement, Chooser, LoopResults, TwinLoop, LOOP_FORMAT, LOOP_KINDS,
+};
+pub use diagnosis::{
+    diagnose_recordings, diagnose_twin, null_approximation_error, twin_recordings, Diagnoser,
+};
+pub use markdown::{loop_markdown, study_markdown};
 pub use plan::{StudyPlan, TwinGroup, NOISE_SEEDS, PLAN_FORMAT, STANDARD_EFFECTS, VERSION};
 pub use results::{run_diagnoses, summarise, StudyResults, StudySummary, RESULTS_FORMAT};
 pub use score::{score_twin, truth_tips, TrueTip, TwinScore};

@@ -1,13 +1,16 @@
 //! The study's results: every twin scored, the targets counted, and the run that makes them.
 
+use std::path::Path;
+
 use serde::{Deserialize, Serialize};
 
 use super::diagnosis::{diagnose_twin, Diagnoser};
 use super::plan::{StudyPlan, VERSION};
-use super::score::{score_twin, truth_tips, TwinScore};
+use super::score::{score_twin, truth_tips, TrueTip, TwinScore};
 use super::twins::StudyDirs;
 use crate::calibrate::twin::TwinKey;
 use crate::calibrate::Recordings;
+use crate::diagnose::approx_error::ApproximationError;
 use crate::diagnose::DiagnoseError;
 
 /// The `format` field of the study's results.
@@ -174,15 +177,11 @@ pub fn run_diagnoses(
             pending.push(name);
             continue;
         }
-        let own;
-        let mut by_here = *by;
-        if let Some(a) = by.approximation {
-            let id = plan.groups[g].id.as_str();
-            if a.samples.iter().any(|x| x.source == id) {
-                own = a.without(&[id])?;
-                by_here.approximation = Some(&own);
-            }
-        }
+        let own = without_own_group(by, &plan.groups[g].id)?;
+        let by_here = Diagnoser {
+            approximation: own.as_ref().or(by.approximation),
+            ..*by
+        };
         let d = diagnose_twin(&dir, &by_here)?;
         let text = d.to_json()?;
         std::fs::create_dir_all(&dirs.diagnoses).map_err(|e| {
@@ -196,22 +195,9 @@ pub fn run_diagnoses(
         let out = dirs.diagnoses.join(format!("{name}{suffix}.json"));
         crate::io::write_atomic(&out, text.as_bytes())
             .map_err(|e| DiagnoseError::input("diagnosis", out.display(), &e.to_string()))?;
-        let key: TwinKey = serde_json::from_str(
-            &std::fs::read_to_string(&key_path)
-                .map_err(|e| DiagnoseError::input("key", key_path.display(), &e.to_string()))?,
-        )?;
-        plan.check_key(&plan.groups[g].id, replicate, &key)?;
+        let key = read_key(plan, g, replicate, &key_path)?;
         let tips = truth_tips(plan, &plan.groups[g], noise_from, dirs)?;
-        let lookup = |n: u32, t: f64, p: f64| {
-            tips.iter()
-                .find(|r| {
-                    r.n_bellows == n
-                        && (r.wall_thickness_mm - t).abs() < 1e-9
-                        && (r.pressure_bar - p).abs() < 1e-9
-                })
-                .map(|r| (r.tip_uz_mm, r.tip_uy_mm))
-        };
-        let s = score_twin(&name, &d, &key, model, &lookup)?;
+        let s = score_twin(&name, &d, &key, model, &|n, t, p| tip_at(&tips, n, t, p))?;
         progress(&format!(
             "{name}: concealed {}, named {}, first {}",
             s.truth.as_deref().unwrap_or("nothing"),
@@ -244,4 +230,48 @@ pub fn run_diagnoses(
         }),
         summary,
     })
+}
+
+/// The approximation error of `by` without the sample of group `id` (a null twin is not
+/// diagnosed with its own group's sample); none when `by` has none or no sample of `id`.
+///
+/// # Errors
+/// As [`ApproximationError::without`].
+pub(super) fn without_own_group(
+    by: &Diagnoser<'_>,
+    id: &str,
+) -> Result<Option<ApproximationError>, DiagnoseError> {
+    match by.approximation {
+        Some(a) if a.samples.iter().any(|x| x.source == id) => Ok(Some(a.without(&[id])?)),
+        _ => Ok(None),
+    }
+}
+
+/// The key of twin `replicate` of group `g`, checked against the plan's noise seed.
+///
+/// # Errors
+/// An unreadable key; a seed that is not the plan's.
+pub(super) fn read_key(
+    plan: &StudyPlan,
+    g: usize,
+    replicate: u64,
+    path: &Path,
+) -> Result<TwinKey, DiagnoseError> {
+    let key: TwinKey = serde_json::from_str(
+        &std::fs::read_to_string(path)
+            .map_err(|e| DiagnoseError::input("key", path.display(), &e.to_string()))?,
+    )?;
+    plan.check_key(&plan.groups[g].id, replicate, &key)?;
+    Ok(key)
+}
+
+/// The noise-free tip `(Uz, Uy)` of `tips` at `(n, t, p)`.
+pub(super) fn tip_at(tips: &[TrueTip], n: u32, t: f64, p: f64) -> Option<(f64, f64)> {
+    tips.iter()
+        .find(|r| {
+            r.n_bellows == n
+                && (r.wall_thickness_mm - t).abs() < 1e-9
+                && (r.pressure_bar - p).abs() < 1e-9
+        })
+        .map(|r| (r.tip_uz_mm, r.tip_uy_mm))
 }
