@@ -81,9 +81,9 @@ fn cli_crates_are_optional_and_enabled_by_the_default_cli_feature() {
 /// The library builds without the default features. Ignored in the ordinary run: in a target
 /// directory of its own it compiles every dependency again (about 10 minutes on 2 cores;
 /// the library alone, with warm dependencies, about 4 minutes in release). Run it with
-/// `cargo test --release --test library_features -- --ignored`.
+/// `cargo test --release --test library_features library_builds_without_default_features -- --ignored`.
 #[test]
-#[ignore = "compiles the dependencies in a target directory of its own (minutes); run: cargo test --release --test library_features -- --ignored"]
+#[ignore = "compiles the dependencies in a target directory of its own (minutes); run: cargo test --release --test library_features library_builds_without_default_features -- --ignored"]
 fn library_builds_without_default_features() {
     let target = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("no_default_features");
     let out = std::process::Command::new(env!("CARGO"))

@@ -1,36 +1,13 @@
 //! `surrogate calibrate` from the command line: outputs, markers, bad input.
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
-fn run(args: &[&str]) -> (bool, String, String) {
-    run_in(Path::new(env!("CARGO_MANIFEST_DIR")), args)
-}
-
-/// Runs the program in the working directory `dir`.
-fn run_in(dir: &Path, args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
-        .current_dir(dir)
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("surrogate_cal_{}_{name}", std::process::id()));
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use crate::common::{outcome, outcome_in, repo, scratch};
 
 #[test]
 fn writes_the_report_and_the_plots() {
-    let dir = tmp("out");
+    let dir = scratch("cal_out");
     let out = dir.to_str().unwrap();
-    let (ok, stdout, stderr) = run(&[
+    let (ok, stdout, stderr) = outcome(&[
         "calibrate",
         "--objective",
         "tip=1,force=0.5",
@@ -76,12 +53,10 @@ fn writes_the_report_and_the_plots() {
 
 #[test]
 fn marker_recordings_enter_the_objective() {
-    let dir = tmp("markers");
+    let dir = scratch("cal_markers");
     // markers 9 = the tip of the shipped bending rows, std 2 mm
-    let bending = std::fs::read_to_string(
-        PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("training_data/bending_experiments.csv"),
-    )
-    .unwrap();
+    let bending =
+        std::fs::read_to_string(repo().join("training_data/bending_experiments.csv")).unwrap();
     let mut m =
         String::from("n_bellows,wall_thickness_mm,pressure_bar,marker,uz_mm,uy_mm,std_mm\n");
     for line in bending.lines().skip(1) {
@@ -93,7 +68,7 @@ fn marker_recordings_enter_the_objective() {
     }
     let mf = dir.join("markers.csv");
     std::fs::write(&mf, m).unwrap();
-    let (ok, stdout, stderr) = run(&[
+    let (ok, stdout, stderr) = outcome(&[
         "calibrate",
         "--objective",
         "markers",
@@ -113,7 +88,7 @@ fn marker_recordings_enter_the_objective() {
         stdout.contains("54 observations at 27 configurations"),
         "{stdout}"
     );
-    let (ok, _, stderr) = run(&[
+    let (ok, _, stderr) = outcome(&[
         "calibrate",
         "--objective",
         "markers",
@@ -129,14 +104,14 @@ fn marker_recordings_enter_the_objective() {
 
 #[test]
 fn bad_recordings_name_file_line_and_column() {
-    let dir = tmp("bad");
+    let dir = scratch("cal_bad");
     let f = dir.join("bending.csv");
     std::fs::write(
         &f,
         "n_bellows,wall_thickness_mm,pressure_bar,tip_uz_mm,tip_uy_mm,angle_deg,angle_std_deg,tip_uz_in\n9,1.6,1,9.4,-35.9,23.57,1.95,0.37\n",
     )
     .unwrap();
-    let (ok, _, stderr) = run(&[
+    let (ok, _, stderr) = outcome(&[
         "calibrate",
         "--bending",
         f.to_str().unwrap(),
@@ -153,7 +128,7 @@ fn bad_recordings_name_file_line_and_column() {
         "n_bellows,wall_thickness_mm,pressure_bar,tip_uz_mm,tip_uy_mm,angle_deg,angle_std_deg\n9,1.6,1,9.4,-35.9,23.57,1.95\n9,1.6,1,9.5,-35.9,23.57,1.95\n",
     )
     .unwrap();
-    let (ok, _, stderr) = run(&[
+    let (ok, _, stderr) = outcome(&[
         "calibrate",
         "--bending",
         f.to_str().unwrap(),
@@ -172,13 +147,13 @@ fn bad_recordings_name_file_line_and_column() {
     ] {
         let mut a = vec!["calibrate", "--out", dir.to_str().unwrap()];
         a.extend(args);
-        let (ok, _, stderr) = run(&a);
+        let (ok, _, stderr) = outcome(&a);
         assert!(!ok && stderr.contains(want), "{a:?}: {stderr}");
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
 
-fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
+fn copy_dir(from: &Path, to: &Path) {
     std::fs::create_dir_all(to).unwrap();
     for e in std::fs::read_dir(from).unwrap() {
         let p = e.unwrap().path();
@@ -193,17 +168,14 @@ fn copy_dir(from: &std::path::Path, to: &std::path::Path) {
 
 #[test]
 fn refinement_reads_its_committed_round_and_reports_it() {
-    let dir = tmp("refine");
+    let dir = scratch("cal_refine");
     // the committed FE of round 1: the command finds it and runs no FE
     copy_dir(
-        std::path::Path::new(concat!(
-            env!("CARGO_MANIFEST_DIR"),
-            "/fe_reference/calibration/refine_coarse/refine/round_1"
-        )),
+        &repo().join("fe_reference/calibration/refine_coarse/refine/round_1"),
         &dir.join("refine/round_1"),
     );
     let out = dir.to_str().unwrap();
-    let (ok, stdout, stderr) = run(&[
+    let (ok, stdout, stderr) = outcome(&[
         "calibrate",
         "--model",
         "models/actuator_coarse.json",
@@ -237,9 +209,9 @@ fn refinement_reads_its_committed_round_and_reports_it() {
 
 #[test]
 fn refinement_refuses_a_second_mesh_and_a_missing_training_set() {
-    let dir = tmp("refine_bad");
+    let dir = scratch("cal_refine_bad");
     let out = dir.to_str().unwrap();
-    let (ok, _, stderr) = run(&[
+    let (ok, _, stderr) = outcome(&[
         "calibrate",
         "--refine",
         "2",
@@ -253,7 +225,7 @@ fn refinement_refuses_a_second_mesh_and_a_missing_training_set() {
         stderr.contains("--verify-fe standard with --refine 2"),
         "{stderr}"
     );
-    let (ok, _, stderr) = run(&[
+    let (ok, _, stderr) = outcome(&[
         "calibrate",
         "--model",
         "models/actuator_coarse.json",
@@ -266,18 +238,14 @@ fn refinement_refuses_a_second_mesh_and_a_missing_training_set() {
     ]);
     assert!(!ok);
     assert!(stderr.contains("no/such/snapshots.csv"), "{stderr}");
-    let (ok, _, stderr) = run(&["calibrate", "--refine", "1", "--threads", "0", "--out", out]);
+    let (ok, _, stderr) = outcome(&["calibrate", "--refine", "1", "--threads", "0", "--out", out]);
     assert!(!ok);
     assert!(stderr.contains("threads"), "{stderr}");
     let _ = std::fs::remove_dir_all(&dir);
 }
 
 fn repository(path: &str) -> String {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-        .join(path)
-        .to_str()
-        .unwrap()
-        .to_string()
+    repo().join(path).to_str().unwrap().to_string()
 }
 
 fn report_json(dir: &Path) -> serde_json::Value {
@@ -286,7 +254,7 @@ fn report_json(dir: &Path) -> serde_json::Value {
 
 #[test]
 fn only_the_recordings_named_are_read_and_every_input_is_listed() {
-    let dir = tmp("inputs");
+    let dir = scratch("cal_inputs");
     let mine = repository("tests/data/bad_recordings/three_rows.csv");
     let fast = ["--starts", "2", "--profile-points", "4"];
     // from a folder that is not the repository: the defaults are the repository's
@@ -299,7 +267,7 @@ fn only_the_recordings_named_are_read_and_every_input_is_listed() {
         out.to_str().unwrap(),
     ];
     args.extend(fast);
-    let (ok, stdout, stderr) = run_in(&dir, &args);
+    let (ok, stdout, stderr) = outcome_in(&dir, &args);
     assert!(ok, "{stderr}");
     assert!(
         stderr.contains("no --force: only the files named are read"),
@@ -326,7 +294,7 @@ fn only_the_recordings_named_are_read_and_every_input_is_listed() {
     assert!(md.contains(&format!("| bending | `{mine}` | ")), "{md}");
     assert!(!md.contains("blocked_force"), "{md}");
     // the force is not taken from anywhere else
-    let (ok, _, stderr) = run_in(
+    let (ok, _, stderr) = outcome_in(
         &dir,
         &[
             "calibrate",
@@ -343,7 +311,7 @@ fn only_the_recordings_named_are_read_and_every_input_is_listed() {
         "{stderr}"
     );
     let force = repository("training_data/blocked_force_experiments.csv");
-    let (ok, _, stderr) = run_in(&dir, &["calibrate", "--force", &force, "--out", "x"]);
+    let (ok, _, stderr) = outcome_in(&dir, &["calibrate", "--force", &force, "--out", "x"]);
     assert!(
         !ok && stderr.contains("--force without --bending: the calibration needs bending"),
         "{stderr}"
@@ -352,7 +320,7 @@ fn only_the_recordings_named_are_read_and_every_input_is_listed() {
     let out = dir.join("defaults");
     let mut args = vec!["calibrate", "--out", out.to_str().unwrap()];
     args.extend(fast);
-    let (ok, _, stderr) = run_in(&dir, &args);
+    let (ok, _, stderr) = outcome_in(&dir, &args);
     assert!(ok, "{stderr}");
     assert!(
         stderr.contains("no recordings named: reading the shipped experiments"),
@@ -386,7 +354,7 @@ fn only_the_recordings_named_are_read_and_every_input_is_listed() {
 
 #[test]
 fn recordings_in_other_units_or_signs_are_refused_by_name() {
-    let dir = tmp("units");
+    let dir = scratch("cal_units");
     let bad = |f: &str| repository(&format!("tests/data/bad_recordings/{f}"));
     let bending = repository("training_data/bending_experiments.csv");
     let cases: [(&[&str], &str); 6] = [
@@ -419,7 +387,7 @@ fn recordings_in_other_units_or_signs_are_refused_by_name() {
     for (extra, want) in cases {
         let mut args = vec!["calibrate", "--out", out.to_str().unwrap()];
         args.extend(extra);
-        let (ok, _, stderr) = run_in(&dir, &args);
+        let (ok, _, stderr) = outcome_in(&dir, &args);
         assert!(!ok && stderr.contains(want), "{extra:?}: {stderr}");
         assert!(!out.exists(), "{extra:?}: nothing written");
     }
@@ -429,7 +397,7 @@ fn recordings_in_other_units_or_signs_are_refused_by_name() {
         .replacen("pressure_bar", "pressure_kpa", 1);
     let f = dir.join("kpa.csv");
     std::fs::write(&f, kpa).unwrap();
-    let (ok, stdout, stderr) = run_in(
+    let (ok, stdout, stderr) = outcome_in(
         &dir,
         &[
             "calibrate",

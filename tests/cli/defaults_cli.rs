@@ -1,26 +1,17 @@
 //! Defaults resolve against the repository the program was built from, not the working
 //! directory, and a default that was read is said with its path; a file the user names is
 //! read where the user is.
-use std::path::Path;
-use std::process::Command;
-
-fn tmp(name: &str) -> std::path::PathBuf {
-    let d = std::env::temp_dir().join(format!("surrogate_defaults_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use crate::common::{repo, run_in, scratch, text};
 
 #[test]
 fn predict_runs_from_another_folder_and_names_the_default_model() {
-    let dir = tmp("predict");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    let default = root.join("models/actuator.json");
+    let dir = scratch("defaults_predict");
+    let default = repo().join("models/actuator.json");
     let said = format!("--model: reading {} (the default)", default.display());
     // one query: the shipped model of the repository, said on stderr
-    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
-        .current_dir(&dir)
-        .args([
+    let out = run_in(
+        &dir,
+        &[
             "predict",
             "--n",
             "11",
@@ -30,10 +21,9 @@ fn predict_runs_from_another_folder_and_names_the_default_model() {
             "1.5",
             "--material",
             "ogden_002",
-        ])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
+        ],
+    );
+    let stderr = text(&out).1;
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains(&said), "{stderr}");
     let v: serde_json::Value = serde_json::from_slice(&out.stdout).unwrap();
@@ -44,30 +34,28 @@ fn predict_runs_from_another_folder_and_names_the_default_model() {
         "id,n_bellows,wall_thickness_mm,pressure_bar,material\na,11,2.0,1.5,ogden_002\n",
     )
     .unwrap();
-    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
-        .current_dir(&dir)
-        .args([
+    let out = run_in(
+        &dir,
+        &[
             "predict",
             "--csv",
             "queries.csv",
             "--out",
             "predictions.csv",
-        ])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
+        ],
+    );
+    let stderr = text(&out).1;
     assert!(out.status.success(), "{stderr}");
     assert!(stderr.contains(&said), "{stderr}");
     let written = std::fs::read_to_string(dir.join("predictions.csv")).unwrap();
     assert_eq!(written.lines().count(), 2, "{written}");
     // a model named by the user is read where the user is: nothing is said, a missing one
     // is an error that gives the shipped models' full paths
-    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
-        .current_dir(&dir)
-        .args(["predict", "--model", "models/actuator.json", "--validation"])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let out = run_in(
+        &dir,
+        &["predict", "--model", "models/actuator.json", "--validation"],
+    );
+    let stderr = text(&out).1;
     assert!(!out.status.success());
     assert!(!stderr.contains("(the default)"), "{stderr}");
     assert!(

@@ -1,36 +1,8 @@
 //! `surrogate design` and `surrogate maps`: the table, the JSON report, the figures, and the
 //! bad-input messages naming their flag.
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::process::Output;
 
-const REPORT: &str = "fe_reference/calibration/surrogate/report.json";
-
-fn repo() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// Runs the program from the repository's root.
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_surrogate"))
-        .current_dir(repo())
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> (String, String) {
-    (
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("design_cli_{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use crate::common::{fails_with, run, scratch, text, REPORT};
 
 /// `surrogate design` with the calibrated material and `extra` arguments.
 fn design(extra: &[&str]) -> Output {
@@ -39,19 +11,9 @@ fn design(extra: &[&str]) -> Output {
     run(&args)
 }
 
-/// Asserts that the command failed and that its stderr names every one of `needles`.
-fn fails_with(o: &Output, needles: &[&str]) {
-    let err = text(o).1;
-    assert!(
-        !o.status.success() && needles.iter().all(|n| err.contains(n)),
-        "expected a failure naming {needles:?}, got status {:?}: {err}",
-        o.status.code()
-    );
-}
-
 #[test]
 fn design_prints_a_row_per_n_and_the_pick_with_its_errors() {
-    let json = scratch("json").join("report.json");
+    let json = scratch("design_cli_json").join("report.json");
     let o = design(&[
         "--angle",
         "40@2",
@@ -136,7 +98,7 @@ fn design_names_the_flag_of_a_bad_range() {
 
 #[test]
 fn maps_write_an_svg_per_output_and_the_grid() {
-    let dir = scratch("maps");
+    let dir = scratch("design_cli_maps");
     let o = run(&[
         "maps",
         "--material",

@@ -1,27 +1,8 @@
 //! `surrogate diagnose` from the command line: the report on the shipped experiments, marker
 //! recordings (the figure along the actuator), and bad input named before anything runs.
-use std::path::{Path, PathBuf};
-use std::process::Command;
+use std::path::Path;
 
-fn run(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
-
-fn tmp(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("surrogate_diag_{}_{name}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use crate::common::{outcome, repo, run_in, scratch, text};
 
 fn report(dir: &Path) -> serde_json::Value {
     serde_json::from_str(&std::fs::read_to_string(dir.join("diagnosis.json")).unwrap()).unwrap()
@@ -29,9 +10,9 @@ fn report(dir: &Path) -> serde_json::Value {
 
 #[test]
 fn diagnoses_the_shipped_experiments() {
-    let dir = tmp("shipped");
+    let dir = scratch("diag_shipped");
     let out = dir.join("report");
-    let (ok, stdout, stderr) = run(&["diagnose", "--out", out.to_str().unwrap()]);
+    let (ok, stdout, stderr) = outcome(&["diagnose", "--out", out.to_str().unwrap()]);
     assert!(ok, "{stderr}");
     for f in [
         "diagnosis.json",
@@ -47,7 +28,7 @@ fn diagnoses_the_shipped_experiments() {
     assert_eq!(r["format"], "surrogate.diagnosis");
     assert_eq!(r["version"], 1);
     // the defaults are the repository's, and the report says so
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = repo();
     let in_repo = |p: &str| root.join(p).to_str().unwrap().to_string();
     assert_eq!(
         r["recordings"]["bending"],
@@ -172,7 +153,7 @@ fn diagnoses_the_shipped_experiments() {
     }
     // two effects asked for by name; `none` skips the stage and says why
     let out3 = dir.join("refit");
-    let (ok, stdout, stderr) = run(&[
+    let (ok, stdout, stderr) = outcome(&[
         "diagnose",
         "--refit",
         "pressure_loss,force_scale",
@@ -189,7 +170,7 @@ fn diagnoses_the_shipped_experiments() {
         "{stdout}"
     );
     let out4 = dir.join("none");
-    let (ok, stdout, stderr) = run(&[
+    let (ok, stdout, stderr) = outcome(&[
         "diagnose",
         "--refit",
         "none",
@@ -201,7 +182,7 @@ fn diagnoses_the_shipped_experiments() {
     assert!(stdout.contains("Model and show: not run ("), "{stdout}");
     // --objective and --exclude reach the calibration
     let out2 = dir.join("force");
-    let (ok, _, stderr) = run(&[
+    let (ok, _, stderr) = outcome(&[
         "diagnose",
         "--objective",
         "tip,force",
@@ -224,10 +205,10 @@ fn diagnoses_the_shipped_experiments() {
 
 #[test]
 fn marker_recordings_are_drawn_along_the_actuator() {
-    let dir = tmp("markers");
+    let dir = scratch("diag_markers");
     let rec = dir.join("rec");
     std::fs::create_dir_all(&rec).unwrap();
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let root = repo();
     let bending =
         std::fs::read_to_string(root.join("training_data/bending_experiments.csv")).unwrap();
     std::fs::write(rec.join("bending_experiments.csv"), &bending).unwrap();
@@ -243,7 +224,7 @@ fn marker_recordings_are_drawn_along_the_actuator() {
     }
     std::fs::write(rec.join("marker_experiments.csv"), m).unwrap();
     let out = dir.join("out");
-    let (ok, stdout, stderr) = run(&[
+    let (ok, stdout, stderr) = outcome(&[
         "diagnose",
         "--recordings",
         rec.to_str().unwrap(),
@@ -260,7 +241,7 @@ fn marker_recordings_are_drawn_along_the_actuator() {
 
 #[test]
 fn bad_input_is_named_before_anything_runs() {
-    let dir = tmp("bad");
+    let dir = scratch("diag_bad");
     let out = dir.join("out");
     let o = out.to_str().unwrap();
     let empty = dir.join("empty");
@@ -317,7 +298,7 @@ fn bad_input_is_named_before_anything_runs() {
             .chain(extra)
             .copied()
             .collect();
-        let (ok, _, stderr) = run(&args);
+        let (ok, _, stderr) = outcome(&args);
         assert!(!ok && stderr.contains(&want), "{extra:?}: {stderr}");
         assert!(!out.exists(), "{extra:?}: nothing written");
     }
@@ -326,15 +307,11 @@ fn bad_input_is_named_before_anything_runs() {
 
 #[test]
 fn runs_from_any_folder_and_names_the_defaults_it_read() {
-    let dir = tmp("elsewhere");
-    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
-        .current_dir(&dir)
-        .args(["diagnose", "--refit", "none", "--out", "report"])
-        .output()
-        .unwrap();
-    let stderr = String::from_utf8_lossy(&out.stderr);
+    let dir = scratch("diag_elsewhere");
+    let out = run_in(&dir, &["diagnose", "--refit", "none", "--out", "report"]);
+    let stderr = text(&out).1;
     assert!(out.status.success(), "{stderr}");
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = repo();
     for f in [
         "models/actuator.json",
         "training_data/bending_experiments.csv",
@@ -362,9 +339,9 @@ const OUTSIDE_SWEEP: &str = "tests/data/diagnose_outside_sweep";
 
 #[test]
 fn recordings_outside_the_sweep_get_the_locate_stage_and_the_missing_cells() {
-    let dir = tmp("outside_sweep");
+    let dir = scratch("diag_outside_sweep");
     let out = dir.join("out");
-    let (ok, stdout, stderr) = run(&[
+    let (ok, stdout, stderr) = outcome(&[
         "diagnose",
         "--recordings",
         OUTSIDE_SWEEP,
@@ -406,7 +383,7 @@ fn recordings_outside_the_sweep_get_the_locate_stage_and_the_missing_cells() {
     assert!(md.contains("## Findings"), "{md}");
     // an effect asked for by name cannot be refitted: the report is written, the run fails
     let out2 = dir.join("refit");
-    let (ok, _, stderr) = run(&[
+    let (ok, _, stderr) = outcome(&[
         "diagnose",
         "--recordings",
         OUTSIDE_SWEEP,
@@ -426,10 +403,10 @@ fn recordings_outside_the_sweep_get_the_locate_stage_and_the_missing_cells() {
 
 #[test]
 fn cells_outside_the_sweep_are_named_when_the_rest_suffice() {
-    let dir = tmp("partial_sweep");
+    let dir = scratch("diag_partial_sweep");
     let rec = dir.join("rec");
     std::fs::create_dir_all(&rec).unwrap();
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let root = repo();
     let mut bending =
         std::fs::read_to_string(root.join("training_data/bending_experiments.csv")).unwrap();
     let extra =
@@ -441,7 +418,7 @@ fn cells_outside_the_sweep_are_named_when_the_rest_suffice() {
     }
     std::fs::write(rec.join("bending_experiments.csv"), bending).unwrap();
     let out = dir.join("out");
-    let (ok, _, stderr) = run(&[
+    let (ok, _, stderr) = outcome(&[
         "diagnose",
         "--recordings",
         rec.to_str().unwrap(),

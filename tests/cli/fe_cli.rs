@@ -1,19 +1,11 @@
 //! `surrogate simulate` from the command line: bad input is a clear error with a non-zero exit
 //! code, and a small run writes the documented JSON and ParaView files.
 
-use std::process::Command;
+use crate::common::{outcome, scratch};
 
+/// `surrogate simulate` with `args`: (success, stdout, stderr).
 fn simulate(args: &[&str]) -> (bool, String, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
-        .arg("simulate")
-        .args(args)
-        .output()
-        .expect("the binary runs");
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stdout).into_owned(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
+    outcome(&[&["simulate"], args].concat())
 }
 
 /// A geometry preset (the unstated dimensions) outside its physical range, or one that leaves
@@ -21,8 +13,7 @@ fn simulate(args: &[&str]) -> (bool, String, String) {
 /// and starts of `identify`.
 #[test]
 fn bad_geometries_and_identifications_are_refused_before_any_fe() {
-    let dir = std::env::temp_dir().join(format!("surrogate_geometry_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("geometry");
     let write = |name: &str, text: &str| {
         let p = dir.join(name);
         std::fs::write(&p, text).unwrap();
@@ -58,18 +49,9 @@ fn bad_geometries_and_identifications_are_refused_before_any_fe() {
         assert!(err.contains(expected), "{args:?}: {err}");
         assert!(!err.contains("step"), "{args:?} ran FE steps: {err}");
     }
-    let identify = |args: &[&str]| {
-        let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
-            .arg("identify")
-            .args(args)
-            .args(["--out", &dir.join("identify").display().to_string()])
-            .output()
-            .expect("the binary runs");
-        (
-            out.status.success(),
-            String::from_utf8_lossy(&out.stderr).into_owned(),
-        )
-    };
+    let identify_out = dir.join("identify").display().to_string();
+    let identify =
+        |args: &[&str]| outcome(&[&["identify"], args, &["--out", &identify_out]].concat());
     for (args, expected) in [
         (vec!["--unknowns", "gap_bias"], "the dimension itself"),
         (vec!["--unknowns", "colour"], "unknown = colour"),
@@ -80,7 +62,7 @@ fn bad_geometries_and_identifications_are_refused_before_any_fe() {
         (vec!["--set", "plate_offset=-9"], "plate_offset"),
         (vec!["--set", "gap"], "expected NAME=VALUE"),
     ] {
-        let (ok, err) = identify(&args);
+        let (ok, _, err) = identify(&args);
         assert!(!ok, "{args:?} should fail");
         assert!(err.contains(expected), "{args:?}: {err}");
     }
@@ -225,10 +207,9 @@ fn check_step_vtu(vtu: &str, nodes: usize, elements: usize) {
 
 #[test]
 fn small_run_writes_json_and_vtk() {
-    let dir = std::env::temp_dir().join(format!("surrogate_fe_cli_{}", std::process::id()));
+    let dir = scratch("fe_cli");
     let json = dir.join("r.json");
     let vtk = dir.join("vtk");
-    std::fs::create_dir_all(&dir).unwrap();
     let (ok, _, err) = simulate(&[
         "--n",
         "7",
@@ -290,8 +271,7 @@ fn small_run_writes_json_and_vtk() {
 
 #[test]
 fn force_mode_reports_the_plate_reaction() {
-    let dir = std::env::temp_dir().join(format!("surrogate_fe_force_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("fe_force");
     let json = dir.join("f.json");
     let (ok, _, err) = simulate(&[
         "--n",

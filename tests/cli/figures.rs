@@ -1,7 +1,7 @@
 //! Every committed figure has a legend, units on its axes, and is drawn by a documented
 //! command (the axis ranges themselves are tested where they are computed:
 //! `src/bin/surrogate/figure.rs`, `validate.rs`, `train.rs`).
-use std::path::Path;
+use crate::common::repo;
 
 fn texts(svg: &str) -> Vec<String> {
     svg.split("<text")
@@ -15,7 +15,7 @@ fn texts(svg: &str) -> Vec<String> {
 
 #[test]
 fn committed_figures_have_legends_and_units() {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let root = repo();
     let baseline = [
         "ogden_002_standard",
         "ogden_005_standard",

@@ -4,6 +4,7 @@
 //!
 //! One test binary; each module is one subject.
 
+mod common;
 #[path = "../rom_common/mod.rs"]
 mod rom_common;
 mod snapshots_common;

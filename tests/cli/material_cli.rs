@@ -1,40 +1,13 @@
 //! The calibrated material can be used: a calibration report (`DIR/report.json`) is a material
 //! wherever one is taken, the summary prints the set at full precision, a set typed back to
 //! its printed digits is accepted at a bound, and the shipped domain is the plan's.
-use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+use std::path::Path;
+use std::process::Output;
 
 use surrogate::case::Query;
 use surrogate::rom::Surrogate;
 
-const REPORT: &str = "fe_reference/calibration/surrogate/report.json";
-
-fn repo() -> &'static Path {
-    Path::new(env!("CARGO_MANIFEST_DIR"))
-}
-
-/// Runs the program from the repository's root.
-fn run(args: &[&str]) -> Output {
-    Command::new(env!("CARGO_BIN_EXE_surrogate"))
-        .current_dir(repo())
-        .args(args)
-        .output()
-        .unwrap()
-}
-
-fn text(o: &Output) -> (String, String) {
-    (
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
-
-fn scratch(name: &str) -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("material_cli_{name}"));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use crate::common::{repo, run, scratch, text, REPORT};
 
 /// The calibrated set of a report.
 fn best(path: &Path) -> [f64; 4] {
@@ -74,7 +47,7 @@ fn a_calibration_report_is_a_material_for_predict_export_and_queries() {
     let numbers = set.map(|v| v.to_string()).join(",");
     assert_eq!(text(&predict(&numbers, "2.0")).0, out);
     // export of a ramp at the calibrated set
-    let dir = scratch("export");
+    let dir = scratch("material_cli_export");
     let rs = dir.join("ramp.rs");
     let o = run(&[
         "export",
@@ -140,7 +113,7 @@ fn a_calibration_report_is_a_material_for_predict_export_and_queries() {
 /// are the report's set exactly, and `--material DIR/report.json` gives the same prediction.
 #[test]
 fn the_summary_prints_the_set_as_the_report_stores_it() {
-    let dir = scratch("calibrate");
+    let dir = scratch("material_cli_calibrate");
     let o = run(&[
         "calibrate",
         "--starts",
@@ -175,7 +148,7 @@ fn the_summary_prints_the_set_as_the_report_stores_it() {
 /// 0.021614…) is accepted, moved onto the bound with a note.
 #[test]
 fn a_set_printed_to_four_decimals_is_accepted_at_a_bound() {
-    let dir = scratch("tolerance");
+    let dir = scratch("material_cli_tolerance");
     let mut m = Surrogate::load(&repo().join("models/actuator.json")).unwrap();
     m.training.plan_domain = None;
     let model = dir.join("cases_box.json");
@@ -223,7 +196,7 @@ fn predict_accepts_the_plans_wall_thickness_range() {
 /// `train` on a merged snapshot set states the domain of the plan beside it.
 #[test]
 fn train_states_the_plans_domain_in_the_model_file() {
-    let dir = scratch("train");
+    let dir = scratch("material_cli_train");
     let plan = dir.join("plan.json");
     let cases = dir.join("cases");
     let set = dir.join("set.csv");

@@ -2,30 +2,13 @@
 //! reports it labelled beside `--std` (one query and a batch), `export` writes it, and a model
 //! without one says so.
 use std::path::{Path, PathBuf};
-use std::process::{Command, Output};
+
+use crate::common::{outcome, repo, shared_dir, REPORT};
 
 const SHIPPED: &str = "models/actuator.json";
-const REPORT: &str = "fe_reference/calibration/surrogate/report.json";
-
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_surrogate"))
-}
-
-fn root(p: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
-}
 
 fn dir() -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("model_form_cli");
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn run(args: &[&str]) -> (Output, String, String) {
-    let o = bin().args(args).output().unwrap();
-    let out = String::from_utf8_lossy(&o.stdout).into_owned();
-    let err = String::from_utf8_lossy(&o.stderr).into_owned();
-    (o, out, err)
+    shared_dir("model_form_cli")
 }
 
 fn s(p: &Path) -> &str {
@@ -34,8 +17,8 @@ fn s(p: &Path) -> &str {
 
 #[test]
 fn predict_reports_the_model_form_error_beside_the_std() {
-    let (model, report) = (root(SHIPPED), root(REPORT));
-    let (o, out, err) = run(&[
+    let (model, report) = (repo().join(SHIPPED), repo().join(REPORT));
+    let (ok, out, err) = outcome(&[
         "predict",
         "--model",
         s(&model),
@@ -49,7 +32,7 @@ fn predict_reports_the_model_form_error_beside_the_std() {
         s(&report),
         "--std",
     ]);
-    assert!(o.status.success(), "{err}");
+    assert!(ok, "{err}");
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert_eq!(v["std_is"], "surrogate vs FE");
     let mf = &v["model_form_error"];
@@ -65,7 +48,7 @@ fn predict_reports_the_model_form_error_beside_the_std() {
         "{err}"
     );
     // without --std, the model-form error is still there
-    let (o, out, _) = run(&[
+    let (ok, out, _) = outcome(&[
         "predict",
         "--model",
         s(&model),
@@ -78,7 +61,7 @@ fn predict_reports_the_model_form_error_beside_the_std() {
         "--material",
         "ogden_002",
     ]);
-    assert!(o.status.success());
+    assert!(ok);
     let v: serde_json::Value = serde_json::from_str(&out).unwrap();
     assert!(v.get("std").is_none() && v.get("std_is").is_none());
     assert!(v["model_form_error"]["force_n"].as_f64().unwrap() > 0.5);
@@ -94,17 +77,17 @@ fn batch_predictions_carry_a_model_form_column_per_recorded_output() {
     )
     .unwrap();
     let out = d.join("p.csv");
-    let (o, _, err) = run(&[
+    let (ok, _, err) = outcome(&[
         "predict",
         "--model",
-        s(&root(SHIPPED)),
+        s(&repo().join(SHIPPED)),
         "--csv",
         s(&input),
         "--out",
         s(&out),
         "--std",
     ]);
-    assert!(o.status.success(), "{err}");
+    assert!(ok, "{err}");
     let mut r = csv::Reader::from_path(&out).unwrap();
     let header: Vec<String> = r.headers().unwrap().iter().map(str::to_string).collect();
     let col = |name: &str| {
@@ -136,27 +119,27 @@ fn batch_predictions_carry_a_model_form_column_per_recorded_output() {
         "n_bellows,wall_thickness_mm,pressure_bar,material,angle_deg_model_form\n11,2,1,ogden_002,3\n",
     )
     .unwrap();
-    let (o, _, err) = run(&[
+    let (ok, _, err) = outcome(&[
         "predict",
         "--model",
-        s(&root(SHIPPED)),
+        s(&repo().join(SHIPPED)),
         "--csv",
         s(&input),
         "--out",
         s(&out),
     ]);
     assert!(
-        !o.status.success() && err.contains("column `angle_deg_model_form` would be overwritten"),
+        !ok && err.contains("column `angle_deg_model_form` would be overwritten"),
         "{err}"
     );
 }
 
 #[test]
 fn a_model_without_a_model_form_error_says_so() {
-    let (o, out, err) = run(&[
+    let (ok, out, err) = outcome(&[
         "predict",
         "--model",
-        s(&root("models/actuator_coarse.json")),
+        s(&repo().join("models/actuator_coarse.json")),
         "--n",
         "11",
         "--t",
@@ -166,7 +149,7 @@ fn a_model_without_a_model_form_error_says_so() {
         "--material",
         "ogden_002",
     ]);
-    assert!(o.status.success(), "{err}");
+    assert!(ok, "{err}");
     assert!(!out.contains("model_form_error"));
     assert!(
         err.contains("carries no model-form error (calibration residuals)")
@@ -181,16 +164,16 @@ fn model_form_command_stores_it_and_refuses_a_report_of_another_model() {
     let out = d.join("coarse_with.json");
     let _ = std::fs::remove_file(&out);
     // the committed report was made through the standard-mesh model, not the coarse one
-    let (o, _, err) = run(&[
+    let (ok, _, err) = outcome(&[
         "model-form",
         "--model",
-        s(&root("models/actuator_coarse.json")),
+        s(&repo().join("models/actuator_coarse.json")),
         "--calibration",
-        s(&root(REPORT)),
+        s(&repo().join(REPORT)),
         "--out",
         s(&out),
     ]);
-    assert!(!o.status.success() && !out.exists());
+    assert!(!ok && !out.exists());
     assert!(
         err.contains("calibration.configurations[0].tip_uz_mm")
             && err.contains("calibrate through this model first"),
@@ -199,7 +182,7 @@ fn model_form_command_stores_it_and_refuses_a_report_of_another_model() {
     // through the shipped model: the same model (checksum), now with its error
     let copy = d.join("shipped_again.json");
     let _ = std::fs::remove_file(&copy);
-    let (shipped, report) = (root(SHIPPED), root(REPORT));
+    let (shipped, report) = (repo().join(SHIPPED), repo().join(REPORT));
     let args = [
         "model-form",
         "--model",
@@ -209,14 +192,14 @@ fn model_form_command_stores_it_and_refuses_a_report_of_another_model() {
         "--out",
         s(&copy),
     ];
-    let (o, table, err) = run(&args);
-    assert!(o.status.success(), "{err}");
+    let (ok, table, err) = outcome(&args);
+    assert!(ok, "{err}");
     assert!(
         table.contains("angle_deg") && table.contains("8.8511"),
         "{table}"
     );
     let shipped: serde_json::Value =
-        serde_json::from_str(&std::fs::read_to_string(root(SHIPPED)).unwrap()).unwrap();
+        serde_json::from_str(&std::fs::read_to_string(repo().join(SHIPPED)).unwrap()).unwrap();
     let again: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(&copy).unwrap()).unwrap();
     assert_eq!(again["checksum"], shipped["checksum"]);
@@ -225,9 +208,9 @@ fn model_form_command_stores_it_and_refuses_a_report_of_another_model() {
         again["model_form"]["content"]["outputs"],
         shipped["model_form"]["content"]["outputs"]
     );
-    let (o, _, err) = run(&args);
+    let (ok, _, err) = outcome(&args);
     assert!(
-        !o.status.success() && err.contains("exists") && err.contains("--force"),
+        !ok && err.contains("exists") && err.contains("--force"),
         "{err}"
     );
 }
@@ -236,10 +219,10 @@ fn model_form_command_stores_it_and_refuses_a_report_of_another_model() {
 fn export_writes_the_model_form_error_into_the_ramp_and_its_header() {
     let d = dir();
     let (rs, h) = (d.join("ramp.rs"), d.join("ramp.h"));
-    let (o, _, err) = run(&[
+    let (ok, _, err) = outcome(&[
         "export",
         "--model",
-        s(&root(SHIPPED)),
+        s(&repo().join(SHIPPED)),
         "--ramp",
         "--n",
         "11",
@@ -252,7 +235,7 @@ fn export_writes_the_model_form_error_into_the_ramp_and_its_header() {
         "--header",
         s(&h),
     ]);
-    assert!(o.status.success(), "{err}");
+    assert!(ok, "{err}");
     let rs = std::fs::read_to_string(rs).unwrap();
     let h = std::fs::read_to_string(h).unwrap();
     assert!(rs.contains("pub static MODEL_FORM: Option<ModelFormTables<'static>> = Some("));

@@ -9,6 +9,8 @@ use std::process::Command;
 use surrogate::case::Query;
 use surrogate::rom::Surrogate;
 
+use crate::common::{fresh, repo};
+
 fn blocks(readme: &str) -> Vec<(String, String)> {
     let mut out = Vec::new();
     let mut rest = readme;
@@ -64,15 +66,13 @@ fn numbers(line: &str) -> Vec<f64> {
 /// directory `name` beside a link `surrogate` to the repository, runs `export.sh`, and returns
 /// the directory; the block names must be `expected`.
 fn recipe(readme: &str, name: &str, expected: &[&str]) -> PathBuf {
-    let root = PathBuf::from(env!("CARGO_MANIFEST_DIR"));
+    let root = repo();
     let text = std::fs::read_to_string(root.join(readme)).unwrap();
     let b = blocks(&text);
     let names: Vec<&str> = b.iter().map(|(n, _)| n.as_str()).collect();
     assert_eq!(names, expected, "{readme}");
-    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name);
-    let _ = std::fs::remove_dir_all(&dir);
-    std::fs::create_dir_all(&dir).unwrap();
-    std::os::unix::fs::symlink(&root, dir.join("surrogate")).unwrap();
+    let dir = fresh(PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(name));
+    std::os::unix::fs::symlink(root, dir.join("surrogate")).unwrap();
     for (name, body) in &b {
         let path = dir.join(name);
         std::fs::create_dir_all(path.parent().unwrap()).unwrap();
@@ -104,8 +104,7 @@ fn check_rust_and_c(dir: &Path, lib: [f64; 4]) {
 }
 
 fn shipped_model() -> Surrogate {
-    Surrogate::load(&PathBuf::from(env!("CARGO_MANIFEST_DIR")).join("models/actuator.json"))
-        .unwrap()
+    Surrogate::load(&repo().join("models/actuator.json")).unwrap()
 }
 
 #[test]

@@ -1,33 +1,12 @@
 //! The `surrogate train / predict / export` subcommands, every flag and the bad-input messages.
 use std::path::PathBuf;
-use std::process::{Command, Output};
+use std::process::Output;
 use std::sync::OnceLock;
 
-fn bin() -> Command {
-    Command::new(env!("CARGO_BIN_EXE_surrogate"))
-}
+use crate::common::{bin, fails_with, shared_dir, text};
 
 fn dir() -> PathBuf {
-    let d = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("rom_cli");
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
-
-fn text(o: &Output) -> (String, String) {
-    (
-        String::from_utf8_lossy(&o.stdout).into_owned(),
-        String::from_utf8_lossy(&o.stderr).into_owned(),
-    )
-}
-
-/// Asserts that the command failed and that its stderr names every one of `needles`.
-fn fails_with(o: &Output, needles: &[&str]) {
-    let err = text(o).1;
-    assert!(
-        !o.status.success() && needles.iter().all(|n| err.contains(n)),
-        "expected a failure naming {needles:?}, got status {:?}: {err}",
-        o.status.code()
-    );
+    shared_dir("rom_cli")
 }
 
 /// Trains once (synthetic, 30 cases, 3 folds) and returns the model path.

@@ -1,6 +1,7 @@
 //! Multi-fidelity training: a biased low-fidelity set corrected by the discrepancy to a
 //! high-fidelity subset of its cases (`rom::fidelity`, `train --high-fidelity`).
 
+use crate::common::{outcome, scratch};
 use crate::rom_common::synthetic_csv;
 use surrogate::case::Query;
 use surrogate::rom::data::{SnapshotRow, SnapshotSet};
@@ -207,8 +208,7 @@ fn mismatched_high_fidelity_cases_are_named() {
 
 #[test]
 fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
-    let dir = std::env::temp_dir().join(format!("surrogate_fidelity_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("fidelity");
     let low_csv = synthetic_csv(40, 5);
     std::fs::write(dir.join("low.csv"), &low_csv).unwrap();
     // high fidelity: every 3rd case, values through `high_values`, written as CSV
@@ -234,13 +234,7 @@ fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
     }
     std::fs::write(dir.join("high.csv"), text).unwrap();
     let model = dir.join("m.json");
-    let run = |args: &[&str]| {
-        std::process::Command::new(env!("CARGO_BIN_EXE_surrogate"))
-            .args(args)
-            .output()
-            .unwrap()
-    };
-    let out = run(&[
+    let (ok, stdout, stderr) = outcome(&[
         "train",
         "--force",
         "--data",
@@ -254,12 +248,7 @@ fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
         "--quiet",
         "--check-high-fidelity",
     ]);
-    assert!(
-        out.status.success(),
-        "{}",
-        String::from_utf8_lossy(&out.stderr)
-    );
-    let stdout = String::from_utf8_lossy(&out.stdout);
+    assert!(ok, "{stderr}");
     assert!(stdout.contains("discrepancy surrogate"), "{stdout}");
     let m = Surrogate::load(&model).unwrap();
     let c = m.training.correction.as_ref().unwrap();
@@ -271,19 +260,18 @@ fn cli_trains_on_a_corrected_set_and_reports_the_correction() {
         stdout.contains("surrogate against held-out high fidelity"),
         "{stdout}"
     );
-    let out = run(&[
+    let (ok, tables, _) = outcome(&[
         "predict",
         "--model",
         model.to_str().unwrap(),
         "--validation",
     ]);
-    assert!(out.status.success());
+    assert!(ok);
     // the validation tables go to stdout
-    let err = String::from_utf8_lossy(&out.stdout);
-    assert!(err.contains("20 high-fidelity cases"), "{err}");
+    assert!(tables.contains("20 high-fidelity cases"), "{tables}");
     assert!(
-        err.contains("3-fold over the 20 high-fidelity cases"),
-        "{err}"
+        tables.contains("3-fold over the 20 high-fidelity cases"),
+        "{tables}"
     );
     std::fs::remove_dir_all(dir).unwrap();
 }

@@ -3,10 +3,10 @@
 //! errors, failure records. Everything uses the cheap analytic runner, so it runs in seconds;
 //! plans are tested in `snapshots_plan.rs`, the real FE runner in `snapshots_fe.rs`.
 
-use crate::snapshots_common::{cli, plan, scratch};
+use crate::common::{bin, outcome, scratch};
+use crate::snapshots_common::plan;
 
 use std::path::{Path, PathBuf};
-use std::process::Command;
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::time::{Duration, Instant};
 
@@ -50,7 +50,7 @@ fn shard(s: &str) -> Shard {
 
 #[test]
 fn merged_shards_equal_a_single_run_byte_for_byte() {
-    let root = scratch("merge");
+    let root = scratch("snapshots_merge");
     let p = plan(23, 4);
     let single = single_run(&p, &root);
     let dirs: Vec<PathBuf> = (1..=3).map(|k| root.join(format!("shard{k}"))).collect();
@@ -84,7 +84,7 @@ fn merged_shards_equal_a_single_run_byte_for_byte() {
 
 #[test]
 fn values_round_trip_exactly_and_rows_are_sorted() {
-    let root = scratch("roundtrip");
+    let root = scratch("snapshots_roundtrip");
     let p = plan(7, 9);
     let text = String::from_utf8(single_run(&p, &root)).unwrap();
     let set = SnapshotSet::from_reader(text.as_bytes(), "x").unwrap();
@@ -111,7 +111,7 @@ fn values_round_trip_exactly_and_rows_are_sorted() {
 
 #[test]
 fn parallel_case_files_equal_serial_ones() {
-    let root = scratch("parallel");
+    let root = scratch("snapshots_parallel");
     let p = plan(12, 5);
     run(&p, &root.join("serial"), Shard::ALL, 1, &FAILING);
     run(&p, &root.join("parallel"), Shard::ALL, 4, &FAILING);
@@ -126,7 +126,7 @@ fn parallel_case_files_equal_serial_ones() {
 
 #[test]
 fn resume_reruns_only_missing_cases_and_cleans_temporaries() {
-    let root = scratch("resume");
+    let root = scratch("snapshots_resume");
     let p = plan(10, 6);
     let dir = root.join("d");
     run(&p, &dir, Shard::ALL, 2, &FAILING);
@@ -170,7 +170,7 @@ fn resume_reruns_only_missing_cases_and_cleans_temporaries() {
 
 #[test]
 fn retry_failed_reruns_only_failed_cases() {
-    let root = scratch("retry");
+    let root = scratch("snapshots_retry");
     let p = plan(10, 6);
     let dir = root.join("d");
     run(&p, &dir, Shard::ALL, 2, &FAILING);
@@ -233,13 +233,13 @@ fn case_files(dir: &Path) -> Vec<String> {
 
 #[test]
 fn a_run_killed_mid_way_resumes_without_duplicate_or_gap() {
-    let root = scratch("kill");
+    let root = scratch("snapshots_kill");
     let p = plan(30, 8);
     let plan_path = root.join("plan.json");
     std::fs::write(&plan_path, p.pretty_json()).unwrap();
     let dir = root.join("d");
     let (plan_s, dir_s) = (plan_path.to_str().unwrap(), dir.to_str().unwrap());
-    let mut child = Command::new(env!("CARGO_BIN_EXE_surrogate"))
+    let mut child = bin()
         .args([
             "snapshots",
             "--plan",
@@ -283,7 +283,7 @@ fn a_run_killed_mid_way_resumes_without_duplicate_or_gap() {
         (6..30).contains(&before),
         "killed after {before} cases: not mid-way"
     );
-    let (ok, err) = cli(&[
+    let (ok, _, err) = outcome(&[
         "snapshots",
         "run",
         "--plan",
@@ -315,7 +315,7 @@ fn a_run_killed_mid_way_resumes_without_duplicate_or_gap() {
 
 #[test]
 fn a_directory_of_another_plan_is_refused() {
-    let root = scratch("other_plan");
+    let root = scratch("snapshots_other_plan");
     let (a, b) = (plan(6, 1), plan(6, 2));
     let dir = root.join("d");
     run(&a, &dir, Shard::ALL, 1, &FAILING);
@@ -331,7 +331,7 @@ fn a_directory_of_another_plan_is_refused() {
     // through the CLI
     let plan_b = root.join("b.json");
     std::fs::write(&plan_b, b.pretty_json()).unwrap();
-    let (ok, err) = cli(&[
+    let (ok, _, err) = outcome(&[
         "snapshots",
         "--plan",
         plan_b.to_str().unwrap(),
@@ -353,7 +353,7 @@ fn a_directory_of_another_plan_is_refused() {
 
 #[test]
 fn merge_reports_missing_and_duplicate_cases() {
-    let root = scratch("merge_errors");
+    let root = scratch("snapshots_merge_errors");
     let p = plan(9, 3);
     let (d1, d2, d1b) = (root.join("1"), root.join("2"), root.join("1b"));
     run(&p, &d1, shard("1/3"), 1, &FAILING);
@@ -376,7 +376,7 @@ fn merge_reports_missing_and_duplicate_cases() {
 
 #[test]
 fn a_partial_merge_holds_the_finished_cases_of_a_full_one() {
-    let root = scratch("merge_partial");
+    let root = scratch("snapshots_merge_partial");
     let p = plan(9, 3);
     let (d1, d2, d3) = (root.join("1"), root.join("2"), root.join("3"));
     run(&p, &d1, shard("1/3"), 1, &FAILING);
@@ -411,7 +411,7 @@ fn a_partial_merge_holds_the_finished_cases_of_a_full_one() {
 
 #[test]
 fn a_tampered_case_file_is_reported_not_overwritten() {
-    let root = scratch("tampered");
+    let root = scratch("snapshots_tampered");
     let p = plan(4, 3);
     let dir = root.join("d");
     run(&p, &dir, Shard::ALL, 1, &FAILING);
@@ -437,7 +437,7 @@ fn a_tampered_case_file_is_reported_not_overwritten() {
 
 #[test]
 fn failed_cases_are_recorded_with_their_error() {
-    let root = scratch("failures");
+    let root = scratch("snapshots_failures");
     let p = plan(3, 1);
     let runner = |c: &PlannedCase, s: &PlanSettings| match c.id {
         0 => panic!("mesh exploded\nat step 3"),
@@ -479,7 +479,7 @@ fn failed_cases_are_recorded_with_their_error() {
 #[test]
 fn verify_re_runs_random_cases_and_finds_changed_values() {
     use surrogate::snapshots::verify::resimulate;
-    let root = scratch("verify");
+    let root = scratch("snapshots_verify");
     let p = plan(8, 2);
     single_run(&p, &root);
     let data = root.join("single.csv");
@@ -511,7 +511,7 @@ fn verify_re_runs_random_cases_and_finds_changed_values() {
         "{checks:?}"
     );
     let d = data.to_str().unwrap();
-    let (ok, err) = cli(&[
+    let (ok, _, err) = outcome(&[
         "snapshots",
         "verify",
         "--data",
@@ -522,7 +522,7 @@ fn verify_re_runs_random_cases_and_finds_changed_values() {
         "4",
     ]);
     assert!(ok && err.contains("3 cases reproduce within 1e-9"), "{err}");
-    let (ok, err) = cli(&[
+    let (ok, _, err) = outcome(&[
         "snapshots",
         "verify",
         "--data",

@@ -3,7 +3,8 @@
 
 use std::collections::BTreeMap;
 
-use crate::snapshots_common::{cli, plan, scratch, small_settings};
+use crate::common::{outcome, scratch};
+use crate::snapshots_common::{plan, small_settings};
 use surrogate::fe::material::Ogden2;
 use surrogate::snapshots::{Plan, Ranges, Shard, SnapshotError};
 
@@ -200,10 +201,10 @@ fn shards_partition_the_plan() {
 
 #[test]
 fn cli_plan_and_bad_shards() {
-    let root = scratch("plan_cli");
+    let root = scratch("snapshots_plan_cli");
     let plan_path = root.join("plan.json");
     let ps = plan_path.to_str().unwrap();
-    let (ok, err) = cli(&[
+    let (ok, _, err) = outcome(&[
         "snapshots",
         "plan",
         "--cases",
@@ -228,7 +229,7 @@ fn cli_plan_and_bad_shards() {
     assert_eq!(p.settings.pressures_bar, [0.0, 1.0, 2.0, 3.0]);
     assert_eq!(p.cases.iter().filter(|c| c.n_bellows == 11).count(), 6);
     let again = root.join("again.json");
-    cli(&[
+    outcome(&[
         "snapshots",
         "plan",
         "--cases",
@@ -252,7 +253,7 @@ fn cli_plan_and_bad_shards() {
         ("0/2", "1 ≤ k ≤ 2"),
         ("a/b", "\"a\" is not"),
     ] {
-        let (ok, err) = cli(&[
+        let (ok, _, err) = outcome(&[
             "snapshots",
             "--plan",
             ps,
@@ -264,7 +265,7 @@ fn cli_plan_and_bad_shards() {
         assert!(!ok && err.contains(needle), "{shard}: {err}");
     }
     std::fs::write(root.join("bad.json"), "{\"format_version\": 1}").unwrap();
-    let (ok, err) = cli(&[
+    let (ok, _, err) = outcome(&[
         "snapshots",
         "--plan",
         root.join("bad.json").to_str().unwrap(),
@@ -272,7 +273,7 @@ fn cli_plan_and_bad_shards() {
         d.to_str().unwrap(),
     ]);
     assert!(!ok && err.contains("missing field"), "{err}");
-    let (ok, err) = cli(&[
+    let (ok, _, err) = outcome(&[
         "snapshots",
         "plan",
         "--cases",
@@ -482,7 +483,7 @@ fn effect_columns_survive_run_resume_and_merge() {
     use surrogate::snapshots::run::AnalyticRunner;
     use surrogate::snapshots::{merge, run_shard, RunOptions};
     let p = effect_plan(&["density=1.2"], &[("gap_bias", [-0.3, 0.3])]).unwrap();
-    let dir = scratch("effect_columns");
+    let dir = scratch("snapshots_effect_columns");
     let options = RunOptions {
         shard: Shard::ALL,
         threads: Some(1),
@@ -607,7 +608,7 @@ fn bad_geometry_in_plans_is_named() {
 #[test]
 fn shards_starting_together_share_a_fresh_directory() {
     let p = plan(6, 3);
-    let root = scratch("concurrent_create");
+    let root = scratch("snapshots_concurrent_create");
     for round in 0..20 {
         let dir = root.join(format!("round_{round}"));
         let results: Vec<_> = std::thread::scope(|s| {

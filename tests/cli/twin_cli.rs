@@ -1,22 +1,10 @@
 //! `surrogate twin` and `validate --effect` from the command line: every flag's bad value is a
 //! named error before any FE run (the twin itself is tested in `tests/calibrate/twin.rs`).
-use std::process::Command;
-
-fn run(args: &[&str]) -> (bool, String) {
-    let out = Command::new(env!("CARGO_BIN_EXE_surrogate"))
-        .current_dir(env!("CARGO_MANIFEST_DIR"))
-        .args(args)
-        .output()
-        .unwrap();
-    (
-        out.status.success(),
-        String::from_utf8_lossy(&out.stderr).into_owned(),
-    )
-}
+use crate::common::{outcome, repo, scratch};
 
 #[test]
 fn twin_refuses_bad_flags_before_running_anything() {
-    let dir = std::env::temp_dir().join(format!("surrogate_twin_cli_{}", std::process::id()));
+    let dir = scratch("twin_cli");
     let out = dir.join("twin");
     let out_s = out.to_str().unwrap();
     let key_inside = out.join("key.json");
@@ -61,13 +49,13 @@ fn twin_refuses_bad_flags_before_running_anything() {
     ];
     for (extra, want) in cases {
         let args: Vec<&str> = base.iter().chain(extra).copied().collect();
-        let (ok, stderr) = run(&args);
+        let (ok, _, stderr) = outcome(&args);
         assert!(!ok && stderr.contains(want), "{extra:?}: {stderr}");
         assert!(!out.exists(), "{extra:?}: nothing written");
     }
-    let (ok, stderr) = run(&["twin", "--seed", "1", "--out", out_s]);
+    let (ok, _, stderr) = outcome(&["twin", "--seed", "1", "--out", out_s]);
     assert!(!ok && stderr.contains("--material"), "{stderr}");
-    let (ok, stderr) = run(&[
+    let (ok, _, stderr) = outcome(&[
         "twin",
         "--material",
         "ogden_002",
@@ -80,13 +68,14 @@ fn twin_refuses_bad_flags_before_running_anything() {
     ]);
     assert!(!ok && stderr.contains("fine2"), "{stderr}");
     assert!(!out.exists());
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn validate_refuses_a_bad_effect_before_running_anything() {
-    let dir = std::env::temp_dir().join(format!("surrogate_validate_cli_{}", std::process::id()));
+    let dir = scratch("validate_cli");
     let out = dir.join("baseline.csv");
-    let (ok, stderr) = run(&[
+    let (ok, _, stderr) = outcome(&[
         "validate",
         "--mesh",
         "coarse",
@@ -100,22 +89,22 @@ fn validate_refuses_a_bad_effect_before_running_anything() {
         "{stderr}"
     );
     assert!(!dir.join("baseline_ramps").exists());
+    std::fs::remove_dir_all(&dir).unwrap();
 }
 
 #[test]
 fn twin_study_refuses_bad_flags_and_plans() {
-    let dir = std::env::temp_dir().join(format!("surrogate_twin_study_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&dir);
+    let dir = scratch("twin_study");
     let out = dir.join("study");
     let out_s = out.to_str().unwrap();
-    let (ok, stderr) = run(&["twin-study", "--out", out_s, "--stage", "fe"]);
+    let (ok, _, stderr) = outcome(&["twin-study", "--out", out_s, "--stage", "fe"]);
     assert!(
         !ok && stderr.contains("--stage fe: expected twins, diagnose or all"),
         "{stderr}"
     );
     assert!(!out.exists());
     // the standard plan is written where none is, and a group it lacks is named
-    let (ok, stderr) = run(&[
+    let (ok, _, stderr) = outcome(&[
         "twin-study",
         "--out",
         out_s,
@@ -133,11 +122,8 @@ fn twin_study_refuses_bad_flags_and_plans() {
     let plan = std::fs::read_to_string(out.join("plan.json")).unwrap();
     assert!(plan.contains("\"format\": \"surrogate.twin-study-plan\""));
     // the committed plan is that plan: same draws, same groups
-    let committed = std::fs::read_to_string(
-        std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
-            .join("fe_reference/diagnosis/blind/plan.json"),
-    )
-    .unwrap();
+    let committed =
+        std::fs::read_to_string(repo().join("fe_reference/diagnosis/blind/plan.json")).unwrap();
     assert_eq!(plan, committed);
     // a plan of another format or version is refused, naming the file
     std::fs::write(
@@ -145,7 +131,7 @@ fn twin_study_refuses_bad_flags_and_plans() {
         plan.replace("\"version\": 1", "\"version\": 4"),
     )
     .unwrap();
-    let (ok, stderr) = run(&["twin-study", "--out", out_s, "--stage", "diagnose"]);
+    let (ok, _, stderr) = outcome(&["twin-study", "--out", out_s, "--stage", "diagnose"]);
     assert!(
         !ok && stderr.contains("plan.json: version = 4: expected 1"),
         "{stderr}"
@@ -155,8 +141,7 @@ fn twin_study_refuses_bad_flags_and_plans() {
 
 #[test]
 fn approximation_error_refuses_bad_settings_before_any_fe() {
-    let dir = std::env::temp_dir().join(format!("surrogate_approx_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
+    let dir = scratch("approx");
     let out = dir.join("e.json");
     let o = out.to_str().unwrap();
     let d = dir.to_str().unwrap();
@@ -172,10 +157,10 @@ fn approximation_error_refuses_bad_settings_before_any_fe() {
             .chain(extra)
             .copied()
             .collect();
-        let (ok, stderr) = run(&args);
+        let (ok, _, stderr) = outcome(&args);
         assert!(!ok && stderr.contains(want), "{extra:?}: {stderr}");
     }
-    let (ok, stderr) = run(&["approximation-error", "--out", d]);
+    let (ok, _, stderr) = outcome(&["approximation-error", "--out", d]);
     assert!(
         !ok && stderr.contains("a directory (expected the file"),
         "{stderr}"

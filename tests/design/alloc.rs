@@ -2,33 +2,9 @@
 use surrogate::design::{search, DesignBounds, DesignSearch};
 
 use crate::common::{angle_and_force, shipped, CALIBRATED};
+use crate::counting_alloc::{allocs, Counting};
 
-/// Counts heap allocations of the current thread: the other tests of this binary run on other
-/// threads and are not counted.
-struct Counting;
-
-thread_local! {
-    static ALLOCS: std::cell::Cell<usize> = const { std::cell::Cell::new(0) };
-}
-
-fn allocs() -> usize {
-    ALLOCS.with(|n| n.get())
-}
-
-// SAFETY: forwards to the system allocator; the counter is a const-initialised thread-local
-// `Cell`, which does not allocate.
-unsafe impl std::alloc::GlobalAlloc for Counting {
-    unsafe fn alloc(&self, layout: std::alloc::Layout) -> *mut u8 {
-        let _ = ALLOCS.try_with(|n| n.set(n.get() + 1));
-        // SAFETY: same contract as the caller's.
-        unsafe { std::alloc::System.alloc(layout) }
-    }
-    unsafe fn dealloc(&self, ptr: *mut u8, layout: std::alloc::Layout) {
-        // SAFETY: same contract as the caller's.
-        unsafe { std::alloc::System.dealloc(ptr, layout) }
-    }
-}
-
+/// Counts the allocations of this binary's threads (`tests/shared/counting_alloc.rs`).
 #[global_allocator]
 static GLOBAL: Counting = Counting;
 

@@ -6,6 +6,8 @@
 
 mod alloc;
 mod common;
+#[path = "../shared/counting_alloc.rs"]
+mod counting_alloc;
 mod maps;
 mod search;
 mod validation;

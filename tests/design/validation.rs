@@ -5,17 +5,25 @@ use surrogate::rom::Surrogate;
 
 use crate::common::{angle_and_force, shipped, CALIBRATED};
 
-/// The search's error, which must name `field` and contain every one of `needles`.
-fn refused(
-    model: &Surrogate,
+/// The inputs of one search: a valid one changed in one place.
+#[derive(Clone)]
+struct Inputs {
     material: [f64; 4],
-    targets: &[Target],
+    targets: Vec<Target>,
     bounds: DesignBounds,
     settings: DesignSearch,
-    field: &str,
-    needles: &[&str],
-) {
-    let e = search(model, material, targets, &bounds, &settings).unwrap_err();
+}
+
+/// Asserts that the search on `inputs` is refused with an error that names `field` and
+/// contains every one of `needles`.
+fn refused(model: &Surrogate, inputs: &Inputs, field: &str, needles: &[&str]) {
+    let Inputs {
+        material,
+        targets,
+        bounds,
+        settings,
+    } = inputs;
+    let e = search(model, *material, targets, bounds, settings).unwrap_err();
     let text = e.to_string();
     match &e {
         DesignError::Invalid { field: f, .. } => assert_eq!(f, field, "{text}"),
@@ -26,171 +34,105 @@ fn refused(
     }
 }
 
+/// Each case changes one input of a valid search (the calibrated material, angle and force
+/// targets at 2 bar, the model's bounds, the default settings).
 #[test]
-fn bad_targets_are_named() {
+fn bad_targets_bounds_materials_and_settings_are_named() {
     let m = shipped();
-    let (b, s) = (DesignBounds::of_model(m), DesignSearch::default());
-    let ok = angle_and_force(40.0, 1.3);
-    refused(
-        m,
-        CALIBRATED,
-        &[],
-        b,
-        s,
-        "targets",
-        &["at least one target"],
-    );
-    let mut t = ok;
-    t[0].value = f64::NAN;
-    refused(
-        m,
-        CALIBRATED,
-        &t,
-        b,
-        s,
-        "targets[0].value",
-        &["NaN", "finite angle_deg"],
-    );
-    let mut t = ok;
-    t[1].tolerance = 0.0;
-    refused(
-        m,
-        CALIBRATED,
-        &t,
-        b,
-        s,
-        "targets[1].tolerance",
-        &["= 0", "> 0"],
-    );
-    let mut t = ok;
-    t[1].tolerance = -1.0;
-    refused(m, CALIBRATED, &t, b, s, "targets[1].tolerance", &["-1"]);
-    let mut t = ok;
-    t[0].p_bar = 5.0;
-    refused(
-        m,
-        CALIBRATED,
-        &t,
-        b,
-        s,
-        "targets[0].p_bar",
-        &["= 5", "[0, 3.5] bar"],
-    );
-    t[0].p_bar = f64::INFINITY;
-    refused(m, CALIBRATED, &t, b, s, "targets[0].p_bar", &["inf"]);
-}
-
-#[test]
-fn bad_bounds_are_named() {
-    let m = shipped();
-    let (t, s) = (angle_and_force(40.0, 1.3), DesignSearch::default());
-    let bounds = |n, t| DesignBounds::new(n, t);
-    refused(
-        m,
-        CALIBRATED,
-        &t,
-        bounds((13, 9), (1.4, 2.6)),
-        s,
-        "bounds.n",
-        &["13..=9", "MIN ≤ MAX"],
-    );
-    refused(
-        m,
-        CALIBRATED,
-        &t,
-        bounds((7, 13), (1.4, 2.6)),
-        s,
-        "bounds.n",
-        &["7..=13", "9..=13"],
-    );
-    refused(
-        m,
-        CALIBRATED,
-        &t,
-        bounds((10, 10), (1.4, 2.6)),
-        s,
-        "bounds.n",
-        &["[9, 11, 13]"],
-    );
-    refused(
-        m,
-        CALIBRATED,
-        &t,
-        bounds((9, 13), (2.5, 1.5)),
-        s,
-        "bounds.t_mm",
-        &["2.5..=1.5"],
-    );
-    refused(
-        m,
-        CALIBRATED,
-        &t,
-        bounds((9, 13), (0.5, 2.0)),
-        s,
-        "bounds.t_mm",
-        &["0.5", "[1.4, 2.6] mm"],
-    );
-    refused(
-        m,
-        CALIBRATED,
-        &t,
-        bounds((9, 13), (1.4, f64::NAN)),
-        s,
-        "bounds.t_mm",
-        &["NaN"],
-    );
-}
-
-#[test]
-fn bad_materials_and_settings_are_named() {
-    let m = shipped();
-    let (t, b) = (angle_and_force(40.0, 1.3), DesignBounds::of_model(m));
-    let s = DesignSearch::default();
-    let flipped = [CALIBRATED[0], -CALIBRATED[1], CALIBRATED[2], CALIBRATED[3]];
-    refused(
-        m,
-        flipped,
-        &t,
-        b,
-        s,
-        "material",
-        &["mu1*alpha1", "the model accepts"],
-    );
-    let nan = [f64::NAN, 1.0, -1.0, -1.0];
-    refused(m, nan, &t, b, s, "material", &["finite"]);
-    let stiff = [1.13, 3.11, -13.17, -0.6].map(|v| 10.0 * v);
-    refused(
-        m,
-        stiff,
-        &t,
-        b,
-        s,
-        "material",
-        &["training domain", "mu0_mpa"],
-    );
-    let zero = DesignSearch { starts: 0, ..s };
-    refused(
-        m,
-        CALIBRATED,
-        &t,
-        b,
-        zero,
-        "settings.starts",
-        &["at least 1"],
-    );
-    let zero = DesignSearch {
-        step_tolerance_mm: 0.0,
-        ..s
+    let valid = Inputs {
+        material: CALIBRATED,
+        targets: angle_and_force(40.0, 1.3).to_vec(),
+        bounds: DesignBounds::of_model(m),
+        settings: DesignSearch::default(),
     };
-    refused(
-        m,
-        CALIBRATED,
-        &t,
-        b,
-        zero,
-        "settings.step_tolerance_mm",
-        &["> 0"],
-    );
+    let with = |change: &dyn Fn(&mut Inputs)| {
+        let mut i = valid.clone();
+        change(&mut i);
+        i
+    };
+    let bounds = |n, t| with(&|i| i.bounds = DesignBounds::new(n, t));
+    let cases: [(Inputs, &str, &[&str]); 17] = [
+        // targets
+        (
+            with(&|i| i.targets.clear()),
+            "targets",
+            &["at least one target"],
+        ),
+        (
+            with(&|i| i.targets[0].value = f64::NAN),
+            "targets[0].value",
+            &["NaN", "finite angle_deg"],
+        ),
+        (
+            with(&|i| i.targets[1].tolerance = 0.0),
+            "targets[1].tolerance",
+            &["= 0", "> 0"],
+        ),
+        (
+            with(&|i| i.targets[1].tolerance = -1.0),
+            "targets[1].tolerance",
+            &["-1"],
+        ),
+        (
+            with(&|i| i.targets[0].p_bar = 5.0),
+            "targets[0].p_bar",
+            &["= 5", "[0, 3.5] bar"],
+        ),
+        (
+            with(&|i| i.targets[0].p_bar = f64::INFINITY),
+            "targets[0].p_bar",
+            &["inf"],
+        ),
+        // bounds
+        (
+            bounds((13, 9), (1.4, 2.6)),
+            "bounds.n",
+            &["13..=9", "MIN ≤ MAX"],
+        ),
+        (
+            bounds((7, 13), (1.4, 2.6)),
+            "bounds.n",
+            &["7..=13", "9..=13"],
+        ),
+        (bounds((10, 10), (1.4, 2.6)), "bounds.n", &["[9, 11, 13]"]),
+        (bounds((9, 13), (2.5, 1.5)), "bounds.t_mm", &["2.5..=1.5"]),
+        (
+            bounds((9, 13), (0.5, 2.0)),
+            "bounds.t_mm",
+            &["0.5", "[1.4, 2.6] mm"],
+        ),
+        (bounds((9, 13), (1.4, f64::NAN)), "bounds.t_mm", &["NaN"]),
+        // materials
+        (
+            with(&|i| i.material[1] = -CALIBRATED[1]),
+            "material",
+            &["mu1*alpha1", "the model accepts"],
+        ),
+        (
+            with(&|i| i.material = [f64::NAN, 1.0, -1.0, -1.0]),
+            "material",
+            &["finite"],
+        ),
+        (
+            with(&|i| i.material = [1.13, 3.11, -13.17, -0.6].map(|v| 10.0 * v)),
+            "material",
+            &["training domain", "mu0_mpa"],
+        ),
+        // settings
+        (
+            with(&|i| i.settings.starts = 0),
+            "settings.starts",
+            &["at least 1"],
+        ),
+        (
+            with(&|i| i.settings.step_tolerance_mm = 0.0),
+            "settings.step_tolerance_mm",
+            &["> 0"],
+        ),
+    ];
+    for (inputs, field, needles) in &cases {
+        refused(m, inputs, field, needles);
+    }
 }
 
 #[test]

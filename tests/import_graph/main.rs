@@ -3,7 +3,7 @@
 //! (no module depends, through others, on a module that depends on it). The library and each
 //! binary are read apart; a binary stands on the top floor.
 //!
-//! A module is a file (`src/rom/train.rs` is `rom/train`, `src/rom/mod.rs` is `rom`). It
+//! A module is a file (`src/rom/pod.rs` is `rom/pod`, `src/rom/train/mod.rs` is `rom/train`). It
 //! depends on another when its code names an item of it by a path (`use crate::…`,
 //! `use super::…`, `use self::…`, a child module's name, or the same paths inline); a name
 //! re-exported by a `use` is followed to the module that defines it; a `pub use` of a

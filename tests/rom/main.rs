@@ -4,6 +4,8 @@
 //!
 //! One test binary; each module is one subject.
 
+#[path = "../shared/counting_alloc.rs"]
+mod counting_alloc;
 #[path = "../rom_common/mod.rs"]
 mod rom_common;
 

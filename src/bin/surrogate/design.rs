@@ -50,19 +50,29 @@ pub struct DesignArgs {
     /// The scale of a tip residual (Uz and Uy), mm.
     #[arg(long, default_value_t = 1.0, allow_negative_numbers = true)]
     pub tip_tolerance: f64,
-    /// Numbers of bellows MIN..MAX (or one N) [default: the model's].
-    #[arg(long, value_name = "MIN..MAX")]
-    pub n: Option<String>,
-    /// Wall thickness MIN..MAX in mm [default: the model's range]; each N is further capped
-    /// by the largest wall that leaves a cavity.
-    #[arg(long, value_name = "MIN..MAX")]
-    pub t: Option<String>,
+    /// `--n` and `--t`.
+    #[command(flatten)]
+    pub ranges: DesignRanges,
     /// Starting values of T per N.
     #[arg(long, default_value_t = 13)]
     pub starts: usize,
     /// Also write the report as JSON (atomically).
     #[arg(long)]
     pub json: Option<PathBuf>,
+}
+
+/// `--n` and `--t`: the numbers of bellows and the wall thicknesses of `surrogate design` and
+/// `surrogate maps`, the model's where not given.
+#[derive(Debug, Args)]
+pub struct DesignRanges {
+    /// Numbers of bellows MIN..MAX (or one N) [default: the model's]; only those the model
+    /// predicts.
+    #[arg(long, value_name = "MIN..MAX")]
+    pub n: Option<String>,
+    /// Wall thickness MIN..MAX in mm [default: the model's range]; walls that leave no cavity
+    /// are left out.
+    #[arg(long, value_name = "MIN..MAX")]
+    pub t: Option<String>,
 }
 
 /// A target as given: its flag and text, for messages.
@@ -77,7 +87,7 @@ pub fn run(a: DesignArgs) -> Result<()> {
     let model = crate::files::load_model(&a.model)?;
     let material = material_params(&a.material).context("--material")?;
     let (targets, given) = targets(&a)?;
-    let bounds = bounds(&model, a.n.as_deref(), a.t.as_deref())?;
+    let bounds = a.ranges.bounds(&model)?;
     let settings = DesignSearch {
         starts: a.starts,
         ..Default::default()
@@ -176,16 +186,18 @@ pub fn range<T: std::str::FromStr + Copy>(flag: &str, text: &str) -> Result<(T, 
     }
 }
 
-/// The bounds of `--n` and `--t`, the model's where not given.
-pub fn bounds(model: &Surrogate, n: Option<&str>, t: Option<&str>) -> Result<DesignBounds> {
-    let mut b = DesignBounds::of_model(model);
-    if let Some(n) = n {
-        b.n = range("n", n)?;
+impl DesignRanges {
+    /// The bounds of `--n` and `--t`, the model's where not given.
+    pub fn bounds(&self, model: &Surrogate) -> Result<DesignBounds> {
+        let mut b = DesignBounds::of_model(model);
+        if let Some(n) = &self.n {
+            b.n = range("n", n)?;
+        }
+        if let Some(t) = &self.t {
+            b.t_mm = range("t", t)?;
+        }
+        Ok(b)
     }
-    if let Some(t) = t {
-        b.t_mm = range("t", t)?;
-    }
-    Ok(b)
 }
 
 /// A library error with the flag it comes from.

@@ -7,6 +7,8 @@ use clap::Args;
 use surrogate::design::{map, DesignError, Output};
 use surrogate::rom::batch::material_params;
 
+use crate::design::DesignRanges;
+
 /// `surrogate maps`.
 #[derive(Debug, Args)]
 pub struct MapsArgs {
@@ -28,12 +30,9 @@ pub struct MapsArgs {
     /// The pressures of the panels, bar, comma-separated.
     #[arg(long, default_value = "1,2,3")]
     pub pressures: String,
-    /// Numbers of bellows MIN..MAX [default: the model's]; only those the model predicts.
-    #[arg(long, value_name = "MIN..MAX")]
-    pub n: Option<String>,
-    /// Wall thickness MIN..MAX in mm [default: the model's range].
-    #[arg(long, value_name = "MIN..MAX")]
-    pub t: Option<String>,
+    /// `--n` and `--t`.
+    #[command(flatten)]
+    pub ranges: DesignRanges,
     /// Wall thicknesses on the grid, evenly spaced over --t (≥ 2).
     #[arg(long, default_value_t = 41)]
     pub t_points: usize,
@@ -60,7 +59,7 @@ pub fn run(a: MapsArgs) -> Result<()> {
                 a.pressures
             )
         })?;
-    let bounds = crate::design::bounds(&model, a.n.as_deref(), a.t.as_deref())?;
+    let bounds = a.ranges.bounds(&model)?;
     let (n_lo, n_hi) = bounds.n;
     anyhow::ensure!(
         n_lo <= n_hi,

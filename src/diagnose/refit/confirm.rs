@@ -322,9 +322,28 @@ mod tests {
         theta + 2.0 * theta * theta
     }
 
-    /// Rows of recordings `model` makes at `m` with an effect of size `theta` (from the
-    /// sweep's value `base`) along a fixed pattern over the cells.
-    fn planted(model: &Surrogate, m: &OgdenSet, theta: f64, base: f64) -> Rows {
+    /// The coarse shipped model and the literature set the recordings are made at.
+    fn coarse_model_and_material() -> (Surrogate, OgdenSet) {
+        let model = Surrogate::load(
+            &Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator_coarse.json"),
+        )
+        .unwrap();
+        (model, OgdenSet::literature("ogden_002").unwrap())
+    }
+
+    /// The effect's fixed pattern over the cells, scaled by `w`: tip Uz `w₀ p (2.7 − t)`,
+    /// tip Uy `w₁ p`, angle `w₂ p N / 11`.
+    fn pattern(w: [f64; 3], n: u32, t: f64, p: f64, o: Output) -> f64 {
+        match o {
+            Output::TipUz => w[0] * p * (2.7 - t),
+            Output::TipUy => w[1] * p,
+            _ => w[2] * p * f64::from(n) / 11.0,
+        }
+    }
+
+    /// Rows of recordings `model` makes at `m` with an effect of response `size` (from the
+    /// sweep's value `base`) along the pattern `w` over the cells.
+    fn planted(model: &Surrogate, m: &OgdenSet, base: f64, w: [f64; 3], size: f64) -> Rows {
         let mut rows = Rows {
             base: vec![base],
             cells: Vec::new(),
@@ -334,13 +353,9 @@ mod tests {
         for (n, t) in DESIGNS {
             for p in [1.0, 2.0, 3.0] {
                 for o in [Output::TipUz, Output::TipUy, Output::Angle] {
-                    let d = match o {
-                        Output::TipUz => 2.0 * p * (2.7 - t),
-                        Output::TipUy => -0.8 * p,
-                        _ => 0.4 * p * f64::from(n) / 11.0,
-                    };
+                    let d = pattern(w, n, t, p, o);
                     let mut c = Cell::unit(n, t, p, o, 0.0);
-                    c.recorded = value(model, m, n, t, p, o) + theta * d;
+                    c.recorded = value(model, m, n, t, p, o) + size * d;
                     rows.cells.push(c);
                     rows.d.push(vec![d]);
                     rows.offset.push(0.0);
@@ -350,15 +365,25 @@ mod tests {
         rows
     }
 
+    /// The stand-in FE on the cells of `rows`: `model` at `mat` plus the effect's response
+    /// `size` along the rows' pattern.
+    fn stand_in_fe(rows: &Rows, model: &Surrogate, mat: &OgdenSet, size: f64) -> Vec<Option<f64>> {
+        rows.cells
+            .iter()
+            .zip(&rows.d)
+            .map(|(c, d)| {
+                let at = (c.n_bellows, c.wall_thickness_mm, c.pressure_bar);
+                Some(value(model, mat, at.0, at.1, at.2, c.output) + size * d[0])
+            })
+            .collect()
+    }
+
     #[test]
     fn sizes_are_measured_from_the_sweeps_value_and_kept_in_range_from_it() {
-        let model = Surrogate::load(
-            &Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator_coarse.json"),
-        )
-        .unwrap();
-        let m = OgdenSet::literature("ogden_002").unwrap();
+        let (model, m) = coarse_model_and_material();
+        let w = [2.0, -0.8, 0.4];
         // a sweep with the plate 4.5 mm closer (the force rig's), the actuator's 0.3 mm further
-        let rows = planted(&model, &m, 0.3, -4.5);
+        let rows = planted(&model, &m, -4.5, w, 0.3);
         let s = RefitSettings::new(vec![Effect::PlateOffset]);
         let first = fit_rows(&rows, &model, &m, &s).unwrap();
         let e = &first.effects[0];
@@ -374,24 +399,13 @@ mod tests {
             .all(|d| (d.effects[0] + 4.2).abs() < 1e-2));
         // the FE of the sweep's actuator with the effect at its refitted value agrees
         let mut fe = |mat: &OgdenSet, v: &[f64]| -> Result<FeEvaluation, DiagnoseError> {
-            Ok((
-                rows.cells
-                    .iter()
-                    .zip(&rows.d)
-                    .map(|(c, d)| {
-                        let at = (c.n_bellows, c.wall_thickness_mm, c.pressure_bar);
-                        Some(value(&model, mat, at.0, at.1, at.2, c.output) + (v[0] + 4.5) * d[0])
-                    })
-                    .collect(),
-                0,
-                Vec::new(),
-            ))
+            Ok((stand_in_fe(&rows, &model, mat, v[0] + 4.5), 0, Vec::new()))
         };
         let r = confirm_with(&rows, &model, first.clone(), &s, 3, 0.01, &mut fe).unwrap();
         assert_eq!(r.fe.len(), 1);
         assert!(r.fe[0].rms_fe_minus_linear < 1e-6, "{:?}", r.fe[0]);
         // 0.3 mm closer than the sweep's plate is beyond the range's −4.5: the fit stops there
-        let rows = planted(&model, &m, -0.3, -4.5);
+        let rows = planted(&model, &m, -4.5, w, -0.3);
         let mut s = s;
         s.held_out = false;
         let e = fit_rows(&rows, &model, &m, &s).unwrap().effects[0].clone();
@@ -401,34 +415,9 @@ mod tests {
 
     #[test]
     fn fe_rounds_correct_a_nonlinear_effect_that_the_linearisation_misjudges() {
-        let model = Surrogate::load(
-            &Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator_coarse.json"),
-        )
-        .unwrap();
-        let m = OgdenSet::literature("ogden_002").unwrap();
+        let (model, m) = coarse_model_and_material();
         let truth = 0.1;
-        let mut rows = Rows {
-            base: vec![0.0],
-            cells: Vec::new(),
-            d: Vec::new(),
-            offset: Vec::new(),
-        };
-        for (n, t) in DESIGNS {
-            for p in [1.0, 2.0, 3.0] {
-                for o in [Output::TipUz, Output::TipUy, Output::Angle] {
-                    let d = match o {
-                        Output::TipUz => 8.0 * p * (2.7 - t),
-                        Output::TipUy => -3.0 * p,
-                        _ => 1.5 * p * f64::from(n) / 11.0,
-                    };
-                    let mut c = Cell::unit(n, t, p, o, 0.0);
-                    c.recorded = value(&model, &m, n, t, p, o) + g(truth) * d;
-                    rows.cells.push(c);
-                    rows.d.push(vec![d]);
-                    rows.offset.push(0.0);
-                }
-            }
-        }
+        let rows = planted(&model, &m, 0.0, [8.0, -3.0, 1.5], g(truth));
         let mut s = RefitSettings::new(vec![Effect::PressureLoss]);
         s.held_out = false;
         let first = fit_rows(&rows, &model, &m, &s).unwrap();
@@ -438,26 +427,7 @@ mod tests {
         let mut calls = 0;
         let mut fe = |mat: &OgdenSet, v: &[f64]| -> Result<FeEvaluation, DiagnoseError> {
             calls += 1;
-            Ok((
-                rows.cells
-                    .iter()
-                    .zip(&rows.d)
-                    .map(|(c, d)| {
-                        Some(
-                            value(
-                                &model,
-                                mat,
-                                c.n_bellows,
-                                c.wall_thickness_mm,
-                                c.pressure_bar,
-                                c.output,
-                            ) + g(v[0]) * d[0],
-                        )
-                    })
-                    .collect(),
-                2,
-                Vec::new(),
-            ))
+            Ok((stand_in_fe(&rows, &model, mat, g(v[0])), 2, Vec::new()))
         };
         let r = confirm_with(&rows, &model, first, &s, 8, 0.01, &mut fe).unwrap();
         let last = r.fe.last().unwrap();
