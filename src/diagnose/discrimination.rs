@@ -285,6 +285,28 @@ impl Discrimination {
     /// `rivals` (leximin over `δ_ℓj`, module docs); stops early when no measurement raises the
     /// separations.
     pub fn greedy(&self, leader: usize, rivals: &[usize], k: usize) -> Vec<Pick> {
+        let each: Vec<usize> = (0..self.items.len()).collect();
+        self.greedy_records(leader, rivals, k, &each)
+    }
+
+    /// [`Self::greedy`] where measurements come in records: `record[i]` names the record of
+    /// measurement `i` (a marker's two components, a pose's tip and angle), and choosing one
+    /// measurement adds every row of its record. Each pick names the record's first
+    /// measurement.
+    ///
+    /// # Panics
+    /// `record` shorter than the measurements.
+    pub fn greedy_records(
+        &self,
+        leader: usize,
+        rivals: &[usize],
+        k: usize,
+        record: &[usize],
+    ) -> Vec<Pick> {
+        assert!(
+            record.len() >= self.items.len(),
+            "one record per measurement"
+        );
         let dirs: Vec<(Direction, Direction)> = rivals
             .iter()
             .map(|&j| (self.direction(leader, j), self.direction(j, leader)))
@@ -302,9 +324,14 @@ impl Discrimination {
         let mut current = score(&chosen);
         for _ in 0..k {
             let mut best: Option<(usize, Vec<f64>)> = None;
-            for i in (0..self.items.len()).filter(|i| !chosen.contains(i)) {
+            let rows_of = |i: usize| (0..self.items.len()).filter(move |&j| record[j] == record[i]);
+            let first_of_record = |i: &usize| rows_of(*i).next() == Some(*i);
+            for i in (0..self.items.len())
+                .filter(|i| !chosen.contains(i))
+                .filter(first_of_record)
+            {
                 let mut trial = chosen.clone();
-                trial.push(i);
+                trial.extend(rows_of(i));
                 let s = score(&trial);
                 if best.as_ref().is_none_or(|(_, b)| leximin_greater(&s, b)) {
                     best = Some((i, s));
@@ -313,7 +340,7 @@ impl Discrimination {
             let Some((i, s)) = best.filter(|(_, s)| leximin_greater(s, &current)) else {
                 break;
             };
-            chosen.push(i);
+            chosen.extend(rows_of(i));
             current = s.clone();
             picks.push(Pick {
                 item: i,
@@ -549,6 +576,30 @@ mod tests {
             sep(1.0),
             sep(3.0)
         );
+    }
+
+    #[test]
+    fn a_record_is_chosen_with_all_its_rows() {
+        let d = random_parts(11, 30, 3, 8).build();
+        // every measurement its own record: the plain greedy choice
+        let each: Vec<usize> = (0..8).collect();
+        assert_eq!(
+            d.greedy_records(0, &[1, 2], 2, &each),
+            d.greedy(0, &[1, 2], 2)
+        );
+        // measurements in pairs: a pick adds both rows, and names the pair's first
+        let pairs: Vec<usize> = (0..8).map(|i| i / 2).collect();
+        let picks = d.greedy_records(0, &[1, 2], 2, &pairs);
+        assert!(!picks.is_empty());
+        let mut rows = Vec::new();
+        for p in &picks {
+            assert_eq!(p.item % 2, 0, "{picks:?}");
+            rows.extend([p.item, p.item + 1]);
+            for (j, rival) in [1, 2].into_iter().enumerate() {
+                let want = d.separation(0, rival, &rows);
+                assert!((p.separations[j] - want).abs() <= 1e-9 * want.abs().max(1.0));
+            }
+        }
     }
 
     #[test]

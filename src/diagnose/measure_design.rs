@@ -41,6 +41,7 @@ use super::measurements::{candidates, discrimination, Measurement, MeasurementKi
 use super::name::{derivs_of, sweep_parameters, whitening, Naming};
 use super::DiagnoseError;
 use crate::calibrate::baseline::SweepSensitivities;
+use crate::calibrate::objective::Output;
 use crate::fe::effects::Effect;
 use crate::fe::sensitivity::Parameter;
 
@@ -90,6 +91,10 @@ impl PlanSettings {
 pub struct PlannedMeasurement {
     /// What to measure, and with which σ.
     pub measurement: Measurement,
+    /// The other outputs the same reading gives (a marker's other component; the tip and the
+    /// angle of one pose), counted with it.
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub also: Vec<String>,
     /// `√δ` of the two leading candidates once this and the items before it are added (σ).
     pub separation_sigma: f64,
     /// `δ/2`: the expected log Bayes factor between the two leading candidates then.
@@ -100,6 +105,18 @@ pub struct PlannedMeasurement {
     pub weakest: String,
     /// Its `√δ` (σ).
     pub weakest_separation_sigma: f64,
+}
+
+impl PlannedMeasurement {
+    /// The measurement in words, with the outputs its reading also gives:
+    /// `m8_uy_mm at N = 13, T = 2.4 mm, 2 bar (bending), with m8_uz_mm`.
+    pub fn text(&self) -> String {
+        if self.also.is_empty() {
+            self.measurement.text()
+        } else {
+            format!("{}, with {}", self.measurement.text(), self.also.join(", "))
+        }
+    }
 }
 
 /// The plan: what to measure next to separate the tied candidates.
@@ -245,12 +262,13 @@ pub fn plan(
     })?;
     let others: Vec<usize> = (1..effects.len()).collect();
     let scale = d.scale(0);
-    let mut picks = d.greedy(0, &others, s.k);
+    let records = records(&items);
+    let mut picks = d.greedy_records(0, &others, s.k, &records);
     picks
         .iter_mut()
         .for_each(|p| p.separations.iter_mut().for_each(|v| *v /= scale));
     let before = d.separation(0, 1, &[]) / scale;
-    let planned = planned(&picks, &items, &rivals, before);
+    let planned = planned(&picks, &items, &records, &rivals, before);
     let note = if planned.len() < s.k {
         format!(
             "only {} of the {} measurements asked for raise the separation",
@@ -304,10 +322,43 @@ fn empty(leader: &str, note: String) -> MeasurementPlan {
     }
 }
 
-/// The greedy picks as planned measurements, the leading pair's separation after each.
+/// The record of each measurement, as an index: what one reading gives together. A marker's
+/// two components; the tip's two components and the angle of one pose (a photograph at a
+/// pressure); a force reading, at the recorded plate height or a moved one.
+pub(crate) fn records(items: &[(Measurement, Vec<f64>)]) -> Vec<usize> {
+    let key = |m: &Measurement| {
+        let what = match m.output {
+            Output::TipUz | Output::TipUy | Output::Angle => "pose".to_string(),
+            Output::MarkerUz(k) | Output::MarkerUy(k) => format!("marker {k}"),
+            Output::Force if m.kind == MeasurementKind::PlateHeight => "force, plate moved".into(),
+            Output::Force => "force".into(),
+        };
+        (
+            m.n_bellows,
+            m.wall_thickness_mm.to_bits(),
+            m.pressure_bar.to_bits(),
+            what,
+        )
+    };
+    let mut seen: Vec<(u32, u64, u64, String)> = Vec::new();
+    items
+        .iter()
+        .map(|(m, _)| {
+            let k = key(m);
+            seen.iter().position(|s| *s == k).unwrap_or_else(|| {
+                seen.push(k);
+                seen.len() - 1
+            })
+        })
+        .collect()
+}
+
+/// The greedy picks as planned measurements, the leading pair's separation after each, each
+/// with the other outputs its record gives.
 fn planned(
     picks: &[Pick],
     items: &[(Measurement, Vec<f64>)],
+    records: &[usize],
     rivals: &[String],
     before: f64,
 ) -> Vec<PlannedMeasurement> {
@@ -321,8 +372,13 @@ fn planned(
             .enumerate()
             .min_by(|a, b| a.1.total_cmp(b.1))
             .map_or((0, 0.0), |(j, v)| (j, *v));
+        let also = (0..items.len())
+            .filter(|&j| j != p.item && records[j] == records[p.item])
+            .map(|j| items[j].0.output.name())
+            .collect();
         out.push(PlannedMeasurement {
             measurement: items[p.item].0.clone(),
+            also,
             separation_sigma: lead.sqrt(),
             log_bayes_factor: lead / 2.0,
             gain: lead / 2.0 - previous,
@@ -366,7 +422,7 @@ impl MeasurementPlan {
                 "{}. {} ({}; σ = {:.3} {}, {}): {} vs {first} {:.2} σ apart, expected log Bayes \
                  factor {:.2} (+{:.2}); least separated: {} at {:.2} σ.",
                 i + 1,
-                m.text(),
+                it.text(),
                 m.kind.label(),
                 m.sigma,
                 super::cells::Family::of(m.output).unit(),

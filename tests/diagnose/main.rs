@@ -1,11 +1,12 @@
 //! The diagnoser (`surrogate::diagnose`): the Locate stage on recordings with a planted
 //! residual (`diagnose`), Model and show (`refit`), the sensitivities against the model they are
-//! used with (`built_with`), the model's mesh error (`mesh_error`) and
-//! approximation error (`approx_error`) as candidates, and the blind study's plan, scoring and
-//! noise (`study`, `study_noise`). The command-line tests are in `tests/cli/`.
+//! used with (`built_with`), the model's mesh error (`mesh_error`) and approximation error
+//! (`approx_error`) as candidates, and the blind study's plan, scoring, noise and closed loop
+//! (`study`, `study_noise`, `closed_loop`). The command-line tests are in `tests/cli/`.
 
 mod approx_error;
 mod built_with;
+mod closed_loop;
 mod diagnose;
 mod mesh_error;
 mod refit;

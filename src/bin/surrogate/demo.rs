@@ -17,7 +17,7 @@ use std::path::Path;
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use plotters::prelude::*;
-use surrogate::calibrate::baseline::SweepSensitivities;
+use surrogate::calibrate::baseline::{SweepSensitivities, SweepSettings};
 use surrogate::calibrate::experiments::{bending_error, shipped_bending, BendingRecord};
 use surrogate::calibrate::refine::Refinement;
 use surrogate::calibrate::verify::{cached_verification, fe_material, FeVerification};
@@ -27,11 +27,9 @@ use surrogate::diagnose::locate::{locate, LocateSettings};
 use surrogate::diagnose::name::NameSettings;
 use surrogate::diagnose::refit::RefitSettings;
 use surrogate::diagnose::Diagnosis;
-use surrogate::fe::geometry::DesignParams;
 use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
-use surrogate::fe::simulate::{simulate_with_progress, Case, ContactSettings, Mode, StepResult};
-use surrogate::fe::solver::SolverSettings;
+use surrogate::fe::simulate::{simulate_with_progress, Case, Mode, StepResult};
 use surrogate::rom::Surrogate;
 use surrogate::schema;
 
@@ -121,7 +119,7 @@ pub fn run(a: DemoArgs) -> Result<()> {
     } else {
         Material::from_spec(&a.material, DEFAULT_BULK_RATIO)?
     };
-    live(&a, level, material, &cal)?;
+    live(&a, level, material, &cal, &model)?;
     // 5. where the calibrated model and the experiments still disagree
     println!("\n# 5. Where the calibrated model and the experiments disagree (diagnose: locate, name, refit)\n");
     let loc = locate(&cal, &model, &rec, &LocateSettings::default())?;
@@ -330,18 +328,17 @@ fn committed_refinement(c: &CommittedRefinement) {
 }
 
 /// The live FE run of one design, beside the experiments and the surrogate of its mesh.
-fn live(a: &DemoArgs, level: MeshLevel, material: Material, cal: &Calibration) -> Result<()> {
-    let case = Case {
-        design: DesignParams::new(a.n, a.t).validate()?,
-        material,
-        pressures_bar: vec![0.0, 1.0, 2.0, 3.0],
-        gravity: true,
-        mesh: MeshOptions::level(level),
-        solver: SolverSettings::default(),
-        mode: Mode::Bending,
-        contact: ContactSettings::default(),
-        effects: surrogate::fe::effects::Effects::default(),
-    };
+fn live(
+    a: &DemoArgs,
+    level: MeshLevel,
+    material: Material,
+    cal: &Calibration,
+    model: &Surrogate,
+) -> Result<()> {
+    // built as the calibrating model's training cases were (geometry, fixed effects)
+    let case = SweepSettings::new(material, MeshOptions::level(level))
+        .built_as(model.training.built_with.as_ref())
+        .case(a.n, a.t, vec![0.0, 1.0, 2.0, 3.0], Mode::Bending)?;
     eprintln!(
         "FE model: N = {}, T = {} mm, {}, {} mesh, gravity and contact on, 0 → 3 bar",
         a.n,

@@ -433,7 +433,7 @@ fn print_plan(p: &MeasurementPlan) {
         println!(
             "- {} (σ = {:.3}): {:.2} σ apart, expected log Bayes factor {:.2} (+{:.2}); least \
              separated: {} at {:.2} σ",
-            it.measurement.text(),
+            it.text(),
             it.measurement.sigma,
             it.separation_sigma,
             it.log_bayes_factor,

@@ -26,8 +26,9 @@
 //! **What a measurement adds.** What a lab records when it takes it: a marker's position (both
 //! components, one σ), a photograph of the pose at a pressure (tip `Uz`, `Uy` and the angle,
 //! the angle's σ that of the nearest recorded angle and the tip's the calibrator's
-//! `chord × σ_α`), or a force reading. A plan item whose record an earlier item already
-//! added adds nothing more. The noise is drawn from the twin's noise seed and the chooser
+//! `chord × σ_α`), or a force reading. The plan chooses whole records
+//! ([`crate::diagnose::measure_design::records`]), and the random control draws among records
+//! too. The noise is drawn from the twin's noise seed and the chooser
 //! (`splitmix64(seed ⊕ tag)`), independent of the twin's own draws and of the other chooser.
 //!
 //! **Scoring.** As the study scores ([`super::score_twin`]), against the twin's key; whether a
@@ -50,7 +51,7 @@ use crate::calibrate::experiments::{BendingRecord, ForceRecord, MarkerRecord};
 use crate::calibrate::objective::{Output, FREE_LENGTH_MM};
 use crate::calibrate::Recordings;
 use crate::diagnose::cells::Cell;
-use crate::diagnose::measure_design::{menu, PlanSettings};
+use crate::diagnose::measure_design::{menu, records, PlanSettings};
 use crate::diagnose::measurements::{sigma_for, Measurement, MeasurementKind};
 use crate::diagnose::name::sweep_parameters;
 use crate::diagnose::report::Diagnosis;
@@ -259,9 +260,14 @@ impl Twin<'_> {
             });
         }
         let params = sweep_parameters(self.by.sens);
-        let options: Vec<Measurement> = menu(&cells, self.by.sens, &params, &LOOP_KINDS)
+        // one option per record, as the plan chooses records
+        let all = menu(&cells, self.by.sens, &params, &LOOP_KINDS);
+        let recs = records(&all);
+        let options: Vec<Measurement> = all
             .into_iter()
-            .map(|(m, _)| m)
+            .enumerate()
+            .filter(|(i, _)| !recs[..*i].contains(&recs[*i]))
+            .map(|(_, (m, _))| m)
             .collect();
         let random = draw(&options, items.len(), splitmix64(self.seed ^ TAG_RANDOM));
         let after = |chosen: &[Measurement], tag: u64| {
