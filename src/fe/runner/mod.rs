@@ -31,9 +31,10 @@
 //! [`RampDir`] is the keyed ramp cache ([`cache`]); [`run_campaign`] is both stages at once.
 //!
 //! **Users.** The sweep of [`crate::calibrate::baseline`] (every design's bending and
-//! blocked-force ramps, cached by key, cold or from a warm pool) and the warm-start campaign
-//! of [`super::campaign`] (tree order) are this runner with their own cases, stores and
-//! starts.
+//! blocked-force ramps, cached by key, cold or from a warm pool), the snapshot shards of
+//! [`crate::snapshots::run`] (a plan's cases, one CSV file each, with a runner of their own)
+//! and the warm-start campaign of [`super::campaign`] (tree order) are this runner with their
+//! own cases, stores and starts.
 
 pub mod batch;
 pub mod cache;
