@@ -8,8 +8,9 @@
 //! case already grown when it joined; the tree's edges sum to the least total distance, so
 //! the starts are as near as any order allows. The first case of a group starts cold.
 //!
-//! **Both cores.** The cases run on the threads of the current rayon pool (one ramp per
-//! thread; run with `RAYON_NUM_THREADS` = cores). A thread takes the next case, in the order
+//! **Both cores.** The cases run on the FE campaign runner ([`super::runner`], nothing
+//! stored, [`Start::Tree`]): on the threads of the current rayon pool (one ramp per thread;
+//! run with `RAYON_NUM_THREADS` = cores). A thread takes the next case, in the order
 //! the trees grew, whose parent has finished; the first cases of the groups, and the branches
 //! of a tree, run side by side. A case whose parent failed starts cold. Each case's answer
 //! does not depend on which thread ran it or when: only on its parent, which the tree fixes.
@@ -22,25 +23,15 @@
 //! sensitivities cost once the ramps are warm, so it pays only where the sensitivities are
 //! wanted anyway (a calibration's iterations).
 
-use std::collections::BTreeMap;
-use std::sync::{Condvar, Mutex};
 use std::time::Instant;
 
-use super::sensitivity::{sensitivities_with_fields, Parameter, WithFields};
+use super::runner::{
+    spanning_order, Batch, CaseReport, NoStore, Obtained, Ramp, RampCase, Start, Tally,
+};
+use super::sensitivity::Parameter;
 use super::simulate::{Case, Response};
-use super::warm_start::WarmStart;
 
-/// How the cases of a campaign start.
-#[derive(Clone, Copy, Debug, PartialEq, Eq, serde::Serialize, serde::Deserialize)]
-#[serde(rename_all = "snake_case")]
-pub enum WarmOrder {
-    /// From the undeformed actuator (every ramp independent).
-    Cold,
-    /// From the tree parent's converged states.
-    Zeroth,
-    /// From the tree parent's states moved by their displacement sensitivities.
-    First,
-}
+pub use super::runner::{Link, WarmOrder, WarmPool};
 
 /// One case of a campaign and its parameter point.
 #[derive(Clone, Debug)]
@@ -102,15 +93,6 @@ pub struct CampaignRamp {
     pub wall_s: f64,
 }
 
-/// One link of the campaign's order: a case and the case it starts from.
-#[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub struct Link {
-    /// The case.
-    pub case: usize,
-    /// Its tree parent (`None`: the root of its group).
-    pub parent: Option<usize>,
-}
-
 impl Campaign {
     /// Checks the points and scales.
     ///
@@ -156,14 +138,12 @@ impl Campaign {
     /// The order the cases run in, each with the case it starts from (module docs); all roots
     /// with [`WarmOrder::Cold`].
     pub fn order(&self) -> Vec<Link> {
-        let mut groups: BTreeMap<String, Vec<usize>> = BTreeMap::new();
-        for (i, c) in self.cases.iter().enumerate() {
-            groups.entry(model_key(&c.case)).or_default().push(i);
-        }
-        let mut out = Vec::with_capacity(self.cases.len());
-        for members in groups.values() {
-            out.extend(self.tree(members));
-        }
+        let cases: Vec<(&Case, &[f64])> = self
+            .cases
+            .iter()
+            .map(|c| (&c.case, c.point.as_slice()))
+            .collect();
+        let mut out = spanning_order(&cases, &self.scales);
         if self.warm == WarmOrder::Cold {
             for l in &mut out {
                 l.parent = None;
@@ -172,77 +152,8 @@ impl Campaign {
         out
     }
 
-    /// Prim's minimum spanning tree of `members`, from the one nearest their centroid, in
-    /// the order the cases join.
-    fn tree(&self, members: &[usize]) -> Vec<Link> {
-        let dist = |a: usize, b: usize| {
-            let (pa, pb) = (&self.cases[a].point, &self.cases[b].point);
-            pa.iter()
-                .zip(pb)
-                .zip(&self.scales)
-                .map(|((x, y), s)| ((x - y) / s).powi(2))
-                .sum::<f64>()
-                .sqrt()
-        };
-        let dim = self.scales.len();
-        let mut centroid = vec![0.0; dim];
-        for &m in members {
-            for (c, v) in centroid.iter_mut().zip(&self.cases[m].point) {
-                *c += v / members.len() as f64;
-            }
-        }
-        let to_centroid = |m: usize| {
-            self.cases[m]
-                .point
-                .iter()
-                .zip(&centroid)
-                .zip(&self.scales)
-                .map(|((x, y), s)| ((x - y) / s).powi(2))
-                .sum::<f64>()
-        };
-        let Some(root) = members
-            .iter()
-            .copied()
-            .min_by(|&a, &b| to_centroid(a).total_cmp(&to_centroid(b)).then(a.cmp(&b)))
-        else {
-            return Vec::new();
-        };
-        let mut links = vec![Link {
-            case: root,
-            parent: None,
-        }];
-        // best[k]: (distance to the tree, nearest tree member) of members[k] not yet in it
-        let mut best: Vec<Option<(f64, usize)>> = members
-            .iter()
-            .map(|&m| (m != root).then(|| (dist(m, root), root)))
-            .collect();
-        while let Some(k) = (0..members.len())
-            .filter(|&k| best[k].is_some())
-            .min_by(|&a, &b| {
-                let (da, db) = (best[a].map_or(0.0, |b| b.0), best[b].map_or(0.0, |b| b.0));
-                da.total_cmp(&db).then(members[a].cmp(&members[b]))
-            })
-        {
-            let (_, parent) = best[k].take().expect("filtered on is_some");
-            let m = members[k];
-            links.push(Link {
-                case: m,
-                parent: Some(parent),
-            });
-            for (j, b) in best.iter_mut().enumerate() {
-                if let Some((d, p)) = b {
-                    let dn = dist(members[j], m);
-                    if dn < *d {
-                        *d = dn;
-                        *p = m;
-                    }
-                }
-            }
-        }
-        links
-    }
-
-    /// Runs every case (module docs), calling `progress(done, total, ramp)` as each finishes.
+    /// Runs every case (module docs) on the FE campaign runner ([`super::runner`], from the
+    /// tree parents, nothing stored), calling `progress(done, total, ramp)` as each finishes.
     ///
     /// # Errors
     /// An invalid campaign, before any FE.
@@ -251,130 +162,46 @@ impl Campaign {
         progress: impl Fn(usize, usize, &CampaignRamp) + Sync,
     ) -> Result<Vec<CampaignRamp>, CampaignError> {
         self.validate()?;
-        let order = self.order();
-        let n = order.len();
-        let sensitivities: &[Parameter] = if self.warm == WarmOrder::First {
-            &self.parameters
+        let sensitivities = if self.warm == WarmOrder::First {
+            self.parameters.clone()
         } else {
-            &[]
+            Vec::new()
         };
-        struct Board {
-            taken: Vec<bool>,
-            finished: Vec<bool>,
-            kept: Vec<Option<std::sync::Arc<WithFields>>>,
-            ramps: Vec<Option<CampaignRamp>>,
-            done: usize,
-        }
-        let board = Mutex::new(Board {
-            taken: vec![false; n],
-            finished: vec![false; self.cases.len()],
-            kept: vec![None; self.cases.len()],
-            ramps: vec![None; self.cases.len()],
-            done: 0,
-        });
-        let ready = Condvar::new();
-        let workers = rayon::current_num_threads().clamp(1, n.max(1));
-        rayon::scope(|s| {
-            for _ in 0..workers {
-                s.spawn(|_| loop {
-                    // the next case, in order, whose parent has finished
-                    let (k, parent) = {
-                        let mut b = board.lock().unwrap_or_else(|e| e.into_inner());
-                        loop {
-                            let next = (0..n).find(|&k| {
-                                !b.taken[k] && order[k].parent.is_none_or(|p| b.finished[p])
-                            });
-                            if let Some(k) = next {
-                                b.taken[k] = true;
-                                let parent = order[k].parent.map(|p| (p, b.kept[p].clone()));
-                                break (k, parent);
-                            }
-                            if b.taken.iter().all(|&t| t) {
-                                return;
-                            }
-                            b = ready.wait(b).unwrap_or_else(|e| e.into_inner());
-                        }
-                    };
-                    let link = order[k];
-                    let (ramp, kept) = self.run_one(link.case, parent.as_ref(), sensitivities);
-                    let mut b = board.lock().unwrap_or_else(|e| e.into_inner());
-                    b.finished[link.case] = true;
-                    b.kept[link.case] = kept.map(std::sync::Arc::new);
-                    b.done += 1;
-                    progress(b.done, n, &ramp);
-                    b.ramps[link.case] = Some(ramp);
-                    ready.notify_all();
-                });
-            }
-        });
-        let b = board.into_inner().unwrap_or_else(|e| e.into_inner());
-        Ok(b.ramps.into_iter().flatten().collect())
-    }
-
-    /// One case from its parent's kept states (if it finished with them).
-    fn run_one(
-        &self,
-        i: usize,
-        parent: Option<&(usize, Option<std::sync::Arc<WithFields>>)>,
-        sensitivities: &[Parameter],
-    ) -> (CampaignRamp, Option<WithFields>) {
-        let start = Instant::now();
-        let from = parent.and_then(|(p, kept)| kept.as_ref().map(|k| (*p, k)));
-        let warm = from.and_then(|(p, k)| match self.warm {
-            WarmOrder::Cold => None,
-            WarmOrder::Zeroth => Some(WarmStart::new(k.states.clone())),
-            WarmOrder::First => {
-                let delta: Vec<f64> = self.cases[i]
-                    .point
-                    .iter()
-                    .zip(&self.cases[p].point)
-                    .map(|(a, b)| a - b)
-                    .collect();
-                k.warm_start(&delta).ok()
-            }
-        });
-        let ran = sensitivities_with_fields(
-            &self.cases[i].case,
-            sensitivities,
-            warm.as_ref(),
-            |_, _| {},
-            |_, _, _| {},
-        );
-        let wall_s = start.elapsed().as_secs_f64();
-        let parent = warm.as_ref().and(from.map(|(p, _)| p));
-        match ran {
-            Ok(w) => (
-                CampaignRamp {
-                    case: i,
-                    parent,
-                    response: Ok(w.response.clone()),
-                    wall_s,
-                },
-                (self.warm != WarmOrder::Cold).then_some(w),
-            ),
-            Err(e) => (
-                CampaignRamp {
-                    case: i,
-                    parent,
-                    response: Err(e.to_string()),
-                    wall_s,
-                },
-                None,
-            ),
-        }
+        let cases: Vec<RampCase> = self
+            .cases
+            .iter()
+            .map(|c| RampCase {
+                case: c.case.clone(),
+                point: c.point.clone(),
+                sensitivities: sensitivities.clone(),
+            })
+            .collect();
+        let store = NoStore::new();
+        let Ok(batch) = Batch::look_up(&cases, &store);
+        let start = Start::Tree(self.warm);
+        let progress = |t: &Tally, r: &CaseReport<Ramp, Ramp>| {
+            progress(t.ran, t.to_run, &campaign_ramp(r));
+        };
+        let Ok(reports) = batch.run(&self.order(), &start, progress);
+        Ok(reports.iter().map(campaign_ramp).collect())
     }
 }
 
-/// The cases that share a model (the same unknowns and contact points): design, mesh, rig,
-/// contact settings and gravity.
-fn model_key(c: &Case) -> String {
-    serde_json::json!({
-        "design": c.design.params(),
-        "mesh": c.mesh,
-        "mode": c.mode,
-        "contact": c.contact,
-    })
-    .to_string()
+/// How a case of the campaign ran, from the runner's report.
+fn campaign_ramp(r: &CaseReport<Ramp, Ramp>) -> CampaignRamp {
+    let response = match &r.obtained {
+        Obtained::Run(ramp) | Obtained::Cache(ramp) => ramp
+            .response
+            .clone()
+            .ok_or_else(|| "the ramp has no solver account".to_string()),
+        Obtained::Failed { message, .. } => Err(message.clone()),
+    };
+    CampaignRamp {
+        case: r.case,
+        parent: r.parent,
+        response,
+        wall_s: r.wall_s,
+    }
 }
 
 /// The material-sweep benchmark of warm starts ([`bench_material_sweep`]).
@@ -603,83 +430,4 @@ fn measure(
             })
             .collect(),
     }
-}
-
-/// A pooled ramp: its parameter point and what it left.
-type Pooled = (Vec<f64>, std::sync::Arc<WithFields>);
-
-/// The latest converged ramp of each model in a repeated campaign (a calibration's
-/// iterations: the same designs at a new parameter point each time), with its parameter point,
-/// to start the next iteration's ramps from. Shared between threads; cloning shares it.
-///
-/// A ramp is matched by number of bellows, nominal wall thickness, rig, mesh and contact
-/// settings: the dimensions being identified may differ (the mesh moves, its unknowns stay
-/// the same; a start of another size is not used, [`LevelGuess::fits`](crate::fe::solver::LevelGuess::fits)).
-#[derive(Clone, Default)]
-pub struct WarmPool {
-    inner: std::sync::Arc<Mutex<BTreeMap<String, Pooled>>>,
-}
-
-impl std::fmt::Debug for WarmPool {
-    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
-        let n = self.inner.lock().map_or(0, |m| m.len());
-        write!(f, "WarmPool({n} ramps)")
-    }
-}
-
-/// Two handles are equal when they share the same pool.
-impl PartialEq for WarmPool {
-    fn eq(&self, other: &Self) -> bool {
-        std::sync::Arc::ptr_eq(&self.inner, &other.inner)
-    }
-}
-
-impl WarmPool {
-    /// An empty pool.
-    pub fn new() -> Self {
-        Self::default()
-    }
-
-    /// A start for `case` at `point` from the pool's ramp of the same model: its states moved
-    /// to `point` by their displacement sensitivities where it has them for every coordinate,
-    /// as they are otherwise; `None` if the pool has no such ramp.
-    pub fn start_for(&self, case: &Case, point: &[f64]) -> Option<WarmStart> {
-        let map = self.inner.lock().unwrap_or_else(|e| e.into_inner());
-        let (from, ran) = map.get(&pool_key(case))?;
-        let delta: Vec<f64> = point.iter().zip(from).map(|(a, b)| a - b).collect();
-        if from.len() == point.len() && ran.fields.parameters.len() == point.len() {
-            if let Ok(w) = ran.warm_start(&delta) {
-                return Some(w);
-            }
-        }
-        Some(WarmStart::new(ran.states.clone()))
-    }
-
-    /// Keeps `ran` (of `case` at `point`) as the start of its model's next ramp.
-    pub fn keep(&self, case: &Case, point: Vec<f64>, ran: WithFields) {
-        let mut map = self.inner.lock().unwrap_or_else(|e| e.into_inner());
-        map.insert(pool_key(case), (point, std::sync::Arc::new(ran)));
-    }
-
-    /// The number of ramps kept.
-    pub fn len(&self) -> usize {
-        self.inner.lock().map_or(0, |m| m.len())
-    }
-
-    /// Whether it keeps no ramp.
-    pub fn is_empty(&self) -> bool {
-        self.len() == 0
-    }
-}
-
-fn pool_key(c: &Case) -> String {
-    let p = c.design.params();
-    serde_json::json!({
-        "n": p.n_bellows,
-        "t": p.wall_thickness,
-        "mesh": c.mesh,
-        "mode": c.mode,
-        "contact": c.contact,
-    })
-    .to_string()
 }

@@ -2,7 +2,8 @@
 //!
 //! Pipeline: [`geometry::Design`] → [`mesh::ActuatorMesh`] → [`assembly::FeModel`]
 //! (elements from [`element`], loads from [`loads`], material from [`material`]) →
-//! [`solver`] (load stepping + Newton) → [`simulate`] (markers, tip, angle).
+//! [`solver`] (load stepping + Newton) → [`simulate`] (markers, tip, angle); [`runner`] runs
+//! campaigns of such cases in parallel, cached and resumable.
 pub mod assembly;
 pub mod campaign;
 pub mod contact;
@@ -15,6 +16,7 @@ pub mod material;
 pub mod mesh;
 pub mod ordering;
 pub mod preset;
+pub mod runner;
 pub mod sensitivity;
 pub mod simulate;
 pub mod solver;

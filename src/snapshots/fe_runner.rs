@@ -1,12 +1,14 @@
 //! The real case runner: one FE pressure ramp per case.
 //!
 //! [`fe_runner`] = [`bending_ramp`] (the actuator hanging free, gravity then pressure) +
-//! [`blocked_force_ramp`] (the blocked-force test). A ramp that stops keeps the steps it
-//! reached; the outcome carries the solver's error for the rest.
+//! [`blocked_force_ramp`] (the blocked-force test), each a cold ramp of the FE campaign runner
+//! ([`cold_ramp`]). A ramp that stops keeps the steps it reached; the outcome carries the
+//! solver's error for the rest.
 
 use super::plan::{PlanSettings, PlannedCase};
 use super::store::{CaseOutcome, StepOutputs};
-use crate::fe::simulate::{simulate_with, Case, Mode, StepResult};
+use crate::fe::runner::cold_ramp;
+use crate::fe::simulate::{Case, Mode, StepResult};
 
 /// The FE case (bending or blocked-force test) of a planned case, built with the plan's
 /// geometry preset, with the plan's fixed effects and the case's sampled ones.
@@ -55,11 +57,10 @@ pub fn bending_ramp(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome 
         Ok(fe) => fe,
         Err(e) => return CaseOutcome::failed(e),
     };
-    let mut steps = Vec::new();
-    let result = simulate_with(&fe, |_, _| {}, |_, r, _| steps.push(step_outputs(r)));
+    let ramp = cold_ramp(&fe, &[]);
     CaseOutcome {
-        steps,
-        error: result.err().map(|e| format!("bending: {e}")),
+        steps: ramp.steps.iter().map(step_outputs).collect(),
+        error: ramp.error.map(|e| format!("bending: {e}")),
     }
 }
 
@@ -73,13 +74,13 @@ pub fn blocked_force_ramp(
         Ok(fe) => fe,
         Err(e) => return (Vec::new(), Some(e)),
     };
-    let mut force = Vec::new();
-    let result = simulate_with(
-        &fe,
-        |_, _| {},
-        |_, r, _| force.push(r.force_n.unwrap_or(f64::NAN)),
-    );
-    (force, result.err().map(|e| e.to_string()))
+    let ramp = cold_ramp(&fe, &[]);
+    let force = ramp
+        .steps
+        .iter()
+        .map(|r| r.force_n.unwrap_or(f64::NAN))
+        .collect();
+    (force, ramp.error)
 }
 
 /// The real runner: bending ramp and blocked-force ramp, joined per pressure. A row needs

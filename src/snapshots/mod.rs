@@ -12,7 +12,8 @@
 //! * [`store`]: a case's outcome ([`CaseOutcome`]), the snapshot CSV columns and the atomic
 //!   per-case files of a shard directory.
 //! * [`mod@merge`]: shard directories → one snapshot CSV, identical to a single run.
-//! * [`run`]: the case runner abstraction ([`CaseRunner`]), the shard driver with resume, and a
+//! * [`run`]: the case runner abstraction ([`CaseRunner`]), the shard driver with resume (the FE
+//!   campaign runner, [`crate::fe::runner`], with the shard directory as its store), and a
 //!   cheap analytic runner for tests and dry runs of the distribution machinery.
 //! * [`fe_runner`]: the real runner: per case, the FE bending ramp and the blocked-force ramp
 //!   ([`fe_runner::blocked_force_ramp`]) through the plan's pressures.

@@ -3,22 +3,23 @@
 //!
 //! [`run_shard`] reads top to bottom: open the directory (plan hash) → find the shard's cases
 //! → skip the finished ones (validated) → remove the temporaries of the rest → run them in
-//! parallel (rayon), each written atomically as soon as it finishes → summary.
+//! parallel, each written atomically as soon as it finishes → summary. The running is the FE
+//! campaign runner's ([`crate::fe::runner`]): the shard directory is its store, the case
+//! runner its solver, every case on its own, in plan order.
 //! Each case writes its own file, so the result does not depend on the thread count or on the
 //! order in which cases finish.
 
+use std::collections::BTreeMap;
 use std::panic::{catch_unwind, AssertUnwindSafe};
-use std::path::Path;
-use std::sync::atomic::{AtomicUsize, Ordering};
+use std::path::{Path, PathBuf};
 use std::time::{Duration, Instant};
-
-use rayon::prelude::*;
 
 use super::plan::{Plan, PlanSettings, PlannedCase};
 use super::shard::Shard;
-use super::store::{read_case_file, ShardDir};
+use super::store::{read_case_file, CaseFile, ShardDir};
 pub use super::store::{CaseOutcome, StepOutputs};
 use super::SnapshotError;
+use crate::fe::runner::{Batch, Independent, Link, Obtained, Store};
 
 /// Computes one case. Implemented by every `Fn(&PlannedCase, &PlanSettings) -> CaseOutcome +
 /// Sync`: the FE ([`super::fe_runner::fe_runner`]) or a cheap stand-in ([`AnalyticRunner`]).
@@ -106,11 +107,12 @@ pub fn run_shard(
     progress: &(dyn Fn(Progress) + Sync),
 ) -> Result<RunSummary, SnapshotError> {
     let start = Instant::now();
-    let store = ShardDir::create(dir, plan)?;
+    let store = ShardStore::open(ShardDir::create(dir, plan)?, plan, options.retry_failed)?;
     let cases = plan.shard_cases(options.shard);
-    let pending = pending_cases(Some(&store), plan, options.shard, options.retry_failed)?;
-    for case in &pending {
-        store.remove_temporaries(case.id)?;
+    let batch = Batch::look_up(&cases, &store)?;
+    let pending = batch.to_run();
+    for &i in &pending {
+        store.dir.remove_temporaries(cases[i].id)?;
     }
     let total = pending.len();
     progress(Progress {
@@ -118,23 +120,18 @@ pub fn run_shard(
         failed: 0,
         total,
     });
-    let (done, failed) = (AtomicUsize::new(0), AtomicUsize::new(0));
+    let solver = Independent(|case: &&PlannedCase| run_guarded(runner, case, &plan.settings));
+    let order = Link::independent(&pending);
     let work = || {
-        pending.par_iter().with_max_len(1).try_for_each(|case| {
-            let outcome = run_guarded(runner, case, &plan.settings);
-            store.write_case(case, &plan.settings, &outcome)?;
-            let f = failed.fetch_add(usize::from(outcome.is_failed()), Ordering::SeqCst)
-                + usize::from(outcome.is_failed());
-            let d = done.fetch_add(1, Ordering::SeqCst) + 1;
+        batch.run(&order, &solver, |t, _| {
             progress(Progress {
-                done: d,
-                failed: f,
-                total,
-            });
-            Ok::<(), SnapshotError>(())
+                done: t.ran,
+                failed: t.failed,
+                total: t.to_run,
+            })
         })
     };
-    match options.threads {
+    let reports = match options.threads {
         Some(n) => rayon::ThreadPoolBuilder::new()
             .num_threads(n)
             .build()
@@ -143,43 +140,61 @@ pub fn run_shard(
             })?
             .install(work)?,
         None => work()?,
-    }
+    };
+    let failed = reports
+        .iter()
+        .filter(|r| matches!(r.obtained, Obtained::Failed { .. }))
+        .count();
     Ok(RunSummary {
         shard: options.shard,
         cases: cases.len(),
         skipped: cases.len() - total,
-        done: done.into_inner(),
-        failed: failed.into_inner(),
+        done: total,
+        failed,
         wall_time_s: start.elapsed().as_secs_f64(),
     })
 }
 
-/// The cases of `shard` without a case file in `store` (all of them without a store), and
-/// with `retry_failed` those whose file records a failure, after validating the files that
-/// exist.
-fn pending_cases<'p>(
-    store: Option<&ShardDir>,
-    plan: &'p Plan,
-    shard: Shard,
+/// A shard directory as the runner's store: a case is held when its file exists and is valid
+/// for the plan (and, with `retry_failed`, records no failure); a case run is written to its
+/// own file atomically.
+struct ShardStore<'p> {
+    dir: ShardDir,
+    files: BTreeMap<usize, PathBuf>,
+    settings: &'p PlanSettings,
     retry_failed: bool,
-) -> Result<Vec<&'p PlannedCase>, SnapshotError> {
-    let cases = plan.shard_cases(shard);
-    let Some(store) = store else {
-        return Ok(cases);
-    };
-    let finished = store.case_ids()?;
-    let mut pending = Vec::new();
-    for case in cases {
-        match finished.get(&case.id) {
-            Some(path) => {
-                if read_case_file(path, case, &plan.settings)?.failed && retry_failed {
-                    pending.push(case);
-                }
-            }
-            None => pending.push(case),
-        }
+}
+
+impl<'p> ShardStore<'p> {
+    /// The store of `dir` for `plan`, with the case files there now.
+    fn open(dir: ShardDir, plan: &'p Plan, retry_failed: bool) -> Result<Self, SnapshotError> {
+        Ok(Self {
+            files: dir.case_ids()?,
+            dir,
+            settings: &plan.settings,
+            retry_failed,
+        })
     }
-    Ok(pending)
+}
+
+impl Store<&PlannedCase> for ShardStore<'_> {
+    type Ramp = CaseOutcome;
+    type Held = CaseFile;
+    type Error = SnapshotError;
+
+    fn held(&self, case: &&PlannedCase) -> Result<Option<CaseFile>, SnapshotError> {
+        let Some(path) = self.files.get(&case.id) else {
+            return Ok(None);
+        };
+        let file = read_case_file(path, case, self.settings)?;
+        Ok((!(file.failed && self.retry_failed)).then_some(file))
+    }
+
+    fn keep(&self, case: &&PlannedCase, outcome: &CaseOutcome) -> Result<(), SnapshotError> {
+        self.dir
+            .write_case(case, self.settings, outcome)
+            .map(|_| ())
+    }
 }
 
 /// How far a shard is ([`shard_status`]).

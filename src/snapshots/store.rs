@@ -35,6 +35,7 @@ use std::path::{Path, PathBuf};
 use super::plan::{Plan, PlanSettings, PlannedCase};
 use super::{code_version, SnapshotError};
 use crate::fe::effects::Effect;
+use crate::fe::runner::Outcome;
 use crate::schema::{self, SNAPSHOT_COLUMN_NAMES};
 
 /// Outputs of one converged pressure step.
@@ -86,6 +87,12 @@ impl CaseOutcome {
     /// Whether the case stopped early.
     pub fn is_failed(&self) -> bool {
         self.error.is_some()
+    }
+}
+
+impl Outcome for CaseOutcome {
+    fn failure(&self) -> Option<&str> {
+        self.error.as_deref()
     }
 }
 

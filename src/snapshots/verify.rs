@@ -1,5 +1,5 @@
-//! Re-simulation check of a snapshot file: pick cases at random (seeded), run them again and
-//! compare every stored output.
+//! Re-simulation check of a snapshot file: pick cases at random (seeded), run them again (in
+//! parallel, on the FE campaign runner with nothing stored) and compare every stored output.
 //!
 //! For each chosen case, the stored rows must carry the plan's inputs, the same `converged`
 //! flags as the new run, and outputs within the tolerance:
@@ -12,12 +12,12 @@ use std::path::Path;
 use rand::seq::index::sample;
 use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256PlusPlus;
-use rayon::prelude::*;
 
-use super::plan::Plan;
+use super::plan::{Plan, PlannedCase};
 use super::run::CaseRunner;
 use super::store::{case_csv, case_name, CaseOutcome};
 use super::SnapshotError;
+use crate::fe::runner::{Batch, Independent, NoStore, Obtained};
 use crate::schema::SNAPSHOT_COLUMN_NAMES;
 
 /// Index of the first output column (`tip_uz_mm`).
@@ -160,16 +160,20 @@ pub fn resimulate(
         chosen.push((name, case, check));
     }
     chosen.sort_by_key(|(_, case, _)| case.id);
+    let cases: Vec<&PlannedCase> = chosen.iter().map(|(_, case, _)| *case).collect();
+    let store = NoStore::new();
+    let Ok(batch) = Batch::look_up(&cases, &store);
+    let solver = Independent(|case: &&PlannedCase| runner.run(case, &plan.settings));
+    let Ok(reports) = batch.run(&[], &solver, |_, _| {});
     chosen
-        .into_par_iter()
-        .with_max_len(1)
-        .map(|(name, case, mut check)| {
-            let fresh = own_rows(&case_csv(
-                case,
-                &plan.settings,
-                &runner.run(case, &plan.settings),
-            ))
-            .map_err(|m| bad(name, m))?;
+        .into_iter()
+        .zip(reports)
+        .map(|((name, case, mut check), report)| {
+            let outcome = match report.obtained {
+                Obtained::Run(o) | Obtained::Cache(o) | Obtained::Failed { ramp: o, .. } => o,
+            };
+            let fresh =
+                own_rows(&case_csv(case, &plan.settings, &outcome)).map_err(|m| bad(name, m))?;
             compare(&rows[name], &fresh, &mut check, false).map_err(|m| bad(name, m))?;
             Ok(check)
         })

@@ -11,18 +11,20 @@
 //! (designs and pressures in, ramps out), for other users of the same cached ramps (twin
 //! recordings, [`crate::calibrate::twin`]).
 //!
-//! With a cache directory every finished ramp is written there atomically (one JSON per design
-//! and mode, keyed by everything that defines the ramp), and a later run with the same
-//! settings takes it from there: a long standard-mesh sweep resumes after an interruption.
-//! Neutral settings (no effect, the as-modelled geometry, no sensitivities) add nothing to the
-//! key, so the caches committed under `fe_reference/` are read as they are (tested).
+//! The sweep runs on the FE campaign runner ([`crate::fe::runner`]). With a cache directory
+//! every finished ramp is written there atomically (one JSON per design and mode, keyed by
+//! everything that defines the ramp: [`crate::fe::runner::cache`]), and a later run with the
+//! same settings takes it from there: a long standard-mesh sweep resumes after an
+//! interruption. Neutral settings (no effect, the as-modelled geometry, no sensitivities) add
+//! nothing to the key, so the caches committed under `fe_reference/` are read as they are
+//! (tested).
 //!
 //! By concern:
 //! - `settings`: the settings shared by every ramp and the designs of a sweep
 //!   ([`SweepSettings`], [`SweepDesign`], [`recorded_designs`]);
-//! - `cache`: one ramp per file, keyed by everything that defines it ([`BaselineError`]);
+//! - `cache`: the errors of a sweep ([`BaselineError`]; the cache itself is the runner's);
 //! - `ramps`: the ramps of a sweep, run in parallel or read from the cache ([`run_ramps`],
-//!   [`cached_ramps`], [`SweepRamp`]);
+//!   [`cached_ramps`], [`SweepRamp`]): the runner's cases, store and start;
 //! - `sensitivities`: the file of a sweep's sensitivities ([`SweepSensitivities`]);
 //! - `report`: the comparison with the recordings, row by row and summarised
 //!   ([`run_baseline`], [`BaselineRow`], [`summarize`]).

@@ -1,16 +1,15 @@
 //! The ramps of a sweep: the bending and blocked-force ramp of every design, read from the
 //! cache when it holds them and run otherwise (in parallel, the costliest first, cold or from
-//! a warm pool, with sensitivities when asked for).
+//! a warm pool, with sensitivities when asked for), on the FE campaign runner
+//! ([`crate::fe::runner`]: its keyed ramp cache, [`Start::Cold`] or [`Start::Pool`]).
 
 use std::path::Path;
 
-use super::cache::{BaselineError, RampCache, RampOutcome};
+use super::cache::BaselineError;
 use super::settings::{SweepDesign, SweepSettings};
-use crate::fe::campaign::WarmPool;
-use crate::fe::sensitivity::{
-    sensitivities_with, sensitivities_with_fields, Parameter, Sensitivities,
-};
-use crate::fe::simulate::{simulate_with, Case, Mode, StepResult};
+use crate::fe::runner::{Batch, Link, Obtained, Ramp, RampCase, RampDir, Start};
+use crate::fe::sensitivity::Sensitivities;
+use crate::fe::simulate::{Mode, SimulateError, StepResult};
 
 /// Where a ramp of a sweep came from.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -87,56 +86,72 @@ fn sweep(
     compute: bool,
     progress: impl Fn(usize, usize) + Sync,
 ) -> Result<Vec<SweepRamp>, BaselineError> {
-    if let (Some(dir), true) = (cache, compute) {
-        std::fs::create_dir_all(dir).map_err(|e| BaselineError::cache(dir, e))?;
-    }
     let jobs: Vec<(&SweepDesign, Mode)> = designs
         .iter()
         .flat_map(|d| [(d, Mode::Bending), (d, Mode::Force)])
         .collect();
-    let done = std::sync::atomic::AtomicUsize::new(0);
-    let results: Vec<Result<SweepRamp, BaselineError>> =
-        longest_first(&jobs, &cost_order(&jobs), |&(d, mode)| {
+    let cases = jobs
+        .iter()
+        .map(|&(d, mode)| {
             let case = settings.case(
                 d.n_bellows,
                 d.wall_thickness_mm,
                 d.pressures_bar.clone(),
                 mode,
             )?;
-            let cached = cache.map(|dir| RampCache::at(dir, &case, &settings.sensitivities));
-            let (steps, error, sensitivities, source) =
-                match cached.as_ref().and_then(RampCache::load) {
-                    Some((steps, error, sens)) => (steps, error, sens, RampSource::Cache),
-                    None if !compute => (
-                        Vec::new(),
-                        "not in the cache".to_string(),
-                        None,
-                        RampSource::Missing,
-                    ),
-                    None => {
-                        let r = match &settings.warm {
-                            Some(pool) => run_warm_ramp(&case, settings, pool),
-                            None => run_ramp(&case, &settings.sensitivities),
-                        };
-                        if let Some(c) = &cached {
-                            c.store(&r)?;
-                        }
-                        (r.0, r.1, r.2, RampSource::Run)
-                    }
-                };
-            let k = done.fetch_add(1, std::sync::atomic::Ordering::SeqCst) + 1;
-            progress(k, jobs.len());
-            Ok(SweepRamp {
-                n_bellows: d.n_bellows,
-                wall_thickness_mm: d.wall_thickness_mm,
-                mode,
-                steps,
-                error,
-                source,
-                sensitivities,
+            Ok(RampCase {
+                case,
+                point: settings.warm_point.clone(),
+                sensitivities: settings.sensitivities.clone(),
             })
-        });
-    results.into_iter().collect()
+        })
+        .collect::<Result<Vec<_>, SimulateError>>()?;
+    let store = match (cache, compute) {
+        (Some(dir), true) => Some(RampDir::create(dir)?),
+        (Some(dir), false) => Some(RampDir::at(dir)),
+        (None, _) => None,
+    };
+    let batch = Batch::look_up(&cases, &store)?;
+    let sweep_ramp = |i: usize, ramp: Ramp, source: RampSource| SweepRamp {
+        n_bellows: jobs[i].0.n_bellows,
+        wall_thickness_mm: jobs[i].0.wall_thickness_mm,
+        mode: jobs[i].1,
+        steps: ramp.steps,
+        error: ramp.error.unwrap_or_default(),
+        source,
+        sensitivities: ramp.sensitivities,
+    };
+    if !compute {
+        let missing = || Ramp {
+            error: Some("not in the cache".into()),
+            ..Ramp::default()
+        };
+        return Ok(batch
+            .into_held()
+            .into_iter()
+            .enumerate()
+            .map(|(i, held)| match held {
+                Some(ramp) => sweep_ramp(i, ramp, RampSource::Cache),
+                None => sweep_ramp(i, missing(), RampSource::Missing),
+            })
+            .collect());
+    }
+    let held = batch.held_count();
+    for k in 1..=held {
+        progress(k, jobs.len());
+    }
+    let start = settings.warm.clone().map_or(Start::Cold, Start::Pool);
+    let order = Link::independent(&cost_order(&jobs));
+    let reports = batch.run(&order, &start, |t, _| progress(t.held + t.ran, t.cases))?;
+    Ok(reports
+        .into_iter()
+        .map(|r| match r.obtained {
+            Obtained::Cache(ramp) => sweep_ramp(r.case, ramp, RampSource::Cache),
+            Obtained::Run(ramp) | Obtained::Failed { ramp, .. } => {
+                sweep_ramp(r.case, ramp, RampSource::Run)
+            }
+        })
+        .collect())
 }
 
 /// The ramps of a sweep in the order their FE is expected to cost, largest first: thin walls
@@ -157,74 +172,7 @@ pub(super) fn cost_order(jobs: &[(&SweepDesign, Mode)]) -> Vec<usize> {
     order
 }
 
-/// `f` of every item on the threads of the current rayon pool, started in the order `order`
-/// (a shared queue: each thread takes the next item when it is free), the results in item
-/// order. Each item's result does not depend on which thread ran it or when.
-pub(super) fn longest_first<T: Sync, R: Send>(
-    items: &[T],
-    order: &[usize],
-    f: impl Fn(&T) -> R + Sync,
-) -> Vec<R> {
-    use std::sync::atomic::{AtomicUsize, Ordering};
-    use std::sync::Mutex;
-    let next = AtomicUsize::new(0);
-    let slots: Vec<Mutex<Option<R>>> = items.iter().map(|_| Mutex::new(None)).collect();
-    let workers = rayon::current_num_threads().clamp(1, items.len().max(1));
-    rayon::scope(|s| {
-        for _ in 0..workers {
-            s.spawn(|_| loop {
-                let k = next.fetch_add(1, Ordering::SeqCst);
-                let Some(&i) = order.get(k) else { break };
-                let r = f(&items[i]);
-                *slots[i].lock().unwrap_or_else(|e| e.into_inner()) = Some(r);
-            });
-        }
-    });
-    slots
-        .into_iter()
-        .map(|m| {
-            m.into_inner()
-                .unwrap_or_else(|e| e.into_inner())
-                .expect("every item of the queue ran")
-        })
-        .collect()
-}
-
-/// One ramp of a sweep: the steps it reached and why it stopped, with the sensitivities to
-/// `parameters` if any are asked for (and the ramp finished).
-fn run_ramp(case: &Case, parameters: &[Parameter]) -> RampOutcome {
-    let mut steps = Vec::new();
-    if parameters.is_empty() {
-        let outcome = simulate_with(case, |_, _| {}, |_, r, _| steps.push(r.clone()));
-        return (
-            steps,
-            outcome.err().map_or(String::new(), |e| e.to_string()),
-            None,
-        );
-    }
-    match sensitivities_with(case, parameters, |_, _| {}, |_, r, _| steps.push(r.clone())) {
-        Ok((_, sens)) => (steps, String::new(), Some(sens)),
-        Err(e) => (steps, e.to_string(), None),
-    }
-}
-
-/// [`run_ramp`] started from `pool`'s ramp of the same design and rig, kept there for the
-/// next iteration.
-fn run_warm_ramp(case: &Case, settings: &SweepSettings, pool: &WarmPool) -> RampOutcome {
-    let warm = pool.start_for(case, &settings.warm_point);
-    let mut steps = Vec::new();
-    match sensitivities_with_fields(
-        case,
-        &settings.sensitivities,
-        warm.as_ref(),
-        |_, _| {},
-        |_, r, _| steps.push(r.clone()),
-    ) {
-        Ok(ran) => {
-            let sens = (!settings.sensitivities.is_empty()).then(|| ran.sensitivities.clone());
-            pool.keep(case, settings.warm_point.clone(), ran);
-            (steps, String::new(), sens)
-        }
-        Err(e) => (steps, e.to_string(), None),
-    }
-}
+/// The sweep's queue, kept under its old name for the tests of its order
+/// ([`crate::fe::runner::in_order`]).
+#[cfg(test)]
+pub(super) use crate::fe::runner::in_order as longest_first;
