@@ -600,6 +600,7 @@ mod tests {
         assert!(p.separation_sigma < 1e-4, "{}", p.separation_sigma);
         let first = &p.items[0];
         let m = &first.measurement;
+        // marker 4's reading, whose Uy is where the two differ, with its Uz
         assert_eq!(
             (
                 m.output,
@@ -608,10 +609,11 @@ mod tests {
                 m.pressure_bar,
                 m.kind
             ),
-            (Output::MarkerUy(4), 11, 2.0, 2.0, MeasurementKind::Marker),
+            (Output::MarkerUz(4), 11, 2.0, 2.0, MeasurementKind::Marker),
             "{}",
             p.markdown()
         );
+        assert_eq!(first.also, vec![Output::MarkerUy(4).name()]);
         // its σ follows the calibrator's noise model: the angle's σ (1°) across the chord
         let v = &sens.design(11, 2.0, Mode::Bending).unwrap().steps[2]
             .values
@@ -630,7 +632,7 @@ mod tests {
             "{first:?}, at most {bound}"
         );
         assert!((first.gain - first.log_bayes_factor).abs() < 1e-9 && first.gain > 0.0);
-        // the Name stage names the same measurement for the pair
+        // the Name stage names the same reading for the pair (its one output, Uy)
         let tied = naming
             .indistinguishable
             .iter()
@@ -640,14 +642,23 @@ mod tests {
             })
             .unwrap_or_else(|| panic!("{:#?}", naming.indistinguishable));
         assert!(
-            tied.separated_by
-                .as_deref()
-                .is_some_and(|s| s.starts_with(&m.text())),
+            tied.separated_by.as_deref().is_some_and(|s| s.starts_with(
+                &Measurement {
+                    output: Output::MarkerUy(4),
+                    ..m.clone()
+                }
+                .text()
+            )),
             "{tied:?}"
         );
         // the summary's lines say it
         let md = p.markdown();
-        assert!(md.contains(&format!("1. {}", m.text())), "{md}");
+        assert!(md.contains(&format!("1. {}", first.text())), "{md}");
+        assert!(
+            first.text().ends_with(", with m4_uy_mm"),
+            "{}",
+            first.text()
+        );
         // a plan of 4 is refused, naming the field
         let e = plan(&cells, &sens, &naming, &PlanSettings::new(4)).unwrap_err();
         assert!(e.to_string().contains("measurements to plan = 4"), "{e}");
