@@ -3,6 +3,7 @@
 mod approximation_error;
 mod args;
 mod calibrate;
+mod calibrate_extend;
 mod calibrate_plots;
 mod campaign;
 mod demo;
