@@ -24,8 +24,9 @@ pub fn summary_markdown(cal: &Calibration, fe: Option<&FeVerification>) -> Strin
     summary_markdown_extended(cal, fe, None)
 }
 
-/// [`summary_markdown`] of the calibration through the last surrogate of a box extension
-/// `extension` (`surrogate calibrate --extend-box`), with its section after the active bounds.
+/// [`summary_markdown`] of `cal`, the calibration through the last surrogate of a box
+/// extension `extension` (`surrogate calibrate --extend-box`; its
+/// [`last`](BoxExtension::last)), with the extension's section after the active bounds.
 pub fn summary_markdown_extended(
     cal: &Calibration,
     fe: Option<&FeVerification>,

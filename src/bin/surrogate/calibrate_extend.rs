@@ -111,7 +111,11 @@ pub fn run(
         &dir,
         &|ev| show_event(&bar, ev),
     )?;
-    e.last.inputs.insert(0, model_file.clone());
+    let mut cal = e
+        .last
+        .take()
+        .context("the box extension returned no calibration")?;
+    cal.inputs.insert(0, model_file.clone());
     let last = match e.rounds.last() {
         Some(r) => surrogate::rom::Surrogate::load(&r.model)?,
         None => model.clone(),
@@ -122,12 +126,12 @@ pub fn run(
                 .fe_cache
                 .clone()
                 .unwrap_or_else(|| a.out.join(format!("fe_{}_ramps", level.name())));
-            Some(run_fe(&last, rec, &e.last.best.rounded(4), level, &cache)?)
+            Some(run_fe(&last, rec, &cal.best.rounded(4), level, &cache)?)
         }
         None => None,
     };
-    let mut written = write_outputs(&a.out, &e.last, fe.as_ref())?;
-    let summary = summary_markdown_extended(&e.last, fe.as_ref(), Some(&e));
+    let mut written = write_outputs(&a.out, &cal, fe.as_ref())?;
+    let summary = summary_markdown_extended(&cal, fe.as_ref(), Some(&e));
     let p = a.out.join("summary.md");
     write_file(&p, summary.as_bytes())?;
     written.extend(write_extension(&dir, &e)?);

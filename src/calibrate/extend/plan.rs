@@ -134,6 +134,6 @@ mod tests {
         assert_eq!(high_fidelity_cases(36, 300, 36, 9), 9);
         assert_eq!(high_fidelity_cases(6, 30, 30, 3), 6);
         assert_eq!(extension_case_id(1, 0), 15_000);
-        assert_eq!(extension_case_id(2, 4_999), 24_999);
+        assert_eq!(extension_case_id(2, 4_999), 29_999);
     }
 }

@@ -153,8 +153,13 @@ pub struct BoxExtension {
     pub stop: ExtendStop,
     /// The nominal box at the end.
     pub final_box: MaterialBox,
-    /// The calibration through the last surrogate.
-    pub last: Calibration,
+    /// The calibration through the last surrogate: always there in what
+    /// [`extend_box`](super::extend_box) returns, not written to the report's file (a
+    /// calibration's report may hold undefined numbers, which JSON cannot; `surrogate
+    /// calibrate` writes it to `report.json` beside it, and its brief is
+    /// [`Self::final_optimum`]).
+    #[serde(skip)]
+    pub last: Option<Calibration>,
 }
 
 impl BoxExtension {

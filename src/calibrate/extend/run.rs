@@ -422,7 +422,7 @@ impl<'a> Extending<'a> {
             rounds: self.rounds,
             stop,
             final_box: self.nominal,
-            last: self.cal,
+            last: Some(self.cal),
         }
     }
 }
