@@ -207,20 +207,50 @@ pub fn settings(a: &CalibrateArgs) -> Result<CalibrationSettings> {
     })
 }
 
-/// Runs the subcommand.
-pub fn run(a: CalibrateArgs) -> Result<()> {
+/// What every calibration reads and checks first: the model (and its file, for the report),
+/// the recordings, the settings and the mesh of `--verify-fe`.
+pub struct Inputs {
+    /// The surrogate.
+    pub model: Surrogate,
+    /// Its file, checksummed.
+    pub model_file: InputFile,
+    /// The recordings.
+    pub rec: Recordings,
+    /// The calibration's settings.
+    pub settings: CalibrationSettings,
+    /// `--verify-fe` (`None`: no FE verification).
+    pub mesh: Option<MeshLevel>,
+}
+
+/// Reads and checks the [`Inputs`] of `a`.
+pub fn inputs(a: &CalibrateArgs) -> Result<Inputs> {
     let (model_path, default) = given_or_default(a.model.as_deref(), DEFAULT_MODEL);
     let model = load_model(&model_path)?;
     let model_file = input_file("model", &model_path, default)?;
-    let rec = recordings(&a)?;
-    let s = settings(&a)?;
+    let rec = recordings(a)?;
+    let settings = settings(a)?;
     let mesh = match a.verify_fe.as_str() {
         "none" => None,
         m => Some(m.parse::<MeshLevel>().map_err(anyhow::Error::msg)?),
     };
-    if a.extend_box > 0 {
-        return crate::calibrate_extend::run(&a, &model, &model_file, &rec, s, mesh);
-    }
+    Ok(Inputs {
+        model,
+        model_file,
+        rec,
+        settings,
+        mesh,
+    })
+}
+
+/// Runs the subcommand (`--extend-box` is [`crate::calibrate_extend::run`]).
+pub fn run(a: CalibrateArgs) -> Result<()> {
+    let Inputs {
+        model,
+        model_file,
+        rec,
+        settings: s,
+        mesh,
+    } = inputs(&a)?;
     if a.refine > 0 {
         anyhow::ensure!(
             mesh.is_none(),

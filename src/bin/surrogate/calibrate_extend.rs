@@ -5,13 +5,12 @@ use std::path::{Path, PathBuf};
 use anyhow::{Context, Result};
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::calibrate::extend::{extend_box, BoxExtension, ExtendEvent, ExtendSettings};
-use surrogate::calibrate::inputs::InputFile;
 use surrogate::calibrate::refine::TrainingSet;
 use surrogate::calibrate::summary::summary_markdown_extended;
-use surrogate::calibrate::{CalibrateError, CalibrationSettings, Recordings};
+use surrogate::calibrate::{CalibrateError, CalibrationSettings};
 use surrogate::rom::Surrogate;
 
-use crate::calibrate::{run_fe, training_set, write_outputs, CalibrateArgs};
+use crate::calibrate::{inputs, run_fe, training_set, write_outputs, CalibrateArgs, Inputs};
 use crate::files::write_file;
 
 /// The extension's settings from the flags, checked against the model before any FE; a bad
@@ -75,17 +74,19 @@ fn named(e: CalibrateError) -> anyhow::Error {
     anyhow::anyhow!("{flag} {value}: expected {expected}")
 }
 
-/// Runs the extension, then the usual outputs for the last calibration (with its FE check
-/// when `--verify-fe` asks for one) and the extension's `extension.json` and `extension.md`
-/// in `<out>/extend/`.
-pub fn run(
-    a: &CalibrateArgs,
-    model: &Surrogate,
-    model_file: &InputFile,
-    rec: &Recordings,
-    calibration: CalibrationSettings,
-    verify: Option<surrogate::fe::mesh::MeshLevel>,
-) -> Result<()> {
+/// `surrogate calibrate --extend-box K`: runs the extension, then the usual outputs for the
+/// last calibration (with its FE check when `--verify-fe` asks for one) and the extension's
+/// `extension.json` and `extension.md` in `<out>/extend/`.
+pub fn run(args: CalibrateArgs) -> Result<()> {
+    let a = &args;
+    let Inputs {
+        model,
+        model_file,
+        rec,
+        settings: calibration,
+        mesh: verify,
+    } = inputs(a)?;
+    let (model, rec) = (&model, &rec);
     let training = training_set(a, model)?;
     let settings = settings(a, model, &training, calibration)?;
     let dir = a.out.join("extend");
@@ -115,7 +116,7 @@ pub fn run(
         .last
         .take()
         .context("the box extension returned no calibration")?;
-    cal.inputs.insert(0, model_file.clone());
+    cal.inputs.insert(0, model_file);
     let last = match e.rounds.last() {
         Some(r) => surrogate::rom::Surrogate::load(&r.model)?,
         None => model.clone(),

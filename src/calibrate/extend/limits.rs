@@ -63,15 +63,20 @@ impl PhysicalLimits {
     /// # Errors
     /// [`CalibrateError::Input`] naming the first bad limit.
     pub fn validate(&self) -> Result<(), CalibrateError> {
-        let inside: [(fn(f64) -> bool, &str); 4] = [
-            (|v| v > 0.0, "0 < lo < hi (MPa)"),
-            (|v| v > 0.0 && v < 1.0, "0 < lo < hi < 1"),
-            (|v| v > 0.0, "0 < lo < hi"),
-            (|v| v < 0.0, "lo < hi < 0"),
+        let expected = [
+            "0 < lo < hi (MPa)",
+            "0 < lo < hi < 1",
+            "0 < lo < hi",
+            "lo < hi < 0",
         ];
-        for (i, (ok, expected)) in inside.iter().enumerate() {
+        let inside = |i: usize, v: f64| match i {
+            1 => v > 0.0 && v < 1.0,
+            3 => v < 0.0,
+            _ => v > 0.0,
+        };
+        for (i, expected) in expected.iter().enumerate() {
             let [lo, hi] = self.range(i);
-            if !(lo.is_finite() && hi.is_finite() && lo < hi && ok(lo) && ok(hi)) {
+            if !(lo.is_finite() && hi.is_finite() && lo < hi && inside(i, lo) && inside(i, hi)) {
                 return Err(CalibrateError::input(
                     &format!("physical limits of {}", COORD_NAMES[i]),
                     format!("[{lo}, {hi}]"),

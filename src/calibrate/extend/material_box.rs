@@ -232,19 +232,15 @@ pub(super) fn allocate(total: usize, shares: &[f64], floor: usize) -> Vec<usize>
     for (c, e) in counts.iter_mut().zip(&exact) {
         *c += e.floor() as usize;
     }
-    let mut given: usize = counts.iter().sum();
+    let given: usize = counts.iter().sum();
     let mut order: Vec<usize> = (0..shares.len()).collect();
     order.sort_by(|&a, &b| {
         (exact[b] - exact[b].floor())
             .total_cmp(&(exact[a] - exact[a].floor()))
             .then(a.cmp(&b))
     });
-    for &i in order.iter().cycle() {
-        if given >= total {
-            break;
-        }
+    for &i in order.iter().cycle().take(total.saturating_sub(given)) {
         counts[i] += 1;
-        given += 1;
     }
     counts
 }
