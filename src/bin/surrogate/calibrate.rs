@@ -90,11 +90,13 @@ pub struct CalibrateArgs {
     /// trained on one snapshot set (`--training`). FE cases are cached in `<out>/refine/`.
     #[arg(long, default_value_t = 0)]
     pub refine: usize,
-    /// The refined model's training snapshots (default: the source the model records, relative
-    /// to the working directory); its plan is read from `<stem>.plan.json` beside it.
+    /// The refined or extended model's training snapshots (default: the source the model
+    /// records, relative to the working directory); its plan is read from `<stem>.plan.json`
+    /// beside it. A multi-fidelity model needs both of its sets: leave --training out.
     #[arg(long)]
     pub training: Option<PathBuf>,
-    /// FE cases run in parallel by the refinement (default: one per core).
+    /// FE cases run in parallel by the refinement or the box extension (default: one per
+    /// core).
     #[arg(long)]
     pub threads: Option<usize>,
     /// The refinement stops when the refit moves no recorded number's prediction by more than
