@@ -171,6 +171,10 @@ pub struct Calibration {
     pub literature: OgdenSet,
     /// Bounds active at the best set.
     pub active_bounds: Vec<String>,
+    /// The same bounds, by coordinate and side (a report written before the field reads as
+    /// none: its words are in `active_bounds`).
+    #[serde(default)]
+    pub pressed: Vec<ActiveBound>,
     /// Every start's end point, best first.
     pub starts: Vec<StartReport>,
     /// Distinct minima found.
@@ -195,20 +199,59 @@ pub struct Calibration {
     pub wall_time_s: f64,
 }
 
-fn bound_names(space: &ParamSpace, active: &[Option<Bound>; 4]) -> Vec<String> {
+/// A bound of the box the fit moved in on which the optimum sits, with the gradient of `χ²`
+/// pushing outwards: the box truncates the optimum there.
+#[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
+pub struct ActiveBound {
+    /// Index of the box coordinate ([`ParamSpace::names`] order: `μ0, s, α₁, α₂` for the
+    /// training domain).
+    pub coordinate: usize,
+    /// Its name.
+    pub name: String,
+    /// Which bound.
+    pub side: Bound,
+    /// The bound's physical value (`μ0` in MPa).
+    pub value: f64,
+}
+
+impl std::fmt::Display for ActiveBound {
+    fn fmt(&self, f: &mut std::fmt::Formatter<'_>) -> std::fmt::Result {
+        let side = match self.side {
+            Bound::Lower => "lower",
+            Bound::Upper => "upper",
+        };
+        write!(f, "{} at its {side} bound {}", self.name, self.value)
+    }
+}
+
+/// The coordinates of `space` on which `active` marks a bound.
+fn active_bounds(space: &ParamSpace, active: &[Option<Bound>; 4]) -> Vec<ActiveBound> {
     let names = space.names();
     active
         .iter()
         .enumerate()
         .filter_map(|(i, a)| {
-            a.map(|b| {
-                let (side, u) = match b {
-                    Bound::Lower => ("lower", 0.0),
-                    Bound::Upper => ("upper", 1.0),
-                };
-                format!("{} at its {side} bound {}", names[i], space.physical(i, u))
+            a.map(|side| ActiveBound {
+                coordinate: i,
+                name: names[i].to_string(),
+                side,
+                value: space.physical(
+                    i,
+                    match side {
+                        Bound::Lower => 0.0,
+                        Bound::Upper => 1.0,
+                    },
+                ),
             })
         })
+        .collect()
+}
+
+/// The active bounds in words (`alpha1 at its lower bound 1.51`).
+fn bound_names(space: &ParamSpace, active: &[Option<Bound>; 4]) -> Vec<String> {
+    active_bounds(space, active)
+        .iter()
+        .map(ToString::to_string)
         .collect()
 }
 
@@ -318,6 +361,7 @@ pub fn calibrate(
         chi2_literature,
         literature: s.literature,
         active_bounds: bound_names(&domain, &best_fit.active),
+        pressed: active_bounds(&domain, &best_fit.active),
         starts,
         minima,
         identifiability,

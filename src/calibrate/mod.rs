@@ -12,7 +12,10 @@
 //!        ├─► identifiability: Cov = ŝ²(JᵀJ)⁻¹, correlations, eigen-directions, profiles,
 //!        │                    extra measurements that would determine what is left
 //!        ├─► the study's procedure: per-configuration fits in ±10 % of Ogden 002, their spread
-//!        └─► FE verification at the optimum (the baseline sweep, cached and resumable)
+//!        ├─► FE verification at the optimum (the baseline sweep, cached and resumable)
+//!        ├─► refinement: FE at the optimum as training cases, retrain, refit (refine)
+//!        └─► box extension: where the optimum presses a bound, new cases beyond it, retrain,
+//!            refit (extend)
 //!
 //!   twin: FE ramps with concealed effects (the same sweep) + noise ──► recordings in the
 //!         experiments' format, the key apart
@@ -36,6 +39,7 @@ pub mod baseline;
 pub mod checks;
 pub mod coverage;
 pub mod experiments;
+pub mod extend;
 pub mod fit;
 pub mod identify;
 pub mod inputs;

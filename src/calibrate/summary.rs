@@ -4,12 +4,13 @@
 //!
 //! ```text
 //!   verdict, objective, inputs ─► the sets (literature, calibrated) ─► bending errors
-//!   ─► minima of the multistart ─► active bounds ─► what the data determine
+//!   ─► minima of the multistart ─► active bounds (─► box extension) ─► what the data determine
 //!   ─► data checks ─► exclusions ─► the study's per-configuration procedure
 //!   ─► FE verification ─► wall time
 //! ```
 use std::fmt::Write;
 
+use super::extend::{BoxExtension, ExtendStop};
 use super::fit::{describe_exclusions, Calibration};
 use super::identify::{Determinacy, Identifiability};
 use super::inputs;
@@ -20,12 +21,26 @@ use super::verify::FeVerification;
 /// The calibration report in Markdown (`summary.md` of `surrogate calibrate`), with the FE
 /// verification `fe` of the calibrated set when there is one.
 pub fn summary_markdown(cal: &Calibration, fe: Option<&FeVerification>) -> String {
+    summary_markdown_extended(cal, fe, None)
+}
+
+/// [`summary_markdown`] of `cal`, the calibration through the last surrogate of a box
+/// extension `extension` (`surrogate calibrate --extend-box`; its
+/// [`last`](BoxExtension::last)), with the extension's section after the active bounds.
+pub fn summary_markdown_extended(
+    cal: &Calibration,
+    fe: Option<&FeVerification>,
+    extension: Option<&BoxExtension>,
+) -> String {
     let mut s = String::new();
     heading(&mut s, cal);
     sets(&mut s, cal);
     bending_errors(&mut s, cal, fe);
     minima(&mut s, cal);
-    bounds(&mut s, cal);
+    bounds(&mut s, cal, extension);
+    if let Some(e) = extension {
+        let _ = writeln!(s, "\n{}", e.summary_markdown());
+    }
     determined(&mut s, cal);
     if !cal.identifiability.extra_measurements.is_empty() {
         extra_measurements(&mut s, &cal.identifiability);
@@ -153,24 +168,38 @@ fn minima(s: &mut String, cal: &Calibration) {
     let _ = writeln!(s);
 }
 
-/// Whether the training box truncates the optimum.
-fn bounds(s: &mut String, cal: &Calibration) {
+/// Whether the training box truncates the optimum (and, after a box extension, whether the
+/// physical limits do).
+fn bounds(s: &mut String, cal: &Calibration, extension: Option<&BoxExtension>) {
     if cal.active_bounds.is_empty() {
         let _ = writeln!(
             s,
             "No bound of the training domain is active at the optimum."
         );
-    } else {
+        return;
+    }
+    if let Some(ExtendStop::PhysicalLimit { bounds }) = extension.map(|e| &e.stop) {
         let _ = writeln!(
             s,
-            "**The training box truncates this optimum**: it ends on {} (the fit would move \
-             further if the box let it, and the surrogate does not know what lies there). The \
-             numbers above are the best inside the box, not the best material; `surrogate \
-             identify` fits straight on the FE model, without the box, and with the unstated \
-             dimensions.",
-            cal.active_bounds.join("; ")
+            "**The physical limits truncate this optimum**: it ends on {}, and the box was \
+             extended up to the physical limits there ({}); beyond them the parametrisation \
+             describes no elastomer. Material alone does not reach the recordings: the \
+             diagnoser (`surrogate diagnose`) looks for what else is missing.",
+            cal.active_bounds.join("; "),
+            bounds.join("; ")
         );
+        return;
     }
+    let _ = writeln!(
+        s,
+        "**The training box truncates this optimum**: it ends on {} (the fit would move \
+         further if the box let it, and the surrogate does not know what lies there). The \
+         numbers above are the best inside the box, not the best material; \
+         `surrogate calibrate --extend-box K` extends the box there (new FE cases, retrained \
+         surrogate, refit), `surrogate identify` fits straight on the FE model, without the \
+         box, and with the unstated dimensions.",
+        cal.active_bounds.join("; ")
+    );
 }
 
 /// What the data determine: the scaled covariance, each parameter's standard error and

@@ -3,40 +3,21 @@
 //! "FE" at the calibrated set), and the committed FE round of the coarse model reproduced by
 //! the code that plans it.
 
-use std::path::PathBuf;
-
-use surrogate::calibrate::optimise::MultistartSettings;
 use surrogate::calibrate::refine::{
     data_space_shift, refine, round_plan, HighFidelity, RefineSettings, RefineStop, Refinement,
     TrainingSet,
 };
-use surrogate::calibrate::synthetic::{noisy_recordings, TrueOutputs};
-use surrogate::calibrate::{CalibrationSettings, OgdenSet, Recordings, Selection, Weights};
-use surrogate::rom::data::SnapshotSet;
+use surrogate::calibrate::{OgdenSet, Recordings, Selection};
 use surrogate::rom::{train, Surrogate, TrainConfig};
-use surrogate::snapshots::merge::merge;
 use surrogate::snapshots::plan::{Plan, PlanSettings, PlannedCase};
-use surrogate::snapshots::run::{run_shard, AnalyticRunner, CaseOutcome, CaseRunner, RunOptions};
-use surrogate::snapshots::shard::Shard;
+use surrogate::snapshots::run::{AnalyticRunner, CaseOutcome, CaseRunner};
 
-fn scratch(name: &str) -> PathBuf {
-    let d = std::env::temp_dir().join(format!("surrogate_refine_{name}_{}", std::process::id()));
-    let _ = std::fs::remove_dir_all(&d);
-    std::fs::create_dir_all(&d).unwrap();
-    d
-}
+use crate::analytic::{
+    quick_calibration, quick_training, recordings, run_plan, shipped_plan, trained_model,
+};
 
-fn quick_calibration() -> CalibrationSettings {
-    let mut c = CalibrationSettings {
-        weights: Weights::parse("tip").unwrap(),
-        multistart: MultistartSettings {
-            starts: 6,
-            ..MultistartSettings::default()
-        },
-        ..CalibrationSettings::default()
-    };
-    c.identify.profile_points = 4;
-    c
+fn scratch(name: &str) -> std::path::PathBuf {
+    crate::analytic::scratch("refine", name)
 }
 
 /// The refinement's settings in these tests.
@@ -79,69 +60,14 @@ fn case_at(n: usize, t: f64, set: &OgdenSet) -> PlannedCase {
     surrogate::calibrate::refine::case_at(0, n, t, set)
 }
 
-/// The "FE"'s outputs at 1, 2, 3 bar of the 9 recorded designs at `TRUTH`.
-fn truth(plan: &Plan) -> Vec<TrueOutputs> {
-    let mut out = Vec::new();
-    for n in [9, 11, 13] {
-        for t in [1.6, 2.0, 2.4] {
-            let case = case_at(n, t, &TRUTH);
-            let o = fe(&case, &plan.settings);
-            for (s, &p) in o.steps.iter().zip(&plan.settings.pressures_bar) {
-                if [1.0, 2.0, 3.0].contains(&p) {
-                    out.push(TrueOutputs {
-                        n_bellows: n,
-                        wall_thickness_mm: t,
-                        pressure_bar: p,
-                        tip_uz_mm: s.tip_uz_mm,
-                        tip_uy_mm: s.tip_uy_mm,
-                        angle_deg: s.angle_deg,
-                        force_n: s.force_n,
-                    });
-                }
-            }
-        }
-    }
-    out
-}
-
 /// A surrogate trained on 30 analytic cases of the shipped coarse plan's ranges, its training
 /// set, and noisy recordings of the "FE" at `TRUTH`.
 fn analytic_model(dir: &std::path::Path) -> (Surrogate, TrainingSet, Recordings, TrainConfig) {
-    let shipped = Plan::read(std::path::Path::new(
-        "training_data/snapshots_coarse.plan.json",
-    ))
-    .unwrap();
+    let shipped = shipped_plan();
     let plan = Plan::generate(30, 11, shipped.ranges.clone(), shipped.settings.clone()).unwrap();
-    let base = dir.join("base");
-    let opts = RunOptions {
-        shard: Shard::ALL,
-        threads: None,
-        retry_failed: false,
-    };
-    run_shard(&plan, &base, &opts, &AnalyticRunner::default(), &|_| {}).unwrap();
-    let csv = dir.join("base.csv");
-    merge(std::slice::from_ref(&base), &csv).unwrap();
-    let snapshots = SnapshotSet::read(&csv).unwrap();
-    let cfg = TrainConfig {
-        folds: 4,
-        ..TrainConfig::default()
-    };
-    let cases = snapshots.clone().into_cases().unwrap();
-    let m0 = train(&cases, "analytic", 0, &cfg, &|_, _| {})
-        .unwrap()
-        .surrogate;
-    let rec: Recordings = noisy_recordings(
-        &truth(&plan),
-        &Recordings::shipped().unwrap(),
-        5,
-        "analytic",
-    )
-    .unwrap();
-    let training = TrainingSet {
-        snapshots,
-        plan,
-        high: None,
-    };
+    let cfg = quick_training();
+    let rec = recordings(&fe, &plan.settings, &TRUTH);
+    let (m0, training) = trained_model(plan, dir, &AnalyticRunner::default(), &cfg);
     (m0, training, rec, cfg)
 }
 
@@ -343,10 +269,7 @@ fn two_meshes(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
 #[test]
 fn a_multi_fidelity_model_is_refined_on_both_meshes() {
     let dir = scratch("two_meshes");
-    let shipped = Plan::read(std::path::Path::new(
-        "training_data/snapshots_coarse.plan.json",
-    ))
-    .unwrap();
+    let shipped = shipped_plan();
     let low_plan =
         Plan::generate(30, 11, shipped.ranges.clone(), shipped.settings.clone()).unwrap();
     let high_plan = low_plan
@@ -355,23 +278,11 @@ fn a_multi_fidelity_model_is_refined_on_both_meshes() {
             surrogate::fe::mesh::MeshOptions::level(surrogate::fe::mesh::MeshLevel::Standard),
         )
         .unwrap();
-    let opts = RunOptions {
-        shard: Shard::ALL,
-        threads: None,
-        retry_failed: false,
-    };
-    let mut sets = Vec::new();
-    for (name, plan) in [("low", &low_plan), ("high", &high_plan)] {
-        let d = dir.join(name);
-        run_shard(plan, &d, &opts, &two_meshes, &|_| {}).unwrap();
-        let csv = dir.join(format!("{name}.csv"));
-        merge(std::slice::from_ref(&d), &csv).unwrap();
-        sets.push(SnapshotSet::read(&csv).unwrap());
-    }
-    let cfg = TrainConfig {
-        folds: 4,
-        ..TrainConfig::default()
-    };
+    let sets = [
+        run_plan(&low_plan, &dir, "low", &two_meshes),
+        run_plan(&high_plan, &dir, "high", &two_meshes),
+    ];
+    let cfg = quick_training();
     let (corrected, info) = surrogate::rom::fidelity::correct_low_fidelity(
         &sets[0],
         &sets[1],
@@ -391,13 +302,7 @@ fn a_multi_fidelity_model_is_refined_on_both_meshes() {
     .unwrap()
     .surrogate;
     m0.training.correction = Some(info);
-    let rec: Recordings = noisy_recordings(
-        &truth(&low_plan),
-        &Recordings::shipped().unwrap(),
-        5,
-        "analytic",
-    )
-    .unwrap();
+    let rec = recordings(&fe, &low_plan.settings, &TRUTH);
     let training = TrainingSet {
         snapshots: sets[0].clone(),
         plan: low_plan,

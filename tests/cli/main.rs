@@ -10,6 +10,7 @@ mod rom_common;
 mod snapshots_common;
 
 mod calibrate_cli;
+mod calibrate_extend_cli;
 mod defaults_cli;
 mod design_cli;
 mod diagnose_cli;

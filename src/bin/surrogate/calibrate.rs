@@ -6,6 +6,7 @@ use anyhow::{Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::calibrate::experiments::{SHIPPED_BENDING, SHIPPED_FORCE};
+use surrogate::calibrate::extend::ExtendSettings;
 use surrogate::calibrate::identify::IdentifySettings;
 use surrogate::calibrate::inputs::InputFile;
 use surrogate::calibrate::objective::Exclusion;
@@ -17,11 +18,13 @@ use surrogate::calibrate::{
 };
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::rom::Surrogate;
+use surrogate::snapshots::run::{AnalyticRunner, CaseRunner};
 
 use crate::calibrate_plots::write_plots;
 use crate::files::{
     given_or_default, input_file, load_model, repository_file, write_file, DEFAULT_MODEL,
 };
+use crate::snapshots::RunnerArg;
 
 /// The report a person reads first (Markdown).
 pub use surrogate::calibrate::summary::summary_markdown as summary_text;
@@ -87,11 +90,13 @@ pub struct CalibrateArgs {
     /// trained on one snapshot set (`--training`). FE cases are cached in `<out>/refine/`.
     #[arg(long, default_value_t = 0)]
     pub refine: usize,
-    /// The refined model's training snapshots (default: the source the model records, relative
-    /// to the working directory); its plan is read from `<stem>.plan.json` beside it.
+    /// The refined or extended model's training snapshots (default: the source the model
+    /// records, relative to the working directory); its plan is read from `<stem>.plan.json`
+    /// beside it. A multi-fidelity model needs both of its sets: leave --training out.
     #[arg(long)]
     pub training: Option<PathBuf>,
-    /// FE cases run in parallel by the refinement (default: one per core).
+    /// FE cases run in parallel by the refinement or the box extension (default: one per
+    /// core).
     #[arg(long)]
     pub threads: Option<usize>,
     /// The refinement stops when the refit moves no recorded number's prediction by more than
@@ -99,6 +104,32 @@ pub struct CalibrateArgs {
     /// agreement, an unchanged set or --refine rounds stop it).
     #[arg(long, default_value_t = RefineSettings::default().data_tolerance)]
     pub refine_data_tolerance: f64,
+    /// Box extension: up to this many rounds, each moving out the bounds of the training box
+    /// that the calibrated optimum presses (by --extend-step of the coordinate's range, up to
+    /// its physical limit: μ0 0.01–100 MPa, term1_share 0.001–0.999, |α| 0.001–20), running
+    /// --extend-cases new FE cases in the slab beyond (the training plan's settings; both
+    /// meshes of a multi-fidelity model), retraining the surrogate and refitting (0: off).
+    /// Stops when the optimum lies inside the box, when every bound it presses is at its
+    /// physical limit, or after K rounds. Needs the model's training set (--training, or the
+    /// source the model records); FE cases, retrained models, extension.json and extension.md
+    /// in `<out>/extend/` (a rerun resumes); summary.md gets a "Box extension" section.
+    #[arg(long, default_value_t = 0, value_name = "K")]
+    pub extend_box: usize,
+    /// How far each pressed bound moves per round, as a fraction of its coordinate's current
+    /// range (in ln μ0 for μ0); > 0.
+    #[arg(long, default_value_t = ExtendSettings::default().step)]
+    pub extend_step: f64,
+    /// New FE cases per extension round, shared among the slabs by volume and stratified over
+    /// the trained values of N (at least 2 per value).
+    #[arg(long, default_value_t = ExtendSettings::default().cases_per_round)]
+    pub extend_cases: usize,
+    /// Seed of the extension rounds' Latin hypercubes (the same seed plans the same cases).
+    #[arg(long, default_value_t = ExtendSettings::default().seed)]
+    pub extend_seed: u64,
+    /// Who runs the cases of --refine and --extend-box: the FE model, or the closed-form
+    /// stand-in (dry runs of the rounds' machinery, no physics).
+    #[arg(long, value_enum, default_value = "fe")]
+    pub runner: RunnerArg,
     /// Output directory (report.json, configurations.csv, summary.md, SVG plots).
     #[arg(long, default_value = "calibration")]
     pub out: PathBuf,
@@ -178,17 +209,50 @@ pub fn settings(a: &CalibrateArgs) -> Result<CalibrationSettings> {
     })
 }
 
-/// Runs the subcommand.
-pub fn run(a: CalibrateArgs) -> Result<()> {
+/// What every calibration reads and checks first: the model (and its file, for the report),
+/// the recordings, the settings and the mesh of `--verify-fe`.
+pub struct Inputs {
+    /// The surrogate.
+    pub model: Surrogate,
+    /// Its file, checksummed.
+    pub model_file: InputFile,
+    /// The recordings.
+    pub rec: Recordings,
+    /// The calibration's settings.
+    pub settings: CalibrationSettings,
+    /// `--verify-fe` (`None`: no FE verification).
+    pub mesh: Option<MeshLevel>,
+}
+
+/// Reads and checks the [`Inputs`] of `a`.
+pub fn inputs(a: &CalibrateArgs) -> Result<Inputs> {
     let (model_path, default) = given_or_default(a.model.as_deref(), DEFAULT_MODEL);
     let model = load_model(&model_path)?;
     let model_file = input_file("model", &model_path, default)?;
-    let rec = recordings(&a)?;
-    let s = settings(&a)?;
+    let rec = recordings(a)?;
+    let settings = settings(a)?;
     let mesh = match a.verify_fe.as_str() {
         "none" => None,
         m => Some(m.parse::<MeshLevel>().map_err(anyhow::Error::msg)?),
     };
+    Ok(Inputs {
+        model,
+        model_file,
+        rec,
+        settings,
+        mesh,
+    })
+}
+
+/// Runs the subcommand (`--extend-box` is [`crate::calibrate_extend::run`]).
+pub fn run(a: CalibrateArgs) -> Result<()> {
+    let Inputs {
+        model,
+        model_file,
+        rec,
+        settings: s,
+        mesh,
+    } = inputs(&a)?;
     if a.refine > 0 {
         anyhow::ensure!(
             mesh.is_none(),
@@ -253,10 +317,16 @@ fn run_refine(
     bar.set_style(ProgressStyle::with_template(
         "{spinner} round {msg} FE cases [{bar:30}] {pos}/{len}, {elapsed_precise}, eta {eta}",
     )?);
-    let runner = surrogate::snapshots::fe_runner::fe_runner;
-    let mut r = refine(model, &training, rec, &settings, &runner, &dir, &|ev| {
-        show_refine_event(&bar, ev)
-    })?;
+    let runner = runner(a);
+    let mut r = refine(
+        model,
+        &training,
+        rec,
+        &settings,
+        runner.as_ref(),
+        &dir,
+        &|ev| show_refine_event(&bar, ev),
+    )?;
     r.last.inputs.insert(0, model_file.clone());
     let mut written = write_outputs(&a.out, &r.last, Some(r.final_verification()))?;
     let md = r.summary_markdown();
@@ -269,9 +339,17 @@ fn run_refine(
     Ok(())
 }
 
-/// The refined model's training set: `--training` (its plan beside it), or the source the
-/// model records (relative to the repository for the default model).
-fn training_set(a: &CalibrateArgs, model: &Surrogate) -> Result<TrainingSet> {
+/// The case runner of `--refine` and `--extend-box` (`--runner`).
+pub fn runner(a: &CalibrateArgs) -> Box<dyn CaseRunner> {
+    match a.runner {
+        RunnerArg::Fe => Box::new(surrogate::snapshots::fe_runner::fe_runner),
+        RunnerArg::Analytic => Box::new(AnalyticRunner::default()),
+    }
+}
+
+/// The refined or extended model's training set: `--training` (its plan beside it), or the
+/// source the model records (relative to the repository for the default model).
+pub fn training_set(a: &CalibrateArgs, model: &Surrogate) -> Result<TrainingSet> {
     Ok(match &a.training {
         Some(csv) => TrainingSet::read(csv, &surrogate::snapshots::merge::sidecar_path(csv))?,
         None => TrainingSet::of_model(
@@ -343,7 +421,8 @@ fn write_refinement(out: &Path, r: &Refinement, md: &str) -> Result<Vec<PathBuf>
     Ok(vec![p, q, v])
 }
 
-fn run_fe(
+/// The FE verification of `best` on `level`, compared with `model`, cached in `cache`.
+pub fn run_fe(
     model: &Surrogate,
     rec: &Recordings,
     best: &OgdenSet,

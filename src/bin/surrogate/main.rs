@@ -3,6 +3,7 @@
 mod approximation_error;
 mod args;
 mod calibrate;
+mod calibrate_extend;
 mod calibrate_plots;
 mod campaign;
 mod demo;
@@ -41,6 +42,7 @@ fn main() -> ExitCode {
         args::Command::Export(a) => export::run(a),
         args::Command::ModelForm(a) => model_form::run(a),
         args::Command::Validate(a) => validate::run(a),
+        args::Command::Calibrate(a) if a.extend_box > 0 => calibrate_extend::run(*a),
         args::Command::Calibrate(a) => calibrate::run(*a),
         args::Command::Snapshots(a) => snapshots::run(*a),
         args::Command::Effects(a) => effects::run(a),

@@ -38,8 +38,9 @@
 //!
 //! By concern:
 //! - `settings`: the settings of a refinement ([`RefineSettings`]);
-//! - `training`: the training set and the surrogate retrained on it ([`TrainingSet`],
-//!   [`HighFidelity`]);
+//! - `training`: the training set, the surrogate retrained on it and a round's plan run as a
+//!   snapshot shard ([`TrainingSet`], [`HighFidelity`]; the box extension,
+//!   [`super::extend`], retrains and runs its rounds through the same two functions);
 //! - `cases`: the FE cases of a round and their rows against the experiments ([`round_plan`],
 //!   [`case_at`], [`recorded_designs`], [`baseline_rows`]);
 //! - `shift`: how far a refit moved in what the recordings see ([`data_space_shift`],
@@ -61,4 +62,5 @@ pub use report::{RefineRound, RefineStop, Refinement};
 pub use run::{refine, RefineEvent};
 pub use settings::RefineSettings;
 pub use shift::{data_space_shift, DataSpaceShift};
+pub(crate) use training::{retrain, run_round_plan};
 pub use training::{HighFidelity, TrainingSet};

@@ -7,7 +7,7 @@ use super::cases::{baseline_rows, recorded_designs, round_plan};
 use super::report::{RefineRound, RefineStop, Refinement};
 use super::settings::RefineSettings;
 use super::shift::{data_space_shift, DataSpaceShift};
-use super::training::{retrain, TrainingSet};
+use super::training::{retrain, run_round_plan, TrainingSet};
 use crate::calibrate::baseline::BaselineRow;
 use crate::calibrate::fit::{calibrate, Calibration};
 use crate::calibrate::objective::{Recordings, Selection};
@@ -17,10 +17,8 @@ use crate::calibrate::CalibrateError;
 use crate::fe::mesh::MeshOptions;
 use crate::rom::data::{SnapshotRow, SnapshotSet};
 use crate::rom::Surrogate;
-use crate::snapshots::merge::merge;
 use crate::snapshots::plan::Plan;
-use crate::snapshots::run::{run_shard, CaseRunner, Progress, RunOptions, RunSummary};
-use crate::snapshots::shard::Shard;
+use crate::snapshots::run::{CaseRunner, Progress, RunSummary};
 
 /// What [`refine`] reports as it goes.
 #[derive(Clone, Debug)]
@@ -116,21 +114,20 @@ impl RoundFe<'_> {
         csv: &Path,
         k: usize,
     ) -> Result<(RunSummary, SnapshotSet), CalibrateError> {
-        let opts = RunOptions {
-            shard: Shard::ALL,
-            threads: self.threads,
-            retry_failed: false,
-        };
-        let summary = run_shard(plan, fe_dir, &opts, self.runner, &|p| {
-            (self.progress)(RefineEvent::Fe {
-                round: k,
-                progress: p,
-            })
-        })
-        .map_err(|e| CalibrateError::input("refinement FE", fe_dir.display(), &e.to_string()))?;
-        merge(&[fe_dir.to_path_buf()], csv)
-            .map_err(|e| CalibrateError::input("refinement FE", csv.display(), &e.to_string()))?;
-        Ok((summary, SnapshotSet::read(csv)?))
+        run_round_plan(
+            plan,
+            fe_dir,
+            csv,
+            self.threads,
+            self.runner,
+            "refinement FE",
+            &|p| {
+                (self.progress)(RefineEvent::Fe {
+                    round: k,
+                    progress: p,
+                })
+            },
+        )
     }
 
     /// Round `k`'s low-fidelity FE of every design at `set` (in `round_k_low/`).
@@ -280,8 +277,8 @@ impl<'a> Refining<'a> {
             &self.low_rows,
             &self.high_rows,
             self.skipped,
-            k,
-            self.settings,
+            &format!("refinement rounds 1..{k}"),
+            &self.settings.train,
             &stage,
         )?;
         let path = fe.dir.join(format!("model_round_{k}.json"));

@@ -3,11 +3,13 @@
 
 use std::path::Path;
 
-use super::settings::RefineSettings;
 use crate::calibrate::CalibrateError;
 use crate::rom::data::{SnapshotRow, SnapshotSet};
-use crate::rom::{train, Surrogate};
+use crate::rom::{train, Surrogate, TrainConfig};
+use crate::snapshots::merge::merge;
 use crate::snapshots::plan::Plan;
+use crate::snapshots::run::{run_shard, CaseRunner, Progress, RunOptions, RunSummary};
+use crate::snapshots::shard::Shard;
 
 /// The high-fidelity part of a multi-fidelity training set.
 #[derive(Clone, Debug)]
@@ -109,33 +111,35 @@ impl TrainingSet {
     }
 }
 
-/// The surrogate retrained on the training set and the refinement cases of rounds `1..=k`
-/// (`low` and `high`: every row so far), as the original was trained.
-pub(super) fn retrain(
+/// The surrogate retrained on the training set and the cases added since (`low` and `high`:
+/// every row so far, the training set's included), as the original was trained (`train`).
+/// `added` names what was added (`refinement rounds 1..2`), in the new set's source and in
+/// the stage line.
+pub(crate) fn retrain(
     training: &TrainingSet,
     low: &[SnapshotRow],
     high: &[SnapshotRow],
     skipped: usize,
-    k: usize,
-    settings: &RefineSettings,
+    added: &str,
+    train_config: &TrainConfig,
     stage: &dyn Fn(String),
 ) -> Result<Surrogate, CalibrateError> {
     let low_set = SnapshotSet {
-        source: format!("{} + refinement rounds 1..{k}", training.snapshots.source),
+        source: format!("{} + {added}", training.snapshots.source),
         rows: low.to_vec(),
         skipped_unconverged: skipped,
     };
     let (set, correction) = match &training.high {
         Some(h) => {
             let high_set = SnapshotSet {
-                source: format!("{} + refinement rounds 1..{k}", h.snapshots.source),
+                source: format!("{} + {added}", h.snapshots.source),
                 rows: high.to_vec(),
                 skipped_unconverged: h.snapshots.skipped_unconverged,
             };
             let (set, info) = crate::rom::fidelity::correct_low_fidelity(
                 &low_set,
                 &high_set,
-                &settings.train,
+                train_config,
                 h.pressure_warp,
                 false,
                 &|line| stage(line.to_string()),
@@ -147,10 +151,37 @@ pub(super) fn retrain(
     let source = set.source.clone();
     let cases = set.into_cases()?;
     stage(format!(
-        "retraining on {} cases (with the refinement rounds 1..{k})",
+        "retraining on {} cases (with the {added})",
         cases.cases.len()
     ));
-    let mut report = train(&cases, &source, skipped, &settings.train, &|_, _| {})?;
+    let mut report = train(&cases, &source, skipped, train_config, &|_, _| {})?;
     report.surrogate.training.correction = correction;
     Ok(report.surrogate)
+}
+
+/// Runs `plan` into the snapshot shard directory `fe_dir` (resuming what is there: finished
+/// cases are read back, not run again) by `runner` with `threads` cases at a time, and merges
+/// it into `csv`; the run's summary and the merged snapshots. `what` names the FE in errors.
+///
+/// # Errors
+/// Another plan in `fe_dir`, an invalid case file, I/O errors (named by `what`).
+pub(crate) fn run_round_plan(
+    plan: &Plan,
+    fe_dir: &Path,
+    csv: &Path,
+    threads: Option<usize>,
+    runner: &dyn CaseRunner,
+    what: &str,
+    progress: &(dyn Fn(Progress) + Sync),
+) -> Result<(RunSummary, SnapshotSet), CalibrateError> {
+    let opts = RunOptions {
+        shard: Shard::ALL,
+        threads,
+        retry_failed: false,
+    };
+    let summary = run_shard(plan, fe_dir, &opts, runner, progress)
+        .map_err(|e| CalibrateError::input(what, fe_dir.display(), &e.to_string()))?;
+    merge(&[fe_dir.to_path_buf()], csv)
+        .map_err(|e| CalibrateError::input(what, csv.display(), &e.to_string()))?;
+    Ok((summary, SnapshotSet::read(csv)?))
 }
