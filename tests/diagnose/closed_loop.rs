@@ -8,7 +8,9 @@ use std::path::Path;
 use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::Recordings;
 use surrogate::diagnose::approx_error::ApproximationError;
-use surrogate::diagnose::study::{close_loop, Diagnoser, StudyDirs, StudyPlan, LOOP_KINDS};
+use surrogate::diagnose::study::{
+    close_loop, Diagnoser, LoopSettings, StudyDirs, StudyPlan, LOOP_KINDS,
+};
 use surrogate::rom::Surrogate;
 
 const STUDY: &str = "fe_reference/diagnosis/blind";
@@ -35,8 +37,12 @@ fn a_tied_twin_gets_its_planned_measurements_made_on_its_own_fe() {
     };
     let shipped = Recordings::shipped().unwrap();
     // k is checked before anything runs
-    assert!(close_loop(&plan, &shipped, &dirs, &by, 4, &|_| {}).is_err());
-    let r = close_loop(&plan, &shipped, &dirs, &by, 2, &|_| {}).unwrap();
+    let settings = |k| LoopSettings {
+        k,
+        sequential: false,
+    };
+    assert!(close_loop(&plan, &shipped, &dirs, &by, &settings(4), &|_| {}).is_err());
+    let r = close_loop(&plan, &shipped, &dirs, &by, &settings(2), &|_| {}).unwrap();
     assert_eq!((r.twins.len(), r.pending.len(), r.k), (1, 0, 2));
     let t = &r.twins[0];
     assert_eq!(t.before.truth.as_deref(), Some("wall_bias_bellows"));

@@ -7,7 +7,7 @@ use surrogate::calibrate::{ParamSpace, Recordings};
 use surrogate::diagnose::approx_error::ApproximationError;
 use surrogate::diagnose::study::{
     close_loop, loop_markdown, make_twins, null_approximation_error, ramps_to_run, run_diagnoses,
-    study_markdown, Diagnoser, StudyDirs, StudyPlan,
+    study_markdown, Diagnoser, LoopSettings, StudyDirs, StudyPlan,
 };
 use surrogate::rom::Surrogate;
 
@@ -149,7 +149,11 @@ impl Study {
             approximation.is_some(),
         );
         if closed_loop {
-            return self.close_loop(&by, a.loop_k, &stem);
+            let settings = LoopSettings {
+                k: a.loop_k,
+                sequential: a.loop_sequential,
+            };
+            return self.close_loop(&by, &settings, &stem);
         }
         let results = run_diagnoses(&self.plan, &self.noise_from, &self.dirs, &by, &|line| {
             eprintln!("{line}")
@@ -166,11 +170,21 @@ impl Study {
 
     /// The closed loop (`--stage loop`): results written to `<stem with _loop>.json` and
     /// `.md`, the Markdown printed.
-    fn close_loop(&self, by: &Diagnoser<'_>, k: usize, stem: &str) -> Result<()> {
-        let results = close_loop(&self.plan, &self.noise_from, &self.dirs, by, k, &|line| {
-            eprintln!("{line}")
-        })?;
-        let stem = stem.replacen("results", "results_loop", 1);
+    fn close_loop(&self, by: &Diagnoser<'_>, settings: &LoopSettings, stem: &str) -> Result<()> {
+        let results = close_loop(
+            &self.plan,
+            &self.noise_from,
+            &self.dirs,
+            by,
+            settings,
+            &|line| eprintln!("{line}"),
+        )?;
+        let to = if settings.sequential {
+            "results_loop_sequential"
+        } else {
+            "results_loop"
+        };
+        let stem = stem.replacen("results", to, 1);
         let p = self.out.join(format!("{stem}.json"));
         write_file(&p, serde_json::to_string_pretty(&results)?.as_bytes())?;
         let md = loop_markdown(&results);

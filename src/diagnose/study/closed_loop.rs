@@ -15,6 +15,12 @@
 //!                          ──► recordings + items ──► diagnose ──► score (random)
 //! ```
 //!
+//! **At once or one at a time.** By default the `k` measurements are planned together on
+//! the twin's recordings. With [`LoopSettings::sequential`] they are planned one at a time:
+//! each on the diagnosis with the measurements before it, which has re-ranked the candidates
+//! and may tie the leader with others (a sequential design, as a lab that can measure, look
+//! and measure again would work). The random control adds as many as the plan did, at once.
+//!
 //! **The menu.** The measurements the twins' FE holds: the group's ramps are the recorded
 //! designs at the sweep's levels (0, 1, 2, 3 bar), with the markers. So a plan may propose a
 //! marker at a recorded configuration ([`MeasurementKind::Marker`]), the tip, angle or force
@@ -72,6 +78,16 @@ pub const LOOP_KINDS: [MeasurementKind; 3] = [
 const TAG_PLANNED: u64 = 0x504C_414E_4E45_4400;
 const TAG_RANDOM: u64 = 0x5241_4E44_4F4D_0000;
 
+/// Settings of [`close_loop`].
+#[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
+pub struct LoopSettings {
+    /// Measurements per twin, at most (1 to 3).
+    pub k: usize,
+    /// One at a time, each planned on the diagnosis with the ones before (else all `k`
+    /// planned at once on the recordings).
+    pub sequential: bool,
+}
+
 /// Who chose the added measurements.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]
 #[serde(rename_all = "snake_case")]
@@ -121,6 +137,9 @@ pub struct LoopResults {
     pub version: u32,
     /// Measurements planned per twin, at most.
     pub k: usize,
+    /// Whether they were planned one at a time.
+    #[serde(default)]
+    pub sequential: bool,
     /// The menu's kinds.
     pub kinds: Vec<MeasurementKind>,
     /// Whether the diagnoses used the twins' marker recordings.
@@ -137,8 +156,8 @@ pub struct LoopResults {
     pub random: StudySummary,
 }
 
-/// Runs the closed loop (module docs) over the twins of `plan`, `k` measurements at most per
-/// twin; `progress` gets a line per twin.
+/// Runs the closed loop (module docs) over the twins of `plan`, `settings.k` measurements at
+/// most per twin, planned at once or one at a time; `progress` gets a line per twin.
 ///
 /// # Errors
 /// `k` outside `1..=3`; as [`super::run_diagnoses`]; a measurement the twin's FE cannot give.
@@ -147,10 +166,10 @@ pub fn close_loop(
     noise_from: &Recordings,
     dirs: &StudyDirs,
     by: &Diagnoser<'_>,
-    k: usize,
+    settings: &LoopSettings,
     progress: &dyn Fn(&str),
 ) -> Result<LoopResults, DiagnoseError> {
-    PlanSettings::new(k).validate()?;
+    PlanSettings::new(settings.k).validate()?;
     plan.check_noise_seeds()?;
     let designs = recorded_designs(&noise_from.bending);
     let (mut twins, mut pending) = (Vec::new(), Vec::new());
@@ -186,7 +205,7 @@ pub fn close_loop(
             }
             Ok::<_, DiagnoseError>(s)
         };
-        let row = twin.close(k, &score)?;
+        let row = twin.close(settings, &score)?;
         progress(&format!(
             "{name}: concealed {}; first {} → {} (planned: {}) / {} (random)",
             row.before.truth.as_deref().unwrap_or("nothing"),
@@ -207,7 +226,8 @@ pub fn close_loop(
     Ok(LoopResults {
         format: LOOP_FORMAT.into(),
         version: VERSION,
-        k,
+        k: settings.k,
+        sequential: settings.sequential,
         kinds: LOOP_KINDS.to_vec(),
         markers: by.markers,
         before: column(|t| &t.before),
@@ -231,30 +251,23 @@ type Score<'s> = dyn Fn(&Diagnosis, Option<&TwinScore>) -> Result<TwinScore, Dia
 
 impl Twin<'_> {
     /// Diagnosed before, planned, measured and diagnosed again; the random control.
-    fn close(&self, k: usize, score: &Score<'_>) -> Result<TwinLoop, DiagnoseError> {
+    fn close(&self, s: &LoopSettings, score: &Score<'_>) -> Result<TwinLoop, DiagnoseError> {
         let rec = twin_recordings(self.dir, self.by)?;
-        let mut d = diagnose_recordings(rec.clone(), self.by)?;
+        let d = diagnose_recordings(rec.clone(), self.by)?;
         let before = score(&d, None)?;
-        let settings = PlanSettings {
-            error_spread: self.by.approximation.map(|a| a.spread(&d.locate.cells)),
-            kinds: LOOP_KINDS.to_vec(),
-            ..PlanSettings::new(k)
-        };
         let cells = d.locate.cells.clone();
-        let (items, note) = if d.naming().is_some() {
-            let p = d.plan_with(self.by.sens, &settings)?;
-            let items: Vec<Measurement> = p.items.iter().map(|i| i.measurement.clone()).collect();
-            (items, p.note.clone())
+        let (planned, after_planned, note) = if s.sequential {
+            self.sequential(s.k, &rec, d, score, &before)?
         } else {
-            (Vec::new(), "the Name stage did not run".into())
+            self.batch(s.k, &rec, d, score, &before)?
         };
-        if items.is_empty() {
+        if planned.is_empty() {
             return Ok(TwinLoop {
                 twin: self.name.into(),
                 after_planned: before.clone(),
                 after_random: before.clone(),
                 before,
-                planned: Vec::new(),
+                planned,
                 random: Vec::new(),
                 note,
             });
@@ -269,14 +282,9 @@ impl Twin<'_> {
             .filter(|(i, _)| !recs[..*i].contains(&recs[*i]))
             .map(|(_, (m, _))| m)
             .collect();
-        let random = draw(&options, items.len(), splitmix64(self.seed ^ TAG_RANDOM));
-        let after = |chosen: &[Measurement], tag: u64| {
-            let (rec, added) = self.measured(&rec, &cells, chosen, tag)?;
-            let d = diagnose_recordings(rec, self.by)?;
-            Ok::<_, DiagnoseError>((added, score(&d, Some(&before))?))
-        };
-        let (planned, after_planned) = after(&items, TAG_PLANNED)?;
-        let (random, after_random) = after(&random, TAG_RANDOM)?;
+        let chosen = draw(&options, planned.len(), splitmix64(self.seed ^ TAG_RANDOM));
+        let (with_random, random) = self.measured(&rec, &cells, &chosen, TAG_RANDOM)?;
+        let after_random = score(&diagnose_recordings(with_random, self.by)?, Some(&before))?;
         Ok(TwinLoop {
             twin: self.name.into(),
             before,
@@ -286,6 +294,75 @@ impl Twin<'_> {
             after_random,
             note,
         })
+    }
+
+    /// The plan of up to `k` measurements of diagnosis `d` (recorded in it), and its note.
+    fn plan_next(
+        &self,
+        d: &mut Diagnosis,
+        k: usize,
+    ) -> Result<(Vec<Measurement>, String), DiagnoseError> {
+        if d.naming().is_none() {
+            return Ok((Vec::new(), "the Name stage did not run".into()));
+        }
+        let settings = PlanSettings {
+            error_spread: self.by.approximation.map(|a| a.spread(&d.locate.cells)),
+            kinds: LOOP_KINDS.to_vec(),
+            ..PlanSettings::new(k)
+        };
+        let p = d.plan_with(self.by.sens, &settings)?;
+        let items = p.items.iter().map(|i| i.measurement.clone()).collect();
+        Ok((items, p.note.clone()))
+    }
+
+    /// The `k` measurements planned at once, made, and the twin diagnosed again.
+    fn batch(
+        &self,
+        k: usize,
+        rec: &Recordings,
+        mut d: Diagnosis,
+        score: &Score<'_>,
+        before: &TwinScore,
+    ) -> Result<(Vec<AddedMeasurement>, TwinScore, String), DiagnoseError> {
+        let (items, note) = self.plan_next(&mut d, k)?;
+        if items.is_empty() {
+            return Ok((Vec::new(), before.clone(), note));
+        }
+        let (with, added) = self.measured(rec, &d.locate.cells, &items, TAG_PLANNED)?;
+        let after = score(&diagnose_recordings(with, self.by)?, Some(before))?;
+        Ok((added, after, note))
+    }
+
+    /// One measurement at a time: planned on the diagnosis so far, made, the twin diagnosed
+    /// again with it, up to `k`.
+    fn sequential(
+        &self,
+        k: usize,
+        rec: &Recordings,
+        mut d: Diagnosis,
+        score: &Score<'_>,
+        before: &TwinScore,
+    ) -> Result<(Vec<AddedMeasurement>, TwinScore, String), DiagnoseError> {
+        let mut rec = rec.clone();
+        let (mut added, mut note) = (Vec::new(), String::new());
+        for step in 0..k {
+            let (items, why) = self.plan_next(&mut d, 1)?;
+            if items.is_empty() {
+                note = why;
+                break;
+            }
+            let tag = TAG_PLANNED.wrapping_add(step as u64 + 1);
+            let (with, one) = self.measured(&rec, &d.locate.cells, &items, tag)?;
+            rec = with;
+            added.extend(one);
+            d = diagnose_recordings(rec.clone(), self.by)?;
+        }
+        let after = if added.is_empty() {
+            before.clone()
+        } else {
+            score(&d, Some(before))?
+        };
+        Ok((added, after, note))
     }
 
     /// `rec` with `chosen` made on the twin's FE, noise seeded by the twin and `tag`.

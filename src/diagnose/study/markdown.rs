@@ -188,11 +188,16 @@ pub fn loop_markdown(r: &super::closed_loop::LoopResults) -> String {
     let _ = writeln!(
         o,
         "{} twins; up to {} measurements per twin, chosen by the diagnosis's plan (T-optimal \
-         discrimination) or drawn at random from the same menu ({}), made on the twin's own FE \
-         with fresh noise; markers of the recordings {}. A twin whose diagnosis leaves no tie \
-         gets no measurement.\n",
+         discrimination, {}) or drawn at random from the same menu ({}), made on the twin's own \
+         FE with fresh noise; markers of the recordings {}. A twin whose diagnosis leaves no \
+         tie gets no measurement.\n",
         r.twins.len(),
         r.k,
+        if r.sequential {
+            "one at a time, each planned on the diagnosis with the ones before"
+        } else {
+            "planned together on the recordings"
+        },
         r.kinds
             .iter()
             .map(|k| k.label())

@@ -42,7 +42,8 @@ mod score;
 mod twins;
 
 pub use closed_loop::{
-    close_loop, AddedMeasurement, Chooser, LoopResults, TwinLoop, LOOP_FORMAT, LOOP_KINDS,
+    close_loop, AddedMeasurement, Chooser, LoopResults, LoopSettings, TwinLoop, LOOP_FORMAT,
+    LOOP_KINDS,
 };
 pub use diagnosis::{
     diagnose_recordings, diagnose_twin, null_approximation_error, twin_recordings, Diagnoser,

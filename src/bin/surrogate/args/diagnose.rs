@@ -150,6 +150,10 @@ pub struct TwinStudyArgs {
     /// Measurements planned per twin by `--stage loop` (1 to 3).
     #[arg(long, default_value_t = 3)]
     pub loop_k: usize,
+    /// `--stage loop`: plan the measurements one at a time, each on the diagnosis with the
+    /// ones before (results_loop_sequential*.json / .md).
+    #[arg(long)]
+    pub loop_sequential: bool,
     /// The diagnosing surrogate [default: models/actuator_coarse.json of the repository the
     /// program was built from, from any working directory].
     #[arg(long)]
