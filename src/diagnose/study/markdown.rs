@@ -180,6 +180,9 @@ fn every_twin(o: &mut String, r: &StudyResults) {
     }
 }
 
+/// A count of the summary, of how many.
+type Count = fn(&StudySummary) -> (usize, usize);
+
 /// The closed loop's results in Markdown: the three columns (before, planned, random) against
 /// the targets, then every twin with the measurements each chooser added.
 pub fn loop_markdown(r: &super::closed_loop::LoopResults) -> String {
@@ -205,7 +208,7 @@ pub fn loop_markdown(r: &super::closed_loop::LoopResults) -> String {
             .join(", "),
         if r.markers { "used" } else { "left out" },
     );
-    let rows: [(&str, fn(&StudySummary) -> (usize, usize)); 5] = [
+    let rows: [(&str, Count); 5] = [
         (
             "concealed effect ranked first (visible twins; target ≥ 90 %)",
             |s| (s.visible_first, s.visible),
