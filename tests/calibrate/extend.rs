@@ -572,3 +572,68 @@ fn a_multi_fidelity_model_is_extended_on_both_meshes() {
     );
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The stand-in FE of [`fe`] with `α₂`'s signature shrunk to 1 % per unit: the recordings pull `α₂`
+/// to a bound without determining it (its profile is flat over the box).
+fn fe_alpha2_trace(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
+    let mut o = fe(case, settings);
+    let c = OgdenSet::new(case.mu1_mpa, case.alpha1, case.mu2_mpa, case.alpha2)
+        .unwrap()
+        .coords();
+    let base = fe(
+        &PlannedCase {
+            alpha2: -1.0,
+            mu2_mpa: OgdenSet::from_coords(MaterialCoords { alpha2: -1.0, ..c })
+                .unwrap()
+                .mu2_mpa,
+            ..case.clone()
+        },
+        settings,
+    );
+    // the steps of the case at α₂ = −1, moved by a trace of α₂
+    for (s, b) in o.steps.iter_mut().zip(&base.steps) {
+        let f = 1.0 + 1e-2 * (c.alpha2 + 1.0);
+        s.tip_uz_mm = b.tip_uz_mm * f;
+        s.tip_uy_mm = b.tip_uy_mm * f;
+        for (m, mb) in s.markers.iter_mut().zip(&b.markers) {
+            *m = [mb[0] * f, mb[1] * f];
+        }
+        s.angle_deg = (-s.tip_uy_mm).atan2(92.0 - s.tip_uz_mm).to_degrees();
+    }
+    o
+}
+
+#[test]
+fn a_bound_of_a_coordinate_the_recordings_do_not_determine_is_not_extended() {
+    let dir = scratch("undetermined");
+    let plan = narrow_plan();
+    // a material inside the trained box, α₂ pulled to its upper bound by a trace
+    let inside = OgdenSet::from_coords(MaterialCoords {
+        mu0_mpa: 3.0,
+        share: 0.5,
+        alpha1: 3.0,
+        alpha2: -0.1,
+    })
+    .unwrap();
+    let rec = recordings(&fe_alpha2_trace, &plan.settings, &inside);
+    let (m0, training) = trained_model(plan, &dir, &fe_alpha2_trace, &quick_training());
+    let e = extend_box(
+        &m0,
+        &training,
+        &rec,
+        &settings(2),
+        &fe_alpha2_trace,
+        &dir.join("extend"),
+        &|_| {},
+    )
+    .unwrap();
+    let md = e.summary_markdown();
+    println!("{md}");
+    assert!(e.rounds.is_empty(), "{md}");
+    let ExtendStop::Undetermined { bounds } = &e.stop else {
+        panic!("{md}");
+    };
+    assert!(bounds.iter().all(|b| b.contains("alpha2")), "{bounds:?}");
+    assert!(!dir.join("extend").exists());
+    let _ = std::fs::remove_dir_all(&dir);
+}

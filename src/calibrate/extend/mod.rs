@@ -7,7 +7,9 @@
 //!   model M₀, its training set S₀, box B₀ (the span of its cases) ──► calibrate ──► θ₀
 //!   after each calibration θ_{k−1}:
 //!     no bound of M_{k−1}'s box active at θ_{k−1}                     ──► stop: Inside
-//!     each active bound (coordinate i, side ±) of B_{k−1}:
+//!     only bounds of coordinates the recordings do not determine
+//!       (profile open on both sides) active                           ──► stop: Undetermined
+//!     each other active bound (coordinate i, side ±) of B_{k−1}:
 //!       b ← b ± step · width_i(B_{k−1}),  clipped at its physical limit
 //!     every active bound already at its physical limit                 ──► stop: PhysicalLimit
 //!     k − 1 = max_rounds                                               ──► stop: MaxRounds

@@ -27,6 +27,12 @@ pub enum ExtendStop {
         /// The bounds, in words.
         bounds: Vec<String>,
     },
+    /// The optimum presses only bounds of coordinates the recordings do not determine (their
+    /// profiles open on both sides): moving them would change nothing the recordings see.
+    Undetermined {
+        /// The bounds, in words.
+        bounds: Vec<String>,
+    },
     /// `max_rounds` rounds were run and the optimum still presses a bound that could move.
     MaxRounds,
 }
@@ -38,6 +44,12 @@ impl ExtendStop {
             ExtendStop::Inside => "the optimum lies inside the box (no bound is active)".into(),
             ExtendStop::PhysicalLimit { bounds } => format!(
                 "every bound the optimum presses is at its physical limit: {}",
+                bounds.join("; ")
+            ),
+            ExtendStop::Undetermined { bounds } => format!(
+                "the optimum presses only bounds of coordinates the recordings do not determine \
+                 (their profiles are open on both sides), so moving them changes nothing the \
+                 recordings see: {}",
                 bounds.join("; ")
             ),
             ExtendStop::MaxRounds => {

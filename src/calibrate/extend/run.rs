@@ -9,6 +9,7 @@ use super::plan::{extension_case_id, extension_plan, high_fidelity_cases, high_f
 use super::report::{BoxExtension, ExtendRound, ExtendStop, FailedCase, Optimum, FORMAT, VERSION};
 use super::settings::ExtendSettings;
 use crate::calibrate::fit::{calibrate, Calibration};
+use crate::calibrate::identify::Determinacy;
 use crate::calibrate::objective::Recordings;
 use crate::calibrate::refine::{retrain, run_round_plan, TrainingSet};
 use crate::calibrate::CalibrateError;
@@ -302,13 +303,30 @@ impl<'a> Extending<'a> {
     }
 
     /// The stop the current calibration calls for, else the extended box: inside (no bound
-    /// active), every pressed bound at its physical limit, the last round run.
+    /// active), only bounds of undetermined coordinates pressed, every pressed bound at its
+    /// physical limit, the last round run.
     fn next(&self) -> Next {
         let s = self.settings;
         if self.cal.pressed.is_empty() {
             return Next::Stop(ExtendStop::Inside);
         }
-        let (new_box, pressed) = self.nominal.extended(&self.cal.pressed, s.step, &s.limits);
+        // a bound of a coordinate the recordings do not determine (its profile open on both
+        // sides) is pressed by chance: moving it changes nothing they see
+        let undetermined = |b: &crate::calibrate::fit::ActiveBound| {
+            self.cal
+                .identifiability
+                .profiles
+                .iter()
+                .any(|p| p.name == b.name && p.determinacy == Determinacy::NotDetermined)
+        };
+        let (flat, informative): (Vec<_>, Vec<_>) =
+            self.cal.pressed.iter().cloned().partition(undetermined);
+        if informative.is_empty() {
+            return Next::Stop(ExtendStop::Undetermined {
+                bounds: flat.iter().map(ToString::to_string).collect(),
+            });
+        }
+        let (new_box, pressed) = self.nominal.extended(&informative, s.step, &s.limits);
         if pressed.iter().all(|p| p.moved_to.is_none()) {
             return Next::Stop(ExtendStop::PhysicalLimit {
                 bounds: pressed.iter().map(PressedBound::describe).collect(),
