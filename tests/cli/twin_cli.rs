@@ -99,7 +99,21 @@ fn twin_study_refuses_bad_flags_and_plans() {
     let out_s = out.to_str().unwrap();
     let (ok, _, stderr) = outcome(&["twin-study", "--out", out_s, "--stage", "fe"]);
     assert!(
-        !ok && stderr.contains("--stage fe: expected twins, diagnose or all"),
+        !ok && stderr.contains("--stage fe: expected twins, diagnose, all or loop"),
+        "{stderr}"
+    );
+    assert!(!out.exists());
+    let (ok, _, stderr) = outcome(&[
+        "twin-study",
+        "--out",
+        out_s,
+        "--stage",
+        "loop",
+        "--loop-k",
+        "4",
+    ]);
+    assert!(
+        !ok && stderr.contains("--loop-k") && stderr.contains("measurements to plan = 4"),
         "{stderr}"
     );
     assert!(!out.exists());

@@ -25,6 +25,12 @@ const DEFAULT_OUT: &str = "fe_reference/diagnosis/blind";
 /// for: the twins made, the twins diagnosed and scored.
 pub fn run(a: TwinStudyArgs) -> Result<()> {
     let (twins, diagnoses, closed_loop) = stages(&a.stage)?;
+    if closed_loop {
+        // refused before anything is read or written
+        surrogate::diagnose::measure_design::PlanSettings::new(a.loop_k)
+            .validate()
+            .context("--loop-k")?;
+    }
     let (model_path, _) = given_or_announced("model", a.model.as_deref(), DEFAULT_MODEL);
     let model = load_model(&model_path)?;
     let (noise_dir, _) = given_or_announced("noise-from", a.noise_from.as_deref(), "training_data");
