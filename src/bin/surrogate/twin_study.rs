@@ -212,7 +212,7 @@ impl Study {
                     &self.noise_from,
                     &self.dirs,
                     &self.model,
-                    &self.model_path.display().to_string(),
+                    &repository_name(&self.model_path),
                 )?;
                 let p = self.out.join("approximation_error.json");
                 e.write(&p)?;
@@ -251,4 +251,15 @@ fn results_stem(markers: bool, plan_markers: bool, mesh: bool, approximation: bo
     } else {
         format!("{stem}_no_approx")
     }
+}
+
+/// `path` as the approximation error names its model: relative to the repository when it lies
+/// in it (so a rerun with the defaults writes the committed file again, byte for byte), else as
+/// given.
+fn repository_name(path: &Path) -> String {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    path.strip_prefix(root)
+        .unwrap_or(path)
+        .display()
+        .to_string()
 }
