@@ -1,7 +1,8 @@
 //! The blind study's closed loop (`surrogate::diagnose::study::close_loop`) on one committed
 //! twin (no FE runs: the measurements are read from the twin's committed FE ramps): the plan's
 //! measurements come from the menu the twins' FE holds, each is made with noise at its σ
-//! around the FE's value, and the random control adds as many.
+//! around the FE's value, the random control adds as many, and planned one at a time the
+//! first reading is the one planned together first.
 
 use std::path::Path;
 
@@ -61,4 +62,32 @@ fn a_tied_twin_gets_its_planned_measurements_made_on_its_own_fe() {
     // the visibility of the effect is judged before any measurement, in every column
     assert_eq!(t.after_planned.tip_move_sigma, t.before.tip_move_sigma);
     assert_eq!(t.after_random.tip_move_sigma, t.before.tip_move_sigma);
+    // one at a time: the first reading is the one planned together first (both planned on
+    // the recordings alone); the next ones on the diagnosis with it, each a reading not made
+    // before
+    let seq = close_loop(
+        &plan,
+        &shipped,
+        &dirs,
+        &by,
+        &LoopSettings {
+            k: 2,
+            sequential: true,
+        },
+        &|_| {},
+    )
+    .unwrap();
+    assert!(seq.sequential);
+    let s = &seq.twins[0];
+    assert_eq!(s.before, t.before);
+    assert_eq!(s.planned[0].measurement, t.planned[0].measurement);
+    assert!(s.planned.len() <= 2 && s.random.len() == s.planned.len());
+    if let [a, b] = &s.planned[..] {
+        let same_reading = a.measurement.n_bellows == b.measurement.n_bellows
+            && a.measurement.wall_thickness_mm == b.measurement.wall_thickness_mm
+            && a.measurement.pressure_bar == b.measurement.pressure_bar
+            && a.measurement.output == b.measurement.output;
+        assert!(!same_reading, "{s:?}");
+        assert!(b.recorded.is_some(), "{s:?}");
+    }
 }
