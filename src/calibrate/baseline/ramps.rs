@@ -171,8 +171,3 @@ pub(super) fn cost_order(jobs: &[(&SweepDesign, Mode)]) -> Vec<usize> {
     });
     order
 }
-
-/// The sweep's queue, kept under its old name for the tests of its order
-/// ([`crate::fe::runner::in_order`]).
-#[cfg(test)]
-pub(super) use crate::fe::runner::in_order as longest_first;

@@ -1,20 +1,16 @@
-//! Tests of the sweep: the order of its queue, the committed caches read under their keys, a
-//! cached ramp reused only under its own key, the reference study's nine and the summary, the
-//! sensitivities file with its geometry.
+//! Tests of the sweep: the order of its queue, the committed caches read under their keys, the
+//! reference study's nine and the summary, the sensitivities file with its geometry. (A cached
+//! ramp reused only under its own key: `crate::fe::runner`'s tests.)
 
 use std::path::{Path, PathBuf};
 
-use super::cache::RampCache;
-use super::ramps::{cost_order, longest_first};
+use super::ramps::cost_order;
 use super::*;
 use crate::fe::effects::Effects;
-use crate::fe::geometry::DesignParams;
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::mesh::{MeshLevel, MeshOptions};
 use crate::fe::preset::Geometry;
-use crate::fe::sensitivity::Parameter;
-use crate::fe::simulate::{Case, ContactSettings, Mode};
-use crate::fe::solver::SolverSettings;
+use crate::fe::simulate::Mode;
 
 #[test]
 fn the_queue_starts_thin_walls_and_forces_first_and_returns_in_item_order() {
@@ -45,7 +41,7 @@ fn the_queue_starts_thin_walls_and_forces_first_and_returns_in_item_order() {
         ]
     );
     let started = std::sync::Mutex::new(Vec::new());
-    let out = longest_first(&jobs, &order, |&(d, m)| {
+    let out = crate::fe::runner::in_order(&jobs, &order, |&(d, m)| {
         started
             .lock()
             .unwrap()
@@ -58,23 +54,6 @@ fn the_queue_starts_thin_walls_and_forces_first_and_returns_in_item_order() {
         .collect();
     assert_eq!(out, expected);
     assert_eq!(started.into_inner().unwrap().len(), jobs.len());
-}
-
-fn case(stiffness: f64) -> Case {
-    Case {
-        design: DesignParams::new(11, 2.0).validate().unwrap(),
-        material: Material::from_spec("ogden_002", DEFAULT_BULK_RATIO).unwrap(),
-        pressures_bar: vec![0.0, 1.0, 2.0],
-        gravity: true,
-        mesh: MeshOptions::level(MeshLevel::Standard),
-        solver: SolverSettings::default(),
-        mode: Mode::Force,
-        contact: ContactSettings {
-            stiffness,
-            ..ContactSettings::default()
-        },
-        effects: Effects::default(),
-    }
 }
 
 fn committed(path: &str) -> PathBuf {
@@ -137,34 +116,6 @@ fn committed_verification_ramps_keep_their_keys() {
     let ramps = cached_ramps(&settings, &recorded_designs(&bending), &dir).unwrap();
     assert_eq!(ramps.len(), 18);
     assert!(ramps.iter().all(|r| r.source == RampSource::Cache));
-}
-
-#[test]
-fn cached_ramps_are_reused_only_for_the_same_settings() {
-    let dir = std::env::temp_dir().join(format!("surrogate_ramps_{}", std::process::id()));
-    std::fs::create_dir_all(&dir).unwrap();
-    let c = RampCache::at(&dir, &case(20.0), &[]);
-    assert!(
-        c.path.ends_with("n11_t2_force.json"),
-        "{}",
-        c.path.display()
-    );
-    assert!(c.load().is_none(), "nothing cached yet");
-    let ramp = (Vec::new(), "stopped at 1.5 bar".to_string(), None);
-    c.store(&ramp).unwrap();
-    assert_eq!(c.load(), Some(ramp));
-    // another setting: same file name, other key, not reused
-    let other = RampCache::at(&dir, &case(40.0), &[]);
-    assert_eq!(other.path, c.path);
-    assert!(other.load().is_none());
-    // a ramp with sensitivities: its own file and key
-    let sens = RampCache::at(&dir, &case(20.0), &Parameter::all());
-    assert!(sens.path.ends_with("n11_t2_force_sensitivities.json"));
-    assert!(sens.load().is_none());
-    // a damaged file is recomputed, not trusted
-    std::fs::write(&c.path, "{\"key\": ").unwrap();
-    assert!(c.load().is_none());
-    std::fs::remove_dir_all(dir).unwrap();
 }
 
 fn row(n: usize, t: f64, p: f64, be: f64, force_error: f64) -> BaselineRow {

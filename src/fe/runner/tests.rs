@@ -319,3 +319,54 @@ fn the_ramp_cache_resumes_a_campaign() {
     assert!(matches!(&again[2].obtained, Obtained::Cache(h) if h.error.as_ref() == Some(message)));
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// A cached ramp is reused only under its own key: another setting with the same file name is
+/// not found, a ramp with sensitivities has its own file, a damaged file is not trusted.
+#[test]
+fn a_cached_ramp_is_reused_only_for_the_same_settings() {
+    let dir = scratch("ramp_keys");
+    std::fs::create_dir_all(&dir).unwrap();
+    let case = |stiffness: f64| Case {
+        design: DesignParams::new(11, 2.0).validate().unwrap(),
+        material: Material::from_spec("ogden_002", DEFAULT_BULK_RATIO).unwrap(),
+        pressures_bar: vec![0.0, 1.0, 2.0],
+        gravity: true,
+        mesh: MeshOptions::level(MeshLevel::Standard),
+        solver: crate::fe::solver::SolverSettings::default(),
+        mode: Mode::Force,
+        contact: crate::fe::simulate::ContactSettings {
+            stiffness,
+            ..Default::default()
+        },
+        effects: Default::default(),
+    };
+    let c = RampFile::at(&dir, &case(20.0), &[]);
+    assert!(
+        c.path.ends_with("n11_t2_force.json"),
+        "{}",
+        c.path.display()
+    );
+    assert!(c.load().is_none(), "nothing cached yet");
+    let ramp = Ramp {
+        error: Some("stopped at 1.5 bar".into()),
+        ..Ramp::default()
+    };
+    c.store(&ramp).unwrap();
+    let back = c.load().unwrap();
+    assert_eq!(
+        (back.steps.len(), back.error.as_deref()),
+        (0, Some("stopped at 1.5 bar"))
+    );
+    // another setting: same file name, other key, not reused
+    let other = RampFile::at(&dir, &case(40.0), &[]);
+    assert_eq!(other.path, c.path);
+    assert!(other.load().is_none());
+    // a ramp with sensitivities: its own file and key
+    let sens = RampFile::at(&dir, &case(20.0), &crate::fe::sensitivity::Parameter::all());
+    assert!(sens.path.ends_with("n11_t2_force_sensitivities.json"));
+    assert!(sens.load().is_none());
+    // a damaged file is recomputed, not trusted
+    std::fs::write(&c.path, "{\"key\": ").unwrap();
+    assert!(c.load().is_none());
+    std::fs::remove_dir_all(dir).unwrap();
+}
