@@ -50,6 +50,7 @@ pub mod diagnose;
 pub mod error;
 pub mod fe;
 pub mod io;
+mod random;
 pub mod rom;
 pub mod schema;
 pub mod snapshots;

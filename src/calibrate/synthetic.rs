@@ -15,13 +15,14 @@
 
 use std::path::{Path, PathBuf};
 
-use rand::{RngCore, SeedableRng};
+use rand::SeedableRng;
 use rand_xoshiro::Xoshiro256Plus;
 use serde::{Deserialize, Serialize};
 
 use super::experiments::{BendingRecord, ForceRecord, MarkerRecord};
 use super::objective::{Recordings, FREE_LENGTH_MM};
 use super::CalibrateError;
+use crate::random::standard_normal;
 
 /// Noise-free outputs of one configuration.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
@@ -109,13 +110,6 @@ const CASE_COLUMNS: [&str; 7] = [
     "force_n",
 ];
 
-fn normal(rng: &mut Xoshiro256Plus) -> f64 {
-    // Box–Muller on two uniforms in (0, 1]
-    let u = |r: &mut Xoshiro256Plus| ((r.next_u64() >> 11) as f64 + 1.0) / (1u64 << 53) as f64;
-    let (a, b) = (u(rng), u(rng));
-    (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-}
-
 /// Recordings of `truth` with noise at the scatter of the matching rows of `noise_from`.
 ///
 /// # Errors
@@ -179,9 +173,9 @@ fn recordings_with_noise(
             n_bellows: t.n_bellows,
             wall_thickness_mm: t.wall_thickness_mm,
             pressure_bar: t.pressure_bar,
-            tip_uz_mm: t.tip_uz_mm + nt * normal(&mut rng),
-            tip_uy_mm: t.tip_uy_mm + nt * normal(&mut rng),
-            angle_deg: t.angle_deg + na * normal(&mut rng),
+            tip_uz_mm: t.tip_uz_mm + nt * standard_normal(&mut rng),
+            tip_uy_mm: t.tip_uy_mm + nt * standard_normal(&mut rng),
+            angle_deg: t.angle_deg + na * standard_normal(&mut rng),
             angle_std_deg: sa,
         });
         if t.force_n.is_finite() {
@@ -194,7 +188,7 @@ fn recordings_with_noise(
                     n_bellows: t.n_bellows,
                     wall_thickness_mm: t.wall_thickness_mm,
                     pressure_bar: t.pressure_bar,
-                    force_n: t.force_n + scale * f.force_std_n * normal(&mut rng),
+                    force_n: t.force_n + scale * f.force_std_n * standard_normal(&mut rng),
                     force_std_n: f.force_std_n,
                 });
             }
@@ -286,8 +280,8 @@ fn markers_with_noise(
                 wall_thickness_mm: t.wall_thickness_mm,
                 pressure_bar: t.pressure_bar,
                 marker: k + 1,
-                uz_mm: m[0] + scale * std * normal(&mut rng),
-                uy_mm: m[1] + scale * std * normal(&mut rng),
+                uz_mm: m[0] + scale * std * standard_normal(&mut rng),
+                uy_mm: m[1] + scale * std * standard_normal(&mut rng),
                 std_mm: std,
             });
         }
@@ -302,7 +296,7 @@ mod tests {
     #[test]
     fn noise_has_the_stated_scale_and_is_reproducible() {
         let mut rng = Xoshiro256Plus::seed_from_u64(7);
-        let v: Vec<f64> = (0..20_000).map(|_| normal(&mut rng)).collect();
+        let v: Vec<f64> = (0..20_000).map(|_| standard_normal(&mut rng)).collect();
         let mean = v.iter().sum::<f64>() / v.len() as f64;
         let var = v.iter().map(|x| (x - mean).powi(2)).sum::<f64>() / v.len() as f64;
         assert!(
@@ -357,7 +351,7 @@ mod tests {
             .all(|m| m.std_mm > 0.0 && (1..=9).contains(&m.marker)));
         // an independent stream: the first deviate differs from the bending stream's
         let mut rng = Xoshiro256Plus::seed_from_u64(5);
-        let first = normal(&mut rng) * a[0].std_mm;
+        let first = standard_normal(&mut rng) * a[0].std_mm;
         assert_ne!(a[0].uz_mm, first);
     }
 }

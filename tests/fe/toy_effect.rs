@@ -19,6 +19,7 @@ use surrogate::fe::sensitivity::{
 };
 use surrogate::fe::simulate::{simulate, Case, ContactSettings, Mode, StepResult};
 use surrogate::fe::solver::SolverSettings;
+use surrogate::snapshots::plan::{Plan, Ranges};
 
 /// The gauge reads low by the fraction `g`: the cavities hold `(1 + g)·P` at a reading `P`.
 struct GaugeGain;
@@ -235,4 +236,57 @@ fn the_toy_effects_sensitivity_matches_finite_differences() {
     // nothing moves at 0 bar
     let d0 = sens.derivative(0, p).unwrap();
     assert_eq!(d0.tip_uy_mm, 0.0);
+}
+
+#[test]
+fn a_plan_with_a_registered_effect_reads_inside_its_registrys_scope() {
+    let registry = registry();
+    let shipped = Plan::read(
+        &std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+            .join("training_data/snapshots_coarse.plan.json"),
+    )
+    .unwrap();
+    let mut settings = shipped.settings.clone();
+    settings.effects = registry.parse(["wall_bias=0.05"]).unwrap();
+    let ranges = Ranges {
+        effects: [("gauge_gain".to_string(), [0.0, 0.2])].into(),
+        ..shipped.ranges.clone()
+    };
+    // outside the scope the library alone is known: the plan is refused, naming the effect
+    let refused = Plan::generate(6, 3, ranges.clone(), settings.clone())
+        .unwrap_err()
+        .to_string();
+    assert!(refused.contains("gauge_gain"), "{refused}");
+    let plan = registry
+        .reading(|| Plan::generate(6, 3, ranges, settings))
+        .unwrap();
+    assert!(plan
+        .cases
+        .iter()
+        .all(|c| (0.0..=0.2).contains(&c.effects.get(GAUGE_GAIN))));
+    let json = plan.canonical_json();
+    let err = Plan::from_json(&json, "toy.plan.json")
+        .unwrap_err()
+        .to_string();
+    assert!(
+        err.contains("toy.plan.json") && err.contains("gauge_gain"),
+        "{err}"
+    );
+    // inside it the plan reads back as written, and scopes nest and end
+    let back = registry
+        .reading(|| {
+            EffectRegistry::builtin().reading(|| {
+                assert!(Plan::from_json(&json, "inner").is_err());
+            });
+            Plan::from_json(&json, "toy.plan.json")
+        })
+        .unwrap();
+    assert_eq!(back, plan);
+    assert!(Plan::from_json(&json, "after").is_err());
+    // a panic inside a scope ends it too
+    let caught = std::panic::catch_unwind(std::panic::AssertUnwindSafe(|| {
+        registry.reading(|| panic!("inside"))
+    }));
+    assert!(caught.is_err());
+    assert!(Plan::from_json(&json, "after a panic").is_err());
 }

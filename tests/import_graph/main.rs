@@ -30,7 +30,7 @@ use source::collect;
 const FLOORS: &[Floor] = &[
     // the shared vocabulary: the case and its parameter box, the file formats' columns and
     // units, the atomic write
-    ("ground", &["case", "schema", "io"]),
+    ("ground", &["case", "schema", "io", "random"]),
     // the finite-element model
     ("fe", &["fe"]),
     // sampling plans and FE snapshot campaigns

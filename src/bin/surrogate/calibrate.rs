@@ -380,21 +380,31 @@ fn meshes(training: &TrainingSet) -> String {
     }
 }
 
+/// One round's FE cases on the progress bar `bar` (shown from the round's first case, cleared
+/// after its last), labelled `round`.
+pub(crate) fn show_fe_progress(
+    bar: &ProgressBar,
+    round: &dyn std::fmt::Display,
+    progress: &surrogate::snapshots::run::Progress,
+) {
+    if progress.done == 0 {
+        bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
+        bar.reset();
+    }
+    bar.set_message(round.to_string());
+    bar.set_length(progress.total as u64);
+    bar.set_position(progress.done as u64);
+    if progress.done == progress.total {
+        bar.finish_and_clear();
+    }
+}
+
 /// A refinement event on stderr: stages and rounds as lines, FE cases on the progress bar.
 fn show_refine_event(bar: &ProgressBar, ev: RefineEvent) {
     match ev {
         RefineEvent::Stage(s) => bar.suspend(|| eprintln!("{s}")),
         RefineEvent::Fe { round, progress } => {
-            if progress.done == 0 {
-                bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-                bar.reset();
-            }
-            bar.set_message(round.to_string());
-            bar.set_length(progress.total as u64);
-            bar.set_position(progress.done as u64);
-            if progress.done == progress.total {
-                bar.finish_and_clear();
-            }
+            show_fe_progress(bar, &round, &progress);
         }
         RefineEvent::Round(r) => bar.suspend(|| {
             eprintln!(

@@ -10,7 +10,9 @@ use surrogate::calibrate::summary::summary_markdown_extended;
 use surrogate::calibrate::{CalibrateError, CalibrationSettings};
 use surrogate::rom::Surrogate;
 
-use crate::calibrate::{inputs, run_fe, training_set, write_outputs, CalibrateArgs, Inputs};
+use crate::calibrate::{
+    inputs, run_fe, show_fe_progress, training_set, write_outputs, CalibrateArgs, Inputs,
+};
 use crate::files::write_file;
 
 /// The extension's settings from the flags, checked against the model before any FE; a bad
@@ -157,16 +159,7 @@ fn show_event(bar: &ProgressBar, ev: ExtendEvent) {
     match ev {
         ExtendEvent::Stage(s) => bar.suspend(|| eprintln!("{s}")),
         ExtendEvent::Fe { round, progress } => {
-            if progress.done == 0 {
-                bar.set_draw_target(indicatif::ProgressDrawTarget::stderr());
-                bar.reset();
-            }
-            bar.set_message(round.to_string());
-            bar.set_length(progress.total as u64);
-            bar.set_position(progress.done as u64);
-            if progress.done == progress.total {
-                bar.finish_and_clear();
-            }
+            show_fe_progress(bar, &round, &progress);
         }
         ExtendEvent::Round(r) => bar.suspend(|| {
             eprintln!(

@@ -11,7 +11,7 @@ use super::settings::ExtendSettings;
 use crate::calibrate::fit::{calibrate, Calibration};
 use crate::calibrate::identify::Determinacy;
 use crate::calibrate::objective::Recordings;
-use crate::calibrate::refine::{retrain, run_round_plan, TrainingSet};
+use crate::calibrate::refine::{run_round_plan, AddedRows, Refit, TrainingSet};
 use crate::calibrate::CalibrateError;
 use crate::rom::data::{SnapshotRow, SnapshotSet};
 use crate::rom::Surrogate;
@@ -409,21 +409,20 @@ impl<'a> Extending<'a> {
     /// After round `k`: the surrogate retrained on every row so far, written to
     /// `model_extend_k.json` (its path returned), and the material refitted through it.
     fn retrain(&mut self, fe: &SlabFe<'_>, k: usize) -> Result<std::path::PathBuf, CalibrateError> {
-        let stage = |s: String| fe.stage(s);
-        self.current = retrain(
-            fe.training,
-            &self.low_rows,
-            &self.high_rows,
-            self.skipped,
-            &format!("box extension rounds 1..{k}"),
-            &self.settings.train,
-            &stage,
-        )?;
+        let refit = Refit {
+            training: fe.training,
+            train: &self.settings.train,
+            calibration: &self.settings.calibration,
+            recordings: self.rec,
+        };
+        let rows = AddedRows {
+            low: &self.low_rows,
+            high: &self.high_rows,
+            skipped: self.skipped,
+            added: &format!("box extension rounds 1..{k}"),
+        };
         let path = fe.dir.join(format!("model_extend_{k}.json"));
-        self.current.save(&path)?;
-        self.cal = calibrate(&self.current, self.rec, &self.settings.calibration, &|s| {
-            stage(s.into())
-        })?;
+        (self.current, self.cal) = refit.retrain_and_refit(&rows, &path, &|s| fe.stage(s))?;
         Ok(path)
     }
 

@@ -7,7 +7,7 @@ use super::cases::{baseline_rows, recorded_designs, round_plan};
 use super::report::{RefineRound, RefineStop, Refinement};
 use super::settings::RefineSettings;
 use super::shift::{data_space_shift, DataSpaceShift};
-use super::training::{retrain, run_round_plan, TrainingSet};
+use super::training::{run_round_plan, AddedRows, Refit, TrainingSet};
 use crate::calibrate::baseline::BaselineRow;
 use crate::calibrate::fit::{calibrate, Calibration};
 use crate::calibrate::objective::{Recordings, Selection};
@@ -271,22 +271,21 @@ impl<'a> Refining<'a> {
     /// After round `k`: the surrogate retrained on every row so far (written to
     /// `model_round_k.json`) and the material refitted through it.
     fn retrain(&mut self, fe: &RoundFe<'_>, k: usize) -> Result<(), CalibrateError> {
-        let stage = |s: String| fe.stage(s);
-        self.current = retrain(
-            fe.training,
-            &self.low_rows,
-            &self.high_rows,
-            self.skipped,
-            &format!("refinement rounds 1..{k}"),
-            &self.settings.train,
-            &stage,
-        )?;
+        let refit = Refit {
+            training: fe.training,
+            train: &self.settings.train,
+            calibration: &self.settings.calibration,
+            recordings: self.rec,
+        };
+        let rows = AddedRows {
+            low: &self.low_rows,
+            high: &self.high_rows,
+            skipped: self.skipped,
+            added: &format!("refinement rounds 1..{k}"),
+        };
         let path = fe.dir.join(format!("model_round_{k}.json"));
-        self.current.save(&path)?;
+        (self.current, self.cal) = refit.retrain_and_refit(&rows, &path, &|s| fe.stage(s))?;
         self.models.push(path);
-        self.cal = calibrate(&self.current, self.rec, &self.settings.calibration, &|s| {
-            stage(s.into())
-        })?;
         Ok(())
     }
 

@@ -3,6 +3,8 @@
 
 use std::path::Path;
 
+use crate::calibrate::fit::{calibrate, Calibration, CalibrationSettings};
+use crate::calibrate::objective::Recordings;
 use crate::calibrate::CalibrateError;
 use crate::rom::data::{SnapshotRow, SnapshotSet};
 use crate::rom::{train, Surrogate, TrainConfig};
@@ -157,6 +159,61 @@ pub(crate) fn retrain(
     let mut report = train(&cases, &source, skipped, train_config, &|_, _| {})?;
     report.surrogate.training.correction = correction;
     Ok(report.surrogate)
+}
+
+/// What a refinement or a box extension retrains with after each of its rounds: the base
+/// training set, the training and calibration settings and the recordings it refits to.
+pub(crate) struct Refit<'a> {
+    /// The surrogate's own training set (and its high-fidelity set, if multi-fidelity).
+    pub training: &'a TrainingSet,
+    /// How the surrogate is trained.
+    pub train: &'a TrainConfig,
+    /// How the material is fitted through it.
+    pub calibration: &'a CalibrationSettings,
+    /// The recordings fitted.
+    pub recordings: &'a Recordings,
+}
+
+/// The rows a round adds to the training set (low- and high-fidelity) and how many cases of
+/// the base set failed.
+pub(crate) struct AddedRows<'a> {
+    /// Every low-fidelity row so far, the base set's and the rounds'.
+    pub low: &'a [SnapshotRow],
+    /// Every high-fidelity row so far (empty for a single-fidelity surrogate).
+    pub high: &'a [SnapshotRow],
+    /// Cases of the base set that did not converge.
+    pub skipped: usize,
+    /// What was added, for the merged set's source (e.g. "refinement rounds 1..2").
+    pub added: &'a str,
+}
+
+impl Refit<'_> {
+    /// The surrogate retrained on `rows` ([`retrain`]), written to `model_path`, and the
+    /// material refitted through it.
+    ///
+    /// # Errors
+    /// Training, writing the model, or the calibration failing.
+    pub(crate) fn retrain_and_refit(
+        &self,
+        rows: &AddedRows<'_>,
+        model_path: &Path,
+        stage: &dyn Fn(String),
+    ) -> Result<(Surrogate, Calibration), CalibrateError> {
+        let model = retrain(
+            self.training,
+            rows.low,
+            rows.high,
+            rows.skipped,
+            rows.added,
+            self.train,
+            stage,
+        )?;
+        model.save(model_path)?;
+        let cal = calibrate(&model, self.recordings, self.calibration, &|s| {
+            stage(s.into())
+        })?;
+        Ok((model, cal))
+    }
 }
 
 /// Runs `plan` into the snapshot shard directory `fe_dir` (resuming what is there: finished

@@ -63,6 +63,7 @@ use crate::diagnose::name::sweep_parameters;
 use crate::diagnose::report::Diagnosis;
 use crate::diagnose::DiagnoseError;
 use crate::fe::simulate::{Mode, StepResult};
+use crate::random::{splitmix64, standard_normal};
 
 /// The `format` field of the closed-loop results.
 pub const LOOP_FORMAT: &str = "surrogate.twin-study-closed-loop";
@@ -495,7 +496,7 @@ fn add_record(
                 n_bellows: n,
                 wall_thickness_mm: t,
                 pressure_bar: p,
-                force_n: f + m.sigma * normal(rng),
+                force_n: f + m.sigma * standard_normal(rng),
                 force_std_n: m.sigma,
             });
         }
@@ -517,8 +518,8 @@ fn add_record(
                 wall_thickness_mm: t,
                 pressure_bar: p,
                 marker,
-                uz_mm: uz + m.sigma * normal(rng),
-                uy_mm: uy + m.sigma * normal(rng),
+                uz_mm: uz + m.sigma * standard_normal(rng),
+                uy_mm: uy + m.sigma * standard_normal(rng),
                 std_mm: m.sigma,
             });
             if out.markers_source.is_empty() {
@@ -547,9 +548,9 @@ fn add_record(
                 n_bellows: n,
                 wall_thickness_mm: t,
                 pressure_bar: p,
-                tip_uz_mm: step.tip_uz_mm + st * normal(rng),
-                tip_uy_mm: step.tip_uy_mm + st * normal(rng),
-                angle_deg: step.angle_deg + sa * normal(rng),
+                tip_uz_mm: step.tip_uz_mm + st * standard_normal(rng),
+                tip_uy_mm: step.tip_uy_mm + st * standard_normal(rng),
+                angle_deg: step.angle_deg + sa * standard_normal(rng),
                 angle_std_deg: sa,
             });
         }
@@ -568,21 +569,6 @@ fn draw(options: &[Measurement], count: usize, seed: u64) -> Vec<Measurement> {
         idx.swap(i, j);
     }
     idx[..count].iter().map(|&i| options[i].clone()).collect()
-}
-
-/// A standard normal draw (Box–Muller on two uniforms in (0, 1]).
-fn normal(rng: &mut Xoshiro256PlusPlus) -> f64 {
-    let u = |r: &mut Xoshiro256PlusPlus| ((r.next_u64() >> 11) as f64 + 1.0) / (1u64 << 53) as f64;
-    let (a, b) = (u(rng), u(rng));
-    (-2.0 * a.ln()).sqrt() * (2.0 * std::f64::consts::PI * b).cos()
-}
-
-/// The SplitMix64 finaliser.
-fn splitmix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 #[cfg(test)]

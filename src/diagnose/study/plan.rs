@@ -14,6 +14,7 @@ use crate::diagnose::DiagnoseError;
 use crate::fe::effects::Effects;
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::mesh::{MeshLevel, MeshOptions};
+use crate::random::splitmix64;
 
 /// The `format` field of a study plan.
 pub const PLAN_FORMAT: &str = "surrogate.twin-study-plan";
@@ -265,15 +266,6 @@ impl StudyPlan {
             })
             .collect()
     }
-}
-
-/// The SplitMix64 finaliser (Steele, Lea and Flood 2014): a bijection of `u64` whose
-/// outputs for neighbouring inputs look independent.
-fn splitmix64(mut z: u64) -> u64 {
-    z = z.wrapping_add(0x9E37_79B9_7F4A_7C15);
-    z = (z ^ (z >> 30)).wrapping_mul(0xBF58_476D_1CE4_E5B9);
-    z = (z ^ (z >> 27)).wrapping_mul(0x94D0_49BB_1331_11EB);
-    z ^ (z >> 31)
 }
 
 impl TwinGroup {

@@ -2,6 +2,7 @@
 //! with a program's own ([`EffectRegistry`]): the names the command line, the files and the
 //! sensitivities know.
 
+use std::cell::RefCell;
 use std::collections::BTreeMap;
 
 use serde::de::{DeserializeSeed, Error as _};
@@ -93,16 +94,54 @@ impl Effect {
         find(BUILTIN_EFFECTS, name)
     }
 
+    /// The effect called `name` as a file names it: among the registry of the current
+    /// [`EffectRegistry::reading`] scope on this thread, else the library's.
+    ///
+    /// # Errors
+    /// [`EffectError::Unknown`] listing the names known there.
+    pub fn read_name(name: &str) -> Result<Self, EffectError> {
+        with_reading(|effects| find(effects, name))
+    }
+
     /// Every effect of the library.
     pub fn all() -> impl Iterator<Item = Effect> {
         BUILTIN_EFFECTS.iter().copied()
     }
 }
 
+thread_local! {
+    /// The registry of an [`EffectRegistry::reading`] scope on this thread, if any.
+    static READING: RefCell<Option<Vec<Effect>>> = const { RefCell::new(None) };
+}
+
+/// Calls `f` with the effects that names read from files resolve to on this thread: those of
+/// the innermost [`EffectRegistry::reading`] scope, else the library's.
+fn with_reading<T>(f: impl FnOnce(&[Effect]) -> T) -> T {
+    READING.with(|r| match r.borrow().as_deref() {
+        Some(effects) => f(effects),
+        None => f(BUILTIN_EFFECTS),
+    })
+}
+
+/// Restores the scope that was in force when a [`EffectRegistry::reading`] scope began, also
+/// when its closure panics.
+struct ReadingScope {
+    outer: Option<Vec<Effect>>,
+}
+
+impl Drop for ReadingScope {
+    fn drop(&mut self) {
+        let outer = self.outer.take();
+        READING.with(|r| *r.borrow_mut() = outer);
+    }
+}
+
+/// An effect read by name: among the registry of the current [`EffectRegistry::reading`]
+/// scope, else the library's.
 impl<'de> Deserialize<'de> for Effect {
     fn deserialize<D: Deserializer<'de>>(d: D) -> Result<Self, D::Error> {
         let name = String::deserialize(d)?;
-        Effect::from_name(&name).map_err(serde::de::Error::custom)
+        Effect::read_name(&name).map_err(serde::de::Error::custom)
     }
 }
 
@@ -193,6 +232,26 @@ impl EffectRegistry {
     pub fn effects_from_map(&self, values: BTreeMap<String, f64>) -> Result<Effects, EffectError> {
         from_map(&self.effects, values)
     }
+
+    /// Runs `read` with this registry as the one that effect names in files resolve to, on
+    /// this thread: a plan, a case file, a provenance record or any other file that holds
+    /// [`Effects`] or an [`Effect`] reads a program's own effects inside the scope (outside
+    /// it, only the library's). Scopes nest; the outer one is back when `read` returns or
+    /// panics. Reads on other threads (a `rayon` pool) are not in the scope: start one there.
+    ///
+    /// ```
+    /// use surrogate::fe::effects::{Effect, EffectRegistry, Effects};
+    /// let registry = EffectRegistry::builtin();
+    /// let e: Effects = registry
+    ///     .reading(|| serde_json::from_str(r#"{"gap_bias":-0.2}"#))
+    ///     .unwrap();
+    /// assert_eq!(e.get(Effect::GapBias), -0.2);
+    /// ```
+    pub fn reading<T>(&self, read: impl FnOnce() -> T) -> T {
+        let outer = READING.with(|r| r.borrow_mut().replace(self.effects.clone()));
+        let _restore = ReadingScope { outer };
+        read()
+    }
 }
 
 /// Reads [`Effects`] (a `{name: value}` object) with the registered names:
@@ -205,10 +264,11 @@ impl<'de> DeserializeSeed<'de> for &EffectRegistry {
     }
 }
 
-/// The library's effects of a `{name: value}` map (how [`Effects`] are read from files).
+/// The effects of a `{name: value}` map (how [`Effects`] are read from files): the names among
+/// the registry of the current [`EffectRegistry::reading`] scope, else the library's.
 impl TryFrom<BTreeMap<String, f64>> for Effects {
     type Error = EffectError;
     fn try_from(values: BTreeMap<String, f64>) -> Result<Self, EffectError> {
-        from_map(BUILTIN_EFFECTS, values)
+        with_reading(|effects| from_map(effects, values))
     }
 }

@@ -148,14 +148,15 @@ impl Ranges {
     }
 
     /// The sampled effects and their ranges, in the library's order (the order of their axes
-    /// and columns).
+    /// and columns). A program's own effect is known inside its registry's
+    /// [`reading`](crate::fe::effects::EffectRegistry::reading) scope.
     ///
     /// # Errors
     /// [`SnapshotError::PlanField`] for an unknown effect or a range outside the effect's own.
     pub fn sampled_effects(&self) -> Result<Vec<(Effect, [f64; 2])>, SnapshotError> {
         let mut out = Vec::with_capacity(self.effects.len());
         for (name, &r) in &self.effects {
-            let e = Effect::from_name(name)
+            let e = Effect::read_name(name)
                 .map_err(|err| SnapshotError::field("ranges.effects", name, &err.to_string()))?;
             let info = e.info();
             let expected = format!(
