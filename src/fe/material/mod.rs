@@ -309,11 +309,6 @@ impl Material {
         self.law.initial_shear_modulus()
     }
 
-    /// Ogden parameters `[μ1, α1, μ2, α2]` if the law is [`Ogden2`].
-    pub fn ogden_params(&self) -> Option<[f64; 4]> {
-        self.ogden_set().map(|p| p.as_array())
-    }
-
     /// The Ogden set `(μ1, α1, μ2, α2)` if the law is [`Ogden2`].
     pub fn ogden_set(&self) -> Option<OgdenSet> {
         match &self.law {
