@@ -8,19 +8,20 @@ use std::path::Path;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
+use surrogate::case::OgdenSet;
 use surrogate::design::{search, DesignBounds, DesignSearch, Output, Target};
 use surrogate::rom::data::SnapshotSet;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::{train, Surrogate, TrainConfig};
 
 /// The set calibrated on the shipped experiments (`fe_reference/calibration/surrogate/`).
-const CALIBRATED: [f64; 4] = [
+const CALIBRATED: OgdenSet = OgdenSet::from_array([
     0.03821164173136228,
     5.99612765572898,
     -5.194862363697796,
     -1.996454844367204,
-];
-const OGDEN_002: [f64; 4] = [1.13, 3.11, -13.17, -0.6];
+]);
+const OGDEN_002: OgdenSet = OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]);
 
 fn synthetic() -> Surrogate {
     let cfg = SyntheticConfig {

@@ -9,7 +9,7 @@ use std::hint::black_box;
 use std::time::Duration;
 
 use criterion::{criterion_group, criterion_main, Criterion};
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::predict::{evaluate, evaluate_ramp, RampTables};
 use surrogate::rom::batch::material_params;
 use surrogate::rom::data::SnapshotSet;
@@ -46,10 +46,7 @@ fn bench(c: &mut Criterion) {
         n: 11,
         t_mm: 2.0,
         p_bar: 2.1,
-        mu1: 1.13,
-        alpha1: 3.11,
-        mu2: -13.17,
-        alpha2: -0.6,
+        material: OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
     };
     // the GP kernel vector alone: 300 training points, 6 features
     let (n, d) = (300, 6);
@@ -137,15 +134,11 @@ fn shipped(c: &mut Criterion) {
         .find(|p| p.exists())
         .expect("a shipped model in models/");
     let m = Surrogate::load(&path).unwrap();
-    let [mu1, alpha1, mu2, alpha2] = material_params("ogden_002").unwrap();
     let q = Query {
         n: 11,
         t_mm: 2.0,
         p_bar: 2.1,
-        mu1,
-        alpha1,
-        mu2,
-        alpha2,
+        material: material_params("ogden_002").unwrap(),
     };
     let mut pred = m.new_prediction();
     let mut jac = Jacobian::default();

@@ -11,6 +11,7 @@ use std::path::PathBuf;
 
 use surrogate::calibrate::joint::{identify, JointPoint, JointSettings, ModelSigma, Unknown};
 use surrogate::calibrate::Recordings;
+use surrogate::case::OgdenSet;
 use surrogate::fe::effects::Effects;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::preset::Geometry;
@@ -28,7 +29,7 @@ fn main() -> surrogate::Result<()> {
         unknowns,
         // Ogden 002 (Reppel and Weinberg), the modelled geometry with 2 mm side walls
         start: JointPoint {
-            ogden: [1.13, 3.11, -13.17, -0.6],
+            ogden: OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
             geometry: Geometry {
                 name: "start".into(),
                 side_wall_mm: Some(2.0),

@@ -13,7 +13,8 @@ use std::path::{Path, PathBuf};
 
 use surrogate::calibrate::coverage::{interval_coverage, CoverageSettings};
 use surrogate::calibrate::synthetic::TrueOutputs;
-use surrogate::calibrate::{MaterialCoords, OgdenSet, Recordings};
+use surrogate::calibrate::Recordings;
+use surrogate::case::{MaterialCoords, OgdenSet};
 use surrogate::rom::Surrogate;
 
 const MODEL: &str = "models/actuator_coarse.json";

@@ -37,10 +37,10 @@ fn main() -> Result<(), Box<dyn std::error::Error>> {
         &CalibrationSettings::default(),
         &|_| {},
     )?;
-    let material = cal.best.as_array();
+    let material = cal.best;
     println!(
         "calibrated material: mu1 {:.4} MPa, alpha1 {:.3}, mu2 {:.3} MPa, alpha2 {:.3}",
-        material[0], material[1], material[2], material[3]
+        material.mu1_mpa, material.alpha1, material.mu2_mpa, material.alpha2
     );
     println!("target at {pressure} bar: angle {target_angle}°, blocked force {target_force} N");
 

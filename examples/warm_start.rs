@@ -89,8 +89,9 @@ fn describe(name: &str, r: &Response, cold: Option<&Response>, seconds: f64) {
 
 fn main() -> Result<(), Box<dyn std::error::Error>> {
     let base = Material::from_spec("ogden_002", DEFAULT_BULK_RATIO)?
-        .ogden_params()
-        .ok_or("ogden_002 is an Ogden law")?;
+        .ogden_set()
+        .ok_or("ogden_002 is an Ogden law")?
+        .as_array();
     let parameters = [
         OgdenParameter::Mu1,
         OgdenParameter::Alpha1,

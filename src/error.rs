@@ -24,6 +24,9 @@ use thiserror::Error;
 /// Every error the library's modules return, for callers that chain them.
 #[derive(Debug, Error)]
 pub enum Error {
+    /// A case value that is not admissible (an Ogden set with `μᵢαᵢ ≤ 0`).
+    #[error(transparent)]
+    Case(#[from] crate::case::CaseError),
     /// An invalid actuator design.
     #[error(transparent)]
     Geometry(#[from] crate::fe::geometry::GeometryError),

@@ -14,10 +14,11 @@ use super::objective::{
     Selection, Term, Weights,
 };
 use super::optimise::{multistart, Bound, LocalFit, MultistartSettings, Stop};
-use super::params::{MaterialCoords, OgdenSet, ParamSpace};
+use super::params::ParamSpace;
 use super::study::{per_configuration, PerConfigurationStudy};
 use super::CalibrateError;
 use crate::case::Query;
+use crate::case::{MaterialCoords, OgdenSet};
 use crate::rom::{Prediction, Surrogate};
 
 /// Settings of [`calibrate`].
@@ -414,12 +415,7 @@ fn predict(
     c: &Config,
     p: &OgdenSet,
 ) -> Result<(), CalibrateError> {
-    let q = Query::new(
-        c.n_bellows,
-        c.wall_thickness_mm,
-        c.pressure_bar,
-        p.as_array(),
-    );
+    let q = Query::new(c.n_bellows, c.wall_thickness_mm, c.pressure_bar, *p);
     model.predict_with_std_into(&q, pred)?;
     Ok(())
 }
@@ -442,7 +438,7 @@ fn compare(
                 c.n_bellows,
                 c.wall_thickness_mm,
                 c.pressure_bar,
-                lit.as_array(),
+                *lit,
             ))
             .is_err()
             || !model.n_allowed.contains(&c.n_bellows)

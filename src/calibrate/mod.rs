@@ -110,6 +110,24 @@ pub enum CalibrateError {
     Baseline(#[from] baseline::BaselineError),
 }
 
+/// A case value the ground floor rejects (an inadmissible Ogden set) is a bad input of the
+/// calibration: the same field, value and expectation.
+impl From<crate::case::CaseError> for CalibrateError {
+    fn from(e: crate::case::CaseError) -> Self {
+        match e {
+            crate::case::CaseError::Input {
+                field,
+                value,
+                expected,
+            } => CalibrateError::Input {
+                field,
+                value,
+                expected,
+            },
+        }
+    }
+}
+
 impl CalibrateError {
     pub(crate) fn input(field: &str, value: impl std::fmt::Display, expected: &str) -> Self {
         CalibrateError::Input {

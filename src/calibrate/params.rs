@@ -1,23 +1,15 @@
-//! The fitted quantities: Ogden parameter sets, the coordinates the fit moves in, and the
-//! bounded boxes it moves inside.
+//! The fitted quantities: the coordinates the fit moves in and the bounded boxes it moves
+//! inside. The Ogden set and its sampling coordinates are the ground floor's
+//! ([`OgdenSet`], [`MaterialCoords`], re-exported here; their equations in
+//! [`crate::case::material`]); a literature set by name ([`OgdenSet::literature`]) is here.
 //!
-//! ## Coordinates
+//! ## Spaces
 //!
-//! A second-order Ogden set `(μ₁, α₁, μ₂, α₂)` (ANSYS convention) is admissible when
-//! `μ₁α₁ > 0` and `μ₂α₂ > 0`. The snapshot plans sample, and the surrogate regresses on,
-//!
-//! ```text
-//!   μ0 = ½ (μ₁α₁ + μ₂α₂)      initial shear modulus (MPa)
-//!   s  = μ₁α₁ / (2 μ0)         share of term 1 in μ0, in (0, 1)
-//!   α₁ > 0,  α₂ < 0
-//!   ⇒ μ₁ = 2 s μ0 / α₁,  μ₂ = 2 (1 − s) μ0 / α₂
-//! ```
-//!
-//! so every point of a box in `(ln μ0, s, α₁, α₂)` with `0 < s < 1`, `α₁ > 0 > α₂` is
-//! admissible by construction: the calibrator moves in such a box ([`ParamSpace::Training`],
-//! the surrogate's training domain) and never outside it. The study's procedure moves in a
-//! ±10 % box around a literature set in the raw parameters ([`ParamSpace::Raw`]), checked to
-//! be admissible and inside the training domain at every corner.
+//! Every point of a box in `(ln μ0, s, α₁, α₂)` with `0 < s < 1`, `α₁ > 0 > α₂` is admissible
+//! by construction: the calibrator moves in such a box ([`ParamSpace::Training`], the
+//! surrogate's training domain) and never outside it. The study's procedure moves in a ±10 %
+//! box around a literature set in the raw parameters `(μ₁, α₁, μ₂, α₂)` ([`ParamSpace::Raw`]),
+//! checked to be admissible and inside the training domain at every corner.
 //!
 //! Both spaces map the unit box `u ∈ [0, 1]⁴` linearly onto their box; [`ParamSpace::ogden`]
 //! and [`ParamSpace::ogden_jacobian`] give the set and `∂(μ₁, α₁, μ₂, α₂)/∂u`.
@@ -25,61 +17,10 @@
 use serde::{Deserialize, Serialize};
 
 use super::CalibrateError;
+pub use crate::case::material::{MaterialCoords, OgdenSet, COORD_NAMES, NAMES};
 use crate::rom::Surrogate;
-use crate::schema;
-
-/// A second-order Ogden parameter set (ANSYS convention), admissible (`μᵢαᵢ > 0`).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct OgdenSet {
-    /// `μ₁` (MPa).
-    pub mu1_mpa: f64,
-    /// `α₁`.
-    pub alpha1: f64,
-    /// `μ₂` (MPa).
-    pub mu2_mpa: f64,
-    /// `α₂`.
-    pub alpha2: f64,
-}
 
 impl OgdenSet {
-    /// A validated set.
-    ///
-    /// # Errors
-    /// [`CalibrateError::Input`] for a non-finite value or `μᵢαᵢ ≤ 0`.
-    pub fn new(
-        mu1_mpa: f64,
-        alpha1: f64,
-        mu2_mpa: f64,
-        alpha2: f64,
-    ) -> Result<Self, CalibrateError> {
-        let p = OgdenSet {
-            mu1_mpa,
-            alpha1,
-            mu2_mpa,
-            alpha2,
-        };
-        for (name, v) in NAMES.iter().zip(p.as_array()) {
-            if !v.is_finite() {
-                return Err(CalibrateError::input(name, v, "a finite number"));
-            }
-        }
-        if mu1_mpa * alpha1 <= 0.0 {
-            return Err(CalibrateError::input(
-                "mu1*alpha1",
-                mu1_mpa * alpha1,
-                "> 0 (admissible Ogden term)",
-            ));
-        }
-        if mu2_mpa * alpha2 <= 0.0 {
-            return Err(CalibrateError::input(
-                "mu2*alpha2",
-                mu2_mpa * alpha2,
-                "> 0 (admissible Ogden term)",
-            ));
-        }
-        Ok(p)
-    }
-
     /// A literature set by name (`ogden_002`, `ogden_005`).
     ///
     /// # Errors
@@ -88,107 +29,10 @@ impl OgdenSet {
         let m =
             crate::fe::material::Material::from_spec(name, crate::fe::material::DEFAULT_BULK_RATIO)
                 .map_err(|e| CalibrateError::input("material", name, &e.expected()))?;
-        let [a, b, c, d] = m
-            .ogden_params()
+        let set = m
+            .ogden_set()
             .ok_or_else(|| CalibrateError::input("material", name, "a two-term Ogden set"))?;
-        Self::new(a, b, c, d)
-    }
-
-    /// From the sampling coordinates `(μ0, s, α₁, α₂)`.
-    ///
-    /// # Errors
-    /// `μ0 ≤ 0`, `s ∉ (0, 1)`, `α₁ ≤ 0` or `α₂ ≥ 0`.
-    pub fn from_coords(c: MaterialCoords) -> Result<Self, CalibrateError> {
-        if !(c.mu0_mpa > 0.0 && c.share > 0.0 && c.share < 1.0 && c.alpha1 > 0.0 && c.alpha2 < 0.0)
-        {
-            return Err(CalibrateError::input(
-                "material coordinates",
-                format!("{c:?}"),
-                "mu0 > 0, 0 < share < 1, alpha1 > 0 > alpha2",
-            ));
-        }
-        Self::new(
-            2.0 * c.share * c.mu0_mpa / c.alpha1,
-            c.alpha1,
-            2.0 * (1.0 - c.share) * c.mu0_mpa / c.alpha2,
-            c.alpha2,
-        )
-    }
-
-    /// Each parameter rounded to `digits` significant digits (the set as reported; the FE
-    /// verification runs this set, so that its cached ramps survive changes in the last
-    /// digits of the optimiser).
-    pub fn rounded(&self, digits: i32) -> Self {
-        let r = |v: f64| {
-            if v == 0.0 {
-                return 0.0;
-            }
-            let e = digits - 1 - v.abs().log10().floor() as i32;
-            let f = 10f64.powi(e);
-            (v * f).round() / f
-        };
-        OgdenSet {
-            mu1_mpa: r(self.mu1_mpa),
-            alpha1: r(self.alpha1),
-            mu2_mpa: r(self.mu2_mpa),
-            alpha2: r(self.alpha2),
-        }
-    }
-
-    /// `[μ₁, α₁, μ₂, α₂]`.
-    pub fn as_array(&self) -> [f64; 4] {
-        [self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2]
-    }
-
-    /// Initial shear modulus `μ0 = ½ Σ μᵢαᵢ` (MPa).
-    pub fn mu0_mpa(&self) -> f64 {
-        0.5 * (self.mu1_mpa * self.alpha1 + self.mu2_mpa * self.alpha2)
-    }
-
-    /// The sampling coordinates `(μ0, s, α₁, α₂)`.
-    pub fn coords(&self) -> MaterialCoords {
-        let (k1, k2) = (self.mu1_mpa * self.alpha1, self.mu2_mpa * self.alpha2);
-        MaterialCoords {
-            mu0_mpa: 0.5 * (k1 + k2),
-            share: k1 / (k1 + k2),
-            alpha1: self.alpha1,
-            alpha2: self.alpha2,
-        }
-    }
-
-    /// The material spec the FE model and the CLI accept: `mu1,alpha1,mu2,alpha2`.
-    pub fn spec(&self) -> String {
-        format!(
-            "{},{},{},{}",
-            self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2
-        )
-    }
-}
-
-/// Names of the Ogden parameters, in [`OgdenSet::as_array`] order ([`schema::OGDEN_COLUMNS`]).
-pub const NAMES: [&str; 4] = schema::names(&schema::OGDEN_COLUMNS);
-
-/// Names of the sampling coordinates, in [`MaterialCoords::as_array`] order
-/// ([`schema::OGDEN_COORDINATES`]).
-pub const COORD_NAMES: [&str; 4] = schema::names(&schema::OGDEN_COORDINATES);
-
-/// The sampling coordinates of an Ogden set (see the [module docs](self)).
-#[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
-pub struct MaterialCoords {
-    /// Initial shear modulus `μ0` (MPa).
-    pub mu0_mpa: f64,
-    /// Share `s` of term 1 in `μ0`.
-    pub share: f64,
-    /// `α₁`.
-    pub alpha1: f64,
-    /// `α₂`.
-    pub alpha2: f64,
-}
-
-impl MaterialCoords {
-    /// `[μ0, s, α₁, α₂]`.
-    pub fn as_array(&self) -> [f64; 4] {
-        [self.mu0_mpa, self.share, self.alpha1, self.alpha2]
+        Ok(Self::new(set.mu1_mpa, set.alpha1, set.mu2_mpa, set.alpha2)?)
     }
 }
 
@@ -337,13 +181,13 @@ impl ParamSpace {
     pub fn ogden(&self, u: &[f64; 4]) -> Result<OgdenSet, CalibrateError> {
         let x = self.x(u);
         match self {
-            ParamSpace::Training { .. } => OgdenSet::from_coords(MaterialCoords {
+            ParamSpace::Training { .. } => Ok(OgdenSet::from_coords(MaterialCoords {
                 mu0_mpa: x[0].exp(),
                 share: x[1],
                 alpha1: x[2],
                 alpha2: x[3],
-            }),
-            ParamSpace::Raw { .. } => OgdenSet::new(x[0], x[1], x[2], x[3]),
+            })?),
+            ParamSpace::Raw { .. } => Ok(OgdenSet::new(x[0], x[1], x[2], x[3])?),
         }
     }
 
@@ -416,13 +260,6 @@ mod tests {
         for (a, b) in p.as_array().iter().zip(r.as_array()) {
             assert!((a - b).abs() < 1e-12 * a.abs());
         }
-    }
-
-    #[test]
-    fn rounding_keeps_significant_digits() {
-        let p = OgdenSet::new(0.038_249, 5.996_127, -5.194_93, -1.996_45).unwrap();
-        let r = p.rounded(4);
-        assert_eq!(r.as_array(), [0.03825, 5.996, -5.195, -1.996]);
     }
 
     #[test]

@@ -14,8 +14,10 @@ use super::baseline::in_paper_nine;
 use super::experiments::bending_error;
 use super::objective::{Config, Evaluator, ObservationSet, Recordings, Selection, Weights};
 use super::optimise::{multistart, MultistartSettings};
-use super::params::{OgdenSet, ParamSpace, NAMES};
+use super::params::ParamSpace;
 use super::CalibrateError;
+use crate::case::material::NAMES;
+use crate::case::OgdenSet;
 use crate::case::Query;
 use crate::rom::Surrogate;
 
@@ -161,12 +163,7 @@ pub fn per_configuration(
         let params = space.ogden(&f[0].u)?;
         let (uz, uy) = (set.obs[0].value, set.obs[1].value);
         let mut be = |p: &OgdenSet| -> Result<f64, CalibrateError> {
-            let q = Query::new(
-                c.n_bellows,
-                c.wall_thickness_mm,
-                c.pressure_bar,
-                p.as_array(),
-            );
+            let q = Query::new(c.n_bellows, c.wall_thickness_mm, c.pressure_bar, *p);
             model.predict_scalars_into(&q, &mut pred)?;
             Ok(bending_error(uz, uy, pred.tip_uz_mm(), pred.tip_uy_mm()))
         };

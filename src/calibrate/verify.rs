@@ -17,8 +17,8 @@ use super::baseline::{
     cached_baseline, run_baseline, summarize, BaselineRow, BaselineSummary, SweepSettings,
 };
 use super::objective::{Config, Recordings};
-use super::params::OgdenSet;
 use super::CalibrateError;
+use crate::case::OgdenSet;
 use crate::case::Query;
 use crate::fe::material::{Material, MaterialLaw, Ogden2, DEFAULT_BULK_RATIO};
 use crate::fe::mesh::MeshOptions;
@@ -74,7 +74,7 @@ pub struct FeVerification {
 /// # Errors
 /// An inadmissible set (cannot happen for a validated [`OgdenSet`]).
 pub fn fe_material(p: &OgdenSet) -> Result<Material, CalibrateError> {
-    let law = Ogden2::new(p.mu1_mpa, p.alpha1, p.mu2_mpa, p.alpha2)
+    let law = Ogden2::try_from(*p)
         .map_err(|e| CalibrateError::input("material", p.spec(), &e.expected()))?;
     Material::new(MaterialLaw::Ogden(law), DEFAULT_BULK_RATIO)
         .map_err(|e| CalibrateError::input("material", p.spec(), &e.expected()))
@@ -134,12 +134,7 @@ pub fn compare_fe(
     let mut designs = Vec::new();
     for r in &rows {
         let c = Config::of(r.n_bellows, r.wall_thickness_mm, r.pressure_bar);
-        let q = Query::new(
-            c.n_bellows,
-            c.wall_thickness_mm,
-            c.pressure_bar,
-            params.as_array(),
-        );
+        let q = Query::new(c.n_bellows, c.wall_thickness_mm, c.pressure_bar, *params);
         model.predict_with_std_into(&q, &mut pred)?;
         let sur = [pred.tip_uz_mm(), pred.tip_uy_mm(), pred.force_n()];
         let std = [pred.std[Q_TIP_UZ], pred.std[Q_TIP_UY], pred.std[Q_FORCE]];

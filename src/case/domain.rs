@@ -48,6 +48,7 @@ use serde::{Deserialize, Serialize};
 
 use super::features::{raw_features, FeatureScaler};
 use super::inputs::{CaseInputs, Query};
+use super::OgdenSet;
 use crate::schema;
 use surrogate_predict::N_FEATURES;
 
@@ -296,7 +297,8 @@ impl Domain {
     /// The values of `q` in [`DOMAIN_INPUTS`] order (`μ0` and `s` are NaN-free only for an
     /// admissible material) and whether the material is admissible.
     fn values(q: &Query) -> ([f64; 7], bool) {
-        let (k1, k2) = (q.mu1 * q.alpha1, q.mu2 * q.alpha2);
+        let m = &q.material;
+        let (k1, k2) = (m.mu1_mpa * m.alpha1, m.mu2_mpa * m.alpha2);
         let mu0 = 0.5 * (k1 + k2);
         let values = [
             f64::from(q.n),
@@ -304,8 +306,8 @@ impl Domain {
             q.p_bar,
             mu0,
             k1 / (k1 + k2),
-            q.alpha1,
-            q.alpha2,
+            m.alpha1,
+            m.alpha2,
         ];
         (values, k1 > 0.0 && k2 > 0.0)
     }
@@ -356,10 +358,12 @@ impl Domain {
             .any(|&i| moved(DOMAIN_INPUTS[i].name))
         {
             let (mu0, s, a1, a2) = (v[3], v[4], v[5], v[6]);
-            out.mu1 = 2.0 * s * mu0 / a1;
-            out.alpha1 = a1;
-            out.mu2 = 2.0 * (1.0 - s) * mu0 / a2;
-            out.alpha2 = a2;
+            out.material = OgdenSet {
+                mu1_mpa: 2.0 * s * mu0 / a1,
+                alpha1: a1,
+                mu2_mpa: 2.0 * (1.0 - s) * mu0 / a2,
+                alpha2: a2,
+            };
         }
         (out, notes)
     }
@@ -403,13 +407,13 @@ impl Domain {
         out
     }
 
-    /// Whether the Ogden set `[μ₁, α₁, μ₂, α₂]` lies inside the material part of the domain.
-    pub fn contains_material(&self, m: [f64; 4]) -> bool {
+    /// Whether the Ogden set lies inside the material part of the domain.
+    pub fn contains_material(&self, m: OgdenSet) -> bool {
         let n = self.n_bellows.first().copied().unwrap_or(0);
         let t = self.ranges[1].map_or(0.0, |r| r[0]);
         let p = self.ranges[2].map_or(0.0, |r| r[0]);
         let q = Query::new(n, t, p, m);
-        (q.mu1 * q.alpha1 > 0.0 && q.mu2 * q.alpha2 > 0.0) && self.violations(&q).is_empty()
+        (m.mu1_mpa * m.alpha1 > 0.0 && m.mu2_mpa * m.alpha2 > 0.0) && self.violations(&q).is_empty()
     }
 }
 

@@ -42,14 +42,15 @@ pub const FEATURE_NAMES: [&str; N_FEATURES] = [
 
 /// Raw features of a case (`μᵢαᵢ > 0` is assumed validated).
 pub fn raw_features(c: &CaseInputs) -> [f64; N_FEATURES] {
-    let (k1, k2) = (c.mu1_mpa * c.alpha1, c.mu2_mpa * c.alpha2);
+    let m = &c.material;
+    let (k1, k2) = (m.mu1_mpa * m.alpha1, m.mu2_mpa * m.alpha2);
     [
         c.n_bellows as f64,
         c.wall_thickness_mm,
         (0.5 * (k1 + k2)).ln(),
-        c.alpha1,
+        m.alpha1,
         k1 / (k1 + k2),
-        c.alpha2,
+        m.alpha2,
     ]
 }
 

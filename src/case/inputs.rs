@@ -1,67 +1,95 @@
 //! The inputs of a case: its design and Ogden material ([`CaseInputs`], a case of a snapshot
 //! set), and the same at a pressure ([`Query`], where a surrogate is evaluated).
 
+use serde::{Deserialize, Serialize};
+
+use super::OgdenSet;
+
 /// Design and material of a case (everything but the pressure).
-#[derive(Debug, Clone, Copy, PartialEq, serde::Serialize, serde::Deserialize)]
+///
+/// Its serde shape is flat, the columns of a snapshot file:
+/// `n_bellows, wall_thickness_mm, mu1_mpa, alpha1, mu2_mpa, alpha2`.
+#[derive(Debug, Clone, Copy, PartialEq, Serialize, Deserialize)]
+#[serde(from = "FlatCaseInputs", into = "FlatCaseInputs")]
 pub struct CaseInputs {
     /// Number of bellows `N`.
     pub n_bellows: u32,
     /// Wall thickness `T`, mm.
     pub wall_thickness_mm: f64,
-    /// Ogden `μ₁`, MPa.
-    pub mu1_mpa: f64,
-    /// Ogden `α₁`.
-    pub alpha1: f64,
-    /// Ogden `μ₂`, MPa.
-    pub mu2_mpa: f64,
-    /// Ogden `α₂`.
-    pub alpha2: f64,
+    /// The Ogden material.
+    pub material: OgdenSet,
 }
 
-/// A surrogate query (the public inputs; the material as the four Ogden parameters).
+/// The flat serde shape of [`CaseInputs`] (a `#[serde(flatten)]` field would not go through
+/// the `csv` crate).
+#[derive(Serialize, Deserialize)]
+struct FlatCaseInputs {
+    n_bellows: u32,
+    wall_thickness_mm: f64,
+    mu1_mpa: f64,
+    alpha1: f64,
+    mu2_mpa: f64,
+    alpha2: f64,
+}
+
+impl From<FlatCaseInputs> for CaseInputs {
+    fn from(f: FlatCaseInputs) -> Self {
+        CaseInputs {
+            n_bellows: f.n_bellows,
+            wall_thickness_mm: f.wall_thickness_mm,
+            material: OgdenSet {
+                mu1_mpa: f.mu1_mpa,
+                alpha1: f.alpha1,
+                mu2_mpa: f.mu2_mpa,
+                alpha2: f.alpha2,
+            },
+        }
+    }
+}
+
+impl From<CaseInputs> for FlatCaseInputs {
+    fn from(c: CaseInputs) -> Self {
+        let m = c.material;
+        FlatCaseInputs {
+            n_bellows: c.n_bellows,
+            wall_thickness_mm: c.wall_thickness_mm,
+            mu1_mpa: m.mu1_mpa,
+            alpha1: m.alpha1,
+            mu2_mpa: m.mu2_mpa,
+            alpha2: m.alpha2,
+        }
+    }
+}
+
+/// A surrogate query: the design, the gauge pressure and the Ogden material. The field names
+/// are the embedded predictor's inputs (`n, t_mm, p_bar`, then the material; see
+/// [`Self::as_array`]).
 #[derive(Debug, Clone, Copy, PartialEq)]
 pub struct Query {
-    /// Number of bellows.
+    /// Number of bellows `N`.
     pub n: u32,
-    /// Wall thickness, mm.
+    /// Wall thickness `T`, mm.
     pub t_mm: f64,
-    /// Gauge pressure, bar.
+    /// Gauge pressure `P`, bar.
     pub p_bar: f64,
-    /// Ogden `μ₁`, MPa.
-    pub mu1: f64,
-    /// Ogden `α₁`.
-    pub alpha1: f64,
-    /// Ogden `μ₂`, MPa.
-    pub mu2: f64,
-    /// Ogden `α₂`.
-    pub alpha2: f64,
+    /// The Ogden material.
+    pub material: OgdenSet,
 }
 
 impl Query {
-    /// A query from the design, the pressure and the Ogden parameters `[μ₁, α₁, μ₂, α₂]`.
-    pub fn new(n: u32, t_mm: f64, p_bar: f64, material: [f64; 4]) -> Self {
+    /// A query from the design `(N, T)`, the pressure (bar) and the material.
+    pub fn new(n: u32, t_mm: f64, p_bar: f64, material: OgdenSet) -> Self {
         Query {
             n,
             t_mm,
             p_bar,
-            mu1: material[0],
-            alpha1: material[1],
-            mu2: material[2],
-            alpha2: material[3],
+            material,
         }
     }
 
     /// The query of a case at pressure `p_bar`.
     pub fn from_case(c: &CaseInputs, p_bar: f64) -> Self {
-        Query {
-            n: c.n_bellows,
-            t_mm: c.wall_thickness_mm,
-            p_bar,
-            mu1: c.mu1_mpa,
-            alpha1: c.alpha1,
-            mu2: c.mu2_mpa,
-            alpha2: c.alpha2,
-        }
+        Query::new(c.n_bellows, c.wall_thickness_mm, p_bar, c.material)
     }
 
     /// The design and material of the query, as a case of the snapshot set.
@@ -69,23 +97,62 @@ impl Query {
         CaseInputs {
             n_bellows: self.n,
             wall_thickness_mm: self.t_mm,
-            mu1_mpa: self.mu1,
-            alpha1: self.alpha1,
-            mu2_mpa: self.mu2,
-            alpha2: self.alpha2,
+            material: self.material,
         }
     }
 
-    /// The inputs as `[N, T, P, μ₁, α₁, μ₂, α₂]`.
+    /// The inputs as `[N, T, P, μ₁, α₁, μ₂, α₂]` (the embedded predictor's input).
     pub fn as_array(&self) -> [f64; 7] {
+        let m = &self.material;
         [
             self.n as f64,
             self.t_mm,
             self.p_bar,
-            self.mu1,
-            self.alpha1,
-            self.mu2,
-            self.alpha2,
+            m.mu1_mpa,
+            m.alpha1,
+            m.mu2_mpa,
+            m.alpha2,
         ]
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    const CASE: CaseInputs = CaseInputs {
+        n_bellows: 11,
+        wall_thickness_mm: 2.0,
+        material: OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
+    };
+
+    #[test]
+    fn case_inputs_keep_their_flat_shape_in_json_and_csv() {
+        let json = serde_json::to_string(&CASE).unwrap();
+        assert_eq!(
+            json,
+            r#"{"n_bellows":11,"wall_thickness_mm":2.0,"mu1_mpa":1.13,"alpha1":3.11,"mu2_mpa":-13.17,"alpha2":-0.6}"#
+        );
+        assert_eq!(serde_json::from_str::<CaseInputs>(&json).unwrap(), CASE);
+        let mut w = csv::Writer::from_writer(Vec::new());
+        w.serialize(CASE).unwrap();
+        let text = String::from_utf8(w.into_inner().unwrap()).unwrap();
+        assert_eq!(
+            text,
+            "n_bellows,wall_thickness_mm,mu1_mpa,alpha1,mu2_mpa,alpha2\n11,2.0,1.13,3.11,-13.17,-0.6\n"
+        );
+        let back: CaseInputs = csv::Reader::from_reader(text.as_bytes())
+            .deserialize()
+            .next()
+            .unwrap()
+            .unwrap();
+        assert_eq!(back, CASE);
+    }
+
+    #[test]
+    fn a_query_round_trips_through_its_case() {
+        let q = Query::from_case(&CASE, 2.5);
+        assert_eq!(q.case(), CASE);
+        assert_eq!(q.as_array(), [11.0, 2.0, 2.5, 1.13, 3.11, -13.17, -0.6]);
     }
 }

@@ -8,15 +8,16 @@ use serde::{Deserialize, Serialize};
 use super::problem::{buildable_t_max, check_material, check_pressure, check_t, geometry};
 use super::target::Output;
 use super::DesignError;
-use crate::case::Query;
+use crate::case::{OgdenSet, Query};
 use crate::rom::Surrogate;
 use crate::schema;
 
 /// The predicted outputs over a grid of `(N, T, P)` ([`map`]).
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DesignMap {
-    /// The material `[μ₁ MPa, α₁, μ₂ MPa, α₂]`.
-    pub material: [f64; 4],
+    /// The material (in the file: `[μ₁ MPa, α₁, μ₂ MPa, α₂]`).
+    #[serde(with = "crate::case::material::array")]
+    pub material: OgdenSet,
     /// The outputs.
     pub outputs: Vec<Output>,
     /// The pressures, bar.
@@ -136,11 +137,13 @@ fn check_grid(
 /// [module docs](super)).
 ///
 /// ```
+/// use surrogate::case::OgdenSet;
 /// use surrogate::design::{map, Output};
 /// use surrogate::rom::Surrogate;
 ///
 /// let model = Surrogate::load(std::path::Path::new("models/actuator.json"))?;
-/// let m = map(&model, [0.0382, 5.996, -5.195, -1.996], &[Output::AngleDeg], &[2.0], &[9, 13], &[1.4, 2.0, 2.6])?;
+/// let material = OgdenSet::from_array([0.0382, 5.996, -5.195, -1.996]);
+/// let m = map(&model, material, &[Output::AngleDeg], &[2.0], &[9, 13], &[1.4, 2.0, 2.6])?;
 /// // a thinner wall bends more
 /// assert!(m.value(0, 0, 0, 0) > m.value(0, 0, 0, 2));
 /// # Ok::<(), Box<dyn std::error::Error>>(())
@@ -151,7 +154,7 @@ fn check_grid(
 /// outside the model's ranges, a material the model refuses or outside its domain.
 pub fn map(
     model: &Surrogate,
-    material: [f64; 4],
+    material: OgdenSet,
     outputs: &[Output],
     pressures: &[f64],
     n_values: &[u32],

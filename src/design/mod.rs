@@ -58,11 +58,12 @@
 //! ## Example
 //!
 //! ```
+//! use surrogate::case::OgdenSet;
 //! use surrogate::design::{search, DesignBounds, DesignSearch, Output, Target};
 //! use surrogate::rom::Surrogate;
 //!
 //! let model = Surrogate::load(std::path::Path::new("models/actuator.json"))?;
-//! let material = [0.0382, 5.996, -5.195, -1.996];
+//! let material = OgdenSet::from_array([0.0382, 5.996, -5.195, -1.996]);
 //! let targets = [
 //!     Target::new(Output::AngleDeg, 2.0, 40.0, 1.0),
 //!     Target::new(Output::ForceN, 2.0, 1.3, 0.05),

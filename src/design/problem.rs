@@ -6,7 +6,7 @@ use std::ops::Range;
 use super::report::TLimit;
 use super::target::{model_t_range, DesignBounds, DesignSearch, Target};
 use super::DesignError;
-use crate::case::{Query, BOUND_TOLERANCE};
+use crate::case::{OgdenSet, Query, BOUND_TOLERANCE};
 use crate::fe::preset::Geometry;
 use crate::rom::{Jacobian, Prediction, Surrogate};
 use crate::schema::DOMAIN_INPUTS;
@@ -34,9 +34,9 @@ fn slack(lo: f64, hi: f64) -> f64 {
 
 /// Checks a material: four finite numbers the model accepts, inside its training domain
 /// (within the domain's tolerance, onto whose ends it is moved).
-pub(super) fn check_material(model: &Surrogate, m: [f64; 4]) -> Result<[f64; 4], DesignError> {
-    let shown = || format!("{m:?}");
-    if m.iter().any(|v| !v.is_finite()) {
+pub(super) fn check_material(model: &Surrogate, m: OgdenSet) -> Result<OgdenSet, DesignError> {
+    let shown = || format!("{:?}", m.as_array());
+    if m.as_array().iter().any(|v| !v.is_finite()) {
         return Err(DesignError::invalid(
             "material",
             shown(),
@@ -71,7 +71,7 @@ pub(super) fn check_material(model: &Surrogate, m: [f64; 4]) -> Result<[f64; 4],
             ),
         ));
     }
-    Ok([q.mu1, q.alpha1, q.mu2, q.alpha2])
+    Ok(q.material)
 }
 
 /// Checks a pressure: finite and inside the model's grid.
@@ -260,7 +260,7 @@ pub(super) struct Eval {
 /// A validated problem (see the [module docs](super)).
 pub(super) struct Problem<'a> {
     pub model: &'a Surrogate,
-    pub material: [f64; 4],
+    pub material: OgdenSet,
     pub targets: &'a [Target],
     pub groups: Vec<PressureGroup>,
     pub n_values: Vec<u32>,
@@ -275,7 +275,7 @@ impl<'a> Problem<'a> {
     /// Checks every input against the model.
     pub fn new(
         model: &'a Surrogate,
-        material: [f64; 4],
+        material: OgdenSet,
         targets: &'a [Target],
         bounds: &DesignBounds,
         settings: &DesignSearch,

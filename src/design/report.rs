@@ -6,6 +6,7 @@ use std::fmt;
 use serde::{Deserialize, Serialize};
 
 use super::target::{Output, Target};
+use crate::case::OgdenSet;
 use crate::rom::model_form;
 
 /// How a search in `T` from one start ended ([module docs](super)).
@@ -192,8 +193,9 @@ pub struct Evaluations {
 /// The result of [`super::search`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct DesignReport {
-    /// The material `[μ₁ MPa, α₁, μ₂ MPa, α₂]` the outputs were predicted with.
-    pub material: [f64; 4],
+    /// The material the outputs were predicted with (in the file: `[μ₁ MPa, α₁, μ₂ MPa, α₂]`).
+    #[serde(with = "crate::case::material::array")]
+    pub material: OgdenSet,
     /// The targets.
     pub targets: Vec<Target>,
     /// The geometry preset buildability was judged with.

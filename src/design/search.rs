@@ -8,7 +8,7 @@ use super::report::{
 };
 use super::target::{DesignBounds, DesignSearch, Target};
 use super::DesignError;
-use crate::case::Query;
+use crate::case::{OgdenSet, Query};
 use crate::rom::{Jacobian, Prediction, Surrogate};
 
 /// The designs `(N, T)` of least cost `Φ` for `targets`, one per `N` the model predicts
@@ -22,7 +22,7 @@ use crate::rom::{Jacobian, Prediction, Surrogate};
 /// [`DesignError::NoBuildableDesign`] when no `N` has a buildable wall inside the bounds.
 pub fn search(
     model: &Surrogate,
-    material: [f64; 4],
+    material: OgdenSet,
     targets: &[Target],
     bounds: &DesignBounds,
     settings: &DesignSearch,

@@ -350,7 +350,7 @@ fn marker_of(o: Output) -> Option<u8> {
 
 /// The recordings inside the surrogate's domain, and the rows left out (in words).
 fn in_domain(model: &Surrogate, cal: &Calibration, rec: &Recordings) -> (Recordings, Vec<String>) {
-    let m = cal.best.as_array();
+    let m = cal.best;
     let inside = |n: usize, t: f64, p: f64| {
         model.n_allowed.contains(&(n as u32))
             && model.check_query(&Query::new(n as u32, t, p, m)).is_ok()

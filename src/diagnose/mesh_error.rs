@@ -33,7 +33,7 @@ use super::cells::Cell;
 use super::DiagnoseError;
 use crate::calibrate::objective::Evaluator;
 use crate::calibrate::params::ParamSpace;
-use crate::calibrate::OgdenSet;
+use crate::case::OgdenSet;
 use crate::rom::Surrogate;
 
 /// The unit of a model error's size: multiples of `d` (reference − model).

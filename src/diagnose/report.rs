@@ -12,7 +12,8 @@ use super::sweep::{check_built_as, SweepCoverage};
 use super::DiagnoseError;
 use crate::calibrate::fit::describe_exclusions;
 use crate::calibrate::inputs::InputFile;
-use crate::calibrate::{calibrate, Calibration, CalibrationSettings, OgdenSet, Recordings};
+use crate::calibrate::{calibrate, Calibration, CalibrationSettings, Recordings};
+use crate::case::OgdenSet;
 use crate::rom::Surrogate;
 
 /// The `format` field of a diagnosis report.

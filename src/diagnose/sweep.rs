@@ -15,7 +15,8 @@ use crate::calibrate::baseline::{
     cached_ramps, recorded_designs, run_ramps, SweepSensitivities, SweepSettings,
     SWEEP_MAX_PRESSURE_INCREMENT, SWEEP_RTOL,
 };
-use crate::calibrate::{CalibrateError, OgdenSet, Recordings};
+use crate::calibrate::{CalibrateError, Recordings};
+use crate::case::OgdenSet;
 use crate::fe::effects::{Effect, Effects};
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::mesh::MeshOptions;

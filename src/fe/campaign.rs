@@ -30,6 +30,7 @@ use super::runner::{
 };
 use super::sensitivity::Parameter;
 use super::simulate::{Case, Response};
+use crate::case::OgdenSet;
 
 pub use super::runner::{Link, WarmOrder, WarmPool};
 
@@ -209,8 +210,9 @@ fn campaign_ramp(r: &CaseReport<Ramp, Ramp>) -> CampaignRamp {
 pub struct SweepBench {
     /// What was run.
     pub description: String,
-    /// The materials `[μ₁, α₁, μ₂, α₂]`.
-    pub materials: Vec<[f64; 4]>,
+    /// The materials (in the file: `[μ₁, α₁, μ₂, α₂]` each).
+    #[serde(with = "crate::case::material::arrays")]
+    pub materials: Vec<OgdenSet>,
     /// The designs `(N, T)`.
     pub designs: Vec<(usize, f64)>,
     /// Worker threads.
@@ -270,13 +272,14 @@ pub struct RampRow {
     pub error: Option<String>,
 }
 
-/// The materials of the benchmark: `count` points of a seeded Latin hypercube around `centre`
-/// (`[μ₁, α₁, μ₂, α₂]`), `μ0` scaled by a factor log-uniform in `[1/(1+span), 1+span]` (μ₁ and
-/// μ₂ together) and `α₁` by one uniform in `[1 − span/2, 1 + span/2]`.
-pub fn bench_materials(centre: [f64; 4], count: usize, span: f64, seed: u64) -> Vec<[f64; 4]> {
+/// The materials of the benchmark: `count` points of a seeded Latin hypercube around the set
+/// `centre`, `μ0` scaled by a factor log-uniform in `[1/(1+span), 1+span]` (μ₁ and μ₂
+/// together) and `α₁` by one uniform in `[1 − span/2, 1 + span/2]`.
+pub fn bench_materials(centre: OgdenSet, count: usize, span: f64, seed: u64) -> Vec<OgdenSet> {
     use rand::seq::SliceRandom;
     use rand::{Rng, SeedableRng};
     let mut rng = rand::rngs::StdRng::seed_from_u64(seed);
+    let centre = centre.as_array();
     let mut strata: [Vec<usize>; 2] = [(0..count).collect(), (0..count).collect()];
     for s in &mut strata {
         s.shuffle(&mut rng);
@@ -287,7 +290,7 @@ pub fn bench_materials(centre: [f64; 4], count: usize, span: f64, seed: u64) -> 
                 [0, 1].map(|d| (strata[d][i] as f64 + rng.gen::<f64>()) / count as f64);
             let mu = ((1.0 + span).ln() * (2.0 * u[0] - 1.0)).exp();
             let alpha = 1.0 + span * (u[1] - 0.5);
-            [centre[0] * mu, centre[1] * alpha, centre[2] * mu, centre[3]]
+            OgdenSet::from_array([centre[0] * mu, centre[1] * alpha, centre[2] * mu, centre[3]])
         })
         .collect()
 }
@@ -299,9 +302,9 @@ pub fn bench_materials(centre: [f64; 4], count: usize, span: f64, seed: u64) -> 
 /// # Errors
 /// An invalid campaign.
 pub fn bench_material_sweep(
-    materials: &[[f64; 4]],
+    materials: &[OgdenSet],
     designs: &[(usize, f64)],
-    case: impl Fn([f64; 4], (usize, f64)) -> Case,
+    case: impl Fn(OgdenSet, (usize, f64)) -> Case,
     orders: &[WarmOrder],
     progress: impl Fn(WarmOrder, usize, usize) + Sync,
 ) -> Result<SweepBench, CampaignError> {
@@ -314,13 +317,16 @@ pub fn bench_material_sweep(
     ]
     .map(Parameter::Material)
     .to_vec();
-    let centre = materials.first().copied().unwrap_or_default();
+    let centre = materials
+        .first()
+        .map(OgdenSet::as_array)
+        .unwrap_or_default();
     let cases: Vec<CampaignCase> = designs
         .iter()
         .flat_map(|&d| materials.iter().map(move |&m| (m, d)))
         .map(|(m, d)| CampaignCase {
             case: case(m, d),
-            point: m.to_vec(),
+            point: m.as_array().to_vec(),
         })
         .collect();
     let mut rows: Vec<BenchRow> = Vec::new();

@@ -30,23 +30,23 @@ use serde::Serialize;
 use super::model_form::ModelFormEstimate;
 use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES};
-use crate::case::{BatchDomainReport, BoundSnap, DomainViolation, Query};
+use crate::case::{BatchDomainReport, BoundSnap, DomainViolation, OgdenSet, Query};
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::simulate::Marker;
 use crate::schema;
 
-/// Ogden parameters `[μ₁, α₁, μ₂, α₂]` of a material spec (a literature name, four numbers
+/// The Ogden set of a material spec (a literature name, four numbers
 /// `mu1,alpha1,mu2,alpha2`, or a calibration report file `DIR/report.json`:
 /// [`super::material_spec`]), parsed and checked by [`Material::from_spec`].
 ///
 /// # Errors
 /// Unknown name, malformed numbers, an unreadable report, an inadmissible set, or a
 /// non-Ogden law (the surrogate is parametrised by the Ogden constants).
-pub fn material_params(spec: &str) -> Result<[f64; 4], RomError> {
+pub fn material_params(spec: &str) -> Result<OgdenSet, RomError> {
     let expanded = super::material_spec::expand(spec)?;
     let material = Material::from_spec(expanded.trim(), DEFAULT_BULK_RATIO)
         .map_err(|e| RomError::invalid(MATERIAL, spec, &e.expected()))?;
-    material.ogden_params().ok_or_else(|| {
+    material.ogden_set().ok_or_else(|| {
         RomError::invalid(
             MATERIAL,
             spec,
@@ -223,17 +223,9 @@ fn parse_query(
     let m = if has_material {
         material_params(text(3)).map_err(|e| cell_err(3, &e.to_string()))?
     } else {
-        [num(3)?, num(4)?, num(5)?, num(6)?]
+        OgdenSet::from_array([num(3)?, num(4)?, num(5)?, num(6)?])
     };
-    let query = Query {
-        n,
-        t_mm: num(1)?,
-        p_bar: num(2)?,
-        mu1: m[0],
-        alpha1: m[1],
-        mu2: m[2],
-        alpha2: m[3],
-    };
+    let query = Query::new(n, num(1)?, num(2)?, m);
     model
         .check_query(&query)
         .map_err(|e| cell_err(3, &e.to_string()))?;
@@ -518,9 +510,16 @@ pub fn write_predictions<W: Write>(out: W, table: &PredictedTable) -> Result<(),
         let mut cells: Vec<String> = r.row.extra.clone();
         cells.push(q.n.to_string());
         cells.extend(
-            [q.t_mm, q.p_bar, q.mu1, q.alpha1, q.mu2, q.alpha2]
-                .iter()
-                .map(|v| v.to_string()),
+            [
+                q.t_mm,
+                q.p_bar,
+                q.material.mu1_mpa,
+                q.material.alpha1,
+                q.material.mu2_mpa,
+                q.material.alpha2,
+            ]
+            .iter()
+            .map(|v| v.to_string()),
         );
         cells.extend(r.values.iter().map(|v| v.to_string()));
         if let Some(std) = &r.std {

@@ -17,7 +17,7 @@ use std::io::Read;
 use std::path::Path;
 
 use super::{RomError, N_MARKER_COMPONENTS, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
-use crate::case::CaseInputs;
+use crate::case::{CaseInputs, OgdenSet};
 use crate::schema::{self, SNAPSHOT_COLUMN_NAMES};
 
 /// One converged snapshot row.
@@ -304,15 +304,18 @@ fn parse_row(c: &RowCells<'_>) -> Result<Option<SnapshotRow>, RomError> {
     let inputs = CaseInputs {
         n_bellows,
         wall_thickness_mm: c.positive(2)?,
-        mu1_mpa: c.float(3)?,
-        alpha1: c.float(4)?,
-        mu2_mpa: c.float(5)?,
-        alpha2: c.float(6)?,
+        material: OgdenSet {
+            mu1_mpa: c.float(3)?,
+            alpha1: c.float(4)?,
+            mu2_mpa: c.float(5)?,
+            alpha2: c.float(6)?,
+        },
     };
-    if inputs.mu1_mpa * inputs.alpha1 <= 0.0 {
+    let m = &inputs.material;
+    if m.mu1_mpa * m.alpha1 <= 0.0 {
         return Err(c.err(4, c.text(4)?, "μ₁α₁ > 0 (admissible Ogden term)"));
     }
-    if inputs.mu2_mpa * inputs.alpha2 <= 0.0 {
+    if m.mu2_mpa * m.alpha2 <= 0.0 {
         return Err(c.err(6, c.text(6)?, "μ₂α₂ > 0 (admissible Ogden term)"));
     }
     let pressure_bar = c.float(7)?;

@@ -214,10 +214,7 @@ pub fn correct_low_fidelity(
 fn same_inputs(a: &CaseInputs, b: &CaseInputs) -> bool {
     a.n_bellows == b.n_bellows
         && a.wall_thickness_mm == b.wall_thickness_mm
-        && a.mu1_mpa == b.mu1_mpa
-        && a.alpha1 == b.alpha1
-        && a.mu2_mpa == b.mu2_mpa
-        && a.alpha2 == b.alpha2
+        && a.material == b.material
 }
 
 /// Key of a row: case id and pressure (exact: both sets come from plans with one grid).

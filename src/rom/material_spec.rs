@@ -17,6 +17,7 @@
 use std::path::Path;
 
 use super::RomError;
+use crate::case::OgdenSet;
 use crate::schema;
 
 /// What a spec naming a report file ends with (case-insensitive).
@@ -29,13 +30,13 @@ pub fn is_report(spec: &str) -> bool {
         && spec[spec.len() - REPORT_SUFFIX.len()..].eq_ignore_ascii_case(REPORT_SUFFIX)
 }
 
-/// The calibrated Ogden set `[μ₁, α₁, μ₂, α₂]` of a calibration report
+/// The calibrated Ogden set of a calibration report
 /// (`calibration.best` of `report.json`).
 ///
 /// # Errors
 /// The file cannot be read, is not JSON, or has no calibrated set of four finite numbers;
 /// each message names the file and what it should hold.
-pub fn report_material(path: &Path) -> Result<[f64; 4], RomError> {
+pub fn report_material(path: &Path) -> Result<OgdenSet, RomError> {
     let shown = path.display().to_string();
     let text = std::fs::read_to_string(path).map_err(|source| RomError::Io {
         path: shown.clone(),
@@ -59,7 +60,7 @@ pub fn report_material(path: &Path) -> Result<[f64; 4], RomError> {
                 )
             })?;
     }
-    Ok(set)
+    Ok(OgdenSet::from_array(set))
 }
 
 /// `spec` with a calibration report file replaced by its calibrated set as
@@ -80,7 +81,7 @@ pub fn expand(spec: &str) -> Result<String, RomError> {
         return Ok(spec.to_string());
     }
     let set = report_material(Path::new(spec.trim()))?;
-    Ok(set.map(|v| v.to_string()).join(","))
+    Ok(set.as_array().map(|v| v.to_string()).join(","))
 }
 
 #[cfg(test)]

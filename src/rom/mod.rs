@@ -40,7 +40,7 @@
 //! ```
 //! use surrogate::rom::data::SnapshotSet;
 //! use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
-//! use surrogate::case::Query;
+//! use surrogate::case::{OgdenSet, Query};
 //! use surrogate::rom::{train, Jacobian, Surrogate, TrainConfig};
 //!
 //! // a small synthetic snapshot set in the snapshot CSV contract
@@ -51,7 +51,8 @@
 //! let model: Surrogate = train(&cases, "demo", 0, &cfg, &|_, _| {})?.surrogate;
 //!
 //! // optimisation loops: reuse one Prediction, no allocation per call
-//! let q = Query { n: 11, t_mm: 2.0, p_bar: 2.0, mu1: 1.13, alpha1: 3.11, mu2: -13.17, alpha2: -0.6 };
+//! let ogden_002 = OgdenSet::new(1.13, 3.11, -13.17, -0.6)?;
+//! let q = Query::new(11, 2.0, 2.0, ogden_002);
 //! let mut pred = model.new_prediction();
 //! let mut jac = Jacobian::default();
 //! model.gradient_into(&q, &mut pred, &mut jac)?;

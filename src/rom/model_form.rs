@@ -50,6 +50,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::{RomError, QUANTITY_NAMES, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
+use crate::case::OgdenSet;
 use surrogate_predict::{marker_uy, marker_uz, model_form_at};
 
 /// The label of the model-form error wherever it is printed.
@@ -75,8 +76,10 @@ pub struct CalibrationSource {
     pub model: String,
     /// The calibration's objective.
     pub objective: String,
-    /// The calibrated Ogden set `[μ₁ MPa, α₁, μ₂ MPa, α₂]` the residuals are taken at.
-    pub material: [f64; 4],
+    /// The calibrated Ogden set the residuals are taken at (in the file:
+    /// `[μ₁ MPa, α₁, μ₂ MPa, α₂]`).
+    #[serde(with = "crate::case::material::array")]
+    pub material: OgdenSet,
     /// Fitted configurations (design and pressure) the residuals come from.
     pub configurations: usize,
 }
@@ -373,7 +376,7 @@ mod tests {
             report_checksum: "crc32:0".into(),
             model: "m".into(),
             objective: "tip=1".into(),
-            material: [1.0, 2.0, -1.0, -1.0],
+            material: OgdenSet::from_array([1.0, 2.0, -1.0, -1.0]),
             configurations: 12,
         }
     }

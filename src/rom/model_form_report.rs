@@ -10,7 +10,7 @@ use serde::Deserialize;
 use super::model_form::{CalibrationSource, ModelFormError, Residual, SAME_MODEL_TOLERANCE};
 use super::surrogate::Surrogate;
 use super::{RomError, QUANTITY_NAMES, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
-use crate::case::Query;
+use crate::case::{OgdenSet, Query};
 
 /// One configuration row of a calibration report (`calibration.configurations[]`).
 #[derive(Debug, Deserialize)]
@@ -42,18 +42,10 @@ impl ReportRow {
 }
 
 #[derive(Debug, Deserialize)]
-struct ReportBest {
-    mu1_mpa: f64,
-    alpha1: f64,
-    mu2_mpa: f64,
-    alpha2: f64,
-}
-
-#[derive(Debug, Deserialize)]
 struct ReportCalibration {
     model: String,
     objective: String,
-    best: ReportBest,
+    best: OgdenSet,
     configurations: Vec<ReportRow>,
 }
 
@@ -97,8 +89,7 @@ pub fn from_calibration_report(model: &Surrogate, path: &Path) -> Result<ModelFo
         )
     })?;
     let cal = report.calibration;
-    let b = &cal.best;
-    let material = [b.mu1_mpa, b.alpha1, b.mu2_mpa, b.alpha2];
+    let material = cal.best;
     let mut pred = model.new_prediction();
     let mut residuals = Vec::new();
     let mut configurations = 0;

@@ -12,7 +12,7 @@
 //! ```
 //! use surrogate::rom::data::SnapshotSet;
 //! use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
-//! use surrogate::case::Query;
+//! use surrogate::case::{OgdenSet, Query};
 //! use surrogate::rom::{train, TrainConfig};
 //!
 //! let mut csv = Vec::new();
@@ -22,7 +22,8 @@
 //! let model = train(&cases, "demo", 0, &cfg, &|_, _| {})?.surrogate;
 //!
 //! // design and material fixed (a controller), pressure varying
-//! let q = Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
+//! let ogden_002 = OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]);
+//! let q = Query::new(11, 2.0, 0.0, ogden_002);
 //! let ramp = model.ramp(&q)?;
 //! let mut pred = model.new_prediction();
 //! ramp.predict_into(2.3, &mut pred)?;

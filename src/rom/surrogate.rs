@@ -17,7 +17,7 @@ pub use super::provenance::TrainingInfo;
 use super::regression::{RegressorKind, Regressors};
 use super::RomError;
 use crate::case::{
-    raw_features, BoundSnap, CaseInputs, Domain, DomainViolation, FeatureScaler, Query,
+    raw_features, BoundSnap, CaseInputs, Domain, DomainViolation, FeatureScaler, OgdenSet, Query,
 };
 use crate::schema;
 use surrogate_predict::{marker_uy, marker_uz, stencil, N_FEATURES};
@@ -366,17 +366,17 @@ impl Surrogate {
                 ),
             ));
         }
-        if q.mu1 * q.alpha1 <= 0.0 {
+        if q.material.mu1_mpa * q.material.alpha1 <= 0.0 {
             return Err(RomError::invalid(
                 "mu1*alpha1",
-                q.mu1 * q.alpha1,
+                q.material.mu1_mpa * q.material.alpha1,
                 "> 0 (admissible Ogden term)",
             ));
         }
-        if q.mu2 * q.alpha2 <= 0.0 {
+        if q.material.mu2_mpa * q.material.alpha2 <= 0.0 {
             return Err(RomError::invalid(
                 "mu2*alpha2",
-                q.mu2 * q.alpha2,
+                q.material.mu2_mpa * q.material.alpha2,
                 "> 0 (admissible Ogden term)",
             ));
         }
@@ -413,10 +413,12 @@ impl Surrogate {
                     raw_features(&CaseInputs {
                         n_bellows: 0,
                         wall_thickness_mm: 0.0,
-                        mu1_mpa: fixed(3)?,
-                        alpha1: fixed(4)?,
-                        mu2_mpa: fixed(5)?,
-                        alpha2: fixed(6)?,
+                        material: OgdenSet {
+                            mu1_mpa: fixed(3)?,
+                            alpha1: fixed(4)?,
+                            mu2_mpa: fixed(5)?,
+                            alpha2: fixed(6)?,
+                        },
                     })[f],
                 ),
             }
@@ -656,22 +658,25 @@ impl Surrogate {
         let path = self.scalar_path();
         // dz_f/du_i for u = (T, P, μ1, α1, μ2, α2), z = (N, T, ln μ0, α1, s, α2) with
         // k_i = μ_i α_i, μ0 = (k1 + k2)/2, s = k1/(k1 + k2)
-        let (k1, k2) = (q.mu1 * q.alpha1, q.mu2 * q.alpha2);
+        let (k1, k2) = (
+            q.material.mu1_mpa * q.material.alpha1,
+            q.material.mu2_mpa * q.material.alpha2,
+        );
         let ks = k1 + k2;
         // d/dk1 and d/dk2 of ln μ0 and of s
         let (dl1, dl2) = (1.0 / ks, 1.0 / ks);
         let (ds1, ds2) = (k2 / (ks * ks), -k1 / (ks * ks));
         let mut dz = [[0.0; N_GRAD_INPUTS]; N_FEATURES];
         dz[1][0] = 1.0;
-        dz[2][2] = dl1 * q.alpha1;
-        dz[2][3] = dl1 * q.mu1;
-        dz[2][4] = dl2 * q.alpha2;
-        dz[2][5] = dl2 * q.mu2;
+        dz[2][2] = dl1 * q.material.alpha1;
+        dz[2][3] = dl1 * q.material.mu1_mpa;
+        dz[2][4] = dl2 * q.material.alpha2;
+        dz[2][5] = dl2 * q.material.mu2_mpa;
         dz[3][3] = 1.0;
-        dz[4][2] = ds1 * q.alpha1;
-        dz[4][3] = ds1 * q.mu1;
-        dz[4][4] = ds2 * q.alpha2;
-        dz[4][5] = ds2 * q.mu2;
+        dz[4][2] = ds1 * q.material.alpha1;
+        dz[4][3] = ds1 * q.material.mu1_mpa;
+        dz[4][4] = ds2 * q.material.alpha2;
+        dz[4][5] = ds2 * q.material.mu2_mpa;
         dz[5][5] = 1.0;
         let d = self.features.dim();
         let st = stencil(&self.pressures, q.p_bar);

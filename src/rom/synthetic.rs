@@ -15,7 +15,7 @@ use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
 use super::{Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
-use crate::case::CaseInputs;
+use crate::case::{CaseInputs, OgdenSet};
 use crate::schema;
 use crate::schema::SNAPSHOT_COLUMN_NAMES;
 
@@ -35,8 +35,8 @@ pub struct SyntheticConfig {
     pub unconverged_fraction: f64,
     /// Pressure grid, bar.
     pub pressures: Vec<f64>,
-    /// One Ogden set `[μ₁, α₁, μ₂, α₂]` for every case instead of random ones.
-    pub fixed_material: Option<[f64; 4]>,
+    /// One Ogden set for every case instead of random ones.
+    pub fixed_material: Option<OgdenSet>,
 }
 
 impl Default for SyntheticConfig {
@@ -58,12 +58,13 @@ const L: f64 = 92.0;
 
 /// The exact synthetic response (22 quantities, [`super::QUANTITY_NAMES`] order).
 pub fn response(c: &CaseInputs, p: f64) -> [f64; 22] {
-    let mu0 = 0.5 * (c.mu1_mpa * c.alpha1 + c.mu2_mpa * c.alpha2);
+    let m = &c.material;
+    let mu0 = 0.5 * (m.mu1_mpa * m.alpha1 + m.mu2_mpa * m.alpha2);
     let stiff = (5.708 / mu0).powf(0.8);
     let t = c.wall_thickness_mm;
     let n = c.n_bellows as f64;
     let compliance = (2.0 / t).powf(1.5) * (n / 11.0).sqrt() * stiff;
-    let exponent_effect = 1.0 + 0.04 * (c.alpha1 - 3.0) - 0.1 * (c.alpha2 + 0.6);
+    let exponent_effect = 1.0 + 0.04 * (m.alpha1 - 3.0) - 0.1 * (m.alpha2 + 0.6);
     let p_contact = 0.5 + 1.9 * (t - 1.6) / 0.8;
     let softplus = |x: f64| if x > 30.0 { x } else { (1.0 + x.exp()).ln() };
     let stiffening = 0.12 * softplus((p - p_contact) / 0.3) * 0.3;
@@ -99,20 +100,16 @@ pub fn sample_cases(cfg: &SyntheticConfig) -> Vec<CaseInputs> {
     (0..cfg.n_cases)
         .map(|i| {
             let t = rng.gen_range(1.2..2.8);
-            let m = [
+            let m = OgdenSet::from_array([
                 rng.gen_range(0.6..1.8),
                 rng.gen_range(2.6..3.6),
                 rng.gen_range(-18.0..-9.0),
                 rng.gen_range(-0.8..-0.4),
-            ];
-            let m = cfg.fixed_material.unwrap_or(m);
+            ]);
             CaseInputs {
                 n_bellows: cfg.n_values[i % cfg.n_values.len()],
                 wall_thickness_mm: t,
-                mu1_mpa: m[0],
-                alpha1: m[1],
-                mu2_mpa: m[2],
-                alpha2: m[3],
+                material: cfg.fixed_material.unwrap_or(m),
             }
         })
         .collect()
@@ -155,10 +152,10 @@ pub fn write_csv<W: Write>(cfg: &SyntheticConfig, out: W) -> std::io::Result<()>
                 "case{i:04},{},{},{},{},{},{},{},{}",
                 c.n_bellows,
                 c.wall_thickness_mm,
-                c.mu1_mpa,
-                c.alpha1,
-                c.mu2_mpa,
-                c.alpha2,
+                c.material.mu1_mpa,
+                c.material.alpha1,
+                c.material.mu2_mpa,
+                c.material.alpha2,
                 p,
                 converged
             )?;

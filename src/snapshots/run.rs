@@ -284,7 +284,9 @@ pub struct AnalyticRunner {
 impl CaseRunner for AnalyticRunner {
     fn run(&self, case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
         std::thread::sleep(self.delay);
-        let mu0 = 0.5 * (case.mu1_mpa * case.alpha1 + case.mu2_mpa * case.alpha2);
+        let mu0 = 0.5
+            * (case.material.mu1_mpa * case.material.alpha1
+                + case.material.mu2_mpa * case.material.alpha2);
         let fails = self.fail_every > 0 && case.id % self.fail_every == self.fail_every - 1;
         let reach = if fails {
             settings.pressures_bar.len() / 2
@@ -297,7 +299,7 @@ impl CaseRunner for AnalyticRunner {
                 // curvature ~ P / (μ0 T), a circular arc of length 92 mm
                 let kappa = 0.02 * (p + 0.1) * case.n_bellows as f64
                     / (11.0 * mu0 * case.wall_thickness_mm)
-                    * (1.0 + 0.05 * case.alpha1.ln() - 0.02 * case.alpha2);
+                    * (1.0 + 0.05 * case.material.alpha1.ln() - 0.02 * case.material.alpha2);
                 let arc = |s: f64| {
                     let th = kappa * s;
                     [s - th.sin() / kappa, -(1.0 - th.cos()) / kappa]

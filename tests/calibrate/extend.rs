@@ -31,9 +31,7 @@ fn scratch(name: &str) -> std::path::PathBuf {
 /// analytic runner alone sees `α₁` and `α₂` only through one combination with `μ0`).
 fn fe(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
     let mut o = AnalyticRunner::default().run(case, settings);
-    let c = OgdenSet::new(case.mu1_mpa, case.alpha1, case.mu2_mpa, case.alpha2)
-        .unwrap()
-        .coords();
+    let c = case.material.coords();
     let (n, t) = (case.n_bellows as f64, case.wall_thickness_mm);
     for (s, &p) in o.steps.iter_mut().zip(&settings.pressures_bar) {
         let f = (1.0 + 0.4 * (c.share - 0.5) * (p - 2.0) / 2.0)
@@ -300,10 +298,7 @@ fn a_round_plan_is_reproducible_and_fills_the_slabs() {
     let inside = |v: f64, r: [f64; 2]| r[0] - 1e-12 <= v && v <= r[1] + 1e-12;
     for (j, case) in a.cases.iter().enumerate() {
         assert_eq!(case.id, 25_000 + j);
-        let coords = OgdenSet::new(case.mu1_mpa, case.alpha1, case.mu2_mpa, case.alpha2)
-            .unwrap()
-            .coords()
-            .as_array();
+        let coords = case.material.coords().as_array();
         let in_new = (0..4).all(|i| inside(coords[i], new.range(i)));
         let in_old = (0..4).all(|i| inside(coords[i], old.range(i)));
         assert!(in_new && !in_old, "case {}: {coords:?}", case.id);
@@ -313,10 +308,9 @@ fn a_round_plan_is_reproducible_and_fills_the_slabs() {
         let k = a.cases.iter().filter(|c| c.n_bellows == n).count();
         assert!(k >= 5, "N = {n}: {k} cases");
     }
-    let beyond_mu0 = a
-        .cases
-        .iter()
-        .filter(|c| c.mu1_mpa * c.alpha1 + c.mu2_mpa * c.alpha2 > 8.0);
+    let beyond_mu0 = a.cases.iter().filter(|c| {
+        c.material.mu1_mpa * c.material.alpha1 + c.material.mu2_mpa * c.material.alpha2 > 8.0
+    });
     assert!(beyond_mu0.count() >= 3);
     // a box that is not larger has no slab
     let err = extension_plan(&training, &[9, 11, 13], &old, &old, 1, 18, 7).unwrap_err();
@@ -577,15 +571,16 @@ fn a_multi_fidelity_model_is_extended_on_both_meshes() {
 /// to a bound without determining it (its profile is flat over the box).
 fn fe_alpha2_trace(case: &PlannedCase, settings: &PlanSettings) -> CaseOutcome {
     let mut o = fe(case, settings);
-    let c = OgdenSet::new(case.mu1_mpa, case.alpha1, case.mu2_mpa, case.alpha2)
-        .unwrap()
-        .coords();
+    let c = case.material.coords();
     let base = fe(
         &PlannedCase {
-            alpha2: -1.0,
-            mu2_mpa: OgdenSet::from_coords(MaterialCoords { alpha2: -1.0, ..c })
-                .unwrap()
-                .mu2_mpa,
+            material: OgdenSet {
+                alpha2: -1.0,
+                mu2_mpa: OgdenSet::from_coords(MaterialCoords { alpha2: -1.0, ..c })
+                    .unwrap()
+                    .mu2_mpa,
+                ..case.material
+            },
             ..case.clone()
         },
         settings,

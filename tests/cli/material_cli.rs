@@ -4,7 +4,7 @@
 use std::path::Path;
 use std::process::Output;
 
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::rom::Surrogate;
 
 use crate::common::{repo, run, scratch, text, REPORT};
@@ -41,7 +41,9 @@ fn a_calibration_report_is_a_material_for_predict_export_and_queries() {
     assert!(o.status.success(), "{err}");
     let json: serde_json::Value = serde_json::from_str(&out).unwrap();
     let m = Surrogate::load(&repo().join("models/actuator.json")).unwrap();
-    let lib = m.predict(&Query::new(11, 2.0, 2.0, set)).unwrap();
+    let lib = m
+        .predict(&Query::new(11, 2.0, 2.0, OgdenSet::from_array(set)))
+        .unwrap();
     assert_eq!(json["tip_uz_mm"].as_f64().unwrap(), lib.tip_uz_mm());
     // the same as the four numbers at full precision
     let numbers = set.map(|v| v.to_string()).join(",");

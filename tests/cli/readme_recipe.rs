@@ -6,7 +6,7 @@
 use std::path::{Path, PathBuf};
 use std::process::Command;
 
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::rom::Surrogate;
 
 use crate::common::{fresh, repo};
@@ -124,7 +124,12 @@ fn readme_export_recipe_builds_and_runs_in_rust_and_c() {
         ],
     );
     let m = shipped_model();
-    let q = Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
+    let q = Query::new(
+        11,
+        2.0,
+        0.0,
+        OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
+    );
     let mut pred = m.new_prediction();
     m.ramp(&q).unwrap().predict_into(2.0, &mut pred).unwrap();
     let lib = [
@@ -154,7 +159,12 @@ fn predict_readme_recipe_builds_and_runs_in_rust_and_c() {
     );
     let m = shipped_model();
     let p = m
-        .predict(&Query::new(11, 2.0, 2.0, [1.13, 3.11, -13.17, -0.6]))
+        .predict(&Query::new(
+            11,
+            2.0,
+            2.0,
+            OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
+        ))
         .unwrap();
     let lib = [p.tip_uz_mm(), p.tip_uy_mm(), p.angle_deg(), p.force_n()];
     check_rust_and_c(&dir, lib);

@@ -101,7 +101,10 @@ fn values_round_trip_exactly_and_rows_are_sorted() {
         let step = &want.steps[j];
         assert_eq!(row.values[18].to_bits(), step.tip_uz_mm.to_bits());
         assert_eq!(row.values[17].to_bits(), step.markers[8][1].to_bits());
-        assert_eq!(row.inputs.mu2_mpa.to_bits(), case.mu2_mpa.to_bits());
+        assert_eq!(
+            row.inputs.material.mu2_mpa.to_bits(),
+            case.material.mu2_mpa.to_bits()
+        );
         let key = (row.case_id.clone(), row.pressure_bar);
         assert!(key > last, "rows out of order at {key:?}");
         last = key;

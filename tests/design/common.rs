@@ -3,21 +3,22 @@
 use std::path::Path;
 use std::sync::OnceLock;
 
+use surrogate::case::OgdenSet;
 use surrogate::design::{search, DesignBounds, DesignReport, DesignSearch, Output, Target};
 use surrogate::rom::data::SnapshotSet;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::{train, Surrogate, TrainConfig};
 
 /// Ogden 002, inside the synthetic model's domain.
-pub const OGDEN_002: [f64; 4] = [1.13, 3.11, -13.17, -0.6];
+pub const OGDEN_002: OgdenSet = OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]);
 
 /// The set calibrated on the shipped experiments (`fe_reference/calibration/surrogate/`).
-pub const CALIBRATED: [f64; 4] = [
+pub const CALIBRATED: OgdenSet = OgdenSet::from_array([
     0.03821164173136228,
     5.99612765572898,
     -5.194862363697796,
     -1.996454844367204,
-];
+]);
 
 /// The shipped model.
 pub fn shipped() -> &'static Surrogate {
@@ -62,7 +63,7 @@ pub fn angle_and_force(angle: f64, force: f64) -> [Target; 2] {
 }
 
 /// The search over the model's whole domain with the default settings.
-pub fn search_all(model: &Surrogate, material: [f64; 4], targets: &[Target]) -> DesignReport {
+pub fn search_all(model: &Surrogate, material: OgdenSet, targets: &[Target]) -> DesignReport {
     let bounds = DesignBounds::of_model(model);
     search(model, material, targets, &bounds, &DesignSearch::default()).unwrap()
 }

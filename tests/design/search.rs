@@ -1,6 +1,6 @@
 //! The search recovers a design from its own predictions, reports a target out of reach on a
 //! bound, and visits every N inside the bounds.
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::design::{search, DesignBounds, DesignSearch, Side, TLimit};
 use surrogate::rom::Surrogate;
 
@@ -11,7 +11,7 @@ const MET: f64 = 1e-8;
 
 /// Asks for the angle and force `(n, t)` gives at 2 bar; the pick is `(n, t)`, or another
 /// `N` that meets both targets as well while `n` does too, at `t`.
-fn assert_recovers(model: &Surrogate, material: [f64; 4], n: u32, t: f64) {
+fn assert_recovers(model: &Surrogate, material: OgdenSet, n: u32, t: f64) {
     let pred = model.predict(&Query::new(n, t, 2.0, material)).unwrap();
     let targets = angle_and_force(pred.angle_deg(), pred.force_n());
     let report = search_all(model, material, &targets);

@@ -1,5 +1,6 @@
 //! Bad input is refused at the door with an error naming the field, the value and what was
 //! expected.
+use surrogate::case::OgdenSet;
 use surrogate::design::{map, search, DesignBounds, DesignError, DesignSearch, Output, Target};
 use surrogate::rom::Surrogate;
 
@@ -8,7 +9,7 @@ use crate::common::{angle_and_force, shipped, CALIBRATED};
 /// The inputs of one search: a valid one changed in one place.
 #[derive(Clone)]
 struct Inputs {
-    material: [f64; 4],
+    material: OgdenSet,
     targets: Vec<Target>,
     bounds: DesignBounds,
     settings: DesignSearch,
@@ -104,17 +105,19 @@ fn bad_targets_bounds_materials_and_settings_are_named() {
         (bounds((9, 13), (1.4, f64::NAN)), "bounds.t_mm", &["NaN"]),
         // materials
         (
-            with(&|i| i.material[1] = -CALIBRATED[1]),
+            with(&|i| i.material.alpha1 = -CALIBRATED.alpha1),
             "material",
             &["mu1*alpha1", "the model accepts"],
         ),
         (
-            with(&|i| i.material = [f64::NAN, 1.0, -1.0, -1.0]),
+            with(&|i| i.material = OgdenSet::from_array([f64::NAN, 1.0, -1.0, -1.0])),
             "material",
             &["finite"],
         ),
         (
-            with(&|i| i.material = [1.13, 3.11, -13.17, -0.6].map(|v| 10.0 * v)),
+            with(&|i| {
+                i.material = OgdenSet::from_array([1.13, 3.11, -13.17, -0.6].map(|v| 10.0 * v))
+            }),
             "material",
             &["training domain", "mu0_mpa"],
         ),

@@ -29,7 +29,7 @@ fn material() -> OgdenSet {
 /// The surrogate's outputs at the shipped configurations and `material()`.
 fn truth(model: &Surrogate) -> (Vec<TrueOutputs>, Vec<TrueMarkers>) {
     let mut pred = model.new_prediction();
-    let m = material().as_array();
+    let m = material();
     let mut outputs = Vec::new();
     let mut markers = Vec::new();
     for r in Recordings::shipped().unwrap().bending {

@@ -21,7 +21,7 @@ const SWEEP: &str = "data/sensitivities/ogden002_coarse.json";
 /// `coarse + share × (standard − coarse)` at Ogden 002, at the shipped designs.
 fn truth(coarse: &Surrogate, standard: &Surrogate, share: f64) -> Vec<TrueOutputs> {
     let (mut a, mut b) = (coarse.new_prediction(), standard.new_prediction());
-    let m = OgdenSet::literature("ogden_002").unwrap().as_array();
+    let m = OgdenSet::literature("ogden_002").unwrap();
     Recordings::shipped()
         .unwrap()
         .bending
@@ -69,7 +69,7 @@ fn a_model_coarser_than_the_actuator_is_told_from_missing_physics() {
             .clone();
         // the direction is the two surrogates' difference at the calibrated material
         let c = &d.locate.cells[0];
-        let m = d.calibration.best.as_array();
+        let m = d.calibration.best;
         let q = Query::new(c.n_bellows, c.wall_thickness_mm, c.pressure_bar, m);
         let (mut a, mut b) = (coarse.new_prediction(), standard.new_prediction());
         coarse.predict_into(&q, &mut a).unwrap();

@@ -27,7 +27,7 @@ fn truth(
     size: f64,
 ) -> Vec<TrueOutputs> {
     let mut pred = model.new_prediction();
-    let m = OgdenSet::literature("ogden_002").unwrap().as_array();
+    let m = OgdenSet::literature("ogden_002").unwrap();
     let d = |n: usize, t: f64, p: f64, mode: Mode| {
         let s = sens.design(n, t, mode).unwrap();
         let j = s

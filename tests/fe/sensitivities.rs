@@ -70,7 +70,7 @@ fn with(case: &Case, p: Parameter, value: f64) -> Case {
     let mut c = case.clone();
     match p {
         Parameter::Material(k) => {
-            let mut q = c.material.ogden_params().unwrap();
+            let mut q = c.material.ogden_set().unwrap().as_array();
             q[k.index()] = value;
             let law = MaterialLaw::Ogden(Ogden2::new(q[0], q[1], q[2], q[3]).unwrap());
             c.material = Material::new(law, DEFAULT_BULK_RATIO).unwrap();
@@ -98,7 +98,7 @@ type Table = Vec<Vec<(String, f64)>>;
 fn finite_difference(base: &Case, p: Parameter, at: &[StepResult]) -> Table {
     let (value, lo, delta) = match p {
         Parameter::Material(k) => {
-            let v = base.material.ogden_params().unwrap()[k.index()];
+            let v = base.material.ogden_set().unwrap().as_array()[k.index()];
             (v, f64::NEG_INFINITY, 1e-3 * v.abs())
         }
         Parameter::Effect(e) => {

@@ -20,8 +20,9 @@ use surrogate::fe::warm_start::{FieldSensitivities, WarmStart, WarmStartError};
 fn ogden002() -> [f64; 4] {
     Material::from_spec("ogden_002", DEFAULT_BULK_RATIO)
         .unwrap()
-        .ogden_params()
+        .ogden_set()
         .unwrap()
+        .as_array()
 }
 
 fn case(n: usize, params: [f64; 4], mode: Mode, pressures_bar: Vec<f64>) -> Case {

@@ -2,7 +2,7 @@
 //! function on the same box, so they agree on every query (the shipped plan and model too).
 use std::path::Path;
 
-use surrogate::case::{Domain, Query};
+use surrogate::case::{Domain, OgdenSet, Query};
 use surrogate::rom::Surrogate;
 use surrogate::snapshots::plan::Plan;
 
@@ -41,7 +41,12 @@ fn shipped_plan_and_model_agree() {
                     (2.0, 7.5, -4.0, -2.5),
                     (0.5, 1.6, -30.0, -0.2),
                 ] {
-                    let q = Query::new([9, 11, 13, 11][i], t, p, [mu1, a1, mu2, a2]);
+                    let q = Query::new(
+                        [9, 11, 13, 11][i],
+                        t,
+                        p,
+                        OgdenSet::from_array([mu1, a1, mu2, a2]),
+                    );
                     let a = m.domain_violations(&q);
                     assert_eq!(a, plan.sampled_domain().violations(&q), "{q:?}");
                     seen_outside += usize::from(!a.is_empty());
@@ -57,7 +62,12 @@ fn shipped_plan_and_model_agree() {
 #[test]
 fn violations_say_whether_the_prediction_is_clamped() {
     let m = Surrogate::load(&repo("models/actuator_coarse.json")).unwrap();
-    let base = Query::new(11, 2.0, 3.5, [1.13, 3.11, -13.17, -0.6]);
+    let base = Query::new(
+        11,
+        2.0,
+        3.5,
+        OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
+    );
     let at_end = m.predict(&base).unwrap().values;
     for p in [5.0, 3.6] {
         let q = Query { p_bar: p, ..base };
@@ -106,7 +116,7 @@ fn shipped_domain_is_the_plans_nominal_box() {
         assert_eq!(d.ranges[4], Some(nominal.term1_share));
         assert_eq!(d.ranges[5], Some(nominal.alpha1));
         assert_eq!(d.ranges[6], Some(nominal.alpha2));
-        let q = |t: f64| Query::new(11, t, 2.0, [1.13, 3.11, -13.17, -0.6]);
+        let q = |t: f64| Query::new(11, t, 2.0, OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]));
         for t in [1.4, 2.6] {
             assert_eq!(
                 m.check_domain(&q(t), false).unwrap(),
@@ -190,18 +200,26 @@ fn plan_ends_are_taken_only_where_the_cases_cover_them() {
 fn values_within_the_tolerance_of_an_end_are_moved_onto_it() {
     let mut m = Surrogate::load(&repo("models/actuator.json")).unwrap();
     m.training.plan_domain = None; // the box of the cases: its ends are the calibrated bounds
-    let printed = Query::new(11, 2.0, 2.0, [0.0382, 5.9961, -5.1949, -1.9965]);
+    let printed = Query::new(
+        11,
+        2.0,
+        2.0,
+        OgdenSet::from_array([0.0382, 5.9961, -5.1949, -1.9965]),
+    );
     assert_eq!(m.domain_violations(&printed), []);
     let (snapped, notes) = m.snap_to_domain(&printed);
     assert_eq!(names_of(&notes), ["term1_share", "alpha2"]);
     let d = m.domain();
     let s_lo = d.ranges[4].unwrap()[0];
     let a2_lo = d.ranges[6].unwrap()[0];
-    assert_eq!(snapped.alpha2, a2_lo);
-    let s = snapped.mu1 * snapped.alpha1
-        / (snapped.mu1 * snapped.alpha1 + snapped.mu2 * snapped.alpha2);
+    let sm = &snapped.material;
+    assert_eq!(sm.alpha2, a2_lo);
+    let s = sm.mu1_mpa * sm.alpha1 / (sm.mu1_mpa * sm.alpha1 + sm.mu2_mpa * sm.alpha2);
     assert!((s - s_lo).abs() < 1e-14, "{s} {s_lo}");
-    assert_eq!(snapped.alpha1, printed.alpha1, "α₁ = 5.9961 lies inside");
+    assert_eq!(
+        sm.alpha1, printed.material.alpha1,
+        "α₁ = 5.9961 lies inside"
+    );
     assert_eq!(m.domain_violations(&snapped), []);
     let note = notes[0].to_string();
     assert!(
@@ -212,13 +230,21 @@ fn values_within_the_tolerance_of_an_end_are_moved_onto_it() {
     // beyond the tolerance: refused as before, and not moved
     let width = d.ranges[6].unwrap()[1] - a2_lo;
     let far = Query {
-        alpha2: a2_lo - 2.0 * surrogate::case::BOUND_TOLERANCE * width,
+        material: OgdenSet {
+            alpha2: a2_lo - 2.0 * surrogate::case::BOUND_TOLERANCE * width,
+            ..snapped.material
+        },
         ..snapped
     };
     assert_eq!(names(&m.domain_violations(&far)), ["alpha2"]);
     assert!(!names_of(&m.snap_to_domain(&far).1).contains(&"alpha2".to_string()));
     // inside: untouched
-    let inside = Query::new(11, 2.0, 2.0, [1.13, 3.11, -13.17, -0.6]);
+    let inside = Query::new(
+        11,
+        2.0,
+        2.0,
+        OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
+    );
     assert_eq!(m.snap_to_domain(&inside), (inside, vec![]));
 }
 

@@ -9,7 +9,7 @@ use std::sync::OnceLock;
 
 use proptest::prelude::*;
 use serde_json::Value;
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::rom::batch::read_queries;
 use surrogate::rom::Surrogate;
 
@@ -128,7 +128,12 @@ fn envelope(model: &Value) -> String {
 fn middle(m: &Surrogate) -> Query {
     let mid = |k: usize| m.inputs.get(k).map_or(0.5, |i| 0.5 * (i.min + i.max));
     let n = m.n_allowed.first().copied().unwrap_or(9);
-    Query::new(n, mid(1), mid(2), [mid(3), mid(4), mid(5), mid(6)])
+    Query::new(
+        n,
+        mid(1),
+        mid(2),
+        OgdenSet::from_array([mid(3), mid(4), mid(5), mid(6)]),
+    )
 }
 
 const QUERIES: &str = "id,n_bellows,wall_thickness_mm,pressure_bar,material\n\

@@ -2,12 +2,12 @@
 //! between its trained ends and says which it was trained at; the held-out-`N` study measures
 //! how well it interpolates, and refuses to extrapolate.
 
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::rom::data::CaseSet;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::{held_out_n, train, RomError, SnapshotSet, Surrogate, TrainConfig};
 
-const OGDEN_002: [f64; 4] = [1.13, 3.11, -13.17, -0.6];
+const OGDEN_002: OgdenSet = OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]);
 
 fn set(n_values: Vec<u32>, n_cases: usize) -> CaseSet {
     let cfg = SyntheticConfig {

@@ -2,7 +2,7 @@
 //! for the same quantities (markers as `[{"uz_mm", "uy_mm"}]`), and pressures as given.
 use crate::rom_common;
 
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::fe::simulate::StepResult;
 use surrogate::rom::batch::PredictionRecord;
 
@@ -38,7 +38,12 @@ fn keys(v: &serde_json::Value) -> Vec<String> {
 fn simulate_and_predict_share_the_schema() {
     let s = serde_json::to_value(step()).unwrap();
     let m = rom_common::small_model(None);
-    let q = Query::new(11, 2.0, 3.0, [1.13, 3.11, -13.17, -0.6]);
+    let q = Query::new(
+        11,
+        2.0,
+        3.0,
+        OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
+    );
     let p = m.predict(&q).unwrap();
     let r = serde_json::to_value(PredictionRecord::new(&q, &p.values, None, &[])).unwrap();
     for key in [

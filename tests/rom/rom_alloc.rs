@@ -1,5 +1,5 @@
 //! The `*_into` hot paths do not allocate (counting global allocator).
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::rom::Jacobian;
 
 use crate::counting_alloc::{allocs, Counting};
@@ -26,10 +26,7 @@ fn predict_paths_do_not_allocate(m: &surrogate::rom::Surrogate) {
         n: 11,
         t_mm: 2.0,
         p_bar: 2.0,
-        mu1: 1.13,
-        alpha1: 3.11,
-        mu2: -13.17,
-        alpha2: -0.6,
+        material: OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
     };
     m.predict_into(&q, &mut pred).unwrap();
     let before = allocs();

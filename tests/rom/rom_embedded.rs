@@ -1,6 +1,6 @@
 //! The embedded predictor (the `surrogate-predict` crate) agrees with the library, and a
 //! `#![no_std]` crate of exported models that depends on it builds, also as a C static library.
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::predict::{evaluate, evaluate_ramp, EmbeddedError, RampTables};
 use surrogate::rom::export::{
     c_header, ramp_c_header, ramp_rust_source, rust_source, EmbeddedTables, Precision,
@@ -156,7 +156,12 @@ fn no_std_crate_compiles() {
         rust_source(&bare, Precision::F64, &sum).unwrap(),
     )
     .unwrap();
-    let q = Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
+    let q = Query::new(
+        11,
+        2.0,
+        0.0,
+        OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
+    );
     for (file, p, model) in [
         ("ramp32.rs", Precision::F32, &m),
         ("ramp64.rs", Precision::F64, &bare),
@@ -255,10 +260,12 @@ fn c_entry_point_links_and_agrees() {
         n: 11,
         t_mm: 2.0,
         p_bar: 0.0,
-        mu1: 1.13f32 as f64,
-        alpha1: 3.11f32 as f64,
-        mu2: -13.17f32 as f64,
-        alpha2: -0.6f32 as f64,
+        material: OgdenSet::from_array([
+            1.13f32 as f64,
+            3.11f32 as f64,
+            -13.17f32 as f64,
+            -0.6f32 as f64,
+        ]),
     };
     std::fs::write(
         dir.join("src/ramp32.rs"),
@@ -298,10 +305,12 @@ fn c_entry_point_links_and_agrees() {
         n: 11,
         t_mm: 2.0,
         p_bar: 1.5,
-        mu1: 1.13f32 as f64,
-        alpha1: 3.11f32 as f64,
-        mu2: -13.17f32 as f64,
-        alpha2: -0.6f32 as f64,
+        material: OgdenSet::from_array([
+            1.13f32 as f64,
+            3.11f32 as f64,
+            -13.17f32 as f64,
+            -0.6f32 as f64,
+        ]),
     };
     let lib = m.predict(&q).unwrap().values;
     for k in 0..22 {
@@ -350,7 +359,12 @@ fn headers_name_every_output_index() {
     assert_eq!(OUTPUT_NAMES, QUANTITY_NAMES);
     let m = rom_common::small_model(None);
     let sum = m.checksum().unwrap();
-    let q = Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
+    let q = Query::new(
+        11,
+        2.0,
+        0.0,
+        OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
+    );
     for header in [
         c_header(&m, Precision::F32, &sum),
         ramp_c_header(&m, Precision::F64, &sum, &q),
@@ -382,7 +396,7 @@ fn with_model_form(m: &surrogate::rom::Surrogate) -> surrogate::rom::Surrogate {
         report_checksum: "crc32:00000000".into(),
         model: m.checksum().unwrap(),
         objective: "tip=1".into(),
-        material: [1.13, 3.11, -13.17, -0.6],
+        material: OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
         configurations: 15,
     };
     let residuals: Vec<Residual> = (0..15)

@@ -2,7 +2,7 @@
 //! check) and the surrogate's Jacobian with respect to T, P and the Ogden parameters.
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::rom::regression::gp::{Gp, GpParams};
 use surrogate::rom::regression::poly::{Poly, PolyParams};
 use surrogate::rom::regression::{Data, Regressor, RegressorKind};
@@ -95,10 +95,7 @@ fn check_model(m: &surrogate::rom::Surrogate, kind: &str) {
         n: 11,
         t_mm: 1.9,
         p_bar: 1.37,
-        mu1: 1.2,
-        alpha1: 3.0,
-        mu2: -12.0,
-        alpha2: -0.55,
+        material: OgdenSet::from_array([1.2, 3.0, -12.0, -0.55]),
     };
     let mut pred = m.new_prediction();
     let mut jac = Jacobian::default();
@@ -111,10 +108,10 @@ fn check_model(m: &surrogate::rom::Surrogate, kind: &str) {
         let u = [
             base.t_mm,
             base.p_bar,
-            base.mu1,
-            base.alpha1,
-            base.mu2,
-            base.alpha2,
+            base.material.mu1_mpa,
+            base.material.alpha1,
+            base.material.mu2_mpa,
+            base.material.alpha2,
         ];
         let h = 1e-6 * (1.0 + u[i].abs());
         let at = |delta: f64| {
@@ -124,10 +121,7 @@ fn check_model(m: &surrogate::rom::Surrogate, kind: &str) {
                 n: 11,
                 t_mm: v[0],
                 p_bar: v[1],
-                mu1: v[2],
-                alpha1: v[3],
-                mu2: v[4],
-                alpha2: v[5],
+                material: OgdenSet::from_array([v[2], v[3], v[4], v[5]]),
             };
             m.predict(&qq).unwrap().values
         };

@@ -1,5 +1,5 @@
 //! Model files (round trip, version, corruption, checksum), validation, queries and domain.
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::rom::{RomError, Surrogate, TrainConfig};
 
 use crate::rom_common;
@@ -9,10 +9,7 @@ fn q(n: u32, p: f64) -> Query {
         n,
         t_mm: 2.0,
         p_bar: p,
-        mu1: 1.13,
-        alpha1: 3.11,
-        mu2: -13.17,
-        alpha2: -0.6,
+        material: OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
     }
 }
 
@@ -129,7 +126,7 @@ fn bad_queries_are_errors_and_out_of_domain_is_flagged() {
     bad.p_bar = f64::NAN;
     assert!(m.predict(&bad).unwrap_err().to_string().contains("p_bar"));
     bad = q(11, 1.0);
-    bad.alpha2 = 0.6;
+    bad.material.alpha2 = 0.6;
     assert!(m
         .predict(&bad)
         .unwrap_err()
@@ -178,7 +175,12 @@ fn prediction_names_its_outputs_and_their_std() {
     use surrogate::predict::{marker_uy, marker_uz, ANGLE, FORCE, TIP_UY, TIP_UZ};
     use surrogate::rom::QUANTITY_NAMES;
     let m = rom_common::small_model(None);
-    let q = Query::new(11, 2.0, 1.5, [1.13, 3.11, -13.17, -0.6]);
+    let q = Query::new(
+        11,
+        2.0,
+        1.5,
+        OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
+    );
     let mut p = m.new_prediction();
     m.predict_with_std_into(&q, &mut p).unwrap();
     let by_name = |name: &str| QUANTITY_NAMES.iter().position(|n| *n == name).unwrap();
@@ -238,7 +240,7 @@ fn training_does_not_depend_on_the_thread_count() {
 fn one_material_and_one_n_train_and_flag_other_materials() {
     use surrogate::rom::data::SnapshotSet;
     use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
-    let ogden_002 = [1.13, 3.11, -13.17, -0.6];
+    let ogden_002 = OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]);
     let cfg = SyntheticConfig {
         n_cases: 16,
         n_values: vec![11],
@@ -267,10 +269,7 @@ fn one_material_and_one_n_train_and_flag_other_materials() {
         &surrogate::case::CaseInputs {
             n_bellows: 11,
             wall_thickness_mm: 2.0,
-            mu1_mpa: 1.13,
-            alpha1: 3.11,
-            mu2_mpa: -13.17,
-            alpha2: -0.6,
+            material: OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
         },
         2.2,
     );
@@ -281,10 +280,7 @@ fn one_material_and_one_n_train_and_flag_other_materials() {
         truth[18]
     );
     let other = Query {
-        mu1: 0.13,
-        alpha1: 3.05,
-        mu2: -1214.0,
-        alpha2: -0.0054,
+        material: OgdenSet::from_array([0.13, 3.05, -1214.0, -0.0054]),
         ..qq
     };
     let names: Vec<String> = m

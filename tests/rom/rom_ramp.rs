@@ -1,7 +1,7 @@
 //! A prepared ramp (`Surrogate::ramp`: design and material fixed, pressure free) gives exactly
 //! the library path's values at every pressure, for either regressor.
 
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::rom::regression::RegressorKind;
 
 use crate::rom_common;
@@ -17,7 +17,7 @@ fn ramp_matches_the_library_path_bit_for_bit() {
             (9, 1.7, [0.8, 4.0, -3.0, -1.2]),
             (13, 2.4, [2.0, 2.5, -6.0, -0.3]),
         ] {
-            let q = Query::new(n, t, 0.0, mat);
+            let q = Query::new(n, t, 0.0, OgdenSet::from_array(mat));
             let ramp = m.ramp(&q).unwrap();
             // inside, on the nodes and outside the grid (clamped by both paths)
             for i in 0..=90 {
@@ -50,13 +50,28 @@ fn ramp_matches_the_library_path_bit_for_bit() {
 #[test]
 fn ramp_rejects_what_the_library_path_rejects() {
     let m = rom_common::small_model(None);
-    let bad_n = Query::new(10, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]);
+    let bad_n = Query::new(
+        10,
+        2.0,
+        0.0,
+        OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
+    );
     let e = m.ramp(&bad_n).unwrap_err().to_string();
     assert!(e.contains("n") && e.contains("10"), "{e}");
-    let bad_mat = Query::new(11, 2.0, 0.0, [1.13, -3.11, -13.17, -0.6]);
+    let bad_mat = Query::new(
+        11,
+        2.0,
+        0.0,
+        OgdenSet::from_array([1.13, -3.11, -13.17, -0.6]),
+    );
     assert!(m.ramp(&bad_mat).is_err());
     let ramp = m
-        .ramp(&Query::new(11, 2.0, 0.0, [1.13, 3.11, -13.17, -0.6]))
+        .ramp(&Query::new(
+            11,
+            2.0,
+            0.0,
+            OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
+        ))
         .unwrap();
     let mut pred = m.new_prediction();
     let e = ramp

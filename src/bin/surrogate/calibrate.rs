@@ -14,8 +14,9 @@ use surrogate::calibrate::optimise::MultistartSettings;
 use surrogate::calibrate::refine::{refine, RefineEvent, RefineSettings, Refinement, TrainingSet};
 use surrogate::calibrate::verify::{verify_fe, FeVerification};
 use surrogate::calibrate::{
-    calibrate, Calibration, CalibrationSettings, OgdenSet, Recordings, Selection, Weights,
+    calibrate, Calibration, CalibrationSettings, Recordings, Selection, Weights,
 };
+use surrogate::case::OgdenSet;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::rom::Surrogate;
 use surrogate::snapshots::run::{AnalyticRunner, CaseRunner};

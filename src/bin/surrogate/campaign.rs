@@ -9,6 +9,7 @@ use std::path::PathBuf;
 use anyhow::{bail, Context, Result};
 use clap::Args;
 use indicatif::{ProgressBar, ProgressStyle};
+use surrogate::case::OgdenSet;
 use surrogate::fe::campaign::{bench_material_sweep, bench_materials, WarmOrder};
 use surrogate::fe::effects::Effects;
 use surrogate::fe::geometry::DesignParams;
@@ -120,12 +121,16 @@ pub fn run(a: CampaignArgs) -> Result<()> {
             .collect::<Result<Vec<_>>>()?
     };
     let centre = Material::from_spec("ogden_002", DEFAULT_BULK_RATIO)?
-        .ogden_params()
+        .ogden_set()
         .context("ogden_002 is an Ogden set")?;
     let materials = match a.mu0_step {
         Some(step) if step.is_finite() && step > -1.0 && step != 0.0 => {
             let f = 1.0 + step;
-            vec![centre, [centre[0] * f, centre[1], centre[2] * f, centre[3]]]
+            let c = centre.as_array();
+            vec![
+                centre,
+                OgdenSet::from_array([c[0] * f, c[1], c[2] * f, c[3]]),
+            ]
         }
         Some(step) => bail!("--mu0-step: {step} is not a relative step in (-1, 0) or (0, ∞)"),
         None => bench_materials(centre, a.materials, a.span, a.seed),
@@ -135,12 +140,12 @@ pub fn run(a: CampaignArgs) -> Result<()> {
         ProgressStyle::with_template("{msg} [{bar:30}] {pos}/{len} ramps, {elapsed} ({eta} left)")
             .unwrap_or_else(|_| ProgressStyle::default_bar()),
     );
-    let case = |m: [f64; 4], (n, t): (usize, f64)| Case {
+    let case = |m: OgdenSet, (n, t): (usize, f64)| Case {
         design: DesignParams::new(n, t)
             .validate()
             .expect("the designs were validated"),
         material: Material::new(
-            MaterialLaw::Ogden(Ogden2::new(m[0], m[1], m[2], m[3]).expect("inside the box")),
+            MaterialLaw::Ogden(Ogden2::try_from(m).expect("inside the box")),
             DEFAULT_BULK_RATIO,
         )
         .expect("a valid Ogden set"),

@@ -22,7 +22,7 @@ use surrogate::calibrate::experiments::{bending_error, shipped_bending, BendingR
 use surrogate::calibrate::refine::Refinement;
 use surrogate::calibrate::verify::{cached_verification, fe_material, FeVerification};
 use surrogate::calibrate::{calibrate, Calibration, CalibrationSettings, Recordings};
-use surrogate::case::Query;
+use surrogate::case::{OgdenSet, Query};
 use surrogate::diagnose::locate::{locate, LocateSettings};
 use surrogate::diagnose::name::NameSettings;
 use surrogate::diagnose::refit::RefitSettings;
@@ -214,7 +214,7 @@ fn describe_model(model: &Surrogate, path: &Path) {
             11,
             2.0,
             3.0 * (i % 100) as f64 / 99.0,
-            [1.13, 3.11, -13.17, -0.6],
+            OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
         );
         if model.predict_scalars_into(&q, &mut pred).is_err() {
             return;
@@ -431,7 +431,7 @@ fn surrogate_comparison(
             return Vec::new();
         }
     };
-    let Some(params) = case.material.ogden_params() else {
+    let Some(params) = case.material.ogden_set() else {
         println!(
             "surrogate: skipped ({} is not an Ogden material)",
             a.material

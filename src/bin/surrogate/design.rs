@@ -258,7 +258,7 @@ fn table(r: &DesignReport, model: &Surrogate) -> String {
             )
         })
         .collect();
-    let m = r.material;
+    let m = r.material.as_array();
     let _ = writeln!(s, "targets: {}", wanted.join(", "));
     let _ = writeln!(
         s,

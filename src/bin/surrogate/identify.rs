@@ -47,7 +47,7 @@ pub fn run(a: IdentifyArgs) -> Result<()> {
         .validate()
         .context("--model-sigma-tip / --model-sigma-force")?;
     let material = Material::from_spec(&a.material, 1000.0).context("--material")?;
-    let Some(ogden) = material.ogden_params() else {
+    let Some(ogden) = material.ogden_set() else {
         bail!(
             "--material {}: expected a second-order Ogden set (a name or mu1,alpha1,mu2,alpha2)",
             a.material

@@ -66,7 +66,7 @@ fn figure(m: &DesignMap, o: usize, root: &Area<'_>) -> Result<()> {
         (10, 8),
         ("sans-serif", 16),
     ))?;
-    let [mu1, a1, mu2, a2] = m.material;
+    let [mu1, a1, mu2, a2] = m.material.as_array();
     title.draw(&Text::new(
         format!(
             "material: μ₁ {mu1:.4} MPa, α₁ {a1:.3}, μ₂ {mu2:.3} MPa, α₂ {a2:.3}; one colour scale \

@@ -108,7 +108,7 @@ fn committed_baseline_ramps_keep_their_keys() {
 /// `calibrate --verify-fe standard --fe-cache …` read) is found whole in its cache.
 #[test]
 fn committed_verification_ramps_keep_their_keys() {
-    let set = crate::calibrate::OgdenSet::new(0.03821, 5.996, -5.195, -1.996).unwrap();
+    let set = crate::case::OgdenSet::new(0.03821, 5.996, -5.195, -1.996).unwrap();
     let material = crate::calibrate::verify::fe_material(&set).unwrap();
     let settings = SweepSettings::new(material, MeshOptions::level(MeshLevel::Standard));
     let bending = crate::calibrate::experiments::shipped_bending().unwrap();

@@ -2,8 +2,8 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::calibrate::params::COORD_NAMES;
 use crate::calibrate::CalibrateError;
+use crate::case::material::COORD_NAMES;
 
 /// The physical limits of the sampling coordinates `(μ0, s, α₁, α₂)`
 /// ([`crate::calibrate::params`]): the box extension never moves a bound beyond them.
@@ -97,9 +97,7 @@ mod tests {
         let l = PhysicalLimits::default();
         l.validate().unwrap();
         for name in ["ogden_002", "ogden_005"] {
-            let c = crate::calibrate::OgdenSet::literature(name)
-                .unwrap()
-                .coords();
+            let c = crate::case::OgdenSet::literature(name).unwrap().coords();
             for (i, v) in c.as_array().into_iter().enumerate() {
                 let [lo, hi] = l.range(i);
                 assert!(lo < v && v < hi, "{name}: {} = {v}", COORD_NAMES[i]);

@@ -6,8 +6,9 @@ use serde::{Deserialize, Serialize};
 use super::limits::PhysicalLimits;
 use crate::calibrate::fit::ActiveBound;
 use crate::calibrate::optimise::Bound;
-use crate::calibrate::params::{ParamSpace, COORD_NAMES};
+use crate::calibrate::params::ParamSpace;
 use crate::calibrate::CalibrateError;
+use crate::case::material::COORD_NAMES;
 use crate::snapshots::plan::Ranges;
 
 /// A box in the sampling coordinates `(μ0, s, α₁, α₂)`, each range in its physical unit (`μ0`

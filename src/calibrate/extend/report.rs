@@ -8,8 +8,8 @@ use serde::{Deserialize, Serialize};
 use super::limits::PhysicalLimits;
 use super::material_box::{sig, MaterialBox, PressedBound};
 use crate::calibrate::fit::Calibration;
-use crate::calibrate::params::{MaterialCoords, OgdenSet};
 use crate::calibrate::CalibrateError;
+use crate::case::{MaterialCoords, OgdenSet};
 
 /// The `format` field of a box-extension report.
 pub const FORMAT: &str = "surrogate.box_extension";

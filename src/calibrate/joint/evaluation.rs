@@ -71,9 +71,13 @@ fn sweep_settings(
     x: &JointPoint,
     pool: Option<&WarmPool>,
 ) -> Result<SweepSettings, CalibrateError> {
-    let [m1, a1, m2, a2] = x.ogden;
-    let material = Material::from_spec(&format!("{m1},{a1},{m2},{a2}"), DEFAULT_BULK_RATIO)
-        .map_err(|e| CalibrateError::input("material", format!("{:?}", x.ogden), &e.to_string()))?;
+    let material = Material::from_spec(&x.ogden.spec(), DEFAULT_BULK_RATIO).map_err(|e| {
+        CalibrateError::input(
+            "material",
+            format!("{:?}", x.ogden.as_array()),
+            &e.to_string(),
+        )
+    })?;
     x.geometry
         .validate()
         .map_err(|e| CalibrateError::input("geometry", &x.geometry.name, &e.to_string()))?;

@@ -310,7 +310,7 @@ impl JointReport {
     /// design, in both rigs (`surrogate validate`), with the identified geometry written by
     /// `surrogate identify` into `dir/geometry.json`.
     pub fn verification_command(&self, dir: &Path) -> String {
-        let [m1, a1, m2, a2] = self.optimum.ogden;
+        let [m1, a1, m2, a2] = self.optimum.ogden.as_array();
         let mut c = format!(
             "cargo run --release -- validate --mesh standard --geometry {}/geometry.json \\\n    \
              --material={m1},{a1},{m2},{a2}",

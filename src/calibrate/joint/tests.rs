@@ -304,6 +304,7 @@ fn excluded_rows_are_reported_but_not_averaged() {
 #[test]
 fn the_wall_law_unknowns_scale_the_wall_derivative_by_design() {
     use super::unknown::JointPoint;
+    use crate::case::OgdenSet;
     use crate::fe::effects::Effects;
     use crate::fe::preset::Geometry;
     let a = Unknown::from_name("wall_law_offset").unwrap();
@@ -311,7 +312,7 @@ fn the_wall_law_unknowns_scale_the_wall_derivative_by_design() {
     assert_eq!(a.parameter(), Parameter::Effect(Effect::WallBias));
     assert_eq!(b.parameter(), Parameter::Effect(Effect::WallBias));
     let mut x = JointPoint {
-        ogden: [1.13, 3.11, -13.17, -0.6],
+        ogden: OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]),
         geometry: Geometry::as_modelled(),
         effects: Effects::default(),
     };
@@ -386,6 +387,7 @@ fn the_mesh_correction_shifts_values_and_residuals_not_the_jacobian() {
     use crate::calibrate::baseline::{RampSource, SweepRamp};
     use crate::calibrate::experiments::{BendingRecord, ForceRecord};
     use crate::calibrate::objective::Recordings;
+    use crate::case::OgdenSet;
     use crate::fe::effects::Effects;
     use crate::fe::mesh::{MeshLevel, MeshOptions};
     use crate::fe::preset::Geometry;
@@ -461,7 +463,7 @@ fn the_mesh_correction_shifts_values_and_residuals_not_the_jacobian() {
     let mut s = JointSettings {
         unknowns: vec![mu1],
         start: JointPoint {
-            ogden: [1.0, 8.0, -1.4, -0.5],
+            ogden: OgdenSet::from_array([1.0, 8.0, -1.4, -0.5]),
             geometry: Geometry::as_modelled(),
             effects: Effects::default(),
         },

@@ -4,6 +4,7 @@
 use serde::{Deserialize, Serialize};
 
 use crate::calibrate::CalibrateError;
+use crate::case::OgdenSet;
 use crate::fe::effects::{Effect, Effects};
 use crate::fe::geometry::PRINTED_WALL_RANGE;
 use crate::fe::preset::{
@@ -128,8 +129,9 @@ impl Unknown {
 /// A point of the identification: material, geometry, effects.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
 pub struct JointPoint {
-    /// Ogden `[μ1, α1, μ2, α2]`.
-    pub ogden: [f64; 4],
+    /// The Ogden set (in the file: `[μ1, α1, μ2, α2]`).
+    #[serde(with = "crate::case::material::array")]
+    pub ogden: OgdenSet,
     /// The geometry.
     pub geometry: Geometry,
     /// The effects (rig, tolerances).
@@ -141,7 +143,7 @@ impl JointPoint {
     pub fn get(&self, u: Unknown) -> f64 {
         let g = &self.geometry;
         match u {
-            Unknown::Material(m) => self.ogden[m as usize],
+            Unknown::Material(m) => self.ogden.as_array()[m as usize],
             Unknown::Gap => g.gap_mm,
             Unknown::Base => g.base_thickness_mm,
             Unknown::Duct => g.duct_half_width_mm,
@@ -160,7 +162,11 @@ impl JointPoint {
     pub fn set(&mut self, u: Unknown, v: f64) -> Result<(), CalibrateError> {
         let g = &mut self.geometry;
         match u {
-            Unknown::Material(m) => self.ogden[m as usize] = v,
+            Unknown::Material(m) => {
+                let mut p = self.ogden.as_array();
+                p[m as usize] = v;
+                self.ogden = OgdenSet::from_array(p);
+            }
             Unknown::Gap => g.gap_mm = v,
             Unknown::Base => g.base_thickness_mm = v,
             Unknown::Duct => g.duct_half_width_mm = v,

@@ -70,10 +70,9 @@ impl<'a> Evaluator<'a> {
         jac: Option<&mut [[f64; 4]]>,
     ) -> Result<(), CalibrateError> {
         let p = self.space.ogden(u)?;
-        let m = p.as_array();
         let with_jac = jac.is_some();
         for (k, c) in self.set.configs.iter().enumerate() {
-            let q = Query::new(c.n_bellows, c.wall_thickness_mm, c.pressure_bar, m);
+            let q = Query::new(c.n_bellows, c.wall_thickness_mm, c.pressure_bar, p);
             if with_jac {
                 self.model.gradient_range_into(
                     &q,

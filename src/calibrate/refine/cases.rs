@@ -3,8 +3,8 @@
 use crate::calibrate::baseline::BaselineRow;
 use crate::calibrate::experiments::bending_error;
 use crate::calibrate::objective::Recordings;
-use crate::calibrate::params::OgdenSet;
 use crate::calibrate::CalibrateError;
+use crate::case::OgdenSet;
 use crate::rom::data::SnapshotSet;
 use crate::rom::{Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
 use crate::snapshots::plan::{Plan, PlannedCase};
@@ -15,10 +15,7 @@ pub fn case_at(id: usize, n: usize, t: f64, set: &OgdenSet) -> PlannedCase {
         id,
         n_bellows: n,
         wall_thickness_mm: t,
-        mu1_mpa: set.mu1_mpa,
-        alpha1: set.alpha1,
-        mu2_mpa: set.mu2_mpa,
-        alpha2: set.alpha2,
+        material: *set,
         effects: Default::default(),
     }
 }

@@ -7,8 +7,8 @@ use serde::{Deserialize, Deserializer, Serialize};
 
 use super::shift::DataSpaceShift;
 use crate::calibrate::fit::Calibration;
-use crate::calibrate::params::OgdenSet;
 use crate::calibrate::verify::FeVerification;
+use crate::case::OgdenSet;
 
 /// Why the refinement stopped.
 #[derive(Clone, Copy, Debug, PartialEq, Eq, Serialize, Deserialize)]

@@ -3,8 +3,9 @@
 use serde::{Deserialize, Serialize};
 
 use crate::calibrate::objective::{Evaluator, ObservationSet, Recordings, Selection, Weights};
-use crate::calibrate::params::{OgdenSet, ParamSpace};
+use crate::calibrate::params::ParamSpace;
 use crate::calibrate::CalibrateError;
+use crate::case::OgdenSet;
 use crate::rom::Surrogate;
 
 /// How far a refit moved from a verified set in what the recordings see

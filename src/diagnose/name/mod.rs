@@ -103,7 +103,7 @@ pub fn name_refitted(
     cells: &[Cell],
     sens: &SweepSensitivities,
     model: &crate::rom::Surrogate,
-    start: &crate::calibrate::OgdenSet,
+    start: &crate::case::OgdenSet,
     s: &NameSettings,
 ) -> Result<Naming, DiagnoseError> {
     let (local, material) = crate::diagnose::refit::material_refit(cells, sens, model, start)?;

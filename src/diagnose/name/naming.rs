@@ -164,7 +164,7 @@ pub struct Naming {
     /// The material of the nonlinear re-fit on every used cell ([`name_refitted`](super::name_refitted); none:
     /// the re-fit was linearised with the sweep's material sensitivities).
     #[serde(default)]
-    pub refitted_material: Option<crate::calibrate::OgdenSet>,
+    pub refitted_material: Option<crate::case::OgdenSet>,
     /// Cells used (those with sensitivities).
     pub n_cells: usize,
     /// Cells without sensitivities in the sweep, in words.

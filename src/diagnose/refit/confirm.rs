@@ -10,7 +10,8 @@ use crate::calibrate::baseline::{
     run_ramps, RampSource, SweepDesign, SweepRamp, SweepSensitivities, SweepSettings,
 };
 use crate::calibrate::objective::Output;
-use crate::calibrate::{OgdenSet, ParamSpace};
+use crate::calibrate::ParamSpace;
+use crate::case::OgdenSet;
 use crate::diagnose::cells::Cell;
 use crate::diagnose::DiagnoseError;
 use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
@@ -308,7 +309,7 @@ mod tests {
     fn value(model: &Surrogate, m: &OgdenSet, n: u32, t: f64, p: f64, o: Output) -> f64 {
         let mut pred = model.new_prediction();
         model
-            .predict_scalars_into(&Query::new(n, t, p, m.as_array()), &mut pred)
+            .predict_scalars_into(&Query::new(n, t, p, *m), &mut pred)
             .unwrap();
         match o {
             Output::TipUz => pred.tip_uz_mm(),

@@ -10,7 +10,8 @@ use super::problem::Problem;
 use super::quality::{noise_be, summary};
 use super::rows::Rows;
 use super::verdict::verdict;
-use crate::calibrate::{OgdenSet, ParamSpace};
+use crate::calibrate::ParamSpace;
+use crate::case::OgdenSet;
 use crate::diagnose::DiagnoseError;
 use crate::rom::Surrogate;
 

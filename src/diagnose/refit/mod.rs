@@ -42,7 +42,8 @@ use nalgebra::DMatrix;
 
 use crate::calibrate::baseline::SweepSensitivities;
 use crate::calibrate::objective::Evaluator;
-use crate::calibrate::{OgdenSet, ParamSpace};
+use crate::calibrate::ParamSpace;
+use crate::case::OgdenSet;
 use crate::diagnose::cells::Cell;
 use crate::diagnose::signature::{sensitivity_step, LocalMaterial};
 use crate::diagnose::DiagnoseError;
@@ -123,10 +124,10 @@ pub fn refit(
     r.linearised_at = format!(
         "FE sensitivities of the sweep at {} on the {} mesh",
         sens.material
-            .ogden_params()
+            .ogden_set()
             .map_or("a non-Ogden material".to_string(), |m| format!(
                 "Ogden ({}, {}, {}, {})",
-                m[0], m[1], m[2], m[3]
+                m.mu1_mpa, m.alpha1, m.mu2_mpa, m.alpha2
             )),
         sens.mesh.level.name()
     );

@@ -3,7 +3,7 @@
 
 use serde::{Deserialize, Serialize};
 
-use crate::calibrate::OgdenSet;
+use crate::case::OgdenSet;
 use crate::diagnose::DiagnoseError;
 use crate::fe::effects::Effect;
 

@@ -8,7 +8,8 @@ use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::{Deserialize, Serialize};
 
 use crate::calibrate::twin::{TwinKey, TwinSettings};
-use crate::calibrate::{OgdenSet, ParamSpace};
+use crate::calibrate::ParamSpace;
+use crate::case::OgdenSet;
 use crate::diagnose::approx_error::lhs;
 use crate::diagnose::DiagnoseError;
 use crate::fe::effects::Effects;

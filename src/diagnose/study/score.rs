@@ -71,7 +71,7 @@ pub fn score_twin(
         .map(|(e, v)| (e.name().to_string(), v));
     let m = key
         .material_parameters
-        .ogden_params()
+        .ogden_set()
         .ok_or_else(|| DiagnoseError::input("key material", &key.material, "an Ogden material"))?;
     let mut tip_move: f64 = 0.0;
     let mut pred = model.new_prediction();

@@ -52,6 +52,8 @@ use nalgebra::Matrix3;
 use serde::{Deserialize, Serialize};
 use thiserror::Error;
 
+use crate::case::OgdenSet;
+
 /// The bulk modulus of every shipped result as a multiple of the initial shear modulus,
 /// `κ = 1000 μ0`: nearly incompressible, as the printed elastomer (`docs/MODEL.md`).
 pub const DEFAULT_BULK_RATIO: f64 = 1000.0;
@@ -307,13 +309,10 @@ impl Material {
         self.law.initial_shear_modulus()
     }
 
-    /// Ogden parameters `[μ1, α1, μ2, α2]` if the law is [`Ogden2`].
-    pub fn ogden_params(&self) -> Option<[f64; 4]> {
+    /// The Ogden set `(μ1, α1, μ2, α2)` if the law is [`Ogden2`].
+    pub fn ogden_set(&self) -> Option<OgdenSet> {
         match &self.law {
-            MaterialLaw::Ogden(o) => {
-                let p = o.params();
-                Some([p.mu[0], p.alpha[0], p.mu[1], p.alpha[1]])
-            }
+            MaterialLaw::Ogden(o) => Some(OgdenSet::from(o)),
             _ => None,
         }
     }

@@ -24,6 +24,7 @@ use serde::{Deserialize, Serialize};
 use super::isotropic::{fill_nan, principal_frame, principal_values, push_forward_into};
 use super::isotropic::{spectral_material_tangent, spectral_stress};
 use super::{finite, inadmissible, Hyperelastic, MaterialError, Tangent9};
+use crate::case::OgdenSet;
 
 /// Raw parameters of [`Ogden2`]: moduli `μ_i` (MPa) and exponents `α_i`.
 #[derive(Clone, Copy, Debug, PartialEq, Serialize, Deserialize)]
@@ -51,6 +52,43 @@ impl TryFrom<OgdenParams> for Ogden2 {
 impl From<Ogden2> for OgdenParams {
     fn from(o: Ogden2) -> Self {
         o.params
+    }
+}
+
+/// The case's set as the law's raw parameters (no check; [`Ogden2`] checks).
+impl From<OgdenSet> for OgdenParams {
+    fn from(p: OgdenSet) -> Self {
+        OgdenParams {
+            mu: [p.mu1_mpa, p.mu2_mpa],
+            alpha: [p.alpha1, p.alpha2],
+        }
+    }
+}
+
+/// The law's raw parameters as the case's set (no check).
+impl From<OgdenParams> for OgdenSet {
+    fn from(p: OgdenParams) -> Self {
+        OgdenSet {
+            mu1_mpa: p.mu[0],
+            alpha1: p.alpha[0],
+            mu2_mpa: p.mu[1],
+            alpha2: p.alpha[1],
+        }
+    }
+}
+
+/// The law of a set, checked by [`Ogden2::new`].
+impl TryFrom<OgdenSet> for Ogden2 {
+    type Error = MaterialError;
+    fn try_from(p: OgdenSet) -> Result<Self, MaterialError> {
+        Self::new(p.mu1_mpa, p.alpha1, p.mu2_mpa, p.alpha2)
+    }
+}
+
+/// The set of a law (admissible: the law was checked).
+impl From<&Ogden2> for OgdenSet {
+    fn from(o: &Ogden2) -> Self {
+        OgdenSet::from(o.params)
     }
 }
 
@@ -186,5 +224,31 @@ impl Hyperelastic for Ogden2 {
 
     fn initial_shear_modulus(&self) -> f64 {
         0.5 * self.terms().map(|(mu, alpha)| mu * alpha).sum::<f64>()
+    }
+}
+
+#[cfg(test)]
+mod tests {
+    use super::*;
+
+    #[test]
+    fn conversions_with_the_case_set_keep_every_parameter() {
+        let set = OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]);
+        let p = OgdenParams::from(set);
+        assert_eq!(
+            p,
+            OgdenParams {
+                mu: [1.13, -13.17],
+                alpha: [3.11, -0.6]
+            }
+        );
+        assert_eq!(OgdenSet::from(p), set);
+        let law = Ogden2::try_from(set).unwrap();
+        assert_eq!(OgdenSet::from(&law), set);
+        let bad = OgdenSet {
+            alpha1: -3.11,
+            ..set
+        };
+        assert!(Ogden2::try_from(bad).is_err());
     }
 }

@@ -76,7 +76,7 @@ impl Material {
     /// use surrogate::fe::material::Material;
     /// let m = Material::from_spec("OGDEN_002", 1000.0)?;
     /// assert!((m.mu0() - 5.708).abs() < 1e-3);
-    /// assert_eq!(m.ogden_params(), Some([1.13, 3.11, -13.17, -0.6]));
+    /// assert_eq!(m.ogden_set().map(|s| s.as_array()), Some([1.13, 3.11, -13.17, -0.6]));
     /// assert!(Material::from_spec("ogden_999", 1000.0).is_err());
     /// # Ok::<(), surrogate::fe::material::MaterialError>(())
     /// ```

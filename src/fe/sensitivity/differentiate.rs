@@ -111,7 +111,7 @@ pub fn sensitivities_with_fields(
 fn check(case: &Case, parameters: &[Parameter]) -> Result<(), SensitivityError> {
     for p in parameters {
         match p {
-            Parameter::Material(_) if case.material.ogden_params().is_none() => {
+            Parameter::Material(_) if case.material.ogden_set().is_none() => {
                 return Err(SensitivityError::Unsupported {
                     parameter: p.name(),
                     why: "the material is not a second-order Ogden law".into(),

@@ -382,10 +382,13 @@ impl Perturbation {
 /// The material of the case with Ogden parameter `k` set to `value`, as printed.
 fn material_with(case: &Case, k: OgdenParameter, value: f64) -> Result<Material, SensitivityError> {
     let m = &case.material;
-    let mut p = m.ogden_params().ok_or(SensitivityError::Unsupported {
-        parameter: "material",
-        why: "the material is not a second-order Ogden law".into(),
-    })?;
+    let mut p = m
+        .ogden_set()
+        .ok_or(SensitivityError::Unsupported {
+            parameter: "material",
+            why: "the material is not a second-order Ogden law".into(),
+        })?
+        .as_array();
     p[k.index()] = value;
     let ratio = m.kappa / m.mu0();
     let law = MaterialLaw::Ogden(Ogden2::new(p[0], p[1], p[2], p[3])?);
@@ -405,7 +408,10 @@ fn perturbations(
     for &parameter in parameters {
         let (value, h, range) = match parameter {
             Parameter::Material(k) => {
-                let value = case.material.ogden_params().map_or(0.0, |p| p[k.index()]);
+                let value = case
+                    .material
+                    .ogden_set()
+                    .map_or(0.0, |p| p.as_array()[k.index()]);
                 let h = RELATIVE_STEP * value.abs().max(1e-3);
                 (value, h, (f64::NEG_INFINITY, f64::INFINITY))
             }

@@ -124,10 +124,10 @@ fn input_specs(cases: &[CaseInputs], pressures: &[f64]) -> Vec<InputSpec> {
     let get: [(Quantity, Getter); 6] = [
         (schema::N_BELLOWS, |c| c.n_bellows as f64),
         (schema::WALL_THICKNESS, |c| c.wall_thickness_mm),
-        (schema::MU1, |c| c.mu1_mpa),
-        (schema::ALPHA1, |c| c.alpha1),
-        (schema::MU2, |c| c.mu2_mpa),
-        (schema::ALPHA2, |c| c.alpha2),
+        (schema::MU1, |c| c.material.mu1_mpa),
+        (schema::ALPHA1, |c| c.material.alpha1),
+        (schema::MU2, |c| c.material.mu2_mpa),
+        (schema::ALPHA2, |c| c.material.alpha2),
     ];
     let spec = |(q, f): (Quantity, Getter)| InputSpec {
         name: q.name.into(),

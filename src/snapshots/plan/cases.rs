@@ -3,6 +3,7 @@
 use serde::{Deserialize, Serialize};
 
 use super::settings::{no_effects, PlanSettings};
+use crate::case::OgdenSet;
 use crate::fe::effects::{Effect, EffectError, Effects};
 use crate::fe::geometry::{Design, DesignParams, GeometryError};
 use crate::fe::material::{Material, MaterialError, MaterialLaw, Ogden2};
@@ -11,8 +12,11 @@ use crate::schema;
 use crate::snapshots::SnapshotError;
 
 /// One case of a plan: a design and an Ogden material.
+///
+/// Its file shape is flat (`id, n_bellows, wall_thickness_mm, mu1_mpa, alpha1, mu2_mpa,
+/// alpha2, effects`), the shape plans were written and hashed in.
 #[derive(Clone, Debug, PartialEq, Serialize, Deserialize)]
-#[serde(deny_unknown_fields)]
+#[serde(from = "PlannedCaseFile", into = "PlannedCaseFile")]
 pub struct PlannedCase {
     /// Identifier, unique in the plan (names the case file).
     pub id: usize,
@@ -20,17 +24,59 @@ pub struct PlannedCase {
     pub n_bellows: usize,
     /// Wall thickness `T` (mm).
     pub wall_thickness_mm: f64,
-    /// Ogden `μ₁` (MPa).
-    pub mu1_mpa: f64,
-    /// Ogden `α₁`.
-    pub alpha1: f64,
-    /// Ogden `μ₂` (MPa).
-    pub mu2_mpa: f64,
-    /// Ogden `α₂`.
-    pub alpha2: f64,
+    /// The Ogden material.
+    pub material: OgdenSet,
     /// Values of the plan's sampled effects (none: not written).
-    #[serde(default, skip_serializing_if = "no_effects")]
     pub effects: Effects,
+}
+
+/// The file shape of [`PlannedCase`]: the material's four fields inline, no other field
+/// (`deny_unknown_fields` does not combine with `#[serde(flatten)]`).
+#[derive(Serialize, Deserialize)]
+#[serde(deny_unknown_fields)]
+struct PlannedCaseFile {
+    id: usize,
+    n_bellows: usize,
+    wall_thickness_mm: f64,
+    mu1_mpa: f64,
+    alpha1: f64,
+    mu2_mpa: f64,
+    alpha2: f64,
+    #[serde(default, skip_serializing_if = "no_effects")]
+    effects: Effects,
+}
+
+impl From<PlannedCaseFile> for PlannedCase {
+    fn from(f: PlannedCaseFile) -> Self {
+        PlannedCase {
+            id: f.id,
+            n_bellows: f.n_bellows,
+            wall_thickness_mm: f.wall_thickness_mm,
+            material: OgdenSet {
+                mu1_mpa: f.mu1_mpa,
+                alpha1: f.alpha1,
+                mu2_mpa: f.mu2_mpa,
+                alpha2: f.alpha2,
+            },
+            effects: f.effects,
+        }
+    }
+}
+
+impl From<PlannedCase> for PlannedCaseFile {
+    fn from(c: PlannedCase) -> Self {
+        let m = c.material;
+        PlannedCaseFile {
+            id: c.id,
+            n_bellows: c.n_bellows,
+            wall_thickness_mm: c.wall_thickness_mm,
+            mu1_mpa: m.mu1_mpa,
+            alpha1: m.alpha1,
+            mu2_mpa: m.mu2_mpa,
+            alpha2: m.alpha2,
+            effects: c.effects,
+        }
+    }
 }
 
 impl PlannedCase {
@@ -42,17 +88,12 @@ impl PlannedCase {
         DesignParams::new(self.n_bellows, self.wall_thickness_mm).validate()
     }
 
-    /// The case's Ogden parameters `[μ₁, α₁, μ₂, α₂]`.
-    pub fn ogden(&self) -> [f64; 4] {
-        [self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2]
-    }
-
     /// The case's material with `κ = bulk_ratio · μ0`.
     ///
     /// # Errors
     /// [`MaterialError::Inadmissible`] for an inadmissible Ogden set or bulk ratio.
     pub fn material(&self, bulk_ratio: f64) -> Result<Material, MaterialError> {
-        let law = Ogden2::new(self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2)?;
+        let law = Ogden2::try_from(self.material)?;
         Material::new(MaterialLaw::Ogden(law), bulk_ratio)
     }
 
@@ -157,7 +198,7 @@ impl PlannedCase {
                 ));
             }
         }
-        match Ogden2::new(self.mu1_mpa, self.alpha1, self.mu2_mpa, self.alpha2) {
+        match Ogden2::try_from(self.material) {
             Ok(_) => Ok(()),
             Err(MaterialError::Inadmissible {
                 field,

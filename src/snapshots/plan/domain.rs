@@ -2,8 +2,8 @@
 
 use super::cases::case_name;
 use super::format::Plan;
-use crate::case::{CaseInputs, Domain, DomainViolation, PlanDomain, Query};
-use crate::fe::material::{literature_sets, Hyperelastic, MaterialError, MaterialLaw};
+use crate::case::{CaseInputs, Domain, DomainViolation, OgdenSet, PlanDomain, Query};
+use crate::fe::material::{literature_sets, MaterialError, MaterialLaw};
 
 impl Plan {
     /// The domain a surrogate trained on all cases of this plan accepts: the box its cases
@@ -38,8 +38,7 @@ impl Plan {
             case_name(c.id) == case_id
                 && c.n_bellows as u32 == inputs.n_bellows
                 && c.wall_thickness_mm == inputs.wall_thickness_mm
-                && [c.mu1_mpa, c.alpha1, c.mu2_mpa, c.alpha2]
-                    == [inputs.mu1_mpa, inputs.alpha1, inputs.mu2_mpa, inputs.alpha2]
+                && c.material == inputs.material
         })
     }
 
@@ -51,10 +50,7 @@ impl Plan {
             .map(|c| CaseInputs {
                 n_bellows: c.n_bellows as u32,
                 wall_thickness_mm: c.wall_thickness_mm,
-                mu1_mpa: c.mu1_mpa,
-                alpha1: c.alpha1,
-                mu2_mpa: c.mu2_mpa,
-                alpha2: c.alpha2,
+                material: c.material,
             })
             .collect();
         Domain::of_cases(&cases, &self.settings.pressures_bar)
@@ -78,9 +74,7 @@ impl Plan {
             .into_iter()
             .filter_map(|(name, law)| match law {
                 MaterialLaw::Ogden(o) => {
-                    let q = o.params();
-                    let set = [q.mu[0], q.alpha[0], q.mu[1], q.alpha[1]];
-                    let v = domain.violations(&Query::new(n, t, p, set));
+                    let v = domain.violations(&Query::new(n, t, p, OgdenSet::from(&o)));
                     Some((name, v))
                 }
                 _ => None,

@@ -6,10 +6,10 @@ use std::collections::BTreeMap;
 use serde::{Deserialize, Serialize};
 
 use super::cases::PlannedCase;
-use crate::case::Domain;
+use crate::case::{Domain, OgdenSet};
 use crate::fe::effects::{Effect, EffectError, Effects};
 use crate::fe::geometry::{DesignParams, MIN_CAVITY_LENGTH, N_RANGE};
-use crate::fe::material::{literature_sets, Hyperelastic, MaterialError, MaterialLaw};
+use crate::fe::material::{literature_sets, MaterialError, MaterialLaw};
 use crate::fe::preset::Geometry;
 use crate::snapshots::SnapshotError;
 
@@ -204,10 +204,12 @@ impl Ranges {
             id,
             n_bellows: n,
             wall_thickness_mm: lerp(t_range, u[0]),
-            mu1_mpa: 2.0 * s * mu0 / alpha1,
-            alpha1,
-            mu2_mpa: 2.0 * (1.0 - s) * mu0 / alpha2,
-            alpha2,
+            material: OgdenSet {
+                mu1_mpa: 2.0 * s * mu0 / alpha1,
+                alpha1,
+                mu2_mpa: 2.0 * (1.0 - s) * mu0 / alpha2,
+                alpha2,
+            },
             effects,
         })
     }
@@ -218,7 +220,8 @@ impl Ranges {
         let unit = |v: f64, lo: f64, hi: f64| if hi > lo { (v - lo) / (hi - lo) } else { 0.5 };
         let n_lo = self.n_bellows.iter().copied().min().unwrap_or(0) as f64;
         let n_hi = self.n_bellows.iter().copied().max().unwrap_or(0) as f64;
-        let (k1, k2) = (c.mu1_mpa * c.alpha1, c.mu2_mpa * c.alpha2);
+        let m = &c.material;
+        let (k1, k2) = (m.mu1_mpa * m.alpha1, m.mu2_mpa * m.alpha2);
         let mu0 = 0.5 * (k1 + k2);
         let t = self.wall_thickness_mm;
         [
@@ -226,8 +229,8 @@ impl Ranges {
             unit(c.wall_thickness_mm, t[0], t[1]),
             unit(mu0.ln(), self.mu0_mpa[0].ln(), self.mu0_mpa[1].ln()),
             unit(k1 / (2.0 * mu0), self.term1_share[0], self.term1_share[1]),
-            unit(c.alpha1, self.alpha1[0], self.alpha1[1]),
-            unit(c.alpha2, self.alpha2[0], self.alpha2[1]),
+            unit(m.alpha1, self.alpha1[0], self.alpha1[1]),
+            unit(m.alpha2, self.alpha2[0], self.alpha2[1]),
         ]
     }
 
@@ -254,15 +257,20 @@ impl Ranges {
         }
     }
 
-    /// Whether the Ogden set `[μ₁, α₁, μ₂, α₂]` lies inside the material ranges (terms taken
-    /// in either order), by the same test as a surrogate's domain ([`Domain::violations`]).
-    pub fn contains_ogden(&self, p: [f64; 4]) -> bool {
-        let set = if p[1] > 0.0 {
+    /// Whether the Ogden set lies inside the material ranges (terms taken in either order),
+    /// by the same test as a surrogate's domain ([`Domain::violations`]).
+    pub fn contains_ogden(&self, p: OgdenSet) -> bool {
+        let set = if p.alpha1 > 0.0 {
             p
         } else {
-            [p[2], p[3], p[0], p[1]]
+            OgdenSet {
+                mu1_mpa: p.mu2_mpa,
+                alpha1: p.alpha2,
+                mu2_mpa: p.mu1_mpa,
+                alpha2: p.alpha1,
+            }
         };
-        set[1] > 0.0 && set[3] < 0.0 && self.domain(&[0.0]).contains_material(set)
+        set.alpha1 > 0.0 && set.alpha2 < 0.0 && self.domain(&[0.0]).contains_material(set)
     }
 
     /// The literature Ogden sets and whether each lies inside the ranges.
@@ -273,11 +281,7 @@ impl Ranges {
         Ok(literature_sets()?
             .into_iter()
             .filter_map(|(name, law)| match law {
-                MaterialLaw::Ogden(o) => {
-                    let p = o.params();
-                    let set = [p.mu[0], p.alpha[0], p.mu[1], p.alpha[1]];
-                    Some((name, self.contains_ogden(set)))
-                }
+                MaterialLaw::Ogden(o) => Some((name, self.contains_ogden(OgdenSet::from(&o)))),
                 _ => None,
             })
             .collect())

@@ -2,6 +2,7 @@
 //! inverted elements.
 
 use nalgebra::{Matrix3, Vector3};
+use surrogate::case::OgdenSet;
 use surrogate::fe::material::{
     literature_sets, Material, MaterialError, MaterialLaw, MooneyRivlin5, NeoHookean, Ogden2,
 };
@@ -136,7 +137,10 @@ fn from_spec_accepts_literature_names_and_parameter_lists() {
         }
     }
     let m = Material::from_spec("ogden_002", 1000.0).unwrap();
-    assert_eq!(m.ogden_params(), Some([1.13, 3.11, -13.17, -0.6]));
+    assert_eq!(
+        m.ogden_set(),
+        Some(OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]))
+    );
     let custom = Material::from_spec("1.13,3.11,-13.17,-0.6", 1000.0).unwrap();
     assert_eq!(custom, m);
     assert!((custom.mu0() - 5.708).abs() < 1e-3);
@@ -149,7 +153,7 @@ fn from_spec_accepts_literature_names_and_parameter_lists() {
     );
     assert_eq!(nh.mu0(), 2.5);
     assert_eq!(nh.kappa, 25.0);
-    assert_eq!(nh.ogden_params(), None);
+    assert_eq!(nh.ogden_set(), None);
     let mr = Material::from_spec("Mooney_Rivlin_5", 1000.0).unwrap();
     assert!((mr.mu0() - 4.658).abs() < 1e-9);
 }
