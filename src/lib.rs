@@ -13,11 +13,14 @@
 //!   rom: POD of marker fields + regression ─► Surrogate (library, CLI, embedded predictor)
 //!                         │
 //!                         ▼
-//!   calibrate (fit the material to recordings, identifiability, FE verification)
+//!   calibrate (the material, and with `identify` the unstated dimensions, fitted to
+//!              recordings; identifiability, FE verification, box extension)
 //!                         │
 //!                         ▼
-//!   diagnose: locate the residual over N, T, P and along the actuator
-//!             (→ name the missing physics → model it and show the gain: not built yet)
+//!   design (search every N and a continuous T for targets, maps over the design space)
+//!   diagnose (locate the residual over N, T, P and along the actuator → name the missing
+//!             physics among the effects → refit with it and confirm by FE → plan the
+//!             measurements that would separate the candidates left tied)
 //! ```
 //!
 //! The embedded predictor is a crate of its own, `surrogate-predict` (`predict/` in the
