@@ -4,7 +4,7 @@
 //! kernel per POD block (`gp_per_block`); then the same library
 //! paths of the shipped model trained on FE snapshots (`models/actuator.json`, or, until it
 //! exists, `models/actuator_coarse.json`, trained on the complete coarse set) at N = 11,
-//! T = 2 mm, Ogden 002.
+//! T = 2 mm, Ogden 002 (`SURROGATE_BENCH_MODEL=path` measures another model file there).
 use std::hint::black_box;
 use std::time::Duration;
 
@@ -128,11 +128,17 @@ fn bench(c: &mut Criterion) {
 /// The shipped model (real FE snapshots): what a user's optimisation loop calls.
 fn shipped(c: &mut Criterion) {
     let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
-    let path = ["actuator.json", "actuator_coarse.json"]
-        .iter()
-        .map(|f| root.join(f))
-        .find(|p| p.exists())
-        .expect("a shipped model in models/");
+    // SURROGATE_BENCH_MODEL=path measures another model file on the same paths (a design-space
+    // model while its set grows, a retrained one)
+    let path = match std::env::var_os("SURROGATE_BENCH_MODEL") {
+        Some(p) => std::path::PathBuf::from(p),
+        None => ["actuator.json", "actuator_coarse.json"]
+            .iter()
+            .map(|f| root.join(f))
+            .find(|p| p.exists())
+            .expect("a shipped model in models/"),
+    };
+    eprintln!("shipped/*: {}", path.display());
     let m = Surrogate::load(&path).unwrap();
     let q = Query {
         n: 11,
