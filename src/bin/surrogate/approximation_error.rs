@@ -9,7 +9,7 @@ use crate::files::{given_or_announced, load_model, DEFAULT_MODEL};
 
 /// Runs the subcommand.
 pub fn run(a: ApproximationErrorArgs) -> Result<()> {
-    let mesh = crate::files::mesh_options(&a.mesh, a.element_size, a.wall_elements)?;
+    let mesh = a.refinement.options(&a.mesh)?;
     if a.materials < 2 {
         anyhow::bail!(
             "--materials {}: expected at least 2 (the covariance needs two)",
@@ -45,7 +45,8 @@ pub fn run(a: ApproximationErrorArgs) -> Result<()> {
             .collect::<std::collections::BTreeSet<_>>()
             .len(),
         mesh.level.name(),
-        a.element_size
+        a.refinement
+            .element_size
             .map_or(String::new(), |h| format!(" ({h} mm elements)")),
         cache.display()
     );

@@ -38,8 +38,8 @@ fn build_case(a: &SimulateArgs, level: MeshLevel, pressures: Vec<f64>) -> Result
         gravity: !a.no_gravity,
         mesh: MeshOptions {
             level,
-            element_size: a.element_size,
-            wall_elements: a.wall_elements,
+            element_size: a.refinement.element_size,
+            wall_elements: a.refinement.wall_elements,
         },
         solver: SolverSettings {
             trace: std::env::var_os("SURROGATE_TRACE").is_some(),

@@ -36,7 +36,7 @@ fn source_commit() -> Option<String> {
 pub fn run(a: TwinArgs) -> Result<()> {
     let effects = Effects::parse(a.effect.iter().map(String::as_str))?;
     let material = Material::from_spec(&a.material, DEFAULT_BULK_RATIO)?;
-    let mesh = crate::files::mesh_options(&a.mesh, a.element_size, a.wall_elements)?;
+    let mesh = a.refinement.options(&a.mesh)?;
     let (noise_dir, _) =
         crate::files::given_or_announced("noise-from", a.noise_from.as_deref(), "training_data");
     let noise_from = Recordings::read_dir(&noise_dir)

@@ -3,6 +3,7 @@ use std::path::PathBuf;
 
 use clap::Args;
 
+use super::MeshRefinementArgs;
 use crate::files::material_spec;
 
 /// `surrogate diagnose`.
@@ -95,12 +96,9 @@ pub struct TwinArgs {
     /// Mesh level: coarse | standard | fine.
     #[arg(long, default_value = "standard")]
     pub mesh: String,
-    /// Element size override in mm (a discretisation other than the diagnosing model's).
-    #[arg(long)]
-    pub element_size: Option<f64>,
-    /// Minimum number of elements through a wall (overrides the level's).
-    #[arg(long)]
-    pub wall_elements: Option<usize>,
+    /// A discretisation other than the diagnosing model's.
+    #[command(flatten)]
+    pub refinement: MeshRefinementArgs,
     /// The dimensions the reference study leaves unstated: as_modelled, or a geometry preset
     /// file such as `surrogate identify` writes (geometry.json); in the key.
     #[arg(long, default_value = "as_modelled")]
@@ -200,12 +198,9 @@ pub struct ApproximationErrorArgs {
     /// The reference FE's mesh level: coarse | standard | fine.
     #[arg(long, default_value = "fine")]
     pub mesh: String,
-    /// Element size override of the reference in mm.
-    #[arg(long)]
-    pub element_size: Option<f64>,
-    /// Minimum number of the reference's elements through a wall.
-    #[arg(long)]
-    pub wall_elements: Option<usize>,
+    /// The reference's element size and elements through a wall.
+    #[command(flatten)]
+    pub refinement: MeshRefinementArgs,
     /// Number of materials, drawn by a Latin hypercube over the central 80 % of the model's
     /// training domain (each costs 2 FE ramps per recorded design).
     #[arg(long, default_value_t = 6)]

@@ -70,12 +70,9 @@ pub struct SimulateArgs {
     /// Mesh level: coarse | standard | fine (with --bench: a comma list or "all").
     #[arg(long, default_value = "standard")]
     pub mesh: String,
-    /// Element size override in mm.
-    #[arg(long)]
-    pub element_size: Option<f64>,
-    /// Minimum number of elements through a wall (overrides the level's).
-    #[arg(long)]
-    pub wall_elements: Option<usize>,
+    /// Overrides of the level's element size and elements through a wall.
+    #[command(flatten)]
+    pub refinement: super::MeshRefinementArgs,
     /// Write the result as JSON here (stdout if absent or `-`), atomically.
     #[arg(long)]
     pub out: Option<PathBuf>,

@@ -6,7 +6,7 @@ mod diagnose;
 mod fe;
 mod rom;
 
-use clap::{Parser, Subcommand};
+use clap::{Args, Parser, Subcommand};
 
 pub use diagnose::{ApproximationErrorArgs, DiagnoseArgs, TwinArgs, TwinStudyArgs};
 pub use fe::{DemoArgs, EffectsArgs, IdentifyArgs, ModeArg, SimulateArgs, SolverArg, ValidateArgs};
@@ -69,4 +69,23 @@ pub enum Command {
     /// Maps of the outputs over N and T at a few pressures (SVG heat maps and CSV), walls
     /// that leave no cavity greyed out.
     Maps(crate::maps::MapsArgs),
+}
+
+/// A finer or coarser discretisation than the `--mesh` level's, shared by the commands that
+/// run FE on a mesh of their own (`simulate`, `twin`, `approximation-error`).
+#[derive(Debug, Args)]
+pub struct MeshRefinementArgs {
+    /// Element size override in mm (default: the `--mesh` level's).
+    #[arg(long)]
+    pub element_size: Option<f64>,
+    /// Minimum number of elements through a wall (default: the `--mesh` level's).
+    #[arg(long)]
+    pub wall_elements: Option<usize>,
+}
+
+impl MeshRefinementArgs {
+    /// The mesh of `--mesh level` with these overrides, validated; a bad value names its flag.
+    pub fn options(&self, level: &str) -> anyhow::Result<surrogate::fe::mesh::MeshOptions> {
+        crate::files::mesh_options(level, self.element_size, self.wall_elements)
+    }
 }
