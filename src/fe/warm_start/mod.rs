@@ -160,12 +160,39 @@ impl WarmStart {
         (mesh_b, design_b): (&ActuatorMesh, &Design),
     ) -> Result<Self, TransferError> {
         let transfer = Transfer::new(mesh_a, design_a, mesh_b, design_b)?;
-        let states = states
+        Self::new(states.to_vec()).carried(&transfer)
+    }
+
+    /// This warm start (its states and, if moved, the unmoved displacements) carried onto
+    /// another design's mesh by `transfer` ([`Transfer::new`] from this warm start's mesh):
+    /// a first-order warm start moved by the sensitivities to the wall thickness, then
+    /// carried onto the new design's mesh.
+    ///
+    /// # Errors
+    /// [`TransferError::Length`] for a state or displacement not of the transfer's source mesh.
+    pub fn carried(&self, transfer: &Transfer) -> Result<Self, TransferError> {
+        let states = self
+            .states
             .iter()
             .enumerate()
             .map(|(k, st)| transfer.state(k, st))
             .collect::<Result<_, _>>()?;
-        Ok(Self::new(states))
+        let unmoved = match &self.unmoved {
+            Some(us) => Some(
+                us.iter()
+                    .enumerate()
+                    .map(|(k, u)| {
+                        transfer.displacement(u).ok_or(TransferError::Length {
+                            state: k,
+                            len: u.len(),
+                            expected: transfer.source_len(),
+                        })
+                    })
+                    .collect::<Result<_, _>>()?,
+            ),
+            None => None,
+        };
+        Ok(Self { states, unmoved })
     }
 
     /// The guess for each level of a ramp: `levels_bar[0]` is the self-weight state, the

@@ -168,6 +168,11 @@ impl Transfer {
         self.same_topology
     }
 
+    /// The length of a displacement vector of A's mesh (3 per node).
+    pub fn source_len(&self) -> usize {
+        3 * self.from_nodes
+    }
+
     /// A displacement vector of A's mesh (3 per node) interpolated onto B's nodes, or `None`
     /// if `u_a` is not 3 per node of A's mesh.
     pub fn displacement(&self, u_a: &[f64]) -> Option<Vec<f64>> {
