@@ -119,8 +119,19 @@ fn dedup_sorted(v: &[f64]) -> Vec<f64> {
     b
 }
 
+/// The feature positions of a design along x, y and z (walls, cavities, gaps, duct, free
+/// length: where its meshes have grid lines), each sorted with values closer than 1e-9
+/// merged. Two designs of the same layout (the same `N`, a duct in both or neither) have the
+/// same number of features in the same order; the piecewise-linear map between their lists
+/// ([`piecewise_linear`]) is the map [`ActuatorMesh::moved`] moves grid lines by.
+pub fn feature_positions(design: &Design) -> [Vec<f64>; 3] {
+    let breaks = Breaks::of(design);
+    std::array::from_fn(|a| dedup_sorted(&breaks.at[a]))
+}
+
 /// The piecewise-linear map with `from[i] ↦ to[i]` at `x` (constant slope beyond the ends).
-fn piecewise_linear(from: &[f64], to: &[f64], x: f64) -> f64 {
+/// `from` is sorted and has at least one entry (`to` as many).
+pub(crate) fn piecewise_linear(from: &[f64], to: &[f64], x: f64) -> f64 {
     let i = from
         .partition_point(|&v| v <= x)
         .saturating_sub(1)

@@ -215,4 +215,38 @@ impl<K: Copy + PartialEq> GridMesh<K> {
         let idx = cell[0] + n[0] * (cell[1] + n[1] * cell[2]);
         self.cell_element[idx].map(|e| (e, xi))
     }
+
+    /// The element containing parameter point `x`, or touching it within `tol` of its
+    /// closed cell, and its local coordinates ξ ∈ [−1, 1]³ (clamped). Unlike [`Self::locate`],
+    /// a point on a grid line between a solid and a void cell (or just outside a solid cell,
+    /// by rounding) is found in the solid one: every cell within `tol` along each axis is
+    /// tried, lowest first. None if no solid cell is that close.
+    pub fn locate_within(&self, x: [f64; 3], tol: f64) -> Option<(usize, [f64; 3])> {
+        let n = self.grid.cells();
+        let mut candidates: [Vec<usize>; 3] = Default::default();
+        for (a, cand) in candidates.iter_mut().enumerate() {
+            let l = &self.grid.lines[a];
+            let lo = l.partition_point(|&v| v < x[a] - tol).saturating_sub(1);
+            *cand = (lo..n[a])
+                .take_while(|&c| l[c] <= x[a] + tol)
+                .filter(|&c| l[c + 1] >= x[a] - tol)
+                .collect();
+        }
+        for &k in &candidates[2] {
+            for &j in &candidates[1] {
+                for &i in &candidates[0] {
+                    let c = [i, j, k];
+                    if let Some(e) = self.cell_element[i + n[0] * (j + n[1] * k)] {
+                        let xi = std::array::from_fn(|a| {
+                            let l = &self.grid.lines[a];
+                            let (lo, hi) = (l[c[a]], l[c[a] + 1]);
+                            (2.0 * (x[a] - lo) / (hi - lo) - 1.0).clamp(-1.0, 1.0)
+                        });
+                        return Some((e, xi));
+                    }
+                }
+            }
+        }
+        None
+    }
 }

@@ -23,7 +23,10 @@ mod grid;
 mod hex;
 mod options;
 
-pub use actuator::{ActuatorMesh, GapSide, MarkerLocation, MeshMoveError, PressureSurface};
+pub(crate) use actuator::piecewise_linear;
+pub use actuator::{
+    feature_positions, ActuatorMesh, GapSide, MarkerLocation, MeshMoveError, PressureSurface,
+};
 pub use grid::{GridMesh, TensorGrid};
 pub use hex::{face_local_nodes, local_index, Face, Mesh, NODES_PER_ELEMENT};
 pub use options::{MeshLevel, MeshOptions};

@@ -37,7 +37,9 @@
 //! fails leaves the state and the contact gap shifts as they were.
 //!
 //! The guess carries the neighbour's contact gap shifts: a guess from another model (another
-//! number of unknowns or contact points) is not used ([`LevelGuess::fits`]).
+//! number of unknowns or contact points) is not used ([`LevelGuess::fits`]). A guess carried
+//! from another mesh whose contact faces do not correspond has no shifts, and starts from the
+//! model's own ([`LevelGuess::shifts`]).
 
 use super::newton::NewtonOutcome;
 use super::problem::NonlinearProblem;
@@ -51,7 +53,10 @@ use crate::fe::assembly::LoadLevel;
 pub struct LevelGuess {
     /// Full displacement vector.
     pub u_full: Vec<f64>,
-    /// The contact gap shifts (augmented-Lagrangian multipliers) to start with.
+    /// The contact gap shifts (augmented-Lagrangian multipliers) to start with; empty: the
+    /// model's shifts as they are when the level is reached (those the load path starts it
+    /// from), for a guess carried from another mesh whose contact faces do not correspond
+    /// ([`crate::fe::warm_start::transfer`]).
     pub shifts: Vec<f64>,
     /// A second start tried if Newton fails from `u_full` (the neighbour's state as it is,
     /// when `u_full` was extrapolated from it), before the homotopy and the load path.
@@ -60,9 +65,10 @@ pub struct LevelGuess {
 
 impl LevelGuess {
     /// Whether this guess belongs to a model of `model`'s size: the same number of unknowns
-    /// and of contact points.
+    /// and of contact points (or no shifts, [`Self::shifts`]).
     pub fn fits(&self, model: &impl NonlinearProblem) -> bool {
-        self.u_full.len() == model.n_full() && self.shifts.len() == model.contact_shifts().len()
+        self.u_full.len() == model.n_full()
+            && (self.shifts.is_empty() || self.shifts.len() == model.contact_shifts().len())
     }
 }
 
@@ -122,7 +128,9 @@ impl<P: NonlinearProblem> Solver<'_, P> {
         let saved_u = state.u_free.clone();
         let saved_shifts = self.model.contact_shifts();
         self.model.restrict(u_full, &mut state.u_free);
-        self.model.set_contact_shifts(shifts);
+        if !shifts.is_empty() {
+            self.model.set_contact_shifts(shifts);
+        }
         self.stab = None;
         let out = self.newton(state, &target, false)?;
         if self.settings.trace {
@@ -171,7 +179,9 @@ impl<P: NonlinearProblem> Solver<'_, P> {
         let n0 = self.linear.factorizations;
         let saved_u = state.u_free.clone();
         let saved_shifts = self.model.contact_shifts();
-        self.model.set_contact_shifts(shifts);
+        if !shifts.is_empty() {
+            self.model.set_contact_shifts(shifts);
+        }
         self.stab = None;
         self.homotopy_weight = 0.0;
         self.homotopy_r0.resize(self.model.n_free(), 0.0);

@@ -8,9 +8,20 @@
 //! matching state ([`crate::fe::solver::warm`]): same tolerances, same answers, fewer
 //! iterations. A state of another mesh (another number of unknowns) is not used: those levels
 //! take the load path as usual.
+//!
+//! A new design of the same layout (another wall thickness at the same `N`) has another mesh:
+//! [`WarmStart::transferred`] carries the states onto it first ([`transfer`]: each node's
+//! material point in the other design, by the piecewise-linear map between their features,
+//! interpolated with the other mesh's shape functions).
 
 use crate::fe::assembly::LoadLevel;
+use crate::fe::geometry::Design;
+use crate::fe::mesh::ActuatorMesh;
 use crate::fe::solver::LevelGuess;
+
+mod transfer;
+
+pub use transfer::{material_map, transfer, Transfer, TransferError};
 
 /// A converged state of a ramp, kept for what is computed after it (the sensitivities,
 /// [`crate::fe::sensitivity`], and warm starts): the displacement with everything it was in
@@ -133,6 +144,55 @@ impl WarmStart {
             states,
             unmoved: Some(unmoved),
         })
+    }
+
+    /// The states of design A (on `mesh_a`) carried onto the mesh of design B of the same
+    /// layout (`mesh_b`, the mesh [`crate::fe::simulate::run_warm`] builds for B: the printed
+    /// design's, at the case's mesh options), zeroth order ([`Transfer`]; the contact gap
+    /// shifts kept only where the meshes have the same topology, see [`transfer`]).
+    ///
+    /// # Errors
+    /// [`TransferError`]: designs of different layouts, a node of B outside A's solid, a
+    /// state that is not of `mesh_a`.
+    pub fn transferred(
+        states: &[ConvergedState],
+        (mesh_a, design_a): (&ActuatorMesh, &Design),
+        (mesh_b, design_b): (&ActuatorMesh, &Design),
+    ) -> Result<Self, TransferError> {
+        let transfer = Transfer::new(mesh_a, design_a, mesh_b, design_b)?;
+        Self::new(states.to_vec()).carried(&transfer)
+    }
+
+    /// This warm start (its states and, if moved, the unmoved displacements) carried onto
+    /// another design's mesh by `transfer` ([`Transfer::new`] from this warm start's mesh):
+    /// a first-order warm start moved by the sensitivities to the wall thickness, then
+    /// carried onto the new design's mesh.
+    ///
+    /// # Errors
+    /// [`TransferError::Length`] for a state or displacement not of the transfer's source mesh.
+    pub fn carried(&self, transfer: &Transfer) -> Result<Self, TransferError> {
+        let states = self
+            .states
+            .iter()
+            .enumerate()
+            .map(|(k, st)| transfer.state(k, st))
+            .collect::<Result<_, _>>()?;
+        let unmoved = match &self.unmoved {
+            Some(us) => Some(
+                us.iter()
+                    .enumerate()
+                    .map(|(k, u)| {
+                        transfer.displacement(u).ok_or(TransferError::Length {
+                            state: k,
+                            len: u.len(),
+                            expected: transfer.source_len(),
+                        })
+                    })
+                    .collect::<Result<_, _>>()?,
+            ),
+            None => None,
+        };
+        Ok(Self { states, unmoved })
     }
 
     /// The guess for each level of a ramp: `levels_bar[0]` is the self-weight state, the
