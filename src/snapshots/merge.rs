@@ -10,7 +10,7 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::plan::{Plan, PlannedCase};
-use super::store::{case_name, header_with, read_case_file, ShardDir};
+use super::store::{case_name, check_row, header_with, read_case_file, ShardDir, BASE_COLUMNS};
 use super::SnapshotError;
 
 /// What a merge wrote.
@@ -187,4 +187,71 @@ pub fn sidecar_path(out: &Path) -> PathBuf {
         .map(|s| s.to_string_lossy().into_owned())
         .unwrap_or_else(|| "snapshots".into());
     out.with_file_name(format!("{stem}.plan.json"))
+}
+
+/// Checks that the merged file at `path` is a complete merge of the plan beside it
+/// ([`sidecar_path`]): the header of the plan's columns, then every plan case exactly once in
+/// case-id order, each with one row per plan pressure carrying the plan's inputs and settings
+/// (what [`merge`] writes). A finished campaign is committed this way, once, without its case
+/// files.
+///
+/// # Errors
+/// [`SnapshotError::CaseFile`] naming the line and what differs; plan and I/O errors.
+pub fn check_merged(path: &Path) -> Result<MergeSummary, SnapshotError> {
+    let plan = Plan::read(&sidecar_path(path))?;
+    let bytes = std::fs::read(path).map_err(|e| SnapshotError::io(path, e))?;
+    let bad = |line: usize, message: String| SnapshotError::CaseFile {
+        path: path.display().to_string(),
+        line,
+        message,
+    };
+    let (head, body) = match bytes.iter().position(|&b| b == b'\n') {
+        Some(i) => (&bytes[..i], &bytes[i + 1..]),
+        None => (&bytes[..], &[][..]),
+    };
+    if head != header_with(&plan.effect_columns()).as_bytes() {
+        let why = "header differs from the snapshot columns of the plan beside the file";
+        return Err(bad(1, why.into()));
+    }
+    let mut cases: Vec<&PlannedCase> = plan.cases.iter().collect();
+    cases.sort_by_key(|c| c.id);
+    let n = plan.settings.pressures_bar.len();
+    let mut summary = MergeSummary {
+        cases: cases.len(),
+        rows: 0,
+        failed_cases: 0,
+        unconverged_rows: 0,
+        missing_cases: 0,
+        plan_hash: plan.hash(),
+    };
+    let mut failed = vec![false; cases.len()];
+    let mut rdr = csv::ReaderBuilder::new()
+        .has_headers(false)
+        .from_reader(body);
+    for (k, rec) in rdr.records().enumerate() {
+        let line = k + 2;
+        let rec = rec.map_err(|e| bad(line, e.to_string()))?;
+        let Some(case) = cases.get(k / n) else {
+            let why = format!(
+                "more rows than the plan's {} cases × {n} pressures",
+                cases.len()
+            );
+            return Err(bad(line, why));
+        };
+        let converged = check_row(&rec, k % n, case, &plan.settings)
+            .map_err(|m| bad(line, format!("{}: {m}", case_name(case.id))))?;
+        summary.unconverged_rows += usize::from(!converged);
+        failed[k / n] |= !rec[BASE_COLUMNS - 1].is_empty();
+        summary.rows += 1;
+    }
+    if summary.rows != cases.len() * n {
+        let why = format!(
+            "{} rows, expected every plan case once with one row per pressure ({} × {n})",
+            summary.rows,
+            cases.len()
+        );
+        return Err(bad(summary.rows + 2, why));
+    }
+    summary.failed_cases = failed.iter().filter(|f| **f).count();
+    Ok(summary)
 }

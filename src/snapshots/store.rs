@@ -128,7 +128,7 @@ pub fn header_with(effects: &[Effect]) -> String {
 }
 
 /// Number of columns without effects; the `error` column is the last of them.
-const BASE_COLUMNS: usize = SNAPSHOT_COLUMN_NAMES.len() + PROVENANCE_COLUMNS.len();
+pub(super) const BASE_COLUMNS: usize = SNAPSHOT_COLUMN_NAMES.len() + PROVENANCE_COLUMNS.len();
 
 /// The effects of a case's columns and their values, in the library's order.
 fn effect_cells(case: &PlannedCase, settings: &PlanSettings) -> Vec<(Effect, f64)> {
@@ -254,7 +254,7 @@ pub struct CaseFile {
 }
 
 /// Checks one data row (0-based `j`) of a case file; returns whether it converged.
-fn check_row(
+pub(super) fn check_row(
     rec: &csv::StringRecord,
     j: usize,
     case: &PlannedCase,

@@ -1,5 +1,5 @@
-//! The shipped snapshot sets and the models trained on them: each set is the merge of the
-//! committed case files, each model is what the shipped command makes of its set
+//! The shipped snapshot sets and the models trained on them: each set is committed once, as
+//! the complete merge of its campaign with its plan beside it, each model is what the shipped command makes of its set
 //! (`bash training_data/snapshots/ship.sh --coarse` for `models/actuator_coarse.json`,
 //! `bash training_data/snapshots/ship.sh` for the multi-fidelity `models/actuator.json`), and
 //! their stored held-out errors meet the surrogate's accuracy targets.
@@ -10,7 +10,7 @@ use surrogate::rom::data::CaseSet;
 use surrogate::rom::fidelity::correct_low_fidelity;
 use surrogate::rom::metrics::Validation;
 use surrogate::rom::{train, SnapshotSet, Surrogate, TrainConfig};
-use surrogate::snapshots::merge;
+use surrogate::snapshots::merge::{self, check_merged};
 
 const SET: &str = "training_data/snapshots_coarse.csv";
 const MODEL: &str = "models/actuator_coarse.json";
@@ -21,35 +21,62 @@ fn root(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
 }
 
-fn assert_merge_is_shipped(dir: &str, set: &str, how: &str) {
-    let name = Path::new(set).file_name().unwrap().to_string_lossy();
-    let out =
-        PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join(format!("shipped_model_merged_{name}"));
-    let summary = merge(&[root(dir)], &out).unwrap_or_else(|e| {
-        panic!(
-            "the committed case files of {dir} merge without --partial (the set is complete): {e}"
-        )
-    });
+/// The shipped set `set` is committed once, as the complete merge of its campaign: every case
+/// of the plan beside it exactly once, none failed, and that plan is the one recorded (by
+/// `model`, when it records it).
+fn assert_complete_merge(set: &str, model: Option<&str>, plan_hash: &str) {
+    let summary = check_merged(&root(set))
+        .unwrap_or_else(|e| panic!("{set} is the complete merge of its plan: {e}"));
+    assert_eq!(summary.plan_hash, plan_hash, "{set}");
     assert_eq!(
         summary.failed_cases, 0,
         "failed cases in the shipped set {set}"
     );
-    let merged = std::fs::read(&out).unwrap();
-    let shipped = std::fs::read(root(set)).unwrap();
+    let Some(model) = model else { return };
+    let m = Surrogate::load(&root(model)).unwrap();
+    let recorded = &m.training.plan_domain.as_ref().unwrap().plan;
     assert!(
-        merged == shipped,
-        "{set} differs from the merge of {dir}: re-run {how}"
+        recorded.contains(&format!("(plan {plan_hash})")),
+        "{model} records {recorded}"
     );
 }
 
 #[test]
-fn shipped_coarse_set_is_the_merge_of_the_committed_case_files() {
-    assert_merge_is_shipped("training_data/snapshots/coarse", SET, "ship.sh --coarse");
+fn shipped_coarse_set_is_a_complete_merge_of_its_plan() {
+    assert_complete_merge(SET, Some(MODEL), "bdd27aba");
 }
 
+/// A shipped set is refused when a case is missing or a row differs from its plan, naming
+/// the line.
 #[test]
-fn shipped_standard_subset_is_the_merge_of_the_committed_case_files() {
-    assert_merge_is_shipped("training_data/snapshots/standard", STANDARD_SET, "ship.sh");
+fn an_incomplete_or_altered_set_is_refused_naming_the_line() {
+    let dir = PathBuf::from(env!("CARGO_TARGET_TMPDIR")).join("shipped_model_altered");
+    std::fs::create_dir_all(&dir).unwrap();
+    let text = std::fs::read_to_string(root(STANDARD_SET)).unwrap();
+    let plan = std::fs::read(merge::sidecar_path(&root(STANDARD_SET))).unwrap();
+    let write = |name: &str, body: &str| {
+        let p = dir.join(name);
+        std::fs::write(&p, body).unwrap();
+        std::fs::write(merge::sidecar_path(&p), &plan).unwrap();
+        p
+    };
+    let lines: Vec<&str> = text.lines().collect();
+    // the last case (15 rows) left out
+    let short = lines[..lines.len() - 15].join("\n") + "\n";
+    let e = check_merged(&write("short.csv", &short))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("rows, expected every plan case once"), "{e}");
+    // one row's wall thickness changed
+    let mut altered: Vec<String> = lines.iter().map(|l| l.to_string()).collect();
+    let cells: Vec<&str> = lines[20].split(',').collect();
+    let mut changed: Vec<String> = cells.iter().map(|c| c.to_string()).collect();
+    changed[2] = "9.99".into();
+    altered[20] = changed.join(",");
+    let e = check_merged(&write("altered.csv", &(altered.join("\n") + "\n")))
+        .unwrap_err()
+        .to_string();
+    assert!(e.contains("line 21") && e.contains("9.99"), "{e}");
 }
 
 /// Every output's pooled held-out RMSE against the targets: tip ≤ 0.3 mm, markers
