@@ -37,26 +37,21 @@ impl From<FlatCaseInputs> for CaseInputs {
         CaseInputs {
             n_bellows: f.n_bellows,
             wall_thickness_mm: f.wall_thickness_mm,
-            material: OgdenSet {
-                mu1_mpa: f.mu1_mpa,
-                alpha1: f.alpha1,
-                mu2_mpa: f.mu2_mpa,
-                alpha2: f.alpha2,
-            },
+            material: OgdenSet::from_array([f.mu1_mpa, f.alpha1, f.mu2_mpa, f.alpha2]),
         }
     }
 }
 
 impl From<CaseInputs> for FlatCaseInputs {
     fn from(c: CaseInputs) -> Self {
-        let m = c.material;
+        let [mu1_mpa, alpha1, mu2_mpa, alpha2] = c.material.as_array();
         FlatCaseInputs {
             n_bellows: c.n_bellows,
             wall_thickness_mm: c.wall_thickness_mm,
-            mu1_mpa: m.mu1_mpa,
-            alpha1: m.alpha1,
-            mu2_mpa: m.mu2_mpa,
-            alpha2: m.alpha2,
+            mu1_mpa,
+            alpha1,
+            mu2_mpa,
+            alpha2,
         }
     }
 }

@@ -11,7 +11,7 @@ use super::settings::ExtendSettings;
 use crate::calibrate::fit::{calibrate, Calibration};
 use crate::calibrate::identify::Determinacy;
 use crate::calibrate::objective::Recordings;
-use crate::calibrate::refine::{run_round_plan, AddedRows, Refit, TrainingSet};
+use crate::calibrate::refine::{run_round_plan, GrownSet, Refit, TrainingSet};
 use crate::calibrate::CalibrateError;
 use crate::rom::data::{SnapshotRow, SnapshotSet};
 use crate::rom::Surrogate;
@@ -266,9 +266,7 @@ struct Extending<'a> {
     cal: Calibration,
     nominal: MaterialBox,
     start: Optimum,
-    low_rows: Vec<SnapshotRow>,
-    high_rows: Vec<SnapshotRow>,
-    skipped: usize,
+    rows: GrownSet,
     rounds: Vec<ExtendRound>,
 }
 
@@ -291,13 +289,7 @@ impl<'a> Extending<'a> {
             nominal: start.domain,
             start,
             cal,
-            low_rows: t.snapshots.rows.clone(),
-            high_rows: t
-                .high
-                .iter()
-                .flat_map(|h| h.snapshots.rows.clone())
-                .collect(),
-            skipped: t.snapshots.skipped_unconverged,
+            rows: GrownSet::of(t),
             rounds: Vec::new(),
         })
     }
@@ -379,10 +371,10 @@ impl<'a> Extending<'a> {
             let high = fe.run(&high_plan, k, "_high")?;
             runs.push(high.summary.clone());
             failed.extend(high.failed.clone());
-            self.high_rows.extend(high.good_rows(&low_failed));
+            self.rows.high.extend(high.good_rows(&low_failed));
         }
-        self.skipped += low.set.skipped_unconverged;
-        self.low_rows.extend(low.good_rows(&HashSet::new()));
+        let skipped = low.set.skipped_unconverged;
+        self.rows.add_low(low.good_rows(&HashSet::new()), skipped);
         let model = self.retrain(fe, k)?;
         let round = ExtendRound {
             round: k,
@@ -415,14 +407,10 @@ impl<'a> Extending<'a> {
             calibration: &self.settings.calibration,
             recordings: self.rec,
         };
-        let rows = AddedRows {
-            low: &self.low_rows,
-            high: &self.high_rows,
-            skipped: self.skipped,
-            added: &format!("box extension rounds 1..{k}"),
-        };
+        let added = format!("box extension rounds 1..{k}");
         let path = fe.dir.join(format!("model_extend_{k}.json"));
-        (self.current, self.cal) = refit.retrain_and_refit(&rows, &path, &|s| fe.stage(s))?;
+        (self.current, self.cal) =
+            refit.retrain_and_refit(&self.rows, &added, &path, &|s| fe.stage(s))?;
         Ok(path)
     }
 

@@ -62,5 +62,5 @@ pub use report::{RefineRound, RefineStop, Refinement};
 pub use run::{refine, RefineEvent};
 pub use settings::RefineSettings;
 pub use shift::{data_space_shift, DataSpaceShift};
-pub(crate) use training::{run_round_plan, AddedRows, Refit};
+pub(crate) use training::{run_round_plan, GrownSet, Refit};
 pub use training::{HighFidelity, TrainingSet};

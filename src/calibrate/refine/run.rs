@@ -7,7 +7,7 @@ use super::cases::{baseline_rows, recorded_designs, round_plan};
 use super::report::{RefineRound, RefineStop, Refinement};
 use super::settings::RefineSettings;
 use super::shift::{data_space_shift, DataSpaceShift};
-use super::training::{run_round_plan, AddedRows, Refit, TrainingSet};
+use super::training::{run_round_plan, GrownSet, Refit, TrainingSet};
 use crate::calibrate::baseline::BaselineRow;
 use crate::calibrate::fit::{calibrate, Calibration};
 use crate::calibrate::objective::{Recordings, Selection};
@@ -15,7 +15,7 @@ use crate::calibrate::verify::{compare_fe, FeVerification};
 use crate::calibrate::CalibrateError;
 use crate::case::OgdenSet;
 use crate::fe::mesh::MeshOptions;
-use crate::rom::data::{SnapshotRow, SnapshotSet};
+use crate::rom::data::SnapshotSet;
 use crate::rom::Surrogate;
 use crate::snapshots::plan::Plan;
 use crate::snapshots::run::{CaseRunner, Progress, RunSummary};
@@ -171,11 +171,8 @@ struct Refining<'a> {
     settings: &'a RefineSettings,
     current: Surrogate,
     cal: Calibration,
-    /// Every training row so far (the low fidelity of a multi-fidelity set).
-    low_rows: Vec<SnapshotRow>,
-    /// Every high-fidelity row so far (empty without a high fidelity).
-    high_rows: Vec<SnapshotRow>,
-    skipped: usize,
+    /// Every training row so far.
+    rows: GrownSet,
     rounds: Vec<RefineRound>,
     models: Vec<PathBuf>,
     final_check: Option<FeVerification>,
@@ -197,13 +194,7 @@ impl<'a> Refining<'a> {
             settings,
             current: model.clone(),
             cal,
-            low_rows: training.snapshots.rows.clone(),
-            high_rows: training
-                .high
-                .as_ref()
-                .map(|h| h.snapshots.rows.clone())
-                .unwrap_or_default(),
-            skipped: training.snapshots.skipped_unconverged,
+            rows: GrownSet::of(training),
             rounds: Vec::new(),
             models: Vec::new(),
             final_check: None,
@@ -226,8 +217,7 @@ impl<'a> Refining<'a> {
             let (summary, low) = fe.low(&set, k)?;
             cases_run += summary.done;
             wall += summary.wall_time_s;
-            self.skipped += low.skipped_unconverged;
-            self.low_rows.extend(low.rows);
+            self.rows.add_low(low.rows, low.skipped_unconverged);
         }
         let (summary, verified) = fe.verified(&set, k)?;
         let mesh: MeshOptions = fe.verify_plan().settings.mesh;
@@ -260,10 +250,10 @@ impl<'a> Refining<'a> {
             .collect();
         self.rounds.push(round);
         if high {
-            self.high_rows.extend(verified.rows);
+            self.rows.high.extend(verified.rows);
         } else {
-            self.skipped += verified.skipped_unconverged;
-            self.low_rows.extend(verified.rows);
+            self.rows
+                .add_low(verified.rows, verified.skipped_unconverged);
         }
         Ok((rows, agree))
     }
@@ -277,14 +267,10 @@ impl<'a> Refining<'a> {
             calibration: &self.settings.calibration,
             recordings: self.rec,
         };
-        let rows = AddedRows {
-            low: &self.low_rows,
-            high: &self.high_rows,
-            skipped: self.skipped,
-            added: &format!("refinement rounds 1..{k}"),
-        };
+        let added = format!("refinement rounds 1..{k}");
         let path = fe.dir.join(format!("model_round_{k}.json"));
-        (self.current, self.cal) = refit.retrain_and_refit(&rows, &path, &|s| fe.stage(s))?;
+        (self.current, self.cal) =
+            refit.retrain_and_refit(&self.rows, &added, &path, &|s| fe.stage(s))?;
         self.models.push(path);
         Ok(())
     }

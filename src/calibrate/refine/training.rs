@@ -174,37 +174,59 @@ pub(crate) struct Refit<'a> {
     pub recordings: &'a Recordings,
 }
 
-/// The rows a round adds to the training set (low- and high-fidelity) and how many cases of
-/// the base set failed.
-pub(crate) struct AddedRows<'a> {
+/// The training set grown by rounds: every low- and high-fidelity row so far (the base set's
+/// first) and how many unconverged rows were skipped.
+#[derive(Clone, Debug, Default)]
+pub(crate) struct GrownSet {
     /// Every low-fidelity row so far, the base set's and the rounds'.
-    pub low: &'a [SnapshotRow],
+    pub low: Vec<SnapshotRow>,
     /// Every high-fidelity row so far (empty for a single-fidelity surrogate).
-    pub high: &'a [SnapshotRow],
-    /// Cases of the base set that did not converge.
+    pub high: Vec<SnapshotRow>,
+    /// Unconverged rows skipped, of the base set and the rounds.
     pub skipped: usize,
-    /// What was added, for the merged set's source (e.g. "refinement rounds 1..2").
-    pub added: &'a str,
+}
+
+impl GrownSet {
+    /// The base training set's rows, before any round.
+    pub(crate) fn of(training: &TrainingSet) -> Self {
+        GrownSet {
+            low: training.snapshots.rows.clone(),
+            high: training
+                .high
+                .iter()
+                .flat_map(|h| h.snapshots.rows.iter().cloned())
+                .collect(),
+            skipped: training.snapshots.skipped_unconverged,
+        }
+    }
+
+    /// Adds a round's low-fidelity rows and its count of skipped unconverged rows.
+    pub(crate) fn add_low(&mut self, rows: impl IntoIterator<Item = SnapshotRow>, skipped: usize) {
+        self.skipped += skipped;
+        self.low.extend(rows);
+    }
 }
 
 impl Refit<'_> {
-    /// The surrogate retrained on `rows` ([`retrain`]), written to `model_path`, and the
-    /// material refitted through it.
+    /// The surrogate retrained on `rows` ([`retrain`]; `added` names what the rounds added,
+    /// e.g. "refinement rounds 1..2", in the new set's source), written to `model_path`, and
+    /// the material refitted through it.
     ///
     /// # Errors
     /// Training, writing the model, or the calibration failing.
     pub(crate) fn retrain_and_refit(
         &self,
-        rows: &AddedRows<'_>,
+        rows: &GrownSet,
+        added: &str,
         model_path: &Path,
         stage: &dyn Fn(String),
     ) -> Result<(Surrogate, Calibration), CalibrateError> {
         let model = retrain(
             self.training,
-            rows.low,
-            rows.high,
+            &rows.low,
+            &rows.high,
             rows.skipped,
-            rows.added,
+            added,
             self.train,
             stage,
         )?;

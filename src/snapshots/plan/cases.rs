@@ -52,12 +52,7 @@ impl From<PlannedCaseFile> for PlannedCase {
             id: f.id,
             n_bellows: f.n_bellows,
             wall_thickness_mm: f.wall_thickness_mm,
-            material: OgdenSet {
-                mu1_mpa: f.mu1_mpa,
-                alpha1: f.alpha1,
-                mu2_mpa: f.mu2_mpa,
-                alpha2: f.alpha2,
-            },
+            material: OgdenSet::from_array([f.mu1_mpa, f.alpha1, f.mu2_mpa, f.alpha2]),
             effects: f.effects,
         }
     }
@@ -65,15 +60,15 @@ impl From<PlannedCaseFile> for PlannedCase {
 
 impl From<PlannedCase> for PlannedCaseFile {
     fn from(c: PlannedCase) -> Self {
-        let m = c.material;
+        let [mu1_mpa, alpha1, mu2_mpa, alpha2] = c.material.as_array();
         PlannedCaseFile {
             id: c.id,
             n_bellows: c.n_bellows,
             wall_thickness_mm: c.wall_thickness_mm,
-            mu1_mpa: m.mu1_mpa,
-            alpha1: m.alpha1,
-            mu2_mpa: m.mu2_mpa,
-            alpha2: m.alpha2,
+            mu1_mpa,
+            alpha1,
+            mu2_mpa,
+            alpha2,
             effects: c.effects,
         }
     }
