@@ -28,7 +28,9 @@
 //! [`diagnose`] runs calibrate → locate and returns a [`Diagnosis`], the versioned report
 //! (`format` / `version` fields); [`Diagnosis::mesh_error_with`], [`Diagnosis::name_with`] and
 //! [`Diagnosis::refit_with`] run the later stages on it; [`locate()`] is the Locate stage on
-//! its own. [`study`] is the blind study on twins.
+//! its own. [`study`] is the blind study on twins. [`setup`] is how a diagnosis is set up (the
+//! model, the FE sensitivities, the mesh reference, the approximation error) and its defaults
+//! for real recordings and for the blind study.
 //!
 //! ## Locate: the residual table
 //!
@@ -109,6 +111,7 @@ pub mod name;
 pub mod patterns;
 pub mod refit;
 pub mod report;
+pub mod setup;
 pub mod signature;
 mod stages;
 pub mod structure;

@@ -444,3 +444,90 @@ fn cells_outside_the_sweep_are_named_when_the_rest_suffice() {
     assert!(stderr.contains(&format!("warning: {said}")), "{stderr}");
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// The help section of the flags that set a diagnosis up, in `surrogate CMD --help`.
+fn setup_help(cmd: &str) -> String {
+    let (ok, help, stderr) = outcome(&[cmd, "--help"]);
+    assert!(ok, "{stderr}");
+    let at = help
+        .find("Diagnosis setup (")
+        .unwrap_or_else(|| panic!("{cmd} --help: {help}"));
+    help[at..].to_string()
+}
+
+#[test]
+fn diagnose_and_twin_study_share_the_setup_flags() {
+    // one definition: the same flags, the same help (both defaults stated in it)
+    let help = setup_help("diagnose");
+    assert_eq!(help, setup_help("twin-study"));
+    for flag in [
+        "--model <FILE>",
+        "--sensitivities <FILE|calibrated|none>",
+        "--mesh-reference <auto|none|FILE>",
+        "--approximation-error <none|nulls|FILE>",
+    ] {
+        assert!(help.contains(flag), "{flag}: {help}");
+    }
+    assert!(help.contains("[default: none for `diagnose`, nulls for `twin-study`]"));
+    // both commands parse every spelling: each run is stopped by its own check after parsing
+    let dir = scratch("diag_setup_flags");
+    let out = dir.join("out");
+    let o = out.to_str().unwrap();
+    let spellings: [&[&str]; 3] = [
+        &[
+            "--model",
+            "models/actuator_coarse.json",
+            "--sensitivities",
+            "no_such_sensitivities.json",
+            "--mesh-reference",
+            "auto",
+            "--approximation-error",
+            "none",
+        ],
+        &[
+            "--mesh-reference",
+            "none",
+            "--approximation-error",
+            "e.json",
+        ],
+        &["--mesh-reference", "models/actuator.json"],
+    ];
+    let stopped_by: [(&[&str], &str); 2] = [
+        (
+            &["diagnose", "--recordings", "no_such_recordings", "--out", o],
+            "--recordings no_such_recordings: not a directory",
+        ),
+        (
+            &["twin-study", "--stage", "fe", "--out", o],
+            "--stage fe: expected",
+        ),
+    ];
+    for flags in spellings {
+        for (cmd, want) in stopped_by {
+            let args: Vec<&str> = cmd.iter().chain(flags).copied().collect();
+            let (ok, _, stderr) = outcome(&args);
+            assert!(!ok && stderr.contains(want), "{args:?}: {stderr}");
+        }
+    }
+    // a choice of the other command's is refused before anything runs, naming the flag
+    let refused: [(&[&str], &str); 3] = [
+        (
+            &["diagnose", "--approximation-error", "nulls", "--out", o],
+            "--approximation-error = nulls: expected none or an approximation error file",
+        ),
+        (
+            &["twin-study", "--sensitivities", "none", "--out", o],
+            "--sensitivities = none: expected a file of FE sensitivities",
+        ),
+        (
+            &["twin-study", "--sensitivities", "calibrated", "--out", o],
+            "--sensitivities = calibrated: expected a file of FE sensitivities",
+        ),
+    ];
+    for (args, want) in refused {
+        let (ok, _, stderr) = outcome(args);
+        assert!(!ok && stderr.contains(want), "{args:?}: {stderr}");
+        assert!(!out.exists(), "{args:?}: nothing written");
+    }
+    std::fs::remove_dir_all(dir).unwrap();
+}

@@ -140,7 +140,11 @@ pub fn run(a: DemoArgs) -> Result<()> {
             );
             // the model's own mesh error, measured against the other shipped mesh, is a
             // candidate too
-            if let Some((reference, name)) = crate::files::mesh_reference("auto", &model_path)? {
+            let other = surrogate::diagnose::setup::other_shipped_model(&model_path);
+            if let Some((reference, name)) = other
+                .map(|p| crate::files::load_mesh_reference(&p))
+                .transpose()?
+            {
                 let me = diagnosis.mesh_error_with(&model, &reference, &name)?;
                 println!(
                     "The model's own mesh error: {name} differs from it by {:.2} σ rms at the \

@@ -13,6 +13,9 @@ use surrogate::diagnose::measure_design::{MeasurementPlan, PlanSettings};
 use surrogate::diagnose::name::Naming;
 use surrogate::diagnose::refit::{FeConfirmSettings, RefitSettings};
 use surrogate::diagnose::report::Stage;
+use surrogate::diagnose::setup::{
+    ApproximationSource, DiagnosisSetup, ResolvedFile, ResolvedSetup, Sensitivities,
+};
 use surrogate::diagnose::summary::summary_markdown;
 use surrogate::diagnose::sweep::sweep_at;
 use surrogate::diagnose::{diagnose, DiagnoseSettings, Diagnosis, LocateSettings};
@@ -23,12 +26,9 @@ use surrogate::rom::Surrogate;
 use crate::args::DiagnoseArgs;
 use crate::diagnose_plots::write_plots;
 use crate::files::{
-    given_or_announced, given_or_default, input_file, load_model, mesh_reference, write_file,
-    DEFAULT_MODEL,
+    announced, given_or_default, input_file, load_mesh_reference, load_model, repository_root,
+    write_file,
 };
-
-/// The FE sensitivities `diagnose` reads without `--sensitivities`, in the repository.
-const DEFAULT_SENSITIVITIES: &str = "data/sensitivities/calibrated_coarse.json";
 
 /// The validated settings of the run.
 fn settings(a: &DiagnoseArgs) -> Result<DiagnoseSettings> {
@@ -74,27 +74,22 @@ fn recordings(dir: &Path, default: bool) -> Result<Recordings> {
     Ok(rec)
 }
 
-/// The FE sensitivities of `--sensitivities`: a file (default: the committed sweep at the
-/// shipped experiments' calibrated material), `calibrated` or `none` (then no file: `None`).
-fn sensitivities(a: &DiagnoseArgs) -> Result<Option<(SweepSensitivities, InputFile)>> {
-    if matches!(
-        a.sensitivities.as_deref().and_then(Path::to_str),
-        Some("none" | "calibrated")
-    ) {
+/// The FE sensitivities of the setup's file (none for `calibrated` and `none`).
+fn sensitivities(
+    choice: &Sensitivities<ResolvedFile>,
+) -> Result<Option<(SweepSensitivities, InputFile)>> {
+    let Sensitivities::File(f) = choice else {
         return Ok(None);
-    }
-    let (p, default) = given_or_default(a.sensitivities.as_deref(), DEFAULT_SENSITIVITIES);
-    let sens = SweepSensitivities::read(&p).with_context(|| {
+    };
+    let sens = SweepSensitivities::read(&f.path).with_context(|| {
         format!(
             "--sensitivities {}: expected the file `validate --sensitivities all` writes (or \
              calibrated, none)",
-            p.display()
+            f.path.display()
         )
     })?;
-    if default {
-        eprintln!("no --sensitivities: reading {} (the default)", p.display());
-    }
-    Ok(Some((sens, input_file("sensitivities", &p, default)?)))
+    let p = announced("sensitivities", f);
+    Ok(Some((sens, input_file("sensitivities", p, f.default)?)))
 }
 
 /// Runs the subcommand: the inputs read and the flags checked before any work, then
@@ -102,9 +97,13 @@ fn sensitivities(a: &DiagnoseArgs) -> Result<Option<(SweepSensitivities, InputFi
 /// FE sensitivities allow them, the report written and its stages printed.
 pub fn run(a: DiagnoseArgs) -> Result<()> {
     let s = settings(&a)?;
-    let mut inputs = Inputs::read(&a)?;
-    let choices = Choices::of(&a)?;
-    let sens = match sensitivities(&a)? {
+    let setup = a
+        .setup
+        .setup(DiagnosisSetup::recordings())
+        .resolve(repository_root())?;
+    let mut inputs = Inputs::read(&a, &setup)?;
+    let choices = Choices::of(&a, &setup)?;
+    let sens = match sensitivities(&setup.sensitivities)? {
         Some((sens, file)) => {
             inputs.files.push(file);
             Some(sens)
@@ -179,14 +178,15 @@ struct Inputs {
 }
 
 impl Inputs {
-    fn read(a: &DiagnoseArgs) -> Result<Self> {
+    fn read(a: &DiagnoseArgs, setup: &ResolvedSetup) -> Result<Self> {
         let (dir, default) = given_or_default(a.recordings.as_deref(), "training_data");
         let mut rec = recordings(&dir, default)?;
-        let (model_path, default) = given_or_announced("model", a.model.as_deref(), DEFAULT_MODEL);
-        let model = load_model(&model_path)?;
-        let mut files = vec![input_file("model", &model_path, default)?];
-        let approximation = match &a.approximation_error {
-            Some(p) => {
+        let model_path = announced("model", &setup.model);
+        let model = load_model(model_path)?;
+        let mut files = vec![input_file("model", model_path, setup.model.default)?];
+        let approximation = match &setup.approximation_error {
+            ApproximationSource::File(f) => {
+                let p = &f.path;
                 let e = ApproximationError::read(p)
                     .with_context(|| format!("--approximation-error {}", p.display()))?;
                 eprintln!(
@@ -197,17 +197,21 @@ impl Inputs {
                     e.reference
                 );
                 rec = e.correct(&rec);
-                files.push(input_file("approximation error", p, false)?);
+                files.push(input_file("approximation error", p, f.default)?);
                 Some(e)
+            }
+            // `nulls` is refused by the setup's resolution
+            ApproximationSource::None | ApproximationSource::Nulls => None,
+        };
+        // checked before any work: a bad value is named at once
+        let reference = match &setup.mesh_reference {
+            Some(f) => {
+                let (m, name) = load_mesh_reference(&f.path)?;
+                files.push(input_file("mesh reference", &f.path, f.default)?);
+                Some((m, name))
             }
             None => None,
         };
-        // checked before any work: a bad value is named at once
-        let reference = mesh_reference(&a.mesh_reference, &model_path)?;
-        if let Some((_, name)) = &reference {
-            let auto = a.mesh_reference == "auto";
-            files.push(input_file("mesh reference", Path::new(name), auto)?);
-        }
         Ok(Inputs {
             rec,
             model,
@@ -229,7 +233,7 @@ struct Choices {
 }
 
 impl Choices {
-    fn of(a: &DiagnoseArgs) -> Result<Self> {
+    fn of(a: &DiagnoseArgs, setup: &ResolvedSetup) -> Result<Self> {
         refit_effects(&a.refit, None)?;
         let plan = plan_settings(a.plan_measurements)?;
         let confirm: Option<MeshLevel> = match a.confirm_fe.as_str() {
@@ -240,7 +244,7 @@ impl Choices {
                     .map_err(|e: String| anyhow::anyhow!("--confirm-fe {other}: {e} (or none)"))?,
             ),
         };
-        let at_calibrated = a.sensitivities.as_deref() == Some(Path::new("calibrated"));
+        let at_calibrated = setup.sensitivities == Sensitivities::Calibrated;
         let sweep_mesh: MeshLevel = a
             .sweep_mesh
             .parse()

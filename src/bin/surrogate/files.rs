@@ -4,17 +4,23 @@ use std::path::{Path, PathBuf};
 
 use anyhow::{Context, Result};
 use surrogate::calibrate::inputs::InputFile;
+use surrogate::diagnose::setup::ResolvedFile;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::rom::Surrogate;
 
 /// The repository this program was built from: where its documented defaults (the shipped
 /// models, experiments and FE references) are found, from any working directory.
 pub fn repository_file(relative: &str) -> PathBuf {
-    Path::new(env!("CARGO_MANIFEST_DIR")).join(relative)
+    repository_root().join(relative)
+}
+
+/// The repository's root ([`repository_file`]).
+pub fn repository_root() -> &'static Path {
+    Path::new(env!("CARGO_MANIFEST_DIR"))
 }
 
 /// The surrogate every command reads without `--model`, in the repository.
-pub const DEFAULT_MODEL: &str = "models/actuator.json";
+pub const DEFAULT_MODEL: &str = surrogate::diagnose::setup::SHIPPED_MODEL;
 
 /// The file of an optional flag: as the user gave it (`false`), or the documented default
 /// `relative` of the repository (`true`).
@@ -43,6 +49,15 @@ pub fn given_or_announced(flag: &str, given: Option<&Path>, relative: &str) -> (
         eprintln!("no --{flag}: reading {} (the default)", path.display());
     }
     (path, default)
+}
+
+/// A file of a diagnosis setup, a default said on stderr with its path (`no --model: reading
+/// /…/models/actuator.json (the default)`).
+pub fn announced<'a>(flag: &str, file: &'a ResolvedFile) -> &'a Path {
+    if file.default {
+        eprintln!("no --{flag}: reading {} (the default)", file.path.display());
+    }
+    &file.path
 }
 
 /// The record of an input file for the reports (path, checksum, named or default).
@@ -86,40 +101,22 @@ pub fn load_model(path: &Path) -> Result<Surrogate> {
             anyhow::anyhow!(
                 "{e}; give --model PATH (the shipped models are {} and {})",
                 repository_file(DEFAULT_MODEL).display(),
-                repository_file("models/actuator_coarse.json").display()
+                repository_file(surrogate::diagnose::setup::SHIPPED_COARSE_MODEL).display()
             )
         }
     })
 }
 
-/// The mesh reference of `--mesh-reference ARG` for the diagnosing model `model`: `none`;
-/// `auto`, the other shipped model when `model` is one of `models/actuator.json` (standard
-/// mesh) and `models/actuator_coarse.json` (coarse), else none; or a model file. Returns the
-/// surrogate and its name for the report.
-pub fn mesh_reference(arg: &str, model: &Path) -> Result<Option<(Surrogate, String)>> {
-    let path = match arg {
-        "none" => return Ok(None),
-        "auto" => {
-            let other = match model.file_name().and_then(|f| f.to_str()) {
-                Some("actuator.json") => "actuator_coarse.json",
-                Some("actuator_coarse.json") => "actuator.json",
-                _ => return Ok(None),
-            };
-            let p = model.with_file_name(other);
-            if !p.exists() {
-                return Ok(None);
-            }
-            p
-        }
-        file => Path::new(file).to_path_buf(),
-    };
-    let m = load_model(&path).with_context(|| {
+/// The mesh reference at `path` ([`surrogate::diagnose::setup::ResolvedSetup::mesh_reference`])
+/// and its name for the report.
+pub fn load_mesh_reference(path: &Path) -> Result<(Surrogate, String)> {
+    let m = load_model(path).with_context(|| {
         format!(
-            "--mesh-reference {arg}: expected auto, none or a surrogate model file ({})",
+            "--mesh-reference {}: expected auto, none or a surrogate model file",
             path.display()
         )
     })?;
-    Ok(Some((m, path.display().to_string())))
+    Ok((m, path.display().to_string()))
 }
 
 /// Writes `bytes` to a file atomically ([`surrogate::io::write_atomic`]), creating its

@@ -5,6 +5,9 @@ use anyhow::{Context, Result};
 use surrogate::calibrate::baseline::SweepSensitivities;
 use surrogate::calibrate::{ParamSpace, Recordings};
 use surrogate::diagnose::approx_error::ApproximationError;
+use surrogate::diagnose::setup::{
+    ApproximationSource, DiagnosisSetup, ResolvedFile, ResolvedSetup, Sensitivities,
+};
 use surrogate::diagnose::study::{
     close_loop, loop_markdown, make_twins, null_approximation_error, ramps_to_run, run_diagnoses,
     study_markdown, Diagnoser, LoopSettings, StudyDirs, StudyPlan,
@@ -12,12 +15,10 @@ use surrogate::diagnose::study::{
 use surrogate::rom::Surrogate;
 
 use crate::args::TwinStudyArgs;
-use crate::files::{given_or_announced, load_model, mesh_reference, write_file};
+use crate::files::{
+    announced, given_or_announced, load_mesh_reference, load_model, repository_root, write_file,
+};
 
-/// The diagnosing surrogate of the study without `--model`, in the repository.
-const DEFAULT_MODEL: &str = "models/actuator_coarse.json";
-/// The FE sensitivities of the study without `--sensitivities`, in the repository.
-const DEFAULT_SENSITIVITIES: &str = "data/sensitivities/ogden002_coarse.json";
 /// The study's directory without `--out`, in the repository (its committed results).
 const DEFAULT_OUT: &str = "fe_reference/diagnosis/blind";
 
@@ -31,7 +32,11 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
             .validate()
             .context("--loop-k")?;
     }
-    let (model_path, _) = given_or_announced("model", a.model.as_deref(), DEFAULT_MODEL);
+    let setup = a
+        .setup
+        .setup(DiagnosisSetup::blind_study())
+        .resolve(repository_root())?;
+    let model_path = announced("model", &setup.model).to_path_buf();
     let model = load_model(&model_path)?;
     let (noise_dir, _) = given_or_announced("noise-from", a.noise_from.as_deref(), "training_data");
     let noise_from = Recordings::read_dir(&noise_dir)
@@ -64,7 +69,7 @@ pub fn run(a: TwinStudyArgs) -> Result<()> {
         study.make_twins()?;
     }
     if diagnoses || closed_loop {
-        study.diagnose(&a, markers, closed_loop)?;
+        study.diagnose(&a, &setup, markers, closed_loop)?;
     }
     Ok(())
 }
@@ -131,16 +136,25 @@ impl Study {
 
     /// Every twin diagnosed without its key (with or without `markers`) and scored; the
     /// results written as JSON and Markdown, the Markdown printed.
-    fn diagnose(&self, a: &TwinStudyArgs, markers: bool, closed_loop: bool) -> Result<()> {
-        let (sens_path, _) = given_or_announced(
-            "sensitivities",
-            a.sensitivities.as_deref(),
-            DEFAULT_SENSITIVITIES,
-        );
-        let sens = SweepSensitivities::read(&sens_path)
+    fn diagnose(
+        &self,
+        a: &TwinStudyArgs,
+        setup: &ResolvedSetup,
+        markers: bool,
+        closed_loop: bool,
+    ) -> Result<()> {
+        // `none` and `calibrated` are refused by the setup's resolution
+        let Sensitivities::File(f) = &setup.sensitivities else {
+            anyhow::bail!("--sensitivities: the blind study needs a file");
+        };
+        let sens_path = announced("sensitivities", f);
+        let sens = SweepSensitivities::read(sens_path)
             .with_context(|| format!("--sensitivities {}", sens_path.display()))?;
-        let reference = mesh_reference(&a.mesh_reference, &self.model_path)?;
-        let approximation = self.approximation(&a.approximation_error)?;
+        let reference = match &setup.mesh_reference {
+            Some(f) => Some(load_mesh_reference(&f.path)?),
+            None => None,
+        };
+        let approximation = self.approximation(&setup.approximation_error)?;
         let by = Diagnoser {
             model: &self.model,
             sens: &sens,
@@ -202,11 +216,26 @@ impl Study {
     }
 
     /// The model's approximation error of `--approximation-error`: sampled on the null twins
-    /// (`nulls`, written to `<out>/approximation_error.json`) or none.
-    fn approximation(&self, arg: &str) -> Result<Option<ApproximationError>> {
-        match arg {
-            "none" => Ok(None),
-            "nulls" => {
+    /// (`nulls`, written to `<out>/approximation_error.json`), read from a file, or none.
+    fn approximation(
+        &self,
+        source: &ApproximationSource<ResolvedFile>,
+    ) -> Result<Option<ApproximationError>> {
+        match source {
+            ApproximationSource::None => Ok(None),
+            ApproximationSource::File(f) => {
+                let e = ApproximationError::read(&f.path)
+                    .with_context(|| format!("--approximation-error {}", f.path.display()))?;
+                eprintln!(
+                    "approximation error: {} samples of {} against {}, read from {}",
+                    e.samples.len(),
+                    e.model,
+                    e.reference,
+                    f.path.display()
+                );
+                Ok(Some(e))
+            }
+            ApproximationSource::Nulls => {
                 let e = null_approximation_error(
                     &self.plan,
                     &self.noise_from,
@@ -228,7 +257,6 @@ impl Study {
                 );
                 Ok(Some(e))
             }
-            other => anyhow::bail!("--approximation-error {other}: expected nulls or none"),
         }
     }
 }
@@ -257,8 +285,7 @@ fn results_stem(markers: bool, plan_markers: bool, mesh: bool, approximation: bo
 /// in it (so a rerun with the defaults writes the committed file again, byte for byte), else as
 /// given.
 fn repository_name(path: &Path) -> String {
-    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
-    path.strip_prefix(root)
+    path.strip_prefix(repository_root())
         .unwrap_or(path)
         .display()
         .to_string()

@@ -2,18 +2,75 @@
 use std::path::PathBuf;
 
 use clap::Args;
+use surrogate::diagnose::setup::{
+    ApproximationSource, DiagnosisSetup, MeshReference, Sensitivities, SetupFile,
+};
 
 use super::MeshRefinementArgs;
 use crate::files::material_spec;
 
+/// How a diagnosis is set up, the same flags for `diagnose` and `twin-study`
+/// ([`surrogate::diagnose::setup`]); a flag left out takes the command's default.
+#[derive(Debug, Args)]
+#[command(next_help_heading = "Diagnosis setup (the same flags in `diagnose` and `twin-study`)")]
+pub struct DiagnosisSetupArgs {
+    /// The diagnosing surrogate, through which the calibration and the predictions go
+    /// [default: models/actuator.json for `diagnose`, models/actuator_coarse.json for
+    /// `twin-study`; of the repository the program was built from, from any working
+    /// directory].
+    #[arg(long, value_name = "FILE")]
+    pub model: Option<PathBuf>,
+    /// FE sensitivities of the effect library (a file of `validate --sensitivities all`),
+    /// with which Name ranks the effects and Model and show refits; `diagnose` also takes
+    /// `calibrated` (that sweep run now at the material just calibrated on --sweep-mesh, 18
+    /// ramps cached in `<out>/fe_sensitivities`) and `none` (no Name, no Model) [default:
+    /// data/sensitivities/calibrated_coarse.json for `diagnose` (at the shipped experiments'
+    /// calibrated material), data/sensitivities/ogden002_coarse.json for `twin-study`; of
+    /// the repository].
+    #[arg(long, value_name = "FILE|calibrated|none")]
+    pub sensitivities: Option<String>,
+    /// A surrogate on another mesh whose difference to --model at the calibrated material is
+    /// tested as the model's own mesh error: `auto` (the other shipped model beside
+    /// models/actuator.json or models/actuator_coarse.json, else none), `none` or a model
+    /// file; `twin-study` writes its results with one to results*_mesh.* [default: auto for
+    /// `diagnose`, none for `twin-study` (its `nulls` approximation error holds the mesh
+    /// error already)].
+    #[arg(long, value_name = "auto|none|FILE")]
+    pub mesh_reference: Option<String>,
+    /// The model's approximation error against a finer discretisation, by whose mean the
+    /// recordings are corrected and by whose covariance Name weighs the residual: `none`, a
+    /// file (as `approximation-error` writes) or `nulls` (`twin-study` only: sampled from the
+    /// null twins' noise-free FE, each null twin diagnosed without its own group's sample,
+    /// written to `<out>/approximation_error.json`); `twin-study` writes its results without
+    /// one to results*_no_approx.* [default: none for `diagnose`, nulls for `twin-study`].
+    #[arg(long, value_name = "none|nulls|FILE")]
+    pub approximation_error: Option<String>,
+}
+
+impl DiagnosisSetupArgs {
+    /// The command's setup `defaults` ([`DiagnosisSetup::recordings`] or
+    /// [`DiagnosisSetup::blind_study`]) with the flags given.
+    pub fn setup(&self, defaults: DiagnosisSetup) -> DiagnosisSetup {
+        let mut s = defaults;
+        if let Some(p) = &self.model {
+            s.model = SetupFile::Given(p.clone());
+        }
+        if let Some(v) = &self.sensitivities {
+            s.sensitivities = Sensitivities::from_flag(v);
+        }
+        if let Some(v) = &self.mesh_reference {
+            s.mesh_reference = MeshReference::from_flag(v);
+        }
+        if let Some(v) = &self.approximation_error {
+            s.approximation_error = ApproximationSource::from_flag(v);
+        }
+        s
+    }
+}
+
 /// `surrogate diagnose`.
 #[derive(Debug, Args)]
 pub struct DiagnoseArgs {
-    /// Surrogate model file (the calibration and the predictions go through it) [default:
-    /// models/actuator.json of the repository the program was built from, from any working
-    /// directory].
-    #[arg(long)]
-    pub model: Option<PathBuf>,
     /// Directory of recordings in the shipped experiments' format: bending_experiments.csv
     /// (required), blocked_force_experiments.csv and marker_experiments.csv (where they
     /// exist; what is missing is said in the report) [default: training_data/ of the
@@ -38,14 +95,6 @@ pub struct DiagnoseArgs {
     /// (and along_actuator.svg with marker recordings).
     #[arg(long, default_value = "diagnosis")]
     pub out: PathBuf,
-    /// FE sensitivities of the effect library at the calibrated material (written by
-    /// `validate --sensitivities all`); the Name stage ranks the effects with them.
-    /// `calibrated` runs that sweep now, at the material just calibrated (18 ramps on
-    /// --sweep-mesh, cached in `<out>/fe_sensitivities`); `none` skips Name and Model
-    /// [default: data/sensitivities/calibrated_coarse.json of the repository, the sweep at the
-    /// shipped experiments' calibrated material].
-    #[arg(long)]
-    pub sensitivities: Option<PathBuf>,
     /// Model and show: `auto` refits the material with the effect the Name stage names (and
     /// nothing when it names none), `none` skips the refit, or a comma list of effects to
     /// refit with whatever the Name stage says (`force_scale`, `gap_bias,pressure_loss`).
@@ -62,18 +111,6 @@ pub struct DiagnoseArgs {
     /// Mesh of the sweep `--sensitivities calibrated` runs (coarse | standard).
     #[arg(long, default_value = "coarse")]
     pub sweep_mesh: String,
-    /// A surrogate of the same plan on another mesh: its difference to `--model` at the
-    /// calibrated material is tested as the model's own mesh error beside the effects
-    /// (`auto`: the other shipped model, `models/actuator_coarse.json` beside
-    /// `models/actuator.json` and the reverse; `none`: not tested; or a model file).
-    #[arg(long, default_value = "auto")]
-    pub mesh_reference: String,
-    /// The model's approximation error against a finer reference (a file `twin-study`
-    /// writes as `approximation_error.json`, or one made with
-    /// `surrogate::diagnose::approx_error`): the recordings are corrected by its mean and
-    /// the Name stage weighs the residual by its covariance. Default: none.
-    #[arg(long)]
-    pub approximation_error: Option<PathBuf>,
     /// Measurements to propose (0 to 3) that would best separate the candidates the Name
     /// stage finds tied with the first: markers, other pressures or designs, blocked forces
     /// the FE sensitivities evaluate and the recordings lack (T-optimal discrimination);
@@ -81,6 +118,10 @@ pub struct DiagnoseArgs {
     /// diagnosis.json; 0 plans nothing.
     #[arg(long, default_value_t = surrogate::diagnose::measure_design::MAX_PLANNED)]
     pub plan_measurements: usize,
+    /// The model, the FE sensitivities, the mesh reference, the approximation error (last:
+    /// their help heading is not carried over to the flags after them).
+    #[command(flatten)]
+    pub setup: DiagnosisSetupArgs,
 }
 
 /// `surrogate twin`.
@@ -152,14 +193,6 @@ pub struct TwinStudyArgs {
     /// ones before (results_loop_sequential*.json / .md).
     #[arg(long)]
     pub loop_sequential: bool,
-    /// The diagnosing surrogate [default: models/actuator_coarse.json of the repository the
-    /// program was built from, from any working directory].
-    #[arg(long)]
-    pub model: Option<PathBuf>,
-    /// The FE sensitivities the Name and Model stages use [default:
-    /// data/sensitivities/ogden002_coarse.json of the repository].
-    #[arg(long)]
-    pub sensitivities: Option<PathBuf>,
     /// Recordings whose designs, pressures and standard deviations the twins take [default:
     /// training_data/ of the repository].
     #[arg(long)]
@@ -169,23 +202,14 @@ pub struct TwinStudyArgs {
     /// results_no_markers.*.
     #[arg(long)]
     pub markers: Option<String>,
-    /// A surrogate of the same plan on another mesh: its difference to `--model` is tested
-    /// as the model's own mesh error beside the effects, as `diagnose` does by default
-    /// (`auto`: the other shipped model, `models/actuator.json` beside the coarse one, results
-    /// then go to results*_mesh.*; a model file; `none`: not tested, as the approximation
-    /// error of `--approximation-error nulls` holds the model's mesh error already).
-    #[arg(long, default_value = "none")]
-    pub mesh_reference: String,
-    /// The diagnosing model's approximation error against the twins' discretisation:
-    /// `nulls` samples it from the null twins' noise-free FE (each null twin diagnosed
-    /// without its own group's sample; written to `<out>/approximation_error.json`), `none`
-    /// leaves it out (results then go to results*_no_approx.*).
-    #[arg(long, default_value = "nulls")]
-    pub approximation_error: String,
     /// Only these groups of the plan (comma list of ids, e.g. `null_1,gap_bias_2`; default
     /// all): two processes with disjoint groups keep two cores busy.
     #[arg(long, value_delimiter = ',')]
     pub groups: Vec<String>,
+    /// The model, the FE sensitivities, the mesh reference, the approximation error (last:
+    /// their help heading is not carried over to the flags after them).
+    #[command(flatten)]
+    pub setup: DiagnosisSetupArgs,
 }
 
 /// `surrogate approximation-error`.
