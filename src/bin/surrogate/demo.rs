@@ -127,7 +127,21 @@ pub fn run(a: DemoArgs) -> Result<()> {
     for f in &diagnosis.locate.findings {
         println!("- {}", f.text);
     }
-    // the Name stage on the committed FE sensitivities (coarse mesh, calibrated material)
+    name_and_refit(&mut diagnosis, &model, &model_path)?;
+    let diag_dir = a.out_dir.join("diagnosis");
+    std::fs::create_dir_all(&diag_dir)?;
+    let mut written = written;
+    written.extend(crate::diagnose::write_outputs(&diag_dir, &diagnosis)?);
+    for p in written {
+        println!("wrote {}", p.display());
+    }
+    Ok(())
+}
+
+/// Step 5's Name and Model stages on the committed FE sensitivities (coarse mesh, calibrated
+/// material): the candidates, then the named effect (or the strongest plausible lead) refitted
+/// with the material, each design left out in turn.
+fn name_and_refit(diagnosis: &mut Diagnosis, model: &Surrogate, model_path: &Path) -> Result<()> {
     let sens_path = repository_file(SENSITIVITIES);
     match SweepSensitivities::read(&sens_path) {
         Ok(sens) => {
@@ -140,19 +154,19 @@ pub fn run(a: DemoArgs) -> Result<()> {
             );
             // the model's own mesh error, measured against the other shipped mesh, is a
             // candidate too
-            let other = surrogate::diagnose::setup::other_shipped_model(&model_path);
+            let other = surrogate::diagnose::setup::other_shipped_model(model_path);
             if let Some((reference, name)) = other
                 .map(|p| crate::files::load_mesh_reference(&p))
                 .transpose()?
             {
-                let me = diagnosis.mesh_error_with(&model, &reference, &name)?;
+                let me = diagnosis.mesh_error_with(model, &reference, &name)?;
                 println!(
                     "The model's own mesh error: {name} differs from it by {:.2} σ rms at the \
                      calibrated material (candidate `{}`).\n",
                     me.rms_sigma, me.direction.name
                 );
             }
-            let n = diagnosis.name_with(&sens, &model, &NameSettings::default())?;
+            let n = diagnosis.name_with(&sens, model, &NameSettings::default())?;
             println!("{}", n.verdict);
             crate::diagnose::print_candidates(n, 5);
             // Model and show: the named effect, or else the strongest plausible lead, refitted
@@ -175,18 +189,11 @@ pub fn run(a: DemoArgs) -> Result<()> {
                     }
                 );
                 let effect = surrogate::fe::effects::Effect::from_name(&e)?;
-                let r = diagnosis.refit_with(&sens, &model, &RefitSettings::new(vec![effect]))?;
+                let r = diagnosis.refit_with(&sens, model, &RefitSettings::new(vec![effect]))?;
                 println!("{}", r.verdict);
             }
         }
         Err(e) => println!("\nThe Name stage is skipped: {e}"),
-    }
-    let diag_dir = a.out_dir.join("diagnosis");
-    std::fs::create_dir_all(&diag_dir)?;
-    let mut written = written;
-    written.extend(crate::diagnose::write_outputs(&diag_dir, &diagnosis)?);
-    for p in written {
-        println!("wrote {}", p.display());
     }
     Ok(())
 }
