@@ -26,6 +26,12 @@ pub struct TrainingInfo {
     pub code_version: String,
     /// How N is treated.
     pub n_treatment: String,
+    /// Inducing points of a sparse GP fit
+    /// ([`GpParams::inducing`](super::regression::gp::GpParams::inducing)), as asked: a fit of
+    /// no more points than this (a small fold, the final fit of a small set) was exact.
+    /// Absent: exact GP fits (and models written before this field).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub gp_inducing: Option<usize>,
     /// Multi-fidelity correction of the training set, if any ([`super::fidelity`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub correction: Option<CorrectionInfo>,

@@ -818,6 +818,45 @@ fn train_only_takes_a_registered_regressor_by_name() {
     }
 }
 
+/// `--inducing` below twice the regression inputs is refused before any training, naming the
+/// flag; a valid one trains a sparse GP on that many points, says so, and the model records it.
+#[test]
+fn train_inducing_is_checked_and_recorded() {
+    let path = dir().join("inducing.json");
+    // a rerun finds the last run's model: the refusal below must not be judged by it
+    let _ = std::fs::remove_file(&path);
+    let train = |m: &str| {
+        bin()
+            .args([
+                "train",
+                "--force",
+                "--synthetic",
+                "30",
+                "--folds",
+                "3",
+                "--quiet",
+                "--only",
+                "gp",
+                "--inducing",
+                m,
+                "--out",
+            ])
+            .arg(&path)
+            .output()
+            .unwrap()
+    };
+    fails_with(&train("5"), &["invalid --inducing 5", "at least 12"]);
+    assert!(!path.exists(), "a refused flag wrote {}", path.display());
+    let o = train("16");
+    let (out, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(out.contains("GP: sparse on 16 inducing points"), "{out}");
+    let model = surrogate::rom::Surrogate::load(&path).unwrap();
+    assert_eq!(model.training.gp_inducing, Some(16));
+    let gp = model.regressors.get::<surrogate::rom::regression::gp::Gp>();
+    assert_eq!(gp.unwrap().n, 16);
+}
+
 /// A missing default model says where it was looked for, once (no repeated cause).
 #[test]
 fn a_missing_named_model_says_where_it_was_looked_for() {

@@ -22,4 +22,5 @@ mod rom_gradients;
 mod rom_model;
 mod rom_ramp;
 mod shipped_model;
+mod sparse_gp;
 mod toy_regressor;

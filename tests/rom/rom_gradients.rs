@@ -1,5 +1,6 @@
 //! Every analytic derivative against central finite differences: both regressors (one generic
-//! check) and the surrogate's Jacobian with respect to T, P and the Ogden parameters.
+//! check; the GP exact and sparse) and the surrogate's Jacobian with respect to T, P and the
+//! Ogden parameters.
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use surrogate::case::{OgdenSet, Query};
@@ -76,11 +77,28 @@ fn regressor_jacobians_match_finite_differences() {
     )
     .unwrap();
     assert_ne!(grouped.group_inv_len(0), grouped.group_inv_len(1));
+    // sparse on 12 of the 30 points, with one kernel and with a kernel per column
+    let sparse = |groups: Vec<usize>| {
+        let gp = Gp::fit(
+            &data,
+            &GpParams {
+                inducing: Some(12),
+                groups,
+                ..Default::default()
+            },
+        )
+        .unwrap();
+        assert_eq!(gp.n, 12);
+        gp
+    };
+    let (sparse, sparse_grouped) = (sparse(Vec::new()), sparse(vec![0, 1, 2]));
     let poly = Poly::fit(&data, &PolyParams::default()).unwrap();
     for t in 0..5 {
         let xq: Vec<f64> = (0..d).map(|_| rng.gen_range(-0.9..0.9)).collect();
         check_regressor(&gp, &xq, &format!("gp #{t}"));
         check_regressor(&grouped, &xq, &format!("grouped gp #{t}"));
+        check_regressor(&sparse, &xq, &format!("sparse gp #{t}"));
+        check_regressor(&sparse_grouped, &xq, &format!("sparse grouped gp #{t}"));
         check_regressor(&poly, &xq, &format!("poly #{t}"));
     }
 }
@@ -147,6 +165,11 @@ fn surrogate_gradient_matches_finite_differences_gp() {
 #[test]
 fn surrogate_gradient_matches_finite_differences_kernel_per_block() {
     check_model(&rom_common::grouped_model(), "kernel per block");
+}
+
+#[test]
+fn surrogate_gradient_matches_finite_differences_sparse_gp() {
+    check_model(&rom_common::sparse_model(), "sparse gp");
 }
 
 #[test]

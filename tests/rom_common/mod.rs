@@ -37,6 +37,24 @@ pub fn grouped_model() -> Surrogate {
     small_model_with(Some(RegressorKind::GP), true)
 }
 
+/// The small model with a sparse GP on 16 inducing points (GP only; the folds' fits, on 26
+/// or 27 cases, are sparse too).
+pub fn sparse_model() -> Surrogate {
+    let cases = synthetic_cases(40, 7);
+    let cfg = TrainConfig {
+        folds: 3,
+        only: Some(RegressorKind::GP),
+        gp: surrogate::rom::regression::gp::GpParams {
+            inducing: Some(16),
+            ..Default::default()
+        },
+        ..Default::default()
+    };
+    train(&cases, "synthetic", 0, &cfg, &|_, _| {})
+        .unwrap()
+        .surrogate
+}
+
 fn small_model_with(only: Option<RegressorKind>, kernel_per_block: bool) -> Surrogate {
     let cases = synthetic_cases(40, 7);
     let cfg = TrainConfig {

@@ -5,6 +5,7 @@ use surrogate::rom::data::{CaseSet, SnapshotSet};
 use surrogate::rom::fidelity::correct_low_fidelity;
 use surrogate::rom::held_out_n;
 use surrogate::rom::provenance::CorrectionInfo;
+use surrogate::rom::regression::gp::GpParams;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::train::{HeldOutPoint, TrainReport};
 use surrogate::rom::{train, Surrogate, TrainConfig};
@@ -114,7 +115,8 @@ fn hold_out_n(
     Ok(Some(report))
 }
 
-/// The checks made before minutes of training, not after: the output file, the margin.
+/// The checks made before minutes of training, not after: the output file, the margin, the
+/// number of inducing points.
 fn check_args(a: &TrainArgs) -> Result<()> {
     surrogate::rom::model::refuse_existing(&a.out, a.force)
         .map_err(|e| anyhow::anyhow!("{e}; give --force to replace it, or another --out"))?;
@@ -123,6 +125,14 @@ fn check_args(a: &TrainArgs) -> Result<()> {
         "invalid --prefer-poly-within {}: expected a finite number ≥ 0",
         a.prefer_poly_within
     );
+    let inputs = surrogate::case::FEATURE_NAMES.len();
+    if let Some(m) = a.inducing {
+        anyhow::ensure!(
+            m >= 2 * inputs,
+            "invalid --inducing {m}: expected at least {} (twice the {inputs} regression inputs)",
+            2 * inputs
+        );
+    }
     Ok(())
 }
 
@@ -158,6 +168,10 @@ fn train_config(a: &TrainArgs) -> TrainConfig {
         kernel_per_block: a.kernel_per_block,
         fill_truncated: a.fill_truncated,
         ordinal_n: a.ordinal_n,
+        gp: GpParams {
+            inducing: a.inducing,
+            ..Default::default()
+        },
         ..Default::default()
     }
 }
@@ -306,6 +320,9 @@ fn describe_model(report: &TrainReport, out: &std::path::Path) {
         })
         .collect();
     println!("POD: {}", modes.join(", "));
+    if let Some(m) = s.training.gp_inducing {
+        println!("GP: sparse on {m} inducing points (exact where a fit had no more cases)");
+    }
     println!(
         "trained on {} cases in {:.1} s ({} fits on {} threads; the final fit alone {:.1} s) -> {}",
         s.training.n_cases,

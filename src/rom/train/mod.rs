@@ -311,6 +311,7 @@ pub fn train(
         skipped_unconverged,
         code_version: env!("CARGO_PKG_VERSION").to_string(),
         n_treatment: n_treatment(cfg.ordinal_n),
+        gp_inducing: cfg.gp.inducing,
         correction: None,
         plan_domain: None,
         built_with: None,

@@ -30,7 +30,9 @@ pub struct TrainConfig {
     pub max_field_modes: usize,
     /// Largest number of modes of each direct block.
     pub max_direct_modes: usize,
-    /// Gaussian-process settings.
+    /// Gaussian-process settings, among them the inducing points of a sparse fit
+    /// ([`GpParams::inducing`]; recorded in the model's
+    /// [`TrainingInfo::gp_inducing`](crate::rom::provenance::TrainingInfo::gp_inducing)).
     pub gp: GpParams,
     /// One GP kernel (hyperparameters and correlation matrix) per POD block instead of one
     /// shared by all: each output gets its own length scales, at the cost of one kernel

@@ -66,6 +66,12 @@ pub struct TrainArgs {
     /// vector per block it needs.
     #[arg(long)]
     pub kernel_per_block: bool,
+    /// Sparse GP: put the weights on M inducing points (training inputs chosen by pivoted
+    /// Cholesky, the subset-of-regressors mean of every point), so that a prediction costs M
+    /// kernel values instead of one per training case. At least twice the regression inputs;
+    /// a fit of no more than M cases is exact.
+    #[arg(long, value_name = "M")]
+    pub inducing: Option<usize>,
     /// Restrict the choice to one regressor of the registry, by name.
     #[arg(long, value_name = "REGRESSOR", value_parser = registered_regressor())]
     pub only: Option<RegressorKind>,

@@ -38,8 +38,9 @@ pub(super) fn correlation(x: &[f64], n: usize, d: usize, theta: &[f64]) -> Vec<f
     r
 }
 
+/// Distance `‖(a − b) ⊙ ℓ⁻¹‖` in the length scales.
 #[inline]
-fn scaled_dist(a: &[f64], b: &[f64], inv_len: &[f64]) -> f64 {
+pub(super) fn scaled_dist(a: &[f64], b: &[f64], inv_len: &[f64]) -> f64 {
     let mut r2 = 0.0;
     for j in 0..a.len() {
         let t = (a[j] - b[j]) * inv_len[j];

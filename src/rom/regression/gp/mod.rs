@@ -17,21 +17,26 @@
 //! outputs of different smoothness get their own length scales); a prediction computes one
 //! kernel vector per group it needs. Without groups (the default) one kernel serves all
 //! columns, as above.
+//!
+//! Sparse fit ([`GpParams::inducing`], `gp/sparse.rs`): the weights sit on `k < n` inducing
+//! points `Z` chosen among the training inputs by pivoted Cholesky of `R`, with the
+//! subset-of-regressors mean of all `n` points, `α = (K_Zn K_nZ + η K_ZZ)⁻¹ K_Zn Y`; the result
+//! is a process of the same form with `n = k` (same prediction paths, model file and export).
 
+mod fit;
 mod kernel;
 mod likelihood;
+mod sparse;
 
 use serde::{Deserialize, Serialize};
 
 use std::ops::Range;
 use std::sync::OnceLock;
 
-use super::linalg::{cholesky_in_place, dot, solve_lower, solve_lower_t};
 use super::regressor::{Data, EmbeddedRegressor, LinearBasis, Regressor, TrainingSettings};
 use crate::rom::RomError;
 pub use kernel::kernel_vector;
 use kernel::{kernel, kernel_and_g};
-use likelihood::{correlation, optimise};
 
 /// Fit settings of the Gaussian process.
 #[derive(Debug, Clone)]
@@ -50,6 +55,13 @@ pub struct GpParams {
     /// Column groups with a kernel each, as boundaries `[0, b₁, …, m]` (strictly increasing);
     /// empty: one kernel for all columns.
     pub groups: Vec<usize>,
+    /// Inducing points of a sparse fit (`gp/sparse.rs`): `None`, the exact process; `Some(k)`
+    /// with `k` below the number of points `n`, the weights sit on `k` training inputs chosen
+    /// by pivoted Cholesky (the subset-of-regressors mean of all `n` points), and the fitted
+    /// process is an ordinary one with `n = k`: a prediction costs `k` kernel values. The
+    /// hyperparameters are fitted as without it. `k ≥ n`: the exact process (a fold or a
+    /// set smaller than `k` is fitted exactly). `k` must be at least twice the inputs.
+    pub inducing: Option<usize>,
 }
 
 impl Default for GpParams {
@@ -61,6 +73,7 @@ impl Default for GpParams {
             theta: None,
             max_points: 400,
             groups: Vec::new(),
+            inducing: None,
         }
     }
 }
@@ -323,110 +336,9 @@ impl Regressor for Gp {
         }
     }
 
+    /// Exact, or sparse on [`GpParams::inducing`] points.
     fn fit(data: &Data<'_>, params: &GpParams) -> Result<Self, RomError> {
-        let (n, d, m) = (data.n, data.d, data.m);
-        if n < 2 {
-            return Err(RomError::InsufficientData(format!(
-                "GP needs ≥ 2 points, got {n}"
-            )));
-        }
-        if d == 0 || d > MAX_INPUTS {
-            return Err(RomError::invalid(
-                "GP inputs",
-                d,
-                &format!("1 ..= {MAX_INPUTS} (the prediction paths use fixed-size arrays)"),
-            ));
-        }
-        let bounds: Vec<usize> = if params.groups.is_empty() {
-            vec![0, m]
-        } else {
-            params.groups.clone()
-        };
-        if !valid_group_bounds(&bounds, m) {
-            return Err(RomError::invalid(
-                "GP column groups",
-                format!("{bounds:?}"),
-                &format!("strictly increasing boundaries from 0 to the {m} outputs"),
-            ));
-        }
-        let n_groups = bounds.len() - 1;
-        if let Some(t) = &params.theta {
-            if t.len() != n_groups * (d + 1) {
-                return Err(RomError::invalid(
-                    "GP theta length",
-                    t.len(),
-                    &format!("{} ((inputs + 1) per column group)", n_groups * (d + 1)),
-                ));
-            }
-        }
-        let mut theta = Vec::with_capacity(n_groups * (d + 1));
-        let mut inv_len = Vec::with_capacity(n_groups * d);
-        let mut xs = Vec::with_capacity(n_groups * n * d);
-        let mut chol = Vec::with_capacity(n_groups * n * (n + 1) / 2);
-        let mut alpha = vec![0.0; n * m];
-        let mut sigma2 = vec![0.0; m];
-        for (g, w) in bounds.windows(2).enumerate() {
-            let cols = w[0]..w[1];
-            let mg = cols.len();
-            // the group's columns as a data set of their own
-            let y: Vec<f64> = (0..n)
-                .flat_map(|i| data.y[i * m + cols.start..i * m + cols.end].iter().copied())
-                .collect();
-            let weights = data.weights.get(cols.clone()).unwrap_or(&[]);
-            let sub = Data {
-                y: &y,
-                m: mg,
-                weights,
-                ..*data
-            };
-            let t = match &params.theta {
-                Some(t) => t[g * (d + 1)..(g + 1) * (d + 1)].to_vec(),
-                None => optimise(
-                    &sub,
-                    params.seed,
-                    params.n_start,
-                    params.max_iter,
-                    params.max_points,
-                )?,
-            };
-            let mut l = correlation(data.x, n, d, &t);
-            cholesky_in_place(&mut l, n).map_err(|i| RomError::Numerical {
-                stage: "GP fit".into(),
-                message: format!("correlation matrix not positive definite (pivot {i})"),
-            })?;
-            let mut col = vec![0.0; n];
-            for (c, out_c) in cols.clone().enumerate() {
-                for i in 0..n {
-                    col[i] = y[i * mg + c];
-                }
-                solve_lower(&l, n, &mut col);
-                sigma2[out_c] = dot(&col, &col) / n as f64;
-                solve_lower_t(&l, n, &mut col);
-                for i in 0..n {
-                    alpha[i * m + out_c] = col[i];
-                }
-            }
-            // packed lower triangle: row i holds L[i][0..=i] at offset i(i+1)/2
-            chol.extend((0..n).flat_map(|i| l[i * n..i * n + i + 1].to_vec()));
-            let il: Vec<f64> = t[..d].iter().map(|t| (-t).exp()).collect();
-            xs.extend((0..n * d).map(|e| data.x[e] * il[e % d]));
-            inv_len.extend(il);
-            theta.extend(t);
-        }
-        Ok(Gp {
-            d,
-            n,
-            m,
-            x: data.x.to_vec(),
-            groups: if n_groups > 1 { bounds } else { Vec::new() },
-            xs,
-            theta,
-            inv_len,
-            alpha,
-            sigma2,
-            chol,
-            by_feature: ByFeature::default(),
-        })
+        fit::fit(data, params)
     }
 
     fn n_inputs(&self) -> usize {
