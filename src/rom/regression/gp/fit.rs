@@ -8,20 +8,18 @@ use std::ops::Range;
 use super::super::linalg::{cholesky_in_place, dot, solve_lower, solve_lower_t};
 use super::super::regressor::Data;
 use super::likelihood::{correlation, optimise};
-use super::sparse::{dtc_group, select_inducing};
+use super::sparse::{dtc_group, select_inducing, GroupWeights};
 use super::{valid_group_bounds, ByFeature, Gp, GpParams, MAX_INPUTS};
 use crate::rom::RomError;
 
-/// The fit of one column group on the process's points (all training points, or the
-/// inducing points).
-pub(super) struct GroupWeights {
-    /// Weights, `n_points × mg` (row `j`: point `j`'s weight of every column of the group).
-    pub alpha: Vec<f64>,
-    /// Process variance `σ_c²` of each column of the group.
-    pub sigma2: Vec<f64>,
-    /// Lower Cholesky factor of the points' correlation matrix `R` (nugget included),
-    /// row-major `n_points × n_points`.
-    pub chol: Vec<f64>,
+impl Gp {
+    /// Fits the process: exact, or sparse on [`GpParams::inducing`] points ([`fit`]).
+    ///
+    /// # Errors
+    /// As [`fit`].
+    pub(super) fn fit_process(data: &Data<'_>, params: &GpParams) -> Result<Gp, RomError> {
+        fit(data, params)
+    }
 }
 
 /// Fits the process ([`GpParams`]): exact, or sparse on `inducing` points when fewer than the
@@ -29,7 +27,7 @@ pub(super) struct GroupWeights {
 ///
 /// # Errors
 /// Fewer than 2 points, invalid settings, or a numerical failure naming the stage.
-pub(super) fn fit(data: &Data<'_>, params: &GpParams) -> Result<Gp, RomError> {
+fn fit(data: &Data<'_>, params: &GpParams) -> Result<Gp, RomError> {
     let bounds = checked_bounds(data, params)?;
     let ys: Vec<Vec<f64>> = bounds
         .windows(2)

@@ -338,7 +338,7 @@ impl Regressor for Gp {
 
     /// Exact, or sparse on [`GpParams::inducing`] points.
     fn fit(data: &Data<'_>, params: &GpParams) -> Result<Self, RomError> {
-        fit::fit(data, params)
+        Gp::fit_process(data, params)
     }
 
     fn n_inputs(&self) -> usize {

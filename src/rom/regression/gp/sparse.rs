@@ -41,10 +41,21 @@
 //! against 1.5 times for this one.)
 
 use super::super::linalg::{cholesky_in_place, dot, householder_least_squares, solve_lower};
-use super::fit::GroupWeights;
 use super::kernel::kernel;
 use super::likelihood::{correlation, scaled_dist};
 use crate::rom::RomError;
+
+/// The fit of one column group on the process's points (all training points, or the
+/// inducing points).
+pub(super) struct GroupWeights {
+    /// Weights, `n_points × mg` (row `j`: point `j`'s weight of every column of the group).
+    pub alpha: Vec<f64>,
+    /// Process variance `σ_c²` of each column of the group.
+    pub sigma2: Vec<f64>,
+    /// Lower Cholesky factor of the points' correlation matrix `R` (nugget included),
+    /// row-major `n_points × n_points`.
+    pub chol: Vec<f64>,
+}
 
 /// The inducing points: indices (ascending) of `m < n` training inputs chosen by greedy
 /// pivoted Cholesky of the groups' correlation matrices (see the [module](self)); `theta`
