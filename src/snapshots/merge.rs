@@ -10,7 +10,9 @@ use std::collections::BTreeMap;
 use std::path::{Path, PathBuf};
 
 use super::plan::{Plan, PlannedCase};
-use super::store::{case_name, check_row, header_with, read_case_file, ShardDir, BASE_COLUMNS};
+use super::store::{
+    case_name, check_row, header_with, read_case_file, CsvText, ShardDir, BASE_COLUMNS,
+};
 use super::SnapshotError;
 
 /// What a merge wrote.
@@ -199,17 +201,9 @@ pub fn sidecar_path(out: &Path) -> PathBuf {
 /// [`SnapshotError::CaseFile`] naming the line and what differs; plan and I/O errors.
 pub fn check_merged(path: &Path) -> Result<MergeSummary, SnapshotError> {
     let plan = Plan::read(&sidecar_path(path))?;
-    let bytes = std::fs::read(path).map_err(|e| SnapshotError::io(path, e))?;
-    let bad = |line: usize, message: String| SnapshotError::CaseFile {
-        path: path.display().to_string(),
-        line,
-        message,
-    };
-    let (head, body) = match bytes.iter().position(|&b| b == b'\n') {
-        Some(i) => (&bytes[..i], &bytes[i + 1..]),
-        None => (&bytes[..], &[][..]),
-    };
-    if head != header_with(&plan.effect_columns()).as_bytes() {
+    let file = CsvText::read(path)?;
+    let bad = |line: usize, message: String| file.error(line, message);
+    if file.head() != header_with(&plan.effect_columns()).as_bytes() {
         let why = "header differs from the snapshot columns of the plan beside the file";
         return Err(bad(1, why.into()));
     }
@@ -225,10 +219,7 @@ pub fn check_merged(path: &Path) -> Result<MergeSummary, SnapshotError> {
         plan_hash: plan.hash(),
     };
     let mut failed = vec![false; cases.len()];
-    let mut rdr = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .from_reader(body);
-    for (k, rec) in rdr.records().enumerate() {
+    for (k, rec) in file.records().enumerate() {
         let line = k + 2;
         let rec = rec.map_err(|e| bad(line, e.to_string()))?;
         let Some(case) = cases.get(k / n) else {

@@ -299,6 +299,60 @@ pub(super) fn check_row(
     Ok(converged)
 }
 
+/// A snapshot CSV read whole: its header line, the rows after it, and errors that name the file
+/// and a line. Case files and merged files share this reading.
+pub(super) struct CsvText {
+    path: String,
+    bytes: Vec<u8>,
+    head_end: usize,
+}
+
+impl CsvText {
+    /// Reads the file at `path`.
+    ///
+    /// # Errors
+    /// I/O errors naming the path.
+    pub(super) fn read(path: &Path) -> Result<Self, SnapshotError> {
+        let bytes = std::fs::read(path).map_err(|e| SnapshotError::io(path, e))?;
+        let head_end = bytes
+            .iter()
+            .position(|&b| b == b'\n')
+            .unwrap_or(bytes.len());
+        Ok(Self {
+            path: path.display().to_string(),
+            bytes,
+            head_end,
+        })
+    }
+
+    /// The header line, without its newline.
+    pub(super) fn head(&self) -> &[u8] {
+        &self.bytes[..self.head_end]
+    }
+
+    /// Everything after the header line.
+    pub(super) fn body(&self) -> &[u8] {
+        self.bytes.get(self.head_end + 1..).unwrap_or(&[])
+    }
+
+    /// The rows after the header, as CSV records.
+    pub(super) fn records(&self) -> csv::StringRecordsIntoIter<&[u8]> {
+        csv::ReaderBuilder::new()
+            .has_headers(false)
+            .from_reader(self.body())
+            .into_records()
+    }
+
+    /// [`SnapshotError::CaseFile`] at 1-based `line` of this file.
+    pub(super) fn error(&self, line: usize, message: String) -> SnapshotError {
+        SnapshotError::CaseFile {
+            path: self.path.clone(),
+            line,
+            message,
+        }
+    }
+}
+
 /// Reads and validates the case file of `case` against the plan: header, one row per plan
 /// pressure in order, the case's inputs and settings, booleans and numbers.
 ///
@@ -309,36 +363,25 @@ pub fn read_case_file(
     case: &PlannedCase,
     settings: &PlanSettings,
 ) -> Result<CaseFile, SnapshotError> {
-    let bytes = std::fs::read(path).map_err(|e| SnapshotError::io(path, e))?;
-    let bad = |line: usize, message: String| SnapshotError::CaseFile {
-        path: path.display().to_string(),
-        line,
-        message,
-    };
-    let (head, body) = match bytes.iter().position(|&b| b == b'\n') {
-        Some(i) => (&bytes[..i], &bytes[i + 1..]),
-        None => (&bytes[..], &[][..]),
-    };
+    let file = CsvText::read(path)?;
+    let bad = |line: usize, message: String| file.error(line, message);
     let effects: Vec<Effect> = effect_cells(case, settings)
         .into_iter()
         .map(|(e, _)| e)
         .collect();
-    if head != header_with(&effects).as_bytes() {
+    if file.head() != header_with(&effects).as_bytes() {
         let why = "header differs from this program's snapshot columns (written by another \
                    version?); delete the file to re-run the case";
         return Err(bad(1, why.into()));
     }
     let mut out = CaseFile {
-        body: body.to_vec(),
+        body: file.body().to_vec(),
         failed: false,
         unconverged_rows: 0,
         error: None,
     };
-    let mut rdr = csv::ReaderBuilder::new()
-        .has_headers(false)
-        .from_reader(body);
     let mut rows = 0;
-    for (j, rec) in rdr.records().enumerate() {
+    for (j, rec) in file.records().enumerate() {
         let rec = rec.map_err(|e| bad(j + 2, e.to_string()))?;
         let converged = check_row(&rec, j, case, settings).map_err(|m| bad(j + 2, m))?;
         out.unconverged_rows += usize::from(!converged);

@@ -1,5 +1,5 @@
 //! The `surrogate train / predict / export` subcommands, every flag and the bad-input messages.
-use std::path::PathBuf;
+use std::path::{Path, PathBuf};
 use std::process::Output;
 use std::sync::OnceLock;
 
@@ -7,6 +7,18 @@ use crate::common::{bin, fails_with, shared_dir, text};
 
 fn dir() -> PathBuf {
     shared_dir("rom_cli")
+}
+
+/// `surrogate train --force --synthetic <cases> --folds <folds> --quiet <extra…> --out <out>`.
+fn train_synthetic(cases: usize, folds: usize, extra: &[&str], out: &Path) -> Output {
+    bin()
+        .args(["train", "--force", "--synthetic", &cases.to_string()])
+        .args(["--folds", &folds.to_string(), "--quiet"])
+        .args(extra)
+        .arg("--out")
+        .arg(out)
+        .output()
+        .unwrap()
 }
 
 /// Trains once (synthetic, 30 cases, 3 folds) and returns the model path.
@@ -121,20 +133,7 @@ fn train_from_csv_file_reports_skipped_rows() {
 #[test]
 fn prefer_poly_within_a_large_margin_selects_the_polynomial() {
     let out = dir().join("fast.json");
-    let o = bin()
-        .args([
-            "train",
-            "--force",
-            "--synthetic",
-            "20",
-            "--folds",
-            "2",
-            "--quiet",
-        ])
-        .args(["--prefer-poly-within", "1000", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = train_synthetic(20, 2, &["--prefer-poly-within", "1000"], &out);
     let (stdout, err) = text(&o);
     assert!(o.status.success(), "{err}");
     // the chosen table follows the candidates
@@ -560,20 +559,7 @@ fn speedup_benchmark_rejects_bad_input_before_any_fe_run() {
 #[test]
 fn learning_curve_prints_one_row_per_size_and_rejects_bad_sizes() {
     let out = dir().join("curve.json");
-    let o = bin()
-        .args([
-            "train",
-            "--force",
-            "--synthetic",
-            "24",
-            "--folds",
-            "3",
-            "--quiet",
-        ])
-        .args(["--learning-curve", "6,12,24", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = train_synthetic(24, 3, &["--learning-curve", "6,12,24"], &out);
     let (stdout, err) = text(&o);
     assert!(o.status.success(), "{err}");
     let rows: Vec<Vec<f64>> = stdout
@@ -591,20 +577,7 @@ fn learning_curve_prints_one_row_per_size_and_rejects_bad_sizes() {
     assert!(rows[2][2] < rows[0][2], "{stdout}");
     // the last size is the whole set: the same errors as the model saved
     assert!(stdout.contains("validation:"));
-    let o = bin()
-        .args([
-            "train",
-            "--force",
-            "--synthetic",
-            "24",
-            "--folds",
-            "3",
-            "--quiet",
-        ])
-        .args(["--learning-curve", "2", "--out"])
-        .arg(&out)
-        .output()
-        .unwrap();
+    let o = train_synthetic(24, 3, &["--learning-curve", "2"], &out);
     fails_with(&o, &["--learning-curve size 2"]);
 }
 
@@ -779,24 +752,7 @@ fn train_only_takes_a_registered_regressor_by_name() {
     let path = dir().join("only_gp.json");
     // a rerun finds the last run's model: the refusal below must not be judged by it
     let _ = std::fs::remove_file(&path);
-    let train = |only: &str| {
-        bin()
-            .args([
-                "train",
-                "--force",
-                "--synthetic",
-                "12",
-                "--folds",
-                "2",
-                "--quiet",
-                "--only",
-                only,
-                "--out",
-            ])
-            .arg(&path)
-            .output()
-            .unwrap()
-    };
+    let train = |only: &str| train_synthetic(12, 2, &["--only", only], &path);
     let names = surrogate::rom::regression::Registry::builtin().names();
     let mut needles = vec!["--only", "'kriging'"];
     needles.extend(&names);
@@ -825,26 +781,7 @@ fn train_inducing_is_checked_and_recorded() {
     let path = dir().join("inducing.json");
     // a rerun finds the last run's model: the refusal below must not be judged by it
     let _ = std::fs::remove_file(&path);
-    let train = |m: &str| {
-        bin()
-            .args([
-                "train",
-                "--force",
-                "--synthetic",
-                "30",
-                "--folds",
-                "3",
-                "--quiet",
-                "--only",
-                "gp",
-                "--inducing",
-                m,
-                "--out",
-            ])
-            .arg(&path)
-            .output()
-            .unwrap()
-    };
+    let train = |m: &str| train_synthetic(30, 3, &["--only", "gp", "--inducing", m], &path);
     fails_with(&train("5"), &["invalid --inducing 5", "at least 12"]);
     assert!(!path.exists(), "a refused flag wrote {}", path.display());
     let o = train("16");
