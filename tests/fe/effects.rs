@@ -36,6 +36,11 @@ fn run(mode: Mode, effects: &[(Effect, f64)]) -> Vec<StepResult> {
     simulate(&case(mode, effects)).unwrap().steps
 }
 
+/// The bending run without effects, which every bending test compares with (run once).
+fn plain_bending() -> Vec<StepResult> {
+    crate::shared_runs::steps(&case(Mode::Bending, &[]))
+}
+
 /// The bending angle at 0.5 bar and the tip's sag `Uy` at 0 bar.
 fn angle_and_sag(s: &[StepResult]) -> (f64, f64) {
     (s[1].angle_deg, s[0].tip_uy_mm)
@@ -43,7 +48,7 @@ fn angle_and_sag(s: &[StepResult]) -> (f64, f64) {
 
 #[test]
 fn neutral_effects_give_the_results_of_the_model_without_them() {
-    let plain = run(Mode::Bending, &[]);
+    let plain = plain_bending();
     let neutral = run(
         Mode::Bending,
         &[
@@ -67,7 +72,7 @@ fn neutral_effects_give_the_results_of_the_model_without_them() {
 
 #[test]
 fn geometric_effects_move_the_bending_the_way_their_physics_says() {
-    let (a0, s0) = angle_and_sag(&run(Mode::Bending, &[]));
+    let (a0, s0) = angle_and_sag(&plain_bending());
     assert!(a0 > 1.0 && s0 < 0.0, "baseline {a0} deg, sag {s0} mm");
     let moved = |e: Effect, v: f64| angle_and_sag(&run(Mode::Bending, &[(e, v)]));
     // thicker walls stiffen, thinner soften: ±0.2 mm on T = 2 moves the angle by about 3 %
@@ -101,7 +106,7 @@ fn geometric_effects_move_the_bending_the_way_their_physics_says() {
 
 #[test]
 fn load_and_support_effects_move_the_bending_the_way_their_physics_says() {
-    let plain = run(Mode::Bending, &[]);
+    let plain = plain_bending();
     let (a0, s0) = angle_and_sag(&plain);
     // pressure loss: less bending under pressure, nothing at P = 0
     let lost = run(Mode::Bending, &[(Effect::PressureLoss, 0.2)]);
@@ -146,9 +151,7 @@ fn force_rig_effects_move_the_blocked_force_the_way_their_physics_says() {
     // small difference of contact forces, so two runs agree to about 1e-10, not bit for bit)
     let scaled = force(&run(Mode::Force, &[(Effect::ForceScale, 1.2)]));
     assert!((scaled / f0 - 1.2).abs() < 1e-6, "{scaled} vs {f0}");
-    // a pressure loss lowers the force
-    let lost = force(&run(Mode::Force, &[(Effect::PressureLoss, 0.2)]));
-    assert!(lost < f0, "{lost} vs {f0}");
+    // (the pressure loss acts on the pressure before the rig sees it: checked in bending)
     // a plate on a spring yields c·F: less force, and the same force as a rigid plate set
     // c·F further away (the equilibrium does not depend on how the plate got there)
     let c = 1.0;

@@ -17,6 +17,7 @@ mod materials;
 mod minimise;
 mod model_doc;
 mod sensitivities;
+mod shared_runs;
 mod solver_stabilization;
 mod toy_effect;
 mod toy_load_term;

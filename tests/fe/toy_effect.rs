@@ -181,9 +181,8 @@ fn the_toy_effect_acts_as_the_pressure_it_stands_for() {
     let plain = simulate(&case(&[0.0, 0.6], Effects::neutral()))
         .unwrap()
         .steps;
-    let nominal = simulate(&case(&[0.0, 0.5], Effects::neutral()))
-        .unwrap()
-        .steps;
+    // the effect library's plain bending run (`effects`): run once for both
+    let nominal = crate::shared_runs::steps(&case(&[0.0, 0.5], Effects::neutral()));
     assert_eq!(toy[1].pressure_bar, 0.5);
     assert_eq!(shape(&toy[1]), shape(&plain[1]));
     // the self-weight state is untouched, and more pressure moves the tip further (a fifth

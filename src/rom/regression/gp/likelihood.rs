@@ -5,7 +5,9 @@ use rand::seq::SliceRandom;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 
-use super::super::linalg::{cholesky_in_place, dot, solve_lower, solve_lower_t, spd_inverse};
+use super::super::linalg::{
+    cholesky_in_place, dot, solve_lower_multi, solve_lower_t_multi, spd_inverse,
+};
 use super::super::regressor::Data;
 use super::kernel::{kernel, kernel_and_g};
 use crate::rom::RomError;
@@ -54,20 +56,19 @@ fn neg_log_likelihood(data: &Data<'_>, yw: &[f64], theta: &[f64]) -> Option<Eval
     let (n, d, m) = (data.n, data.d, data.m);
     let mut l = correlation(data.x, n, d, theta);
     cholesky_in_place(&mut l, n).ok()?;
-    let mut a = vec![0.0; n * m];
+    // a = R⁻¹ Y, all columns at once (each column bit for bit as its own solve)
+    let mut a = yw[..n * m].to_vec();
+    let mut scratch = vec![0.0; m];
+    solve_lower_multi(&l, n, &mut a, m, &mut scratch);
     let mut col = vec![0.0; n];
     let mut s = 0.0;
     for c in 0..m {
         for i in 0..n {
-            col[i] = yw[i * m + c];
+            col[i] = a[i * m + c];
         }
-        solve_lower(&l, n, &mut col);
         s += dot(&col, &col);
-        solve_lower_t(&l, n, &mut col);
-        for i in 0..n {
-            a[i * m + c] = col[i];
-        }
     }
+    solve_lower_t_multi(&l, n, &mut a, m, &mut scratch);
     let sigma2 = (s / (n * m) as f64).max(1e-300);
     let logdet: f64 = 2.0 * (0..n).map(|i| l[i * n + i].ln()).sum::<f64>();
     let nll = 0.5 * (n * m) as f64 * sigma2.ln() + 0.5 * m as f64 * logdet;
