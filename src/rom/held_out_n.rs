@@ -11,16 +11,16 @@
 //! # Ok(()) }
 //! ```
 //!
-//! The errors are mean absolute errors over every held-out case and every grid pressure above
-//! zero: the tip as the distance between the predicted and the FE tip positions (mm), the
-//! bending angle (°) and the blocked force (N).
+//! The errors are those of [`super::unseen`]: mean absolute errors over every held-out case and
+//! every grid pressure above zero, the tip as the distance between the predicted and the FE tip
+//! positions (mm), the bending angle (°) and the blocked force (N).
 
 pub use super::metrics::{HeldOutErrors, HeldOutNReport};
 
 use super::data::CaseSet;
 use super::train::{train, TrainConfig};
-use super::{RomError, Q_ANGLE, Q_FORCE, Q_TIP_UY, Q_TIP_UZ};
-use crate::case::Query;
+use super::unseen::errors_by_n;
+use super::RomError;
 
 /// Trains on the cases of `set` whose `N` is not in `held_out` (with `N` ordinal, whatever
 /// `cfg` says) and measures the model on the held-out cases.
@@ -41,37 +41,13 @@ pub fn study(
         ..cfg.clone()
     };
     let model = train(&train_set, source, 0, &cfg, progress)?.surrogate;
-    let mut pred = model.new_prediction();
-    let mut per_n = vec![Sums::default(); held_out.len()];
-    for case in &test.cases {
-        let k = held_out
-            .iter()
-            .position(|&n| n == case.inputs.n_bellows)
-            .unwrap_or(0);
-        per_n[k].cases += 1;
-        for (p, fe) in set.pressures.iter().zip(&case.values) {
-            if *p <= 0.0 {
-                continue;
-            }
-            model.predict_scalars_into(&Query::from_case(&case.inputs, *p), &mut pred)?;
-            let tip = (pred.tip_uz_mm() - fe[Q_TIP_UZ]).hypot(pred.tip_uy_mm() - fe[Q_TIP_UY]);
-            per_n[k].add(
-                tip,
-                (pred.angle_deg() - fe[Q_ANGLE]).abs(),
-                (pred.force_n() - fe[Q_FORCE]).abs(),
-            );
-        }
-    }
-    let mut all = Sums::default();
-    for s in &per_n {
-        all.merge(s);
-    }
+    let scored = errors_by_n(&model, &test, held_out)?;
     Ok(HeldOutNReport {
         held_out: held_out.to_vec(),
         trained: model.n_trained().to_vec(),
         training_cases: train_set.cases.len(),
-        per_n: per_n.iter().map(Sums::finish).collect(),
-        all: all.finish(),
+        per_n: scored.per_n,
+        all: scored.all,
     })
 }
 
@@ -111,45 +87,4 @@ fn split(set: &CaseSet, held_out: &[u32]) -> Result<(CaseSet, CaseSet), RomError
         off_grid_rows: 0,
     };
     Ok((with(kept), with(test)))
-}
-
-#[derive(Debug, Clone, Copy, Default)]
-struct Sums {
-    cases: usize,
-    points: usize,
-    tip: f64,
-    angle: f64,
-    force: f64,
-    max_tip: f64,
-}
-
-impl Sums {
-    fn add(&mut self, tip: f64, angle: f64, force: f64) {
-        self.points += 1;
-        self.tip += tip;
-        self.angle += angle;
-        self.force += force;
-        self.max_tip = self.max_tip.max(tip);
-    }
-
-    fn merge(&mut self, o: &Sums) {
-        self.cases += o.cases;
-        self.points += o.points;
-        self.tip += o.tip;
-        self.angle += o.angle;
-        self.force += o.force;
-        self.max_tip = self.max_tip.max(o.max_tip);
-    }
-
-    fn finish(&self) -> HeldOutErrors {
-        let m = self.points.max(1) as f64;
-        HeldOutErrors {
-            cases: self.cases,
-            points: self.points,
-            tip_mm: self.tip / m,
-            angle_deg: self.angle / m,
-            force_n: self.force / m,
-            max_tip_mm: self.max_tip,
-        }
-    }
 }

@@ -119,6 +119,7 @@ pub mod surrogate;
 pub(crate) mod svd;
 pub mod synthetic;
 pub mod train;
+pub mod unseen;
 pub mod warp;
 
 pub use data::SnapshotSet;

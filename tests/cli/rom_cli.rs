@@ -879,3 +879,41 @@ fn ordinal_n_predicts_between_trained_n_and_hold_out_n_measures_it() {
     );
     fails_with(&train(&["--hold-out-n", "11"]), &["--ordinal-n"]);
 }
+
+/// `predict --check`: the model against the FE cases of a snapshot CSV, a table per case, per N
+/// and overall, and the JSON; an unreadable file is refused naming the flag, and `--check`
+/// does not mix with a single query.
+#[test]
+fn predict_check_scores_a_snapshot_set_and_refuses_bad_input() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let json = dir().join("check.json");
+    let _ = std::fs::remove_file(&json);
+    let run = |data: &Path, extra: &[&str]| {
+        bin()
+            .args(["predict", "--model"])
+            .arg(root.join("models/actuator_coarse.json"))
+            .arg("--check")
+            .arg(data)
+            .args(extra)
+            .output()
+            .unwrap()
+    };
+    let set = root.join("training_data/snapshots_coarse.csv");
+    let o = run(&set, &["--check-json", json.to_str().unwrap()]);
+    let (out, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        out.contains("300 cases of") && out.contains("case_000299"),
+        "{out}"
+    );
+    let report: serde_json::Value =
+        serde_json::from_str(&std::fs::read_to_string(&json).unwrap()).unwrap();
+    assert_eq!(report["n_values"], serde_json::json!([9, 11, 13]));
+    assert_eq!(report["cases"].as_array().unwrap().len(), 300);
+    fails_with(
+        &run(&dir().join("no_such.csv"), &[]),
+        &["--check", "no_such.csv"],
+    );
+    let o = run(&set, &["--n", "9"]);
+    fails_with(&o, &["--check", "--n"]);
+}

@@ -24,3 +24,4 @@ mod rom_ramp;
 mod shipped_model;
 mod sparse_gp;
 mod toy_regressor;
+mod unseen;

@@ -46,6 +46,9 @@ pub fn run(a: PredictArgs) -> Result<()> {
         }
         writeln!(std::io::stdout(), "{text}")?;
     }
+    if let Some(data) = &a.check {
+        return check(&model, data, a.check_json.as_deref());
+    }
     if let (Some(csv), Some(out)) = (&a.csv, &a.out) {
         return batch(&model, &a, csv, out);
     }
@@ -180,5 +183,28 @@ fn batch(
         predicted.rows.len(),
         out.display()
     );
+    Ok(())
+}
+
+/// `--check`: the model against the FE cases of a snapshot CSV it never saw.
+fn check(model: &Surrogate, data: &std::path::Path, json: Option<&std::path::Path>) -> Result<()> {
+    let set = surrogate::rom::SnapshotSet::read(data)
+        .with_context(|| format!("--check {}", data.display()))?;
+    let cases = set
+        .into_cases()
+        .with_context(|| format!("--check {}", data.display()))?;
+    let report = surrogate::rom::unseen::check(model, &cases)?;
+    writeln!(
+        std::io::stdout(),
+        "{} cases of {} against the model:\n{}",
+        report.cases.len(),
+        data.display(),
+        report.table()
+    )?;
+    if let Some(out) = json {
+        let text = serde_json::to_string_pretty(&report)?;
+        surrogate::io::write_atomic(out, text.as_bytes())
+            .with_context(|| format!("--check-json {}", out.display()))?;
+    }
     Ok(())
 }

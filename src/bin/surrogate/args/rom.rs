@@ -117,17 +117,17 @@ pub struct PredictArgs {
     #[arg(long, default_value_os_t = crate::files::repository_file(crate::files::DEFAULT_MODEL))]
     pub model: PathBuf,
     /// Number of bellows.
-    #[arg(long, required_unless_present_any = ["csv", "validation"])]
+    #[arg(long, required_unless_present_any = ["csv", "validation", "check"])]
     pub n: Option<u32>,
     /// Wall thickness, mm.
-    #[arg(long, required_unless_present_any = ["csv", "validation"], allow_negative_numbers = true)]
+    #[arg(long, required_unless_present_any = ["csv", "validation", "check"], allow_negative_numbers = true)]
     pub t: Option<f64>,
     /// Gauge pressure, bar.
-    #[arg(long, required_unless_present_any = ["csv", "validation", "bench_fe"], allow_negative_numbers = true)]
+    #[arg(long, required_unless_present_any = ["csv", "validation", "bench_fe", "check"], allow_negative_numbers = true)]
     pub pressure: Option<f64>,
     /// Material: a name (ogden_002, ogden_005), `mu1,alpha1,mu2,alpha2` or a calibration
     /// report `DIR/report.json` (its calibrated set).
-    #[arg(long, required_unless_present_any = ["csv", "validation"], allow_hyphen_values = true, value_parser = material_spec)]
+    #[arg(long, required_unless_present_any = ["csv", "validation", "check"], allow_hyphen_values = true, value_parser = material_spec)]
     pub material: Option<String>,
     /// Also output the surrogate's predictive standard deviations: its error against the FE
     /// model it was trained on, not the model's error against real actuators (that is the
@@ -152,6 +152,14 @@ pub struct PredictArgs {
     /// Print the model's stored validation table to stdout (and nothing else without a query).
     #[arg(long)]
     pub validation: bool,
+    /// Check the model against FE cases it never saw: a snapshot CSV (`snapshots merge`), every
+    /// case predicted at its design, material and pressures above 0 and compared with its FE;
+    /// a table per case, per N and overall on stdout (mean |error|: tip distance, angle, force).
+    #[arg(long, value_name = "SNAPSHOTS_CSV", conflicts_with_all = ["n", "t", "pressure", "material", "csv", "bench_fe"])]
+    pub check: Option<PathBuf>,
+    /// With --check: also write the report as JSON (atomically).
+    #[arg(long, value_name = "OUT", requires = "check")]
+    pub check_json: Option<PathBuf>,
     /// Speed-up benchmark on this mesh level (coarse, standard, fine): one full FE ramp of the
     /// query's design and material (bending, contact, gravity, on the model's pressure grid),
     /// then the surrogate at the same pressures, in the same run; JSON to --bench-out.
