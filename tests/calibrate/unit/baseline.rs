@@ -2,7 +2,7 @@
 //!
 //! Tests of the sweep: the order of its queue, the committed caches read under their keys, the
 //! reference study's nine and the summary, the sensitivities file with its geometry. (A cached
-//! ramp reused only under its own key: `crate::fe::runner`'s tests.)
+//! ramp reused only under its own key: `surrogate::fe::runner`'s, `tests/fe/unit/runner.rs`.)
 
 use std::path::{Path, PathBuf};
 
