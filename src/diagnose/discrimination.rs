@@ -399,16 +399,22 @@ pub struct ThinSvd {
 
 impl ThinSvd {
     /// `U` (`m × k`).
+    // public for the tests in tests/diagnose/
+    #[doc(hidden)]
     pub fn u(&self) -> &DMatrix<f64> {
         &self.u
     }
 
     /// The singular values, non-increasing.
+    // public for the tests in tests/diagnose/
+    #[doc(hidden)]
     pub fn s(&self) -> &[f64] {
         &self.s
     }
 
     /// `V` (`n × k`).
+    // public for the tests in tests/diagnose/
+    #[doc(hidden)]
     pub fn v(&self) -> &DMatrix<f64> {
         &self.v
     }

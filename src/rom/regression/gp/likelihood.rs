@@ -24,11 +24,15 @@ pub struct Eval {
 
 impl Eval {
     /// The negative profiled log-likelihood.
+    // public for the tests in tests/rom/
+    #[doc(hidden)]
     pub fn nll(&self) -> f64 {
         self.nll
     }
 
     /// Its gradient with respect to `θ`.
+    // public for the tests in tests/rom/
+    #[doc(hidden)]
     pub fn grad(&self) -> &[f64] {
         &self.grad
     }
