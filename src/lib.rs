@@ -53,7 +53,9 @@ pub mod diagnose;
 pub mod error;
 pub mod fe;
 pub mod io;
-mod random;
+// public for the tests in tests/case/ and tests/calibrate/
+#[doc(hidden)]
+pub mod random;
 pub mod rom;
 pub mod schema;
 pub mod snapshots;

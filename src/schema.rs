@@ -367,6 +367,3 @@ pub const MARKER_RECORDED_STD: Quantity = q(
     "mm",
     "standard deviation of each recorded component",
 );
-
-#[cfg(test)]
-mod tests;

@@ -120,8 +120,10 @@ fn chi2(r: &[f64]) -> f64 {
 
 /// Solves the `free` part of `a δ = b` (4 × 4, symmetric positive definite on the free set);
 /// fixed coordinates get `δ = 0`. `None` when not positive definite.
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
 #[allow(clippy::needless_range_loop)] // the Cholesky loops mirror the formulas
-fn solve_free(a: &[[f64; 4]; 4], b: &[f64; 4], free: &[bool; 4]) -> Option<[f64; 4]> {
+pub fn solve_free(a: &[[f64; 4]; 4], b: &[f64; 4], free: &[bool; 4]) -> Option<[f64; 4]> {
     let idx: Vec<usize> = (0..4).filter(|&i| free[i]).collect();
     let n = idx.len();
     let mut l = [[0.0; 4]; 4];
@@ -352,7 +354,9 @@ pub fn multistart(
 }
 
 /// Tags each fit (sorted by `χ²`) with the index of its minimum.
-fn group_minima(fits: &mut [LocalFit]) {
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn group_minima(fits: &mut [LocalFit]) {
     let mut reps: Vec<([f64; 4], f64)> = Vec::new();
     for f in fits.iter_mut() {
         let k = reps.iter().position(|(u, c)| {
@@ -366,52 +370,5 @@ fn group_minima(fits: &mut [LocalFit]) {
                 reps.len() - 1
             }
         };
-    }
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn free_system_solves_the_free_block() {
-        let a = [
-            [4.0, 1.0, 0.0, 0.5],
-            [1.0, 3.0, 0.2, 0.0],
-            [0.0, 0.2, 2.0, 0.1],
-            [0.5, 0.0, 0.1, 5.0],
-        ];
-        let b = [1.0, 2.0, 3.0, 4.0];
-        let x = solve_free(&a, &b, &[true; 4]).unwrap();
-        for i in 0..4 {
-            let r: f64 = (0..4).map(|j| a[i][j] * x[j]).sum();
-            assert!((r - b[i]).abs() < 1e-12);
-        }
-        let x = solve_free(&a, &b, &[true, false, true, false]).unwrap();
-        assert_eq!((x[1], x[3]), (0.0, 0.0));
-        assert!((4.0 * x[0] - 1.0).abs() < 1e-12 && (2.0 * x[2] - 3.0).abs() < 1e-12);
-    }
-
-    #[test]
-    fn minima_are_grouped() {
-        let f = |u: [f64; 4], c: f64| LocalFit {
-            start: u,
-            u,
-            chi2: c,
-            iterations: 1,
-            stop: Stop::Gradient,
-            active: [None; 4],
-            minimum: 9,
-        };
-        let mut fits = vec![
-            f([0.5; 4], 1.0),
-            f([0.5 + 1e-5, 0.5, 0.5, 0.5], 1.0 + 1e-9),
-            f([0.1; 4], 2.0),
-        ];
-        group_minima(&mut fits);
-        assert_eq!(
-            fits.iter().map(|f| f.minimum).collect::<Vec<_>>(),
-            vec![0, 0, 1]
-        );
     }
 }

@@ -62,14 +62,25 @@ pub enum ExperimentError {
 }
 
 /// Rows of a recording and the columns converted from another unit.
-pub(super) struct Parsed<T> {
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub struct Parsed<T> {
     pub(super) rows: Vec<T>,
     pub(super) written: Written,
 }
 
 impl<T> Parsed<T> {
+    /// The rows, in the format's units.
+    // public for the tests in tests/calibrate/
+    #[doc(hidden)]
+    pub fn rows(&self) -> &[T] {
+        &self.rows
+    }
+
     /// The conversions, in words (`pressure_kpa → pressure_bar × 0.01`).
-    pub(super) fn converted(&self) -> Vec<String> {
+    // public for the tests in tests/calibrate/
+    #[doc(hidden)]
+    pub fn converted(&self) -> Vec<String> {
         self.written
             .renamed
             .iter()

@@ -230,7 +230,9 @@ pub struct TwinOutcome {
 
 /// Whether `inner` lies in `dir` (both as absolute paths, without resolving links that do
 /// not exist yet).
-fn lies_in(inner: &Path, dir: &Path) -> bool {
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn lies_in(inner: &Path, dir: &Path) -> bool {
     let abs = |p: &Path| -> PathBuf {
         let p = if p.is_absolute() {
             p.to_path_buf()
@@ -414,7 +416,9 @@ fn truth(
 }
 
 /// `x` to `digits` decimals, without a negative zero.
-fn fixed(x: f64, digits: usize) -> String {
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn fixed(x: f64, digits: usize) -> String {
     let s = format!("{x:.digits$}");
     if s.trim_start_matches('-')
         .chars()
@@ -437,7 +441,9 @@ fn lines(header: &[&str], rows: impl Iterator<Item = Vec<String>>) -> String {
 }
 
 /// A bending file's text (the shipped file's columns and precision).
-fn bending_csv(rows: &[BendingRecord]) -> String {
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn bending_csv(rows: &[BendingRecord]) -> String {
     lines(
         &schema::names(&schema::BENDING_COLUMNS),
         rows.iter().map(|r| {
@@ -455,7 +461,9 @@ fn bending_csv(rows: &[BendingRecord]) -> String {
 }
 
 /// A blocked-force file's text.
-fn force_csv(rows: &[ForceRecord]) -> String {
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn force_csv(rows: &[ForceRecord]) -> String {
     lines(
         &schema::names(&schema::FORCE_COLUMNS),
         rows.iter().map(|r| {
@@ -486,88 +494,4 @@ fn markers_csv(rows: &[MarkerRecord]) -> String {
             ]
         }),
     )
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-    use crate::calibrate::experiments::{parse_bending, parse_force, shipped_bending};
-
-    #[test]
-    fn files_have_the_shipped_format_and_read_back() {
-        let shipped = std::fs::read_to_string(
-            Path::new(env!("CARGO_MANIFEST_DIR")).join("training_data/bending_experiments.csv"),
-        )
-        .unwrap();
-        let rows = shipped_bending().unwrap();
-        let text = bending_csv(&rows);
-        // the same header, and the same cells but where the table drops a trailing zero
-        assert_eq!(text.lines().next(), shipped.lines().next());
-        for (a, b) in text.lines().zip(shipped.lines()).skip(1) {
-            let a: Vec<f64> = a.split(',').map(|c| c.parse().unwrap()).collect();
-            let b: Vec<f64> = b.split(',').map(|c| c.parse().unwrap()).collect();
-            assert_eq!(a, b);
-        }
-        assert!(
-            text.contains("\n9,1.6,2,28.15,-57.30,42.10,3.37\n"),
-            "{text}"
-        );
-        assert_eq!(parse_bending("twin", &text).unwrap(), rows);
-        let force = crate::calibrate::experiments::shipped_force().unwrap();
-        assert_eq!(parse_force("twin", &force_csv(&force)).unwrap(), force);
-        assert_eq!(fixed(-0.001, 2), "0.00");
-        assert_eq!(fixed(-0.01, 2), "-0.01");
-    }
-
-    #[test]
-    fn key_and_cache_must_lie_outside_the_output() {
-        let dir = std::env::temp_dir().join(format!("surrogate_twin_paths_{}", std::process::id()));
-        let out = dir.join("twin");
-        assert!(lies_in(&out.join("key.json"), &out));
-        assert!(lies_in(&out.join("a/b/c"), &out));
-        assert!(!lies_in(&dir.join("key.json"), &out));
-        assert!(!lies_in(&dir.join("twin_fe_ramps"), &out));
-        let material =
-            Material::from_spec("ogden_002", crate::fe::material::DEFAULT_BULK_RATIO).unwrap();
-        let mut s = TwinSettings::new(
-            material,
-            "ogden_002",
-            MeshOptions::level(crate::fe::mesh::MeshLevel::Coarse),
-            Effects::default(),
-            1,
-            &dir,
-        );
-        s.key = Some(out.join("key.json"));
-        let rec = Recordings::shipped().unwrap();
-        let e = write_twin(&s, &rec, &out, |_, _| {})
-            .unwrap_err()
-            .to_string();
-        assert!(
-            e.starts_with("key = ") && e.contains("outside the twin's directory"),
-            "{e}"
-        );
-        s.key = None;
-        s.cache = out.join("cache");
-        let e = write_twin(&s, &rec, &out, |_, _| {})
-            .unwrap_err()
-            .to_string();
-        assert!(e.starts_with("cache = "), "{e}");
-        assert!(!out.exists(), "nothing written on error");
-        // twins that differ in the seed share their ramps; another effect does not
-        s.cache = dir.clone();
-        let a = s.ramp_dir();
-        s.seed = 2;
-        assert_eq!(s.ramp_dir(), a);
-        s.sweep.effects = Effects::parse(["wall_bias=0.1"]).unwrap();
-        assert_ne!(s.ramp_dir(), a);
-        // nor does another geometry; the geometry as modelled keeps the folder's old name
-        s.sweep.effects = Effects::default();
-        assert_eq!(s.ramp_dir(), a);
-        s.sweep.geometry = Geometry {
-            name: "identified".into(),
-            gap_mm: 0.5,
-            ..Geometry::as_modelled()
-        };
-        assert_ne!(s.ramp_dir(), a);
-    }
 }

@@ -228,34 +228,6 @@ pub(crate) fn observations(cells: &[Cell]) -> crate::calibrate::objective::Obser
     )
 }
 
-#[cfg(test)]
-impl Cell {
-    /// A fitted cell of `σ = 1` whose prediction is its standardised residual `z` (tests).
-    pub(crate) fn unit(
-        n_bellows: u32,
-        wall_thickness_mm: f64,
-        pressure_bar: f64,
-        output: Output,
-        z: f64,
-    ) -> Self {
-        Cell {
-            n_bellows,
-            wall_thickness_mm,
-            pressure_bar,
-            output,
-            family: Family::of(output),
-            marker: None,
-            recorded: 0.0,
-            predicted: z,
-            sigma: 1.0,
-            standardised: z,
-            chi2_share: 0.0,
-            fitted: true,
-            fit_chi2_share: None,
-        }
-    }
-}
-
 /// The table and the rows it could not use.
 #[derive(Clone, Debug)]
 pub struct Table {

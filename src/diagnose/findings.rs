@@ -133,7 +133,9 @@ pub fn findings(e: &Evidence<'_>) -> Vec<Finding> {
 /// since the calibrated parameters alone lower `χ²` a little: noise at its stated σ gives
 /// `χ²/n` about 0.8 on the shipped plan): the recordings are more precise than their stated
 /// σ, so the tests are conservative.
-fn more_precise_than_stated(ms: &[Misfit], alpha: f64) -> Option<Finding> {
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
+pub fn more_precise_than_stated(ms: &[Misfit], alpha: f64) -> Option<Finding> {
     let n: usize = ms.iter().map(|m| m.cells).sum();
     let chi2: f64 = ms.iter().map(|m| m.chi2).sum();
     let lower = ChiSquared::new(n as f64).map_or(f64::NAN, |d| d.cdf(chi2));
@@ -325,37 +327,4 @@ fn concentration(s: &Shares) -> Vec<Finding> {
         });
     }
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    fn misfit(cells: usize, chi2: f64) -> Misfit {
-        Misfit {
-            family: Family::TipUz,
-            fitted: true,
-            cells,
-            chi2,
-            rms_z: (chi2 / cells as f64).sqrt(),
-            p_value: 0.5,
-            significant: false,
-        }
-    }
-
-    #[test]
-    fn recordings_more_precise_than_their_sigma_are_reported() {
-        // 54 cells with χ² = 20: P(χ²(54) ≤ 20) ≈ 1e-7, far below α
-        let f = more_precise_than_stated(&[misfit(27, 10.0), misfit(27, 10.0)], 0.05).unwrap();
-        assert_eq!(f.kind, FindingKind::Misfit);
-        assert!(
-            f.text.contains("more precise than their stated σ"),
-            "{}",
-            f.text
-        );
-        assert!(f.text.contains("χ²/n = 0.37"), "{}", f.text);
-        // χ² about n: nothing to report
-        assert!(more_precise_than_stated(&[misfit(27, 26.0), misfit(27, 29.0)], 0.05).is_none());
-        assert!(more_precise_than_stated(&[], 0.05).is_none());
-    }
 }

@@ -12,7 +12,9 @@ use crate::fe::simulate::Mode;
 pub(crate) type LocalMaterial = Vec<Option<(f64, [f64; 4])>>;
 
 /// The derivative (or value) of `output` in `o`.
-pub(crate) fn derivative_of(o: &Outputs, output: Output) -> Option<f64> {
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
+pub fn derivative_of(o: &Outputs, output: Output) -> Option<f64> {
     match output {
         Output::TipUz => Some(o.tip_uz_mm),
         Output::TipUy => Some(o.tip_uy_mm),

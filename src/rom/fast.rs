@@ -32,7 +32,9 @@ use surrogate_predict::Stencil;
 
 /// Quantities of the fast path: tip Uz, tip Uy, angle, force.
 pub const SCALARS: std::ops::Range<usize> = super::Q_TIP_UZ..22;
-const NS: usize = 4;
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub const NS: usize = 4;
 
 /// Derived tables, built once per model (`OnceLock`), equal for every equal model: the
 /// comparison of two surrogates ignores them.
@@ -235,7 +237,9 @@ impl Part {
 /// one pass over the basis functions: eight independent sums instead of two, so the additions
 /// no longer wait for each other, and every sum adds its terms in the same order as
 /// [`accumulate`] (bit-identical results).
-fn accumulate_nodes(t: &[f64], block: usize, phi: &[f64]) -> [[f64; NS]; NS] {
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn accumulate_nodes(t: &[f64], block: usize, phi: &[f64]) -> [[f64; NS]; NS] {
     #[cfg(target_arch = "x86_64")]
     {
         if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
@@ -252,8 +256,10 @@ unsafe fn accumulate_nodes_avx2(t: &[f64], block: usize, phi: &[f64]) -> [[f64; 
     accumulate_nodes_body(t, block, phi)
 }
 
+// public for the tests in tests/rom/
+#[doc(hidden)]
 #[inline(always)]
-fn accumulate_nodes_body(t: &[f64], block: usize, phi: &[f64]) -> [[f64; NS]; NS] {
+pub fn accumulate_nodes_body(t: &[f64], block: usize, phi: &[f64]) -> [[f64; NS]; NS] {
     const Q: usize = 4;
     let n = phi.len();
     let (t0, rest) = t.split_at(block);
@@ -291,7 +297,9 @@ fn accumulate_nodes_body(t: &[f64], block: usize, phi: &[f64]) -> [[f64; NS]; NS
 }
 
 /// `Σ_b φ_b t[b·Q .. (b+1)·Q]` (the first `Q` entries of the result; `Q ≤ 4`).
-fn accumulate<const Q: usize>(t: &[f64], phi: &[f64]) -> [f64; NS] {
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn accumulate<const Q: usize>(t: &[f64], phi: &[f64]) -> [f64; NS] {
     #[cfg(target_arch = "x86_64")]
     {
         if std::is_x86_feature_detected!("avx2") && std::is_x86_feature_detected!("fma") {
@@ -332,38 +340,4 @@ fn accumulate_body<const Q: usize>(t: &[f64], phi: &[f64]) -> [f64; NS] {
         out[l] = a0[l] + a1[l];
     }
     out
-}
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    /// The one-pass four-node sums equal the per-node sums bit for bit (odd and even counts).
-    #[test]
-    fn four_node_pass_is_bit_identical_to_per_node_sums() {
-        for n in [1usize, 2, 7, 300, 301] {
-            let block = 4 * n;
-            let t: Vec<f64> = (0..NS * block)
-                .map(|i| ((i as f64) * 0.7311).sin() * 1e3)
-                .collect();
-            let phi: Vec<f64> = (0..n).map(|i| ((i as f64) * 1.37).cos()).collect();
-            let all = accumulate_nodes(&t, block, &phi);
-            let body = accumulate_nodes_body(&t, block, &phi);
-            for s in 0..NS {
-                let one = accumulate::<4>(&t[s * block..(s + 1) * block], &phi);
-                for l in 0..4 {
-                    assert_eq!(
-                        all[s][l].to_bits(),
-                        one[l].to_bits(),
-                        "n {n} node {s} q {l}"
-                    );
-                    assert_eq!(
-                        body[s][l].to_bits(),
-                        one[l].to_bits(),
-                        "n {n} node {s} q {l}"
-                    );
-                }
-            }
-        }
-    }
 }

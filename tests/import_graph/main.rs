@@ -10,6 +10,12 @@
 //! descendant's item (a parent's facade) is not an edge; `mod` declarations, comments, string
 //! literals and `#[cfg(test)]` modules are ignored.
 //!
+//! The library has no unit-test harness (`[lib] test = false` in `Cargo.toml`: `cargo test`
+//! compiles it once): its unit tests live in the test binaries, `tests/<floor>/unit/` (one file
+//! per source module), and [`no_unit_test_is_left_in_the_library`] fails on a `#[cfg(test)]`
+//! or `#[test]` under `src/` outside `src/bin/`, which would compile into no binary and never
+//! run.
+//!
 //! ```sh
 //! cargo test --release --test import_graph                                     # the check
 //! cargo test --release --test import_graph -- --ignored --nocapture print_the_graph  # the graph
@@ -23,7 +29,7 @@ use std::path::Path;
 
 use floors::{check, Floor, Known};
 use graph::Graph;
-use source::collect;
+use source::{collect, unit_tests};
 
 /// The floors, from the ground up, and the top-level modules of `src/` on each. A module
 /// imports only from its own floor and the floors below. The README's Layout lists the same.
@@ -73,6 +79,49 @@ fn no_module_imports_a_floor_above_its_own() {
          cargo test --release --test import_graph -- --ignored --nocapture print_the_graph):\n{}",
         found.describe(&graph)
     );
+}
+
+/// No `#[cfg(test)]` module or `#[test]` function under `src/` outside `src/bin/`: the library
+/// has no unit-test harness (`[lib] test = false`), so such a test would never run. Its unit
+/// tests are in the test binary of its floor, `tests/<floor>/unit/<module>.rs`.
+#[test]
+fn no_unit_test_is_left_in_the_library() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR")).join("src");
+    let mut sources = Vec::new();
+    collect(&root, &root, &mut sources);
+    assert!(sources.len() > 40, "{} files", sources.len());
+    let found: Vec<String> = unit_tests(&sources)
+        .iter()
+        .map(|(file, line)| format!("src/{file}:{line}"))
+        .collect();
+    assert!(
+        found.is_empty(),
+        "unit tests under src/ never run (`[lib] test = false` in Cargo.toml: the library has \
+         no test harness); move each to tests/<floor>/unit/<module>.rs (see tests/fe/main.rs):\n{}",
+        found.join("\n")
+    );
+}
+
+#[test]
+fn a_unit_test_in_the_library_is_found_and_one_in_a_binary_or_a_comment_is_not() {
+    let sources = [
+        src(
+            "lib.rs",
+            "pub mod a;\n// #[cfg(test)] in a comment\nconst S: &str = \"#[test]\";",
+        ),
+        src(
+            "a.rs",
+            "pub fn f() {}\n\n#[cfg( test )]\nmod tests {\n    #[test]\n    fn t() {}\n}",
+        ),
+        src(
+            "b.rs",
+            "#[cfg(all(unix, test))]\nfn g() {}\n#[cfg(feature = \"test\")]\nfn h() {}",
+        ),
+        src("bin/tool/main.rs", "#[cfg(test)]\nmod tests;"),
+    ];
+    let found = unit_tests(&sources);
+    let found: Vec<(&str, usize)> = found.iter().map(|(f, l)| (f.as_str(), *l)).collect();
+    assert_eq!(found, [("a.rs", 3), ("a.rs", 5), ("b.rs", 1)]);
 }
 
 /// Prints the graph floor by floor (`-- --ignored --nocapture print_the_graph`).

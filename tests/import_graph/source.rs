@@ -162,6 +162,39 @@ fn strip(src: &str) -> Vec<u8> {
     out
 }
 
+/// The unit tests left in the library: `(path relative to src/, line)` of every `#[test]`,
+/// `#[cfg(test)]` or other `cfg` attribute naming `test` (spaces allowed, comments and literals
+/// aside) in a file outside `bin/`.
+pub(crate) fn unit_tests(sources: &[(String, String)]) -> Vec<(String, usize)> {
+    let mut out = Vec::new();
+    for (rel, text) in sources {
+        if rel.starts_with("bin/") {
+            continue;
+        }
+        let stripped = strip(text);
+        for (i, line) in stripped.split(|&c| c == b'\n').enumerate() {
+            let compact: String = String::from_utf8_lossy(line)
+                .chars()
+                .filter(|c| !c.is_whitespace())
+                .collect();
+            let cfg = ["#[cfg", "#![cfg", "#[cfg_attr", "#![cfg_attr"]
+                .iter()
+                .filter_map(|a| compact.find(&format!("{a}(")))
+                .min()
+                .map(|k| &compact[k..]);
+            let names_test = cfg.is_some_and(|c| {
+                ["(test)", "(test,", ",test)", ",test,"]
+                    .iter()
+                    .any(|t| c.contains(t))
+            });
+            if compact.contains("#[test]") || names_test {
+                out.push((rel.clone(), i + 1));
+            }
+        }
+    }
+    out
+}
+
 #[derive(Clone, Debug, PartialEq)]
 pub(crate) enum Tok {
     Ident(String),

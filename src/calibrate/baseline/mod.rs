@@ -37,6 +37,9 @@ mod settings;
 
 pub use cache::BaselineError;
 pub use ramps::{cached_ramps, run_ramps, RampSource, SweepRamp};
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub use ramps::cost_order;
 pub use report::{
     cached_baseline, in_paper_nine, run_baseline, summarize, BaselineRow, BaselineSummary,
 };
@@ -46,6 +49,3 @@ pub use sensitivities::{
 pub use settings::{
     recorded_designs, SweepDesign, SweepSettings, SWEEP_MAX_PRESSURE_INCREMENT, SWEEP_RTOL,
 };
-
-#[cfg(test)]
-mod tests;

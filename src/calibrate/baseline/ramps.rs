@@ -158,7 +158,9 @@ fn sweep(
 /// first (their bellows touch earliest and longest), then more bellows, the blocked force
 /// before the bending of a design. Starting the longest ramps first keeps both cores busy to
 /// the end of a sweep instead of leaving one ramp running alone.
-pub(super) fn cost_order(jobs: &[(&SweepDesign, Mode)]) -> Vec<usize> {
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn cost_order(jobs: &[(&SweepDesign, Mode)]) -> Vec<usize> {
     let mut order: Vec<usize> = (0..jobs.len()).collect();
     order.sort_by(|&a, &b| {
         let (da, ma) = jobs[a];

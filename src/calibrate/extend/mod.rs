@@ -99,6 +99,9 @@ mod settings;
 
 pub use limits::PhysicalLimits;
 pub use material_box::{MaterialBox, PressedBound};
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub use material_box::allocate;
 pub use plan::{extension_case_id, extension_plan, high_fidelity_cases, high_fidelity_plan};
 pub use report::{BoxExtension, ExtendRound, ExtendStop, FailedCase, Optimum, FORMAT, VERSION};
 pub use run::{extend_box, ExtendEvent};

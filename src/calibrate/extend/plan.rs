@@ -122,18 +122,3 @@ pub fn high_fidelity_plan(
         .map_err(|e| CalibrateError::input(&field, plan.hash(), &e.to_string()))?;
     Ok(plan)
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn high_fidelity_share_follows_the_training_set() {
-        // the shipped sets: 300 coarse, 36 standard
-        assert_eq!(high_fidelity_cases(36, 300, 36, 3), 5);
-        assert_eq!(high_fidelity_cases(36, 300, 36, 9), 9);
-        assert_eq!(high_fidelity_cases(6, 30, 30, 3), 6);
-        assert_eq!(extension_case_id(1, 0), 15_000);
-        assert_eq!(extension_case_id(2, 4_999), 29_999);
-    }
-}

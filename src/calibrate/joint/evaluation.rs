@@ -28,27 +28,33 @@ pub fn in_paper_nine(t: f64, p: f64) -> bool {
 }
 
 /// One evaluation: residuals, Jacobian, the rows.
-pub(super) struct Evaluation {
-    pub(super) r: DVector<f64>,
-    pub(super) j: DMatrix<f64>,
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub struct Evaluation {
+    pub r: DVector<f64>,
+    pub j: DMatrix<f64>,
     /// What each residual is: design `(N, T)`, pressure, output, σ.
-    pub(super) what: Vec<Residual>,
-    pub(super) rows: Vec<JointRow>,
-    pub(super) error: String,
+    pub what: Vec<Residual>,
+    pub rows: Vec<JointRow>,
+    pub error: String,
 }
 
 /// What one residual of an evaluation is.
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
 #[derive(Clone, Copy, Debug)]
-pub(super) struct Residual {
-    pub(super) n: usize,
-    pub(super) t: f64,
-    pub(super) output: Recorded,
-    pub(super) sigma: f64,
+pub struct Residual {
+    pub n: usize,
+    pub t: f64,
+    pub output: Recorded,
+    pub sigma: f64,
 }
 
 /// A recorded output of the identification.
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
-pub(super) enum Recorded {
+pub enum Recorded {
     TipUz,
     TipUy,
     Force,
@@ -122,7 +128,9 @@ pub(super) fn evaluate(
     Ok(residuals(s, rec, x, &ramps))
 }
 
-pub(super) fn residuals(
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn residuals(
     s: &JointSettings,
     rec: &Recordings,
     x: &JointPoint,
@@ -304,7 +312,9 @@ fn derivs(
 }
 
 /// Mean tip BE and mean |force error| over the rows fitted (the excluded ones left out).
-pub(super) fn summary_of(rows: &[JointRow]) -> (f64, f64) {
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn summary_of(rows: &[JointRow]) -> (f64, f64) {
     let be: Vec<f64> = rows
         .iter()
         .filter(|r| !r.tip_excluded)

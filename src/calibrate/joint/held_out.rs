@@ -8,7 +8,9 @@ use super::lm::bounded_lm;
 use super::report::HeldOut;
 
 /// [`HeldOut`] of an evaluation at the optimum `x` (the unknowns' values) with bounds.
-pub(super) fn held_out(e: &Evaluation, x: &[f64], bnds: &[(f64, f64)], k: usize) -> HeldOut {
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn held_out(e: &Evaluation, x: &[f64], bnds: &[(f64, f64)], k: usize) -> HeldOut {
     let mut designs: Vec<(usize, f64)> = e.what.iter().map(|w| (w.n, w.t)).collect();
     designs.sort_by(|a, b| a.0.cmp(&b.0).then(a.1.total_cmp(&b.1)));
     designs.dedup();
@@ -80,7 +82,9 @@ fn split_errors(
 }
 
 /// Every `k`-subset of `0..n` in lexicographic order.
-pub(super) fn combinations(
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn combinations(
     n: usize,
     k: usize,
     cur: &mut Vec<usize>,

@@ -7,8 +7,10 @@ use nalgebra::{DMatrix, DVector};
 use super::settings::JointStop;
 
 /// One evaluation of [`bounded_lm`].
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct LmStep {
+pub struct LmStep {
     /// The point.
     pub x: Vec<f64>,
     /// `χ²` (`inf` where the evaluation failed).
@@ -22,8 +24,10 @@ pub(super) struct LmStep {
 }
 
 /// The evaluations of [`bounded_lm`] and how it stopped.
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
 #[derive(Clone, Debug, PartialEq)]
-pub(super) struct LmTrace {
+pub struct LmTrace {
     /// Every evaluation, in order.
     pub steps: Vec<LmStep>,
     /// Index of the last accepted one (the optimum).
@@ -45,7 +49,9 @@ pub(super) struct LmTrace {
 /// every blocked force its derivative said would rise) so no longer shortens the steps of the
 /// others. Nielsen's damping update; stops after `max_evals` evaluations, when `χ²` falls by
 /// less than a relative 1e-3 over an accepted step the box did not hold, or when `λ > 1e8`.
-pub(super) fn bounded_lm<E>(
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn bounded_lm<E>(
     x0: &[f64],
     bnds: &[(f64, f64)],
     lambda0: f64,
@@ -170,7 +176,9 @@ pub(super) fn bounded_lm<E>(
 /// then free a fixed coordinate whose multiplier says the model decreases inwards, and
 /// repeat, for at most `4k` rounds. `None` when `A` restricted to the free set is not positive
 /// definite.
-pub(super) fn box_step(
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub fn box_step(
     a: &DMatrix<f64>,
     g: &DVector<f64>,
     lo: &[f64],

@@ -70,14 +70,18 @@
 //! - `report`: the report's types, its summary in words and its files.
 
 mod correction;
-mod evaluation;
-mod held_out;
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub mod evaluation;
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub mod held_out;
 mod identify;
-mod lm;
+// public for the tests in tests/calibrate/
+#[doc(hidden)]
+pub mod lm;
 mod report;
 mod settings;
-#[cfg(test)]
-mod tests;
 mod unknown;
 
 pub use correction::{CorrectionEntry, MeshCorrection};

@@ -66,13 +66,18 @@ use crate::diagnose::DiagnoseError;
 use crate::fe::sensitivity::{OgdenParameter, Parameter};
 use projection::PastMaterial;
 use table::UsedCells;
-use ties::{pairs, PairFit};
+use ties::pairs;
 use verdict::verdict;
 use whiten::Whitening;
 
 pub use naming::{Candidate, Indistinguishable, NameSettings, Naming, Untestable};
-pub(crate) use table::derivs_of;
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
+pub use table::derivs_of;
 pub(crate) use whiten::whitening;
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
+pub use ties::PairFit;
 
 pub use crate::diagnose::sweep::MIN_NAME_CELLS;
 
@@ -223,6 +228,3 @@ fn material_parameters(params: &[Parameter], refitted: bool) -> Result<Vec<usize
     }
     Ok(material)
 }
-
-#[cfg(test)]
-mod tests;

@@ -11,7 +11,9 @@ use crate::diagnose::sweep::{COMPUTE_MISSING, MIN_NAME_CELLS};
 use crate::diagnose::DiagnoseError;
 
 /// Every parameter's derivative of `c`'s output in the sweep, σ-scaled.
-pub(crate) fn derivs_of(sens: &SweepSensitivities, c: &Cell) -> Option<Vec<f64>> {
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
+pub fn derivs_of(sens: &SweepSensitivities, c: &Cell) -> Option<Vec<f64>> {
     sensitivity_step(sens, c).and_then(|(se, i)| {
         se.steps[i]
             .derivatives

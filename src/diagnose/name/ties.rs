@@ -25,23 +25,27 @@ fn joint_delta(aa: f64, bb: f64, ab: f64, ar: f64, br: f64) -> f64 {
 }
 
 /// What [`pairs`] tests two candidates with.
-pub(crate) struct PairFit<'a> {
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
+pub struct PairFit<'a> {
     /// The residual after the material re-fit (whitened, material directions projected out).
-    pub(crate) residual: &'a DVector<f64>,
+    pub residual: &'a DVector<f64>,
     /// Its `χ²`.
-    pub(crate) chi2_material: f64,
+    pub chi2_material: f64,
     /// Degrees of freedom of a one-effect fit.
-    pub(crate) dof: f64,
+    pub dof: f64,
     /// Level of the separation test.
-    pub(crate) alpha: f64,
+    pub alpha: f64,
     /// `|cos|` above which two signatures are collinear.
-    pub(crate) collinear: f64,
+    pub collinear: f64,
 }
 
 impl PairFit<'_> {
     /// The p-value of the better of `sa`, `sb` beyond the other: the fit with both against
     /// the fit with the worse one alone (F with 1 and `dof − 1` degrees of freedom).
-    fn p_separation(&self, sa: &DVector<f64>, sb: &DVector<f64>) -> f64 {
+    // public for the tests in tests/diagnose/
+    #[doc(hidden)]
+    pub fn p_separation(&self, sa: &DVector<f64>, sb: &DVector<f64>) -> f64 {
         let r = self.residual;
         let (aa, bb, ab) = (sa.dot(sa), sb.dot(sb), sa.dot(sb));
         let (ar, br) = (sa.dot(r), sb.dot(r));
@@ -61,7 +65,9 @@ impl PairFit<'_> {
     /// (twice the log-likelihood ratio, in units of the variance `s²` of the fit with both),
     /// whose standard deviation is `2 s |ŷ_a − ŷ_b|` (`ŷ` the fitted explanations) to first
     /// order; `z = D / sd`, positive when `sa` fits better. Two identical fits give 0.
-    fn vuong_z(&self, sa: &DVector<f64>, sb: &DVector<f64>) -> f64 {
+    // public for the tests in tests/diagnose/
+    #[doc(hidden)]
+    pub fn vuong_z(&self, sa: &DVector<f64>, sb: &DVector<f64>) -> f64 {
         let r = self.residual;
         let (aa, bb, ab) = (sa.dot(sa), sb.dot(sb), sa.dot(sb));
         let (ar, br) = (sa.dot(r), sb.dot(r));
@@ -81,7 +87,9 @@ impl PairFit<'_> {
 
     /// Whether the recordings cannot tell `sa` from `sb`: the better one adds nothing
     /// significant beyond the other, or neither fits significantly better (Vuong).
-    fn tied(&self, p_separation: f64, vuong_z: f64) -> bool {
+    // public for the tests in tests/diagnose/
+    #[doc(hidden)]
+    pub fn tied(&self, p_separation: f64, vuong_z: f64) -> bool {
         let z_crit = Normal::new(0.0, 1.0).map_or(1.96, |d| d.inverse_cdf(1.0 - 0.5 * self.alpha));
         p_separation > self.alpha || vuong_z.abs() < z_crit
     }
@@ -177,61 +185,4 @@ fn separation(
         after / 2.0,
         before.sqrt()
     ))
-}
-
-#[cfg(test)]
-mod tests {
-    use nalgebra::DVector;
-
-    use super::PairFit;
-
-    /// The separation test on vectors made by hand: two signatures 0.8 apart in cosine, a
-    /// residual along the first with unit noise elsewhere.
-    #[test]
-    fn a_pair_is_tied_unless_the_better_one_adds_significantly_beyond_the_other() {
-        let n = 60;
-        let e = |k: usize| DVector::from_fn(n, |i, _| if i == k { 1.0 } else { 0.0 });
-        let sa = e(0);
-        let sb = e(0) * 0.8 + e(1) * 0.6;
-        // unit noise on the other 58 numbers: χ² per degree of freedom about 1
-        let noise = DVector::from_fn(n, |i, _| {
-            if i < 2 {
-                0.0
-            } else if i % 2 == 0 {
-                1.0
-            } else {
-                -1.0
-            }
-        });
-        // the fit of a residual that holds everything the material left
-        fn pair_fit(r: &DVector<f64>) -> PairFit<'_> {
-            PairFit {
-                residual: r,
-                chi2_material: r.norm_squared(),
-                dof: r.len() as f64 - 5.0,
-                alpha: 0.05,
-                collinear: 0.95,
-            }
-        }
-        let fit = |size: f64| pair_fit(&(&sa * size + &noise)).p_separation(&sa, &sb);
-        // a strong residual along `sa`: b explains 64 % of it, a all of it, 36 % beyond b
-        // is 0.36 × 100 = 36 χ² units, far beyond the noise
-        assert!(fit(10.0) < 1e-6, "{}", fit(10.0));
-        // a weak one: 0.36 × 4 = 1.44 beyond b, within the noise
-        assert!(fit(2.0) > 0.05, "{}", fit(2.0));
-        // the order of the two does not matter
-        let r = &sa * 2.0 + &noise;
-        let f = pair_fit(&r);
-        assert!((f.p_separation(&sa, &sb) - f.p_separation(&sb, &sa)).abs() < 1e-12);
-        // Vuong: antisymmetric, and decided only by a strong residual
-        assert!((f.vuong_z(&sa, &sb) + f.vuong_z(&sb, &sa)).abs() < 1e-12);
-        assert!(f.tied(f.p_separation(&sa, &sb), f.vuong_z(&sa, &sb)));
-        let r = &sa * 10.0 + &noise;
-        let strong = pair_fit(&r);
-        // D = 100 − 64, |ŷ_a − ŷ_b| = |3.6, −4.8| = 6: z ≈ 36 / 12 = 3, told apart
-        let z = strong.vuong_z(&sa, &sb);
-        assert!((z - 3.0).abs() < 0.2, "{z}");
-        assert!(!strong.tied(strong.p_separation(&sa, &sb), z));
-        assert_eq!(strong.vuong_z(&sa, &sa), 0.0);
-    }
 }

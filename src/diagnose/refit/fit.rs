@@ -19,7 +19,9 @@ use crate::rom::Surrogate;
 ///
 /// # Errors
 /// Too few rows for the material, the effects and a residual; a surrogate error.
-pub(crate) fn fit_rows(
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
+pub fn fit_rows(
     rows: &Rows,
     model: &Surrogate,
     start: &OgdenSet,

@@ -48,14 +48,21 @@ use crate::diagnose::cells::Cell;
 use crate::diagnose::signature::{sensitivity_step, LocalMaterial};
 use crate::diagnose::DiagnoseError;
 use crate::rom::Surrogate;
-use fit::fit_rows;
 use problem::Problem;
-use rows::Rows;
 
 pub use confirm::{confirm_with_fe, FeConfirmSettings, FeEvaluation, FeModel};
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
+pub use confirm::confirm_with;
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
+pub use fit::fit_rows;
+// public for the tests in tests/diagnose/
 pub use outcome::{
     EffectSize, FeRound, FitSummary, HeldOut, HeldOutDesign, Quality, Refit, RefitSettings,
 };
+#[doc(hidden)]
+pub use rows::Rows;
 
 /// The material alone refitted from `start` on the cells of `cells` that `sens` covers; per
 /// cell of `cells`, its residual `z` there and its row of the material Jacobian (unit-box

@@ -9,16 +9,18 @@ use crate::fe::effects::Effect;
 use crate::fe::sensitivity::Parameter;
 
 /// The used cells and their linearised effect columns.
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
 #[derive(Clone, Debug)]
-pub(crate) struct Rows {
+pub struct Rows {
     /// The sweep's value of each effect ([`SweepSensitivities::base`]): the effect sizes `θ`
     /// of the fit are measured from it, `[k]`.
-    pub(crate) base: Vec<f64>,
-    pub(crate) cells: Vec<Cell>,
+    pub base: Vec<f64>,
+    pub cells: Vec<Cell>,
     /// `∂yᵢ/∂θₖ` (unit of the output per unit of the effect), `[i][k]`.
-    pub(crate) d: Vec<Vec<f64>>,
+    pub d: Vec<Vec<f64>>,
     /// FE correction `cᵢ` (unit of the output).
-    pub(crate) offset: Vec<f64>,
+    pub offset: Vec<f64>,
 }
 
 impl Rows {

@@ -45,6 +45,9 @@ pub use closed_loop::{
     close_loop, AddedMeasurement, Chooser, LoopResults, LoopSettings, TwinLoop, LOOP_FORMAT,
     LOOP_KINDS,
 };
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
+pub use closed_loop::{add_record, draw, last_value};
 pub use diagnosis::{
     diagnose_recordings, diagnose_twin, null_approximation_error, twin_recordings, Diagnoser,
 };

@@ -54,6 +54,3 @@ pub enum ContactError {
     #[error("contact pair couples nodes {0} and {1}, which the sparse pattern does not hold")]
     MissingCoupling(usize, usize),
 }
-
-#[cfg(test)]
-mod tests;

@@ -31,7 +31,9 @@ pub type Tangent9 = nalgebra::SMatrix<f64, 9, 9>;
 const EIGEN_MAX_ITER: usize = 200;
 
 /// `J = det F` and `F^{-T}` if `J > 0` and finite.
-pub(crate) fn jacobian_and_inverse_transpose(f: &Matrix3<f64>) -> Option<(f64, Matrix3<f64>)> {
+// public for the tests in tests/fe/
+#[doc(hidden)]
+pub fn jacobian_and_inverse_transpose(f: &Matrix3<f64>) -> Option<(f64, Matrix3<f64>)> {
     let j = f.determinant();
     if !(j.is_finite() && j > 0.0) {
         return None;

@@ -59,6 +59,9 @@ use crate::case::OgdenSet;
 pub const DEFAULT_BULK_RATIO: f64 = 1000.0;
 
 pub use isotropic::Tangent9;
+// public for the tests in tests/fe/
+#[doc(hidden)]
+pub use isotropic::jacobian_and_inverse_transpose;
 
 /// Errors of material parameters.
 #[derive(Debug, Error)]

@@ -30,6 +30,3 @@ pub use actuator::{
 pub use grid::{GridMesh, TensorGrid};
 pub use hex::{face_local_nodes, local_index, Face, Mesh, NODES_PER_ELEMENT};
 pub use options::{MeshLevel, MeshOptions};
-
-#[cfg(test)]
-mod tests;

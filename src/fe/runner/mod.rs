@@ -71,6 +71,3 @@ where
 {
     Batch::look_up(cases, store)?.run(order, start, progress)
 }
-
-#[cfg(test)]
-mod tests;

@@ -145,6 +145,27 @@ impl<'m, P: NonlinearProblem> Solver<'m, P> {
         })
     }
 
+    /// The settings the solver steps with.
+    // public for the tests in tests/fe/
+    #[doc(hidden)]
+    pub fn settings(&self) -> &SolverSettings {
+        &self.settings
+    }
+
+    /// The settings, to change between steps.
+    // public for the tests in tests/fe/
+    #[doc(hidden)]
+    pub fn settings_mut(&mut self) -> &mut SolverSettings {
+        &mut self.settings
+    }
+
+    /// The homotopy's weight `1 − t` of its start residual ([`warm`]): 0 outside a homotopy.
+    // public for the tests in tests/fe/
+    #[doc(hidden)]
+    pub fn homotopy_weight(&self) -> f64 {
+        self.homotopy_weight
+    }
+
     /// The residual (all dofs, reactions at constrained ones) of the last assembly.
     pub fn residual_full(&self) -> &[f64] {
         &self.r_full

@@ -260,6 +260,3 @@ pub fn transfer(
 ) -> Result<ConvergedState, TransferError> {
     Transfer::new(mesh_a, design_a, mesh_b, design_b)?.state(0, state)
 }
-
-#[cfg(test)]
-mod tests;

@@ -7,7 +7,9 @@
 ///
 /// # Errors
 /// The index of the first non-positive pivot.
-pub(crate) fn cholesky_in_place(a: &mut [f64], n: usize) -> Result<(), usize> {
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn cholesky_in_place(a: &mut [f64], n: usize) -> Result<(), usize> {
     for i in 0..n {
         let (head, tail) = a.split_at_mut(i * n);
         let row_i = &mut tail[..n];
@@ -26,8 +28,10 @@ pub(crate) fn cholesky_in_place(a: &mut [f64], n: usize) -> Result<(), usize> {
 }
 
 /// Dot product with 4 independent accumulators (vectorisable, fixed summation order).
+// public for the tests in tests/rom/
+#[doc(hidden)]
 #[inline]
-pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
+pub fn dot(a: &[f64], b: &[f64]) -> f64 {
     let mut acc = [0.0; 4];
     let chunks = a.len() / 4;
     for c in 0..chunks {
@@ -43,7 +47,9 @@ pub(crate) fn dot(a: &[f64], b: &[f64]) -> f64 {
 }
 
 /// Solves `L v = b` in place (row-major lower `L`, `n × n`).
-pub(crate) fn solve_lower(l: &[f64], n: usize, b: &mut [f64]) {
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn solve_lower(l: &[f64], n: usize, b: &mut [f64]) {
     for i in 0..n {
         let row = &l[i * n..i * n + i];
         let mut s = b[i];
@@ -55,7 +61,9 @@ pub(crate) fn solve_lower(l: &[f64], n: usize, b: &mut [f64]) {
 }
 
 /// Solves `Lᵀ v = b` in place.
-pub(crate) fn solve_lower_t(l: &[f64], n: usize, b: &mut [f64]) {
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn solve_lower_t(l: &[f64], n: usize, b: &mut [f64]) {
     for i in (0..n).rev() {
         let mut s = b[i];
         for k in (i + 1)..n {
@@ -70,7 +78,9 @@ pub(crate) fn solve_lower_t(l: &[f64], n: usize, b: &mut [f64]) {
 /// Each column goes through the operations of [`solve_lower`] in the same order, so the result
 /// is bit for bit that of `m` single solves; a row of `L` is read once for all columns.
 /// `s` is scratch of length `m`.
-pub(crate) fn solve_lower_multi(l: &[f64], n: usize, b: &mut [f64], m: usize, s: &mut [f64]) {
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn solve_lower_multi(l: &[f64], n: usize, b: &mut [f64], m: usize, s: &mut [f64]) {
     for i in 0..n {
         let (done, rest) = b.split_at_mut(i * m);
         s.copy_from_slice(&rest[..m]);
@@ -88,7 +98,9 @@ pub(crate) fn solve_lower_multi(l: &[f64], n: usize, b: &mut [f64], m: usize, s:
 
 /// Solves `Lᵀ X = B` in place for the `m` columns of `b`, each column bit for bit as
 /// [`solve_lower_t`] solves it. `s` is scratch of length `m`.
-pub(crate) fn solve_lower_t_multi(l: &[f64], n: usize, b: &mut [f64], m: usize, s: &mut [f64]) {
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn solve_lower_t_multi(l: &[f64], n: usize, b: &mut [f64], m: usize, s: &mut [f64]) {
     for i in (0..n).rev() {
         let (head, done) = b.split_at_mut((i + 1) * m);
         s.copy_from_slice(&head[i * m..]);
@@ -143,7 +155,9 @@ pub(crate) fn spd_inverse(l: &[f64], n: usize) -> Vec<f64> {
 /// # Errors
 /// The index of the first column whose diagonal of `R` is zero or not finite (rank-deficient
 /// or non-finite `A`).
-pub(crate) fn householder_least_squares(
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn householder_least_squares(
     a: &mut [f64],
     rows: usize,
     cols: usize,
@@ -188,95 +202,4 @@ pub(crate) fn householder_least_squares(
         }
     }
     Ok(())
-}
-
-#[cfg(test)]
-mod tests {
-    use rand::{Rng, SeedableRng};
-    use rand_xoshiro::Xoshiro256PlusPlus;
-
-    use super::*;
-
-    /// The multi-column solves give each column's single solve bit for bit.
-    #[test]
-    fn multi_column_solves_are_the_single_solves_bit_for_bit() {
-        let (n, m) = (23, 5);
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(3);
-        let mut a: Vec<f64> = (0..n * n).map(|_| rng.gen_range(-1.0..1.0)).collect();
-        // A Aᵀ + n I: symmetric positive definite
-        let mut spd = vec![0.0; n * n];
-        for i in 0..n {
-            for j in 0..n {
-                spd[i * n + j] = (0..n).map(|k| a[i * n + k] * a[j * n + k]).sum::<f64>();
-            }
-            spd[i * n + i] += n as f64;
-        }
-        a.copy_from_slice(&spd);
-        cholesky_in_place(&mut a, n).unwrap();
-        let b: Vec<f64> = (0..n * m).map(|_| rng.gen_range(-1.0..1.0)).collect();
-        let mut s = vec![0.0; m];
-        let (mut fwd, mut both) = (b.clone(), b.clone());
-        solve_lower_multi(&a, n, &mut fwd, m, &mut s);
-        solve_lower_multi(&a, n, &mut both, m, &mut s);
-        solve_lower_t_multi(&a, n, &mut both, m, &mut s);
-        for c in 0..m {
-            let mut col: Vec<f64> = (0..n).map(|i| b[i * m + c]).collect();
-            solve_lower(&a, n, &mut col);
-            assert!((0..n).all(|i| fwd[i * m + c].to_bits() == col[i].to_bits()));
-            solve_lower_t(&a, n, &mut col);
-            assert!((0..n).all(|i| both[i * m + c].to_bits() == col[i].to_bits()));
-        }
-    }
-
-    /// The QR least squares against the normal equations on a small well-conditioned
-    /// problem, and its residual against `‖Ax − b‖²` computed directly.
-    #[test]
-    fn householder_least_squares_solves_the_normal_equations() {
-        let (rows, cols, nrhs) = (7, 3, 2);
-        let a: Vec<f64> = (0..rows * cols)
-            .map(|e| ((e * 37 % 11) as f64 - 5.0) / 3.0 + if e % 8 == 0 { 2.0 } else { 0.0 })
-            .collect();
-        let b: Vec<f64> = (0..rows * nrhs)
-            .map(|e| ((e * 13 % 7) as f64 - 3.0) / 2.0)
-            .collect();
-        let (mut qa, mut qb) = (a.clone(), b.clone());
-        householder_least_squares(&mut qa, rows, cols, &mut qb, nrhs).unwrap();
-        // normal equations AᵀA x = Aᵀb by Cholesky (row-major)
-        let at = |i: usize, j: usize| a[j * rows + i];
-        let mut ata = vec![0.0; cols * cols];
-        for i in 0..cols {
-            for j in 0..cols {
-                ata[i * cols + j] = (0..rows).map(|r| at(r, i) * at(r, j)).sum();
-            }
-        }
-        cholesky_in_place(&mut ata, cols).unwrap();
-        for c in 0..nrhs {
-            let bc = &b[c * rows..(c + 1) * rows];
-            let mut x: Vec<f64> = (0..cols)
-                .map(|i| (0..rows).map(|r| at(r, i) * bc[r]).sum())
-                .collect();
-            solve_lower(&ata, cols, &mut x);
-            solve_lower_t(&ata, cols, &mut x);
-            let xq = &qb[c * rows..c * rows + cols];
-            for (u, w) in x.iter().zip(xq) {
-                assert!((u - w).abs() < 1e-12 * (1.0 + u.abs()), "{u} vs {w}");
-            }
-            let resid: f64 = (0..rows)
-                .map(|r| {
-                    let e = (0..cols).map(|i| at(r, i) * xq[i]).sum::<f64>() - bc[r];
-                    e * e
-                })
-                .sum();
-            let tail = &qb[c * rows + cols..(c + 1) * rows];
-            assert!((resid - dot(tail, tail)).abs() < 1e-12 * (1.0 + resid));
-        }
-    }
-
-    #[test]
-    fn householder_least_squares_reports_a_rank_deficient_column() {
-        // the second column is zero
-        let mut a = vec![1.0, 2.0, 3.0, 0.0, 0.0, 0.0];
-        let mut b = vec![1.0, 1.0, 1.0];
-        assert_eq!(householder_least_squares(&mut a, 3, 2, &mut b, 1), Err(1));
-    }
 }

@@ -16,7 +16,9 @@
 //! [`FeatureScaler`](crate::case::FeatureScaler).
 
 pub mod gp;
-mod linalg;
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub mod linalg;
 pub mod poly;
 mod registry;
 mod regressor;

@@ -366,14 +366,3 @@ impl Poly {
         basis_into(&self.exponents, x, phi);
     }
 }
-
-#[cfg(test)]
-mod tests {
-    use super::*;
-
-    #[test]
-    fn monomial_counts() {
-        assert_eq!(monomials(6, 3).len() / 6, 84);
-        assert_eq!(monomials(2, 2), vec![0, 0, 1, 0, 0, 1, 2, 0, 1, 1, 0, 2]);
-    }
-}

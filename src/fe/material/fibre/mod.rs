@@ -276,6 +276,3 @@ impl Fibre {
         }
     }
 }
-
-#[cfg(test)]
-mod tests;

@@ -27,7 +27,9 @@ impl Gp {
 ///
 /// # Errors
 /// Fewer than 2 points, invalid settings, or a numerical failure naming the stage.
-fn fit(data: &Data<'_>, params: &GpParams) -> Result<Gp, RomError> {
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn fit(data: &Data<'_>, params: &GpParams) -> Result<Gp, RomError> {
     let bounds = checked_bounds(data, params)?;
     let ys: Vec<Vec<f64>> = bounds
         .windows(2)
@@ -46,7 +48,9 @@ fn fit(data: &Data<'_>, params: &GpParams) -> Result<Gp, RomError> {
 
 /// The column-group boundaries of the settings, after checking the sizes, the groups, the
 /// fixed hyperparameters and the number of inducing points.
-fn checked_bounds(data: &Data<'_>, params: &GpParams) -> Result<Vec<usize>, RomError> {
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn checked_bounds(data: &Data<'_>, params: &GpParams) -> Result<Vec<usize>, RomError> {
     let (n, d, m) = (data.n, data.d, data.m);
     if n < 2 {
         return Err(RomError::InsufficientData(format!(
@@ -95,7 +99,9 @@ fn checked_bounds(data: &Data<'_>, params: &GpParams) -> Result<Vec<usize>, RomE
 }
 
 /// The outputs of columns `cols`, `n × |cols|`.
-fn group_outputs(data: &Data<'_>, cols: Range<usize>) -> Vec<f64> {
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn group_outputs(data: &Data<'_>, cols: Range<usize>) -> Vec<f64> {
     let m = data.m;
     (0..data.n)
         .flat_map(|i| data.y[i * m + cols.start..i * m + cols.end].iter().copied())
@@ -135,7 +141,9 @@ fn group_theta(
 ///
 /// # Errors
 /// A correlation matrix that is not positive definite, or a failed sparse solve.
-pub(super) fn assemble(
+// public for the tests in tests/rom/
+#[doc(hidden)]
+pub fn assemble(
     data: &Data<'_>,
     bounds: Vec<usize>,
     theta: Vec<f64>,
@@ -223,74 +231,4 @@ fn exact_group(
         sigma2,
         chol: l,
     })
-}
-
-#[cfg(test)]
-mod tests {
-    use rand::{Rng, SeedableRng};
-    use rand_xoshiro::Xoshiro256PlusPlus;
-
-    use super::*;
-    use crate::rom::regression::Regressor;
-
-    /// The sparse weights on every training point (`Z = X`) against the exact fit with the same
-    /// hyperparameters (fitted, one kernel and one per column): the means at random queries
-    /// within 10⁻⁸ relative (to the larger of the mean and the column's RMS, so that a mean
-    /// near zero does not divide), the process variances and the stored factor. The fitted
-    /// nugget is the smallest allowed (10⁻⁸) with long length scales: an ill-conditioned `R`,
-    /// the hard case of the least-squares solve.
-    #[test]
-    fn sparse_fit_on_every_point_is_the_exact_process() {
-        let (n, d, m) = (40, 3, 2);
-        let mut rng = Xoshiro256PlusPlus::seed_from_u64(17);
-        let x: Vec<f64> = (0..n * d).map(|_| rng.gen_range(-1.0..1.0)).collect();
-        let y: Vec<f64> = (0..n)
-            .flat_map(|i| {
-                let p = &x[i * d..(i + 1) * d];
-                [(1.5 * p[0]).sin() + p[1] * p[2], 3.0 * (p[0] - p[2]).exp()]
-            })
-            .collect();
-        let data = Data {
-            x: &x,
-            y: &y,
-            n,
-            d,
-            m,
-            weights: &[],
-        };
-        let rms: Vec<f64> = (0..m)
-            .map(|c| ((0..n).map(|i| y[i * m + c].powi(2)).sum::<f64>() / n as f64).sqrt())
-            .collect();
-        let every: Vec<usize> = (0..n).collect();
-        for groups in [vec![], vec![0, 1, 2]] {
-            let params = GpParams {
-                groups,
-                ..Default::default()
-            };
-            let exact = fit(&data, &params).unwrap();
-            let bounds = checked_bounds(&data, &params).unwrap();
-            let ys: Vec<Vec<f64>> = bounds
-                .windows(2)
-                .map(|w| group_outputs(&data, w[0]..w[1]))
-                .collect();
-            let sparse = assemble(&data, bounds, exact.theta.clone(), &ys, Some(&every)).unwrap();
-            assert_eq!(sparse.chol, exact.chol);
-            assert_eq!(sparse.xs, exact.xs);
-            for (a, b) in sparse.sigma2.iter().zip(&exact.sigma2) {
-                assert!((a - b).abs() <= 1e-8 * b.abs(), "σ² {a} vs {b}");
-            }
-            let mut scratch = vec![0.0; exact.scratch_len()];
-            let (mut ps, mut pe) = (vec![0.0; m], vec![0.0; m]);
-            let mut worst = 0.0f64;
-            for _ in 0..50 {
-                let q: Vec<f64> = (0..d).map(|_| rng.gen_range(-1.0..1.0)).collect();
-                sparse.predict_into(&q, &mut ps, &mut scratch);
-                exact.predict_into(&q, &mut pe, &mut scratch);
-                for c in 0..m {
-                    worst = worst.max((ps[c] - pe[c]).abs() / pe[c].abs().max(rms[c]));
-                }
-            }
-            assert!(worst <= 1e-8, "worst relative difference {worst:e}");
-        }
-    }
 }

@@ -1,13 +1,16 @@
+//! The unit tests of `src/fe/material/fibre/mod.rs`.
+//!
 //! Unit tests of the fibre term and of [`Material`] with and without it. The finite-difference
 //! checks of its stress and tangent are in the generic checker, `tests/fe/materials/derivatives.rs`.
 
-use nalgebra::{Rotation3, SMatrix, SVector};
+use nalgebra::{Matrix3, Rotation3, SMatrix, SVector, Vector3};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use serde::Serialize;
 
-use super::*;
-use crate::fe::material::{literature_sets, Material, MaterialLaw, NeoHookean};
+use surrogate::fe::material::fibre::*;
+use surrogate::fe::material::{jacobian_and_inverse_transpose, MaterialError, Tangent9};
+use surrogate::fe::material::{literature_sets, Material, MaterialLaw, NeoHookean};
 
 /// A generic direction, deliberately not normalised.
 const OBLIQUE: [f64; 3] = [0.3, -0.5, 0.8];

@@ -1,8 +1,10 @@
+//! The unit tests of `src/schema.rs`.
+//!
 //! The column lists against the shipped files' headers and the module docs' tables.
 
-use super::*;
 use std::collections::{BTreeMap, BTreeSet};
 use std::io::BufRead;
+use surrogate::schema::*;
 
 fn shipped(path: &str) -> std::path::PathBuf {
     std::path::Path::new(env!("CARGO_MANIFEST_DIR")).join(path)
@@ -185,7 +187,7 @@ fn column_lists_are_the_shipped_files_headers() {
 /// The module docs' table: column → (unit, meaning, tags).
 fn doc_table() -> BTreeMap<String, (String, String, BTreeSet<String>)> {
     let mut rows = BTreeMap::new();
-    for line in include_str!("../schema.rs").lines() {
+    for line in include_str!(concat!(env!("CARGO_MANIFEST_DIR"), "/src/schema.rs")).lines() {
         let Some(row) = line.strip_prefix("//! | `") else {
             continue;
         };

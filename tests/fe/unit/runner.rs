@@ -1,3 +1,5 @@
+//! The unit tests of `src/fe/runner/mod.rs`.
+//!
 //! Tests of the runner: the same answers at any thread count, a run interrupted (a store that
 //! stops writing) or started on a partial cache resumes with the same answers and runs only
 //! what is missing, failures are reported with their message, and the FE ramp cache as a store.
@@ -7,11 +9,11 @@ use std::path::{Path, PathBuf};
 use std::sync::atomic::{AtomicUsize, Ordering};
 use std::sync::Mutex;
 
-use super::*;
-use crate::fe::geometry::DesignParams;
-use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
-use crate::fe::mesh::{MeshLevel, MeshOptions};
-use crate::fe::simulate::{Case, Mode};
+use surrogate::fe::geometry::DesignParams;
+use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
+use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::fe::runner::*;
+use surrogate::fe::simulate::{Case, Mode};
 
 /// A toy case: its seed; a toy result: a number made of the seed and the parent's number, and
 /// a failure for every seed ending in 4.
@@ -100,7 +102,7 @@ impl Store<u64> for ToyStore {
             return Err("the store stopped (a kill)".into());
         }
         let text = format!("{}\n{}", ramp.value, ramp.error.clone().unwrap_or_default());
-        crate::io::write_atomic(&self.path(*seed), text.as_bytes()).map_err(|e| e.to_string())
+        surrogate::io::write_atomic(&self.path(*seed), text.as_bytes()).map_err(|e| e.to_string())
     }
 }
 
@@ -262,7 +264,7 @@ fn in_order_returns_by_item_and_runs_each_once() {
 
 /// A tiny FE case that stops at once (no Newton iteration allowed): its ramp fails quickly.
 fn stopping_case(n: usize) -> Case {
-    let solver = crate::fe::solver::SolverSettings {
+    let solver = surrogate::fe::solver::SolverSettings {
         max_iterations: 1,
         max_cutbacks: 0,
         ..Default::default()
@@ -332,9 +334,9 @@ fn a_cached_ramp_is_reused_only_for_the_same_settings() {
         pressures_bar: vec![0.0, 1.0, 2.0],
         gravity: true,
         mesh: MeshOptions::level(MeshLevel::Standard),
-        solver: crate::fe::solver::SolverSettings::default(),
+        solver: surrogate::fe::solver::SolverSettings::default(),
         mode: Mode::Force,
-        contact: crate::fe::simulate::ContactSettings {
+        contact: surrogate::fe::simulate::ContactSettings {
             stiffness,
             ..Default::default()
         },
@@ -362,7 +364,11 @@ fn a_cached_ramp_is_reused_only_for_the_same_settings() {
     assert_eq!(other.path, c.path);
     assert!(other.load().is_none());
     // a ramp with sensitivities: its own file and key
-    let sens = RampFile::at(&dir, &case(20.0), &crate::fe::sensitivity::Parameter::all());
+    let sens = RampFile::at(
+        &dir,
+        &case(20.0),
+        &surrogate::fe::sensitivity::Parameter::all(),
+    );
     assert!(sens.path.ends_with("n11_t2_force_sensitivities.json"));
     assert!(sens.load().is_none());
     // a damaged file is recomputed, not trusted

@@ -1,16 +1,18 @@
+//! The unit tests of `src/calibrate/joint/mod.rs`.
+//!
 //! The bounded Levenberg–Marquardt and its box step on small problems, the held-out splits,
 //! and the unknowns' names and bounds.
 
 use nalgebra::{DMatrix, DVector};
 
-use super::evaluation::{Evaluation, Recorded, Residual};
-use super::held_out::{combinations, held_out};
-use super::in_paper_nine;
-use super::lm::{bounded_lm, box_step};
-use super::settings::{JointStop, MIN_GAIN_CHI2};
-use super::unknown::{bounds, Unknown};
-use crate::fe::effects::Effect;
-use crate::fe::sensitivity::{OgdenParameter, Parameter};
+use surrogate::calibrate::joint::evaluation::{Evaluation, Recorded, Residual};
+use surrogate::calibrate::joint::held_out::{combinations, held_out};
+use surrogate::calibrate::joint::in_paper_nine;
+use surrogate::calibrate::joint::lm::{bounded_lm, box_step};
+use surrogate::calibrate::joint::{bounds, Unknown};
+use surrogate::calibrate::joint::{JointStop, MIN_GAIN_CHI2};
+use surrogate::fe::effects::Effect;
+use surrogate::fe::sensitivity::{OgdenParameter, Parameter};
 
 #[test]
 fn every_k_subset_once() {
@@ -268,9 +270,9 @@ fn unknowns_are_named_and_biases_refused() {
 /// the recording it leaves out.
 #[test]
 fn excluded_rows_are_reported_but_not_averaged() {
-    use super::evaluation::summary_of;
-    use super::report::JointRow;
-    use crate::calibrate::objective::{Config, Exclusion, Recording};
+    use surrogate::calibrate::joint::evaluation::summary_of;
+    use surrogate::calibrate::joint::JointRow;
+    use surrogate::calibrate::objective::{Config, Exclusion, Recording};
     let row = |be: f64, f_err: f64, tip_excluded: bool, force_excluded: bool| JointRow {
         n_bellows: 11,
         wall_thickness_mm: 1.6,
@@ -303,10 +305,10 @@ fn excluded_rows_are_reported_but_not_averaged() {
 /// by the design's inverse cavity length, and live in the point's geometry.
 #[test]
 fn the_wall_law_unknowns_scale_the_wall_derivative_by_design() {
-    use super::unknown::JointPoint;
-    use crate::case::OgdenSet;
-    use crate::fe::effects::Effects;
-    use crate::fe::preset::Geometry;
+    use surrogate::calibrate::joint::JointPoint;
+    use surrogate::case::OgdenSet;
+    use surrogate::fe::effects::Effects;
+    use surrogate::fe::preset::Geometry;
     let a = Unknown::from_name("wall_law_offset").unwrap();
     let b = Unknown::from_name("wall_law_inverse_cavity").unwrap();
     assert_eq!(a.parameter(), Parameter::Effect(Effect::WallBias));
@@ -332,8 +334,8 @@ fn the_wall_law_unknowns_scale_the_wall_derivative_by_design() {
 /// refused, naming it.
 #[test]
 fn the_mesh_correction_is_fine_minus_coarse_and_refuses_gaps() {
-    use super::correction::MeshCorrection;
-    use crate::calibrate::baseline::BaselineRow;
+    use surrogate::calibrate::baseline::BaselineRow;
+    use surrogate::calibrate::joint::MeshCorrection;
     let row = |n: usize, p: f64, uz: f64, uy: f64, f: f64| BaselineRow {
         n_bellows: n,
         wall_thickness_mm: 2.0,
@@ -380,21 +382,21 @@ fn the_mesh_correction_is_fine_minus_coarse_and_refuses_gaps() {
 /// the Jacobian stays the coarse mesh's.
 #[test]
 fn the_mesh_correction_shifts_values_and_residuals_not_the_jacobian() {
-    use super::correction::{CorrectionEntry, MeshCorrection};
-    use super::evaluation::residuals;
-    use super::settings::{JointSettings, ModelSigma};
-    use super::unknown::JointPoint;
-    use crate::calibrate::baseline::{RampSource, SweepRamp};
-    use crate::calibrate::experiments::{BendingRecord, ForceRecord};
-    use crate::calibrate::objective::Recordings;
-    use crate::case::OgdenSet;
-    use crate::fe::effects::Effects;
-    use crate::fe::mesh::{MeshLevel, MeshOptions};
-    use crate::fe::preset::Geometry;
-    use crate::fe::sensitivity::{
+    use surrogate::calibrate::baseline::{RampSource, SweepRamp};
+    use surrogate::calibrate::experiments::{BendingRecord, ForceRecord};
+    use surrogate::calibrate::joint::evaluation::residuals;
+    use surrogate::calibrate::joint::JointPoint;
+    use surrogate::calibrate::joint::{CorrectionEntry, MeshCorrection};
+    use surrogate::calibrate::joint::{JointSettings, ModelSigma};
+    use surrogate::calibrate::objective::Recordings;
+    use surrogate::case::OgdenSet;
+    use surrogate::fe::effects::Effects;
+    use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+    use surrogate::fe::preset::Geometry;
+    use surrogate::fe::sensitivity::{
         Outputs, ParameterInfo, Sensitivities, SensitivityCost, StepSensitivities,
     };
-    use crate::fe::simulate::Mode;
+    use surrogate::fe::simulate::Mode;
     let outputs = |uz: f64, uy: f64, force: Option<f64>| Outputs {
         tip_uz_mm: uz,
         tip_uy_mm: uy,

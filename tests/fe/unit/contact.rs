@@ -1,7 +1,9 @@
+//! The unit tests of `src/fe/contact/mod.rs`.
+//!
 //! Tests of contact: the barrier and its update, faces against a plane and face pairs, each
 //! residual and tangent against finite differences.
 
-use super::*;
+use surrogate::fe::contact::*;
 
 fn face(z: f64, tilt: f64) -> [[f64; 3]; 9] {
     std::array::from_fn(|a| {

@@ -1,8 +1,11 @@
-use super::*;
-use crate::fe::assembly::LoadLevel;
-use crate::fe::geometry::DesignParams;
-use crate::fe::mesh::{MeshLevel, MeshOptions};
-use crate::fe::warm_start::WarmStart;
+//! The unit tests of `src/fe/warm_start/transfer.rs`.
+
+use surrogate::fe::assembly::LoadLevel;
+use surrogate::fe::geometry::Design;
+use surrogate::fe::geometry::DesignParams;
+use surrogate::fe::mesh::{feature_positions, ActuatorMesh};
+use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::fe::warm_start::*;
 
 fn design(n: usize, t: f64) -> Design {
     DesignParams::new(n, t).validate().unwrap()

@@ -1,22 +1,29 @@
+//! The unit tests of `src/diagnose/name/mod.rs`.
+//!
 //! The Name stage on sweeps with random signatures and recordings made by their linear model.
 
+use super::cells::UnitCell;
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
+use surrogate::calibrate::baseline::SweepSensitivities;
+use surrogate::diagnose::cells::Cell;
+use surrogate::diagnose::name::derivs_of;
+use surrogate::fe::sensitivity::{OgdenParameter, Parameter};
 
-use super::*;
-use crate::calibrate::baseline::{DesignSensitivities, SWEEP_SENSITIVITY_FORMAT};
-use crate::calibrate::objective::Output;
-use crate::diagnose::approx_error::ErrorSpread;
-use crate::diagnose::mesh_error::ErrorDirection;
-use crate::diagnose::signature::derivative_of;
-use crate::fe::effects::{Acts, Effect, Effects};
-use crate::fe::material::Material;
-use crate::fe::mesh::{MeshLevel, MeshOptions};
-use crate::fe::preset::Geometry;
-use crate::fe::sensitivity::{
+use surrogate::calibrate::baseline::{DesignSensitivities, SWEEP_SENSITIVITY_FORMAT};
+use surrogate::calibrate::objective::Output;
+use surrogate::diagnose::approx_error::ErrorSpread;
+use surrogate::diagnose::mesh_error::ErrorDirection;
+use surrogate::diagnose::name::*;
+use surrogate::diagnose::signature::derivative_of;
+use surrogate::fe::effects::{Acts, Effect, Effects};
+use surrogate::fe::material::Material;
+use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::fe::preset::Geometry;
+use surrogate::fe::sensitivity::{
     Outputs, ParameterInfo, Sensitivities, SensitivityCost, StepSensitivities,
 };
-use crate::fe::simulate::Mode;
+use surrogate::fe::simulate::Mode;
 
 const DESIGNS: [(usize, f64); 9] = [
     (9, 1.6),

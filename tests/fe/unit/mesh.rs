@@ -1,7 +1,9 @@
+//! The unit tests of `src/fe/mesh/mod.rs`.
+//!
 //! Tests of the meshes: options, faces, refinement levels, node and face sets, moved meshes.
 
-use super::*;
-use crate::fe::geometry::DesignParams;
+use surrogate::fe::geometry::DesignParams;
+use surrogate::fe::mesh::*;
 
 #[test]
 fn mesh_options_name_the_bad_override() {

@@ -1,16 +1,17 @@
+//! The unit tests of `src/calibrate/baseline/mod.rs`.
+//!
 //! Tests of the sweep: the order of its queue, the committed caches read under their keys, the
 //! reference study's nine and the summary, the sensitivities file with its geometry. (A cached
-//! ramp reused only under its own key: `crate::fe::runner`'s tests.)
+//! ramp reused only under its own key: `surrogate::fe::runner`'s, `tests/fe/unit/runner.rs`.)
 
 use std::path::{Path, PathBuf};
 
-use super::ramps::cost_order;
-use super::*;
-use crate::fe::effects::Effects;
-use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
-use crate::fe::mesh::{MeshLevel, MeshOptions};
-use crate::fe::preset::Geometry;
-use crate::fe::simulate::Mode;
+use surrogate::calibrate::baseline::*;
+use surrogate::fe::effects::Effects;
+use surrogate::fe::material::{Material, DEFAULT_BULK_RATIO};
+use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::fe::preset::Geometry;
+use surrogate::fe::simulate::Mode;
 
 #[test]
 fn the_queue_starts_thin_walls_and_forces_first_and_returns_in_item_order() {
@@ -41,7 +42,7 @@ fn the_queue_starts_thin_walls_and_forces_first_and_returns_in_item_order() {
         ]
     );
     let started = std::sync::Mutex::new(Vec::new());
-    let out = crate::fe::runner::in_order(&jobs, &order, |&(d, m)| {
+    let out = surrogate::fe::runner::in_order(&jobs, &order, |&(d, m)| {
         started
             .lock()
             .unwrap()
@@ -65,7 +66,7 @@ fn committed(path: &str) -> PathBuf {
 /// key (nothing read), a neutral one given explicitly does not.
 #[test]
 fn committed_baseline_ramps_keep_their_keys() {
-    let bending = crate::calibrate::experiments::shipped_bending().unwrap();
+    let bending = surrogate::calibrate::experiments::shipped_bending().unwrap();
     let designs = recorded_designs(&bending);
     assert_eq!(designs.len(), 9);
     assert_eq!(designs[0].pressures_bar, [0.0, 1.0, 2.0, 3.0]);
@@ -96,7 +97,7 @@ fn committed_baseline_ramps_keep_their_keys() {
     settings.geometry = Geometry::as_modelled();
     assert_eq!(sources(&settings), vec![RampSource::Cache; 18]);
     // the rows of the table: every configuration reached
-    let force = crate::calibrate::experiments::shipped_force().unwrap();
+    let force = surrogate::calibrate::experiments::shipped_force().unwrap();
     settings.effects = Effects::default();
     let rows = cached_baseline(&settings, &bending, &force, &dir).unwrap();
     assert!(rows
@@ -108,10 +109,10 @@ fn committed_baseline_ramps_keep_their_keys() {
 /// `calibrate --verify-fe standard --fe-cache …` read) is found whole in its cache.
 #[test]
 fn committed_verification_ramps_keep_their_keys() {
-    let set = crate::case::OgdenSet::new(0.03821, 5.996, -5.195, -1.996).unwrap();
-    let material = crate::calibrate::verify::fe_material(&set).unwrap();
+    let set = surrogate::case::OgdenSet::new(0.03821, 5.996, -5.195, -1.996).unwrap();
+    let material = surrogate::calibrate::verify::fe_material(&set).unwrap();
     let settings = SweepSettings::new(material, MeshOptions::level(MeshLevel::Standard));
-    let bending = crate::calibrate::experiments::shipped_bending().unwrap();
+    let bending = surrogate::calibrate::experiments::shipped_bending().unwrap();
     let dir = committed("data/demo/fe_standard_ramps");
     let ramps = cached_ramps(&settings, &recorded_designs(&bending), &dir).unwrap();
     assert_eq!(ramps.len(), 18);
@@ -211,7 +212,7 @@ fn sensitivities_keep_their_geometry_and_old_files_read_as_modelled() {
         ..Geometry::as_modelled()
     };
     s.effects = Effects::neutral()
-        .with(crate::fe::effects::Effect::PlateOffset, -4.5)
+        .with(surrogate::fe::effects::Effect::PlateOffset, -4.5)
         .unwrap();
     let text = serde_json::to_string(&s).unwrap();
     assert!(text.contains(r#""geometry":{"name":"identified","gap_mm":1.2,"#));
@@ -222,5 +223,5 @@ fn sensitivities_keep_their_geometry_and_old_files_read_as_modelled() {
     let back = SweepSensitivities::read(&path).unwrap();
     std::fs::remove_dir_all(&dir).unwrap();
     assert_eq!(back, s);
-    assert_eq!(back.base(crate::fe::effects::Effect::PlateOffset), -4.5);
+    assert_eq!(back.base(surrogate::fe::effects::Effect::PlateOffset), -4.5);
 }

@@ -1,0 +1,55 @@
+//! The unit tests of `src/diagnose/setup.rs`.
+
+use std::path::Path;
+use surrogate::diagnose::setup::*;
+
+#[test]
+fn defaults_lie_under_the_root_and_given_files_as_given() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let r = DiagnosisSetup::recordings().resolve(root).unwrap();
+    assert_eq!(r.model.path, root.join(SHIPPED_MODEL));
+    assert!(r.model.default);
+    assert_eq!(
+        r.mesh_reference,
+        Some(ResolvedFile {
+            path: root.join(SHIPPED_COARSE_MODEL),
+            default: true
+        })
+    );
+    assert_eq!(r.approximation_error, ApproximationSource::None);
+    let mut s = DiagnosisSetup::blind_study();
+    s.model = SetupFile::Given("elsewhere/actuator.json".into());
+    s.mesh_reference = MeshReference::from_flag("auto");
+    s.approximation_error = ApproximationSource::from_flag("e.json");
+    let r = s.resolve(root).unwrap();
+    assert_eq!(r.model.path, Path::new("elsewhere/actuator.json"));
+    assert!(!r.model.default);
+    // no coarse model beside it: auto is none
+    assert_eq!(r.mesh_reference, None);
+    assert_eq!(
+        r.approximation_error,
+        ApproximationSource::File(ResolvedFile {
+            path: "e.json".into(),
+            default: false
+        })
+    );
+}
+
+#[test]
+fn a_choice_of_the_other_use_names_its_flag() {
+    let root = Path::new("/repo");
+    let mut s = DiagnosisSetup::blind_study();
+    s.sensitivities = Sensitivities::from_flag("calibrated");
+    let e = s.resolve(root).unwrap_err().to_string();
+    assert!(
+        e.starts_with("--sensitivities = calibrated: expected a file"),
+        "{e}"
+    );
+    let mut s = DiagnosisSetup::recordings();
+    s.approximation_error = ApproximationSource::from_flag("nulls");
+    let e = s.resolve(root).unwrap_err().to_string();
+    assert!(
+        e.starts_with("--approximation-error = nulls: expected none or"),
+        "{e}"
+    );
+}
