@@ -27,6 +27,7 @@ mod unit {
     mod cells;
     mod discrimination;
     mod findings;
+    mod fixtures;
     mod groups;
     mod measure_design;
     mod name;

@@ -1,6 +1,7 @@
 //! The unit tests of `src/diagnose/measure_design.rs`.
 
 use super::cells::UnitCell;
+use super::fixtures::{every_parameter, random_outputs};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use surrogate::calibrate::baseline::SweepSensitivities;
@@ -20,36 +21,16 @@ use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::preset::Geometry;
 use surrogate::fe::sensitivity::{
-    OgdenParameter, Outputs, ParameterInfo, Sensitivities, SensitivityCost, StepSensitivities,
+    OgdenParameter, Outputs, Sensitivities, SensitivityCost, StepSensitivities,
 };
 use surrogate::fe::simulate::Mode;
-
-fn outputs(rng: &mut Xoshiro256PlusPlus) -> Outputs {
-    let mut g = || rng.gen_range(-1.0..1.0);
-    Outputs {
-        tip_uz_mm: g(),
-        tip_uy_mm: g(),
-        angle_deg: g(),
-        markers: (0..9).map(|_| [g(), g()]).collect(),
-        force_n: None,
-    }
-}
 
 /// A bending sweep of the nine designs at 0–3 bar with random derivatives, in which
 /// gap_bias moves every output exactly twice as much as wall_bias, except marker 4's Uy at
 /// N = 11, T = 2 mm, 2 bar.
 fn sweep(seed: u64) -> SweepSensitivities {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    let parameters: Vec<ParameterInfo> = Parameter::all()
-        .into_iter()
-        .map(|p| ParameterInfo {
-            parameter: p,
-            unit: p.unit().into(),
-            value: 0.0,
-            step: 1e-6,
-            how: String::new(),
-        })
-        .collect();
+    let parameters = every_parameter();
     let at = |e: Effect| {
         parameters
             .iter()
@@ -63,8 +44,10 @@ fn sweep(seed: u64) -> SweepSensitivities {
             let steps = [0.0, 1.0, 2.0, 3.0]
                 .iter()
                 .map(|&p| {
-                    let mut derivatives: Vec<Outputs> =
-                        parameters.iter().map(|_| outputs(&mut rng)).collect();
+                    let mut derivatives: Vec<Outputs> = parameters
+                        .iter()
+                        .map(|_| random_outputs(&mut rng))
+                        .collect();
                     let mut copy = derivatives[w].clone();
                     copy.tip_uz_mm *= 2.0;
                     copy.tip_uy_mm *= 2.0;
@@ -78,7 +61,7 @@ fn sweep(seed: u64) -> SweepSensitivities {
                     derivatives[g] = copy;
                     StepSensitivities {
                         pressure_bar: p,
-                        values: outputs(&mut rng),
+                        values: random_outputs(&mut rng),
                         derivatives,
                     }
                 })

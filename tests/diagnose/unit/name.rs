@@ -3,6 +3,7 @@
 //! The Name stage on sweeps with random signatures and recordings made by their linear model.
 
 use super::cells::UnitCell;
+use super::fixtures::{every_parameter, random_outputs, DESIGNS};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use surrogate::calibrate::baseline::SweepSensitivities;
@@ -20,51 +21,17 @@ use surrogate::fe::effects::{Acts, Effect, Effects};
 use surrogate::fe::material::Material;
 use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::fe::preset::Geometry;
-use surrogate::fe::sensitivity::{
-    Outputs, ParameterInfo, Sensitivities, SensitivityCost, StepSensitivities,
-};
+use surrogate::fe::sensitivity::{Outputs, Sensitivities, SensitivityCost, StepSensitivities};
 use surrogate::fe::simulate::Mode;
-
-const DESIGNS: [(usize, f64); 9] = [
-    (9, 1.6),
-    (9, 2.0),
-    (9, 2.4),
-    (11, 1.6),
-    (11, 2.0),
-    (11, 2.4),
-    (13, 1.6),
-    (13, 2.0),
-    (13, 2.4),
-];
-
-fn random_outputs(rng: &mut Xoshiro256PlusPlus) -> Outputs {
-    let mut g = || rng.gen_range(-1.0..1.0);
-    Outputs {
-        tip_uz_mm: g(),
-        tip_uy_mm: g(),
-        angle_deg: g(),
-        markers: (0..9).map(|_| [g(), g()]).collect(),
-        force_n: None,
-    }
-}
 
 /// A bending sweep with random signatures for every parameter.
 fn sweep(seed: u64) -> SweepSensitivities {
     let mut rng = Xoshiro256PlusPlus::seed_from_u64(seed);
-    let parameters: Vec<ParameterInfo> = Parameter::all()
-        .into_iter()
-        .map(|p| ParameterInfo {
-            parameter: p,
-            unit: p.unit().into(),
-            value: 0.0,
-            step: 1e-6,
-            how: String::new(),
-        })
-        .collect();
+    let parameters = every_parameter();
     let designs = DESIGNS
         .iter()
         .map(|&(n, t)| DesignSensitivities {
-            n_bellows: n,
+            n_bellows: n as usize,
             wall_thickness_mm: t,
             mode: Mode::Bending,
             sensitivities: Sensitivities {

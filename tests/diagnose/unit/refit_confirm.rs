@@ -1,6 +1,7 @@
 //! The unit tests of `src/diagnose/refit/confirm.rs`.
 
 use super::cells::UnitCell;
+use super::fixtures::DESIGNS;
 use std::path::Path;
 use surrogate::calibrate::objective::Output;
 use surrogate::case::OgdenSet;
@@ -10,18 +11,6 @@ use surrogate::diagnose::refit::{confirm_with, fit_rows, FeEvaluation, RefitSett
 use surrogate::diagnose::DiagnoseError;
 use surrogate::fe::effects::Effect;
 use surrogate::rom::Surrogate;
-
-const DESIGNS: [(u32, f64); 9] = [
-    (9, 1.6),
-    (9, 2.0),
-    (9, 2.4),
-    (11, 1.6),
-    (11, 2.0),
-    (11, 2.4),
-    (13, 1.6),
-    (13, 2.0),
-    (13, 2.4),
-];
 
 fn value(model: &Surrogate, m: &OgdenSet, n: u32, t: f64, p: f64, o: Output) -> f64 {
     let mut pred = model.new_prediction();
