@@ -213,6 +213,25 @@ pub struct HeldOutErrors {
     pub max_tip_mm: f64,
 }
 
+impl HeldOutErrors {
+    /// Table rows: a header, one row per `N` (`n_values` with `per_n` in the same order) and
+    /// one for `all`.
+    pub(crate) fn rows_by_n(n_values: &[u32], per_n: &[Self], all: &Self) -> String {
+        let mut s = String::from("  N      cases  points  tip mm  (max)   angle °  force N\n");
+        let row = |label: &str, e: &Self| {
+            format!(
+                "  {label:<6} {:>5}  {:>6}  {:>6.3}  ({:>5.2})  {:>7.3}  {:>7.4}\n",
+                e.cases, e.points, e.tip_mm, e.max_tip_mm, e.angle_deg, e.force_n
+            )
+        };
+        for (n, e) in n_values.iter().zip(per_n) {
+            s.push_str(&row(&n.to_string(), e));
+        }
+        s.push_str(&row("all", all));
+        s
+    }
+}
+
 /// The result of [`super::held_out_n::study`].
 #[derive(Debug, Clone, PartialEq, Serialize, Deserialize)]
 pub struct HeldOutNReport {
@@ -235,17 +254,11 @@ impl HeldOutNReport {
             "trained on N = {:?} ({} cases); mean |error| over every held-out case and pressure > 0\n",
             self.trained, self.training_cases
         );
-        s.push_str("  N      cases  points  tip mm  (max)   angle °  force N\n");
-        let row = |label: String, e: &HeldOutErrors| {
-            format!(
-                "  {label:<6} {:>5}  {:>6}  {:>6.3}  ({:>5.2})  {:>7.3}  {:>7.4}\n",
-                e.cases, e.points, e.tip_mm, e.max_tip_mm, e.angle_deg, e.force_n
-            )
-        };
-        for (n, e) in self.held_out.iter().zip(&self.per_n) {
-            s.push_str(&row(n.to_string(), e));
-        }
-        s.push_str(&row("all".into(), &self.all));
+        s.push_str(&HeldOutErrors::rows_by_n(
+            &self.held_out,
+            &self.per_n,
+            &self.all,
+        ));
         s
     }
 }

@@ -3,7 +3,17 @@
 
 use rand::Rng;
 use rand_xoshiro::Xoshiro256PlusPlus;
-use surrogate::fe::sensitivity::{Outputs, Parameter, ParameterInfo};
+use surrogate::calibrate::baseline::{
+    DesignSensitivities, SweepSensitivities, SWEEP_SENSITIVITY_FORMAT,
+};
+use surrogate::fe::effects::Effects;
+use surrogate::fe::material::Material;
+use surrogate::fe::mesh::{MeshLevel, MeshOptions};
+use surrogate::fe::preset::Geometry;
+use surrogate::fe::sensitivity::{
+    Outputs, Parameter, ParameterInfo, Sensitivities, SensitivityCost, StepSensitivities,
+};
+use surrogate::fe::simulate::Mode;
 
 /// The nine designs of the shipped experiments (N, T in mm).
 pub const DESIGNS: [(u32, f64); 9] = [
@@ -42,4 +52,39 @@ pub fn every_parameter() -> Vec<ParameterInfo> {
             how: String::new(),
         })
         .collect()
+}
+
+/// A bending sweep at Ogden 002 on the coarse mesh, the geometry as modelled, no fixed
+/// effect: `designs` as (N, T in mm, its steps), each step with one derivative per entry of
+/// `parameters`.
+pub fn bending_sweep(
+    parameters: &[ParameterInfo],
+    designs: Vec<(usize, f64, Vec<StepSensitivities>)>,
+) -> SweepSensitivities {
+    let designs = designs
+        .into_iter()
+        .map(|(n, t, steps)| DesignSensitivities {
+            n_bellows: n,
+            wall_thickness_mm: t,
+            mode: Mode::Bending,
+            sensitivities: Sensitivities {
+                format: String::new(),
+                version: 1,
+                mode: Mode::Bending,
+                parameters: parameters.to_vec(),
+                steps,
+                cost: SensitivityCost::default(),
+            },
+        })
+        .collect();
+    SweepSensitivities {
+        format: SWEEP_SENSITIVITY_FORMAT.into(),
+        version: 1,
+        material: Material::from_spec("ogden_002", 1000.0).unwrap(),
+        mesh: MeshOptions::level(MeshLevel::Coarse),
+        geometry: Geometry::as_modelled(),
+        effects: Effects::neutral(),
+        designs,
+        missing: Vec::new(),
+    }
 }

@@ -1,7 +1,7 @@
 //! The unit tests of `src/diagnose/measure_design.rs`.
 
 use super::cells::UnitCell;
-use super::fixtures::{every_parameter, random_outputs};
+use super::fixtures::{bending_sweep, every_parameter, random_outputs};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use surrogate::calibrate::baseline::SweepSensitivities;
@@ -10,19 +10,12 @@ use surrogate::diagnose::measurements::Measurement;
 use surrogate::fe::effects::Effect;
 use surrogate::fe::sensitivity::Parameter;
 
-use surrogate::calibrate::baseline::{DesignSensitivities, SWEEP_SENSITIVITY_FORMAT};
 use surrogate::calibrate::objective::Output;
 use surrogate::diagnose::measure_design::*;
 use surrogate::diagnose::measurements::MeasurementKind;
 use surrogate::diagnose::name::{name, NameSettings};
 use surrogate::diagnose::signature::derivative_of;
-use surrogate::fe::effects::Effects;
-use surrogate::fe::material::Material;
-use surrogate::fe::mesh::{MeshLevel, MeshOptions};
-use surrogate::fe::preset::Geometry;
-use surrogate::fe::sensitivity::{
-    OgdenParameter, Outputs, Sensitivities, SensitivityCost, StepSensitivities,
-};
+use surrogate::fe::sensitivity::{OgdenParameter, Outputs, StepSensitivities};
 use surrogate::fe::simulate::Mode;
 
 /// A bending sweep of the nine designs at 0–3 bar with random derivatives, in which
@@ -66,31 +59,10 @@ fn sweep(seed: u64) -> SweepSensitivities {
                     }
                 })
                 .collect();
-            designs.push(DesignSensitivities {
-                n_bellows: n,
-                wall_thickness_mm: t,
-                mode: Mode::Bending,
-                sensitivities: Sensitivities {
-                    format: String::new(),
-                    version: 1,
-                    mode: Mode::Bending,
-                    parameters: parameters.clone(),
-                    steps,
-                    cost: SensitivityCost::default(),
-                },
-            });
+            designs.push((n, t, steps));
         }
     }
-    SweepSensitivities {
-        format: SWEEP_SENSITIVITY_FORMAT.into(),
-        version: 1,
-        material: Material::from_spec("ogden_002", 1000.0).unwrap(),
-        mesh: MeshOptions::level(MeshLevel::Coarse),
-        geometry: Geometry::as_modelled(),
-        effects: Effects::neutral(),
-        designs,
-        missing: Vec::new(),
-    }
+    bending_sweep(&parameters, designs)
 }
 
 /// Tip Uz, tip Uy and angle at 1, 2, 3 bar (σ = 1) of an actuator with the material off

@@ -3,7 +3,7 @@
 //! The Name stage on sweeps with random signatures and recordings made by their linear model.
 
 use super::cells::UnitCell;
-use super::fixtures::{every_parameter, random_outputs, DESIGNS};
+use super::fixtures::{bending_sweep, every_parameter, random_outputs, DESIGNS};
 use rand::{Rng, SeedableRng};
 use rand_xoshiro::Xoshiro256PlusPlus;
 use surrogate::calibrate::baseline::SweepSensitivities;
@@ -11,18 +11,13 @@ use surrogate::diagnose::cells::Cell;
 use surrogate::diagnose::name::derivs_of;
 use surrogate::fe::sensitivity::{OgdenParameter, Parameter};
 
-use surrogate::calibrate::baseline::{DesignSensitivities, SWEEP_SENSITIVITY_FORMAT};
 use surrogate::calibrate::objective::Output;
 use surrogate::diagnose::approx_error::ErrorSpread;
 use surrogate::diagnose::mesh_error::ErrorDirection;
 use surrogate::diagnose::name::*;
 use surrogate::diagnose::signature::derivative_of;
 use surrogate::fe::effects::{Acts, Effect, Effects};
-use surrogate::fe::material::Material;
-use surrogate::fe::mesh::{MeshLevel, MeshOptions};
-use surrogate::fe::preset::Geometry;
-use surrogate::fe::sensitivity::{Outputs, Sensitivities, SensitivityCost, StepSensitivities};
-use surrogate::fe::simulate::Mode;
+use surrogate::fe::sensitivity::{Outputs, StepSensitivities};
 
 /// A bending sweep with random signatures for every parameter.
 fn sweep(seed: u64) -> SweepSensitivities {
@@ -30,56 +25,38 @@ fn sweep(seed: u64) -> SweepSensitivities {
     let parameters = every_parameter();
     let designs = DESIGNS
         .iter()
-        .map(|&(n, t)| DesignSensitivities {
-            n_bellows: n as usize,
-            wall_thickness_mm: t,
-            mode: Mode::Bending,
-            sensitivities: Sensitivities {
-                format: String::new(),
-                version: 1,
-                mode: Mode::Bending,
-                parameters: parameters.clone(),
-                steps: [0.0, 1.0, 2.0, 3.0]
-                    .iter()
-                    .map(|&p| StepSensitivities {
-                        pressure_bar: p,
-                        values: random_outputs(&mut rng),
-                        // the force rig's own effects move nothing in bending
-                        derivatives: parameters
-                            .iter()
-                            .map(|i| {
-                                let mut o = random_outputs(&mut rng);
-                                if matches!(
-                                    i.parameter,
-                                    Parameter::Effect(e) if e.acts_on() == Acts::Force
-                                ) {
-                                    o = Outputs {
-                                        tip_uz_mm: 0.0,
-                                        tip_uy_mm: 0.0,
-                                        angle_deg: 0.0,
-                                        markers: vec![[0.0; 2]; 9],
-                                        force_n: None,
-                                    };
-                                }
-                                o
-                            })
-                            .collect(),
-                    })
-                    .collect(),
-                cost: SensitivityCost::default(),
-            },
+        .map(|&(n, t)| {
+            let steps = [0.0, 1.0, 2.0, 3.0]
+                .iter()
+                .map(|&p| StepSensitivities {
+                    pressure_bar: p,
+                    values: random_outputs(&mut rng),
+                    // the force rig's own effects move nothing in bending
+                    derivatives: parameters
+                        .iter()
+                        .map(|i| {
+                            let mut o = random_outputs(&mut rng);
+                            if matches!(
+                                i.parameter,
+                                Parameter::Effect(e) if e.acts_on() == Acts::Force
+                            ) {
+                                o = Outputs {
+                                    tip_uz_mm: 0.0,
+                                    tip_uy_mm: 0.0,
+                                    angle_deg: 0.0,
+                                    markers: vec![[0.0; 2]; 9],
+                                    force_n: None,
+                                };
+                            }
+                            o
+                        })
+                        .collect(),
+                })
+                .collect();
+            (n as usize, t, steps)
         })
         .collect();
-    SweepSensitivities {
-        format: SWEEP_SENSITIVITY_FORMAT.into(),
-        version: 1,
-        material: Material::from_spec("ogden_002", 1000.0).unwrap(),
-        mesh: MeshOptions::level(MeshLevel::Coarse),
-        geometry: Geometry::as_modelled(),
-        effects: Effects::neutral(),
-        designs,
-        missing: Vec::new(),
-    }
+    bending_sweep(&parameters, designs)
 }
 
 /// Cells (tip Uz, tip Uy, angle at 1, 2, 3 bar, σ = 1) of recordings made by the sweep's
