@@ -43,6 +43,13 @@ use crate::fe::material::{Material, DEFAULT_BULK_RATIO};
 use crate::fe::mesh::MeshOptions;
 use crate::rom::Surrogate;
 
+/// `model`'s checksum, as its file carries it.
+fn model_checksum(model: &Surrogate) -> Result<String, DiagnoseError> {
+    model
+        .checksum()
+        .map_err(|e| DiagnoseError::Calibrate(e.into()))
+}
+
 /// The `format` field of an approximation-error file.
 pub const FORMAT: &str = "surrogate.approximation-error";
 /// The version this code writes and reads.
@@ -87,6 +94,11 @@ pub struct ApproximationError {
     pub reference: String,
     /// The samples.
     pub samples: Vec<ErrorSample>,
+    /// The checksum of the model the samples were taken with ([`Surrogate::checksum`]),
+    /// checked against the diagnosing model by [`ApproximationError::check_model`] (absent
+    /// in files written before 2026-12-06: not checked).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub model_checksum: Option<String>,
 }
 
 /// The covariance of the model's error over the cells of a residual table, as deviations
@@ -286,7 +298,10 @@ pub fn sample(
         Some(h) => format!("{h} mm elements"),
         None => format!("the {} mesh", s.mesh.level.name()),
     };
-    ApproximationError::new(model_name, &format!("FE on {mesh} without effect"), samples)
+    let mut e =
+        ApproximationError::new(model_name, &format!("FE on {mesh} without effect"), samples)?;
+    e.model_checksum = Some(model_checksum(model)?);
+    Ok(e)
 }
 
 impl ApproximationError {
@@ -321,7 +336,33 @@ impl ApproximationError {
             model: model_name.to_string(),
             reference: reference.to_string(),
             samples,
+            model_checksum: None,
         })
+    }
+
+    /// Whether these samples are the error of `model`: the error of another model would
+    /// shift the recordings by the wrong amount, silently.
+    ///
+    /// # Errors
+    /// [`DiagnoseError::Input`] naming both models when the file records another
+    /// model's checksum than `model`'s.
+    pub fn check_model(&self, model: &Surrogate) -> Result<(), DiagnoseError> {
+        let Some(sampled) = &self.model_checksum else {
+            return Ok(());
+        };
+        let diagnosing = model_checksum(model)?;
+        if *sampled == diagnosing {
+            return Ok(());
+        }
+        Err(DiagnoseError::input(
+            "approximation error's model",
+            format!("{} ({sampled})", self.model),
+            &format!(
+                "the diagnosing model ({diagnosing}): an approximation error holds for the \
+                 model it was sampled from (`surrogate approximation-error --model` with the \
+                 diagnosing model)"
+            ),
+        ))
     }
 
     /// The same without the samples whose source is in `sources` (to diagnose a
@@ -330,7 +371,7 @@ impl ApproximationError {
     /// # Errors
     /// Fewer than two samples left.
     pub fn without(&self, sources: &[&str]) -> Result<Self, DiagnoseError> {
-        Self::new(
+        let mut e = Self::new(
             &self.model,
             &self.reference,
             self.samples
@@ -338,7 +379,9 @@ impl ApproximationError {
                 .filter(|s| !sources.contains(&s.source.as_str()))
                 .cloned()
                 .collect(),
-        )
+        )?;
+        e.model_checksum.clone_from(&self.model_checksum);
+        Ok(e)
     }
 
     /// The samples' errors at one recorded number.

@@ -19,7 +19,8 @@ impl Diagnosis {
     /// gets a line per stage.
     ///
     /// # Errors
-    /// As [`Self::name_with`] and [`Self::plan_with`].
+    /// An `approximation` sampled from another model than `model`
+    /// ([`ApproximationError::check_model`]); as [`Self::name_with`] and [`Self::plan_with`].
     pub fn name_and_plan(
         &mut self,
         sens: &SweepSensitivities,
@@ -28,6 +29,9 @@ impl Diagnosis {
         plan: Option<&PlanSettings>,
         progress: &dyn Fn(&str),
     ) -> Result<&Naming, DiagnoseError> {
+        if let Some(e) = approximation {
+            e.check_model(model)?;
+        }
         progress(&format!(
             "name: {} effects against the FE sensitivities of {} ramps ({} mesh)",
             sens.designs

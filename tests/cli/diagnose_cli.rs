@@ -46,11 +46,13 @@ fn diagnoses_the_shipped_experiments() {
             )
         })
         .collect();
-    let (m, b, f, c, s) = (
-        in_repo("models/actuator.json"),
+    // the setup the blind study scores: the coarse model, its approximation error against
+    // FE on 4 mm elements, no mesh reference
+    let (m, b, f, e, s) = (
+        in_repo("models/actuator_coarse.json"),
         in_repo("training_data/bending_experiments.csv"),
         in_repo("training_data/blocked_force_experiments.csv"),
-        in_repo("models/actuator_coarse.json"),
+        in_repo("data/approximation_error/coarse_vs_4mm.json"),
         in_repo("data/sensitivities/calibrated_coarse.json"),
     );
     assert_eq!(
@@ -59,10 +61,11 @@ fn diagnoses_the_shipped_experiments() {
             ("model", m.as_str(), true),
             ("bending", b.as_str(), true),
             ("force", f.as_str(), true),
-            ("mesh reference", c.as_str(), true),
+            ("approximation error", e.as_str(), true),
             ("sensitivities", s.as_str(), true),
         ]
     );
+    assert!(r["mesh_error"].is_null(), "{}", r["mesh_error"]);
     // the Name stage on the committed FE sensitivities
     assert_eq!(r["name"]["status"], "named");
     assert!(!r["name"]["candidates"].as_array().unwrap().is_empty());
@@ -117,17 +120,6 @@ fn diagnoses_the_shipped_experiments() {
         .find(|c| c["significant"] == true && c["plausible"] == true)
         .filter(|c| c["model_error"] != true)
         .map(|c| c["effect"].clone());
-    // the model's own mesh error (against the other shipped model) is a candidate too
-    assert_eq!(r["mesh_error"]["reference"], c.as_str());
-    assert!(r["name"]["candidates"]
-        .as_array()
-        .unwrap()
-        .iter()
-        .any(|c| c["effect"] == "model_mesh" && c["model_error"] == true));
-    assert!(
-        md.contains("The model's own mesh error (candidate `model_mesh`)"),
-        "{md}"
-    );
     match named {
         Some(e) => {
             assert_eq!(r["model_and_show"]["status"], "modelled");
@@ -169,17 +161,39 @@ fn diagnoses_the_shipped_experiments() {
         stdout.contains("Model and show: Refitted with pressure_loss = "),
         "{stdout}"
     );
+    // the standard-mesh model with its mesh direction, no approximation error (the setup
+    // before 2026-12-06): the model's own mesh error against the other shipped model is a
+    // candidate too
     let out4 = dir.join("none");
     let (ok, stdout, stderr) = outcome(&[
         "diagnose",
+        "--model",
+        "models/actuator.json",
+        "--mesh-reference",
+        "auto",
+        "--approximation-error",
+        "none",
         "--refit",
         "none",
         "--out",
         out4.to_str().unwrap(),
     ]);
     assert!(ok, "{stderr}");
-    assert_eq!(report(&out4)["model_and_show"]["status"], "not_run");
+    let r4 = report(&out4);
+    assert_eq!(r4["model_and_show"]["status"], "not_run");
     assert!(stdout.contains("Model and show: not run ("), "{stdout}");
+    let c = in_repo("models/actuator_coarse.json");
+    assert_eq!(r4["mesh_error"]["reference"], c.as_str());
+    assert!(r4["name"]["candidates"]
+        .as_array()
+        .unwrap()
+        .iter()
+        .any(|c| c["effect"] == "model_mesh" && c["model_error"] == true));
+    let md4 = std::fs::read_to_string(out4.join("summary.md")).unwrap();
+    assert!(
+        md4.contains("The model's own mesh error (candidate `model_mesh`)"),
+        "{md4}"
+    );
     // --objective and --exclude reach the calibration
     let out2 = dir.join("force");
     let (ok, _, stderr) = outcome(&[
@@ -313,9 +327,10 @@ fn runs_from_any_folder_and_names_the_defaults_it_read() {
     assert!(out.status.success(), "{stderr}");
     let root = repo();
     for f in [
-        "models/actuator.json",
+        "models/actuator_coarse.json",
         "training_data/bending_experiments.csv",
         "training_data/blocked_force_experiments.csv",
+        "data/approximation_error/coarse_vs_4mm.json",
         "data/sensitivities/calibrated_coarse.json",
     ] {
         let p = root.join(f);
@@ -468,7 +483,7 @@ fn diagnose_and_twin_study_share_the_setup_flags() {
     ] {
         assert!(help.contains(flag), "{flag}: {help}");
     }
-    assert!(help.contains("[default: none for `diagnose`, nulls for `twin-study`]"));
+    assert!(help.contains("data/approximation_error/coarse_vs_4mm.json of the repository"));
     // both commands parse every spelling: each run is stopped by its own check after parsing
     let dir = scratch("diag_setup_flags");
     let out = dir.join("out");

@@ -1,8 +1,8 @@
 //! The blind study's committed twins diagnosed with the diagnosing model's approximation
 //! error (`surrogate::diagnose::approx_error`), sampled from the null twins' committed FE
 //! (no FE runs here): a concealed effect whose signature the material cannot absorb is
-//! named, a null twin diagnosed without its own group's sample names nothing, and the
-//! error file written and read back is the same.
+//! named, a null twin diagnosed without its own group's sample names nothing, the error of
+//! one model is refused for another, and the error file written and read back is the same.
 
 use std::path::Path;
 
@@ -37,6 +37,15 @@ fn committed_twins_are_named_right_with_the_approximation_error() {
     let committed =
         ApproximationError::read(&Path::new(STUDY).join("approximation_error.json")).unwrap();
     assert_eq!(committed, all);
+    // it is the error of this model: the other shipped model is refused, naming both
+    all.check_model(&model).unwrap();
+    let other = Surrogate::load(Path::new("models/actuator.json")).unwrap();
+    let e = all.check_model(&other).unwrap_err().to_string();
+    assert!(
+        e.starts_with("approximation error's model = models/actuator_coarse.json (crc32:")
+            && e.contains(&other.checksum().unwrap()),
+        "{e}"
+    );
     // every sample holds the force error at each recorded design and pressure
     let f: Vec<f64> = all
         .samples

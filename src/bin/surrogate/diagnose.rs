@@ -189,6 +189,8 @@ impl Inputs {
                 let p = &f.path;
                 let e = ApproximationError::read(p)
                     .with_context(|| format!("--approximation-error {}", p.display()))?;
+                e.check_model(&model)
+                    .with_context(|| format!("--approximation-error {}", p.display()))?;
                 eprintln!(
                     "approximation error: {} samples of {} against {}; the recordings are \
                      corrected by its mean",

@@ -166,7 +166,7 @@ impl Study {
             markers,
             self.plan.markers,
             reference.is_some(),
-            approximation.is_some(),
+            &setup.approximation_error,
         );
         if closed_loop {
             let settings = LoopSettings {
@@ -226,6 +226,8 @@ impl Study {
             ApproximationSource::File(f) => {
                 let e = ApproximationError::read(&f.path)
                     .with_context(|| format!("--approximation-error {}", f.path.display()))?;
+                e.check_model(&self.model)
+                    .with_context(|| format!("--approximation-error {}", f.path.display()))?;
                 eprintln!(
                     "approximation error: {} samples of {} against {}, read from {}",
                     e.samples.len(),
@@ -263,8 +265,13 @@ impl Study {
 
 /// The results' file stem: `results`, with `_markers` or `_no_markers` when `markers`
 /// differs from the plan's, `_mesh` with a mesh reference, `_no_approx` without an
-/// approximation error.
-fn results_stem(markers: bool, plan_markers: bool, mesh: bool, approximation: bool) -> String {
+/// approximation error, `_nulls` with the one sampled from the null twins.
+fn results_stem(
+    markers: bool,
+    plan_markers: bool,
+    mesh: bool,
+    approximation: &ApproximationSource<ResolvedFile>,
+) -> String {
     let stem = format!(
         "{}{}",
         match (markers == plan_markers, markers) {
@@ -274,10 +281,10 @@ fn results_stem(markers: bool, plan_markers: bool, mesh: bool, approximation: bo
         },
         if mesh { "_mesh" } else { "" },
     );
-    if approximation {
-        stem
-    } else {
-        format!("{stem}_no_approx")
+    match approximation {
+        ApproximationSource::File(_) => stem,
+        ApproximationSource::Nulls => format!("{stem}_nulls"),
+        ApproximationSource::None => format!("{stem}_no_approx"),
     }
 }
 

@@ -7,16 +7,35 @@ use surrogate::diagnose::setup::*;
 fn defaults_lie_under_the_root_and_given_files_as_given() {
     let root = Path::new(env!("CARGO_MANIFEST_DIR"));
     let r = DiagnosisSetup::recordings().resolve(root).unwrap();
-    assert_eq!(r.model.path, root.join(SHIPPED_MODEL));
+    // real recordings are diagnosed as the blind study scores: the coarse model, no mesh
+    // reference, the shipped approximation error
+    assert_eq!(r.model.path, root.join(SHIPPED_COARSE_MODEL));
     assert!(r.model.default);
+    assert_eq!(r.mesh_reference, None);
     assert_eq!(
-        r.mesh_reference,
+        r.approximation_error,
+        ApproximationSource::File(ResolvedFile {
+            path: root.join(SHIPPED_APPROXIMATION_ERROR),
+            default: true
+        })
+    );
+    let b = DiagnosisSetup::blind_study().resolve(root).unwrap();
+    assert_eq!(
+        (&b.model, &b.mesh_reference, &b.approximation_error),
+        (&r.model, &r.mesh_reference, &r.approximation_error)
+    );
+    assert_ne!(b.sensitivities, r.sensitivities);
+    // auto beside the standard model: the coarse one
+    let mut s = DiagnosisSetup::recordings();
+    s.model = SetupFile::Repository(SHIPPED_MODEL);
+    s.mesh_reference = MeshReference::from_flag("auto");
+    assert_eq!(
+        s.resolve(root).unwrap().mesh_reference,
         Some(ResolvedFile {
             path: root.join(SHIPPED_COARSE_MODEL),
             default: true
         })
     );
-    assert_eq!(r.approximation_error, ApproximationSource::None);
     let mut s = DiagnosisSetup::blind_study();
     s.model = SetupFile::Given("elsewhere/actuator.json".into());
     s.mesh_reference = MeshReference::from_flag("auto");
