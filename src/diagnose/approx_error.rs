@@ -503,7 +503,9 @@ impl ApproximationError {
                 &format!("format {FORMAT}, version {VERSION}"),
             ));
         }
-        Self::new(&a.model, &a.reference, a.samples)
+        let mut e = Self::new(&a.model, &a.reference, a.samples)?;
+        e.model_checksum = a.model_checksum;
+        Ok(e)
     }
 
     /// Writes it (atomically).

@@ -186,7 +186,7 @@ impl Inputs {
         let mut files = vec![input_file("model", model_path, setup.model.default)?];
         let approximation = match &setup.approximation_error {
             ApproximationSource::File(f) => {
-                let p = &f.path;
+                let p = announced("approximation-error", f);
                 let e = ApproximationError::read(p)
                     .with_context(|| format!("--approximation-error {}", p.display()))?;
                 e.check_model(&model)

@@ -224,6 +224,7 @@ impl Study {
         match source {
             ApproximationSource::None => Ok(None),
             ApproximationSource::File(f) => {
+                announced("approximation-error", f);
                 let e = ApproximationError::read(&f.path)
                     .with_context(|| format!("--approximation-error {}", f.path.display()))?;
                 e.check_model(&self.model)

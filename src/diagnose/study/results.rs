@@ -215,9 +215,12 @@ pub fn run_diagnoses(
         markers,
         mesh_reference: by.mesh_reference.map(|(_, n)| n.to_string()),
         approximation_error: by.approximation.map(|a| {
+            let own = plan
+                .groups
+                .iter()
+                .any(|g| a.samples.iter().any(|x| x.source == g.id));
             format!(
-                "the error of `{}` against {}, {} samples ({}); a null twin is diagnosed \
-                 without the sample of its own group",
+                "the error of `{}` against {}, {} samples ({}){}",
                 a.model,
                 a.reference,
                 a.samples.len(),
@@ -225,7 +228,12 @@ pub fn run_diagnoses(
                     .iter()
                     .map(|s| s.source.as_str())
                     .collect::<Vec<_>>()
-                    .join(", ")
+                    .join(", "),
+                if own {
+                    "; a null twin is diagnosed without the sample of its own group"
+                } else {
+                    "; none of the twins' own FE among them"
+                }
             )
         }),
         summary,
