@@ -1,8 +1,9 @@
 //! The full design search (`surrogate::design::search`): every N the model predicts, a
 //! multi-start Gauss–Newton in T each, angle and blocked-force targets at 2 bar, the pick with
 //! its std and model-form error. On the shipped model (N = 9, 11, 13) at the material
-//! calibrated on the shipped experiments, and on a synthetic model over N = 7 … 15 (300 cases,
-//! the size of the shipped set) at Ogden 002.
+//! calibrated on the shipped experiments, on the design-space model over N = 7 … 15
+//! (`models/design_space_coarse.json`, 450 coarse cases, sparse GP) at the identified material,
+//! and on a synthetic model over N = 7 … 15 (300 cases, an exact GP) at Ogden 002.
 use std::hint::black_box;
 use std::path::Path;
 use std::time::Duration;
@@ -21,6 +22,8 @@ const CALIBRATED: OgdenSet = OgdenSet::from_array([
     -5.194862363697796,
     -1.996454844367204,
 ]);
+/// The identified set (`data/geometry/identified.json`, `fe_reference/identification/`).
+const IDENTIFIED: OgdenSet = OgdenSet::from_array([0.535, 12.0, -0.2776, -0.5]);
 const OGDEN_002: OgdenSet = OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]);
 
 fn synthetic() -> Surrogate {
@@ -49,13 +52,14 @@ fn bench(c: &mut Criterion) {
         Target::new(Output::AngleDeg, 2.0, 40.0, 1.0),
         Target::new(Output::ForceN, 2.0, 1.3, 0.05),
     ];
-    let shipped =
-        Surrogate::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator.json"))
-            .unwrap();
+    let models = Path::new(env!("CARGO_MANIFEST_DIR")).join("models");
+    let shipped = Surrogate::load(&models.join("actuator.json")).unwrap();
+    let design_space = Surrogate::load(&models.join("design_space_coarse.json")).unwrap();
     let mut g = c.benchmark_group("design_search");
     g.measurement_time(Duration::from_secs(8)).sample_size(20);
     for (name, model, material) in [
         ("shipped_n9_13", shipped, CALIBRATED),
+        ("design_space_n7_15", design_space, IDENTIFIED),
         ("synthetic_n7_15", synthetic(), OGDEN_002),
     ] {
         let bounds = DesignBounds::of_model(&model);
