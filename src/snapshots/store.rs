@@ -419,6 +419,11 @@ impl ShardDir {
             root: root.to_path_buf(),
         };
         let hash = plan.hash();
+        // the case folder is looked at before the hash: a shard creating the directory beside
+        // this one writes the hash first, so a case folder seen here has its hash by the time
+        // it is read (read the other way round, the hash could be missing and the folder,
+        // created in between, present)
+        let has_cases = dir.cases_dir().exists();
         match dir.recorded_hash()? {
             Some(found) if found == hash => Ok(Some(dir)),
             Some(found) => Err(SnapshotError::PlanMismatch {
@@ -426,7 +431,7 @@ impl ShardDir {
                 found,
                 expected: hash,
             }),
-            None if dir.cases_dir().exists() => Err(SnapshotError::NotSnapshotDir {
+            None if has_cases => Err(SnapshotError::NotSnapshotDir {
                 dir: root.display().to_string(),
                 reason: format!("it has a {CASES_DIR}/ folder but no {PLAN_HASH_FILE}"),
             }),

@@ -615,7 +615,7 @@ fn bad_geometry_in_plans_is_named() {
 fn shards_starting_together_share_a_fresh_directory() {
     let p = plan(6, 3);
     let root = scratch("snapshots_concurrent_create");
-    for round in 0..20 {
+    for round in 0..100 {
         let dir = root.join(format!("round_{round}"));
         let results: Vec<_> = std::thread::scope(|s| {
             let handles: Vec<_> = (0..4)
