@@ -7,7 +7,7 @@ use super::locate::{locate, Localisation, LocateSettings};
 use super::measure_design::{plan, MeasurementPlan, PlanSettings};
 use super::mesh_error::{mesh_error, MeshError};
 use super::name::{name_refitted, NameSettings, Naming};
-use super::refit::{refit, Refit, RefitSettings};
+use super::refit::{refit, FeRanking, Refit, RefitSettings};
 use super::sweep::{check_built_as, SweepCoverage};
 use super::DiagnoseError;
 use crate::calibrate::fit::describe_exclusions;
@@ -141,6 +141,10 @@ pub struct Diagnosis {
     /// planned, [`Self::plan_with`]).
     #[serde(default, skip_serializing_if = "Option::is_none")]
     pub measurement_plan: Option<MeasurementPlan>,
+    /// The Name stage's top candidates ranked by FE-confirmed nonlinear fits (none: not run,
+    /// [`Self::rank_with_fe`]).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub fe_ranking: Option<FeRanking>,
 }
 
 impl Diagnosis {
@@ -168,6 +172,7 @@ impl Diagnosis {
                 reason: "needs a named effect".into(),
             },
             measurement_plan: None,
+            fe_ranking: None,
         }
     }
 

@@ -4,7 +4,10 @@
 use super::approx_error::ApproximationError;
 use super::measure_design::PlanSettings;
 use super::name::{NameSettings, Naming};
-use super::refit::{confirm_with_fe, FeConfirmSettings, Refit, RefitSettings};
+use super::refit::{
+    confirm_with_fe, rank_with_fe, FeConfirmSettings, FeRankSettings, FeRanking, Refit,
+    RefitSettings,
+};
 use super::report::Diagnosis;
 use super::sweep::check_built_as;
 use super::DiagnoseError;
@@ -57,6 +60,54 @@ impl Diagnosis {
             self.plan_with(sens, &ps)?;
         }
         Ok(self.naming().expect("just named"))
+    }
+
+    /// Ranks the Name stage's top candidates by FE-confirmed nonlinear fits
+    /// ([`rank_with_fe`]: each refitted with the material from the calibrated set, run on the
+    /// FE model with `fe` and refitted around it) and records the ranking; Model and show's
+    /// `auto` choice ([`Self::chosen`]) is then the FE's first. `progress` gets a line per
+    /// candidate, `ramp_progress(done, total)` one per FE ramp.
+    ///
+    /// # Errors
+    /// Sensitivities of another actuator than `model`'s ([`check_built_as`]); no Name stage;
+    /// as [`rank_with_fe`].
+    pub fn rank_with_fe(
+        &mut self,
+        sens: &SweepSensitivities,
+        model: &Surrogate,
+        s: &FeRankSettings,
+        fe: &FeConfirmSettings,
+        progress: &dyn Fn(&str),
+        ramp_progress: &(dyn Fn(usize, usize) + Sync),
+    ) -> Result<&FeRanking, DiagnoseError> {
+        check_built_as(sens, model.training.built_with.as_ref())?;
+        let naming = self.naming().ok_or_else(|| {
+            DiagnoseError::input("FE ranking", "no Name stage", "a diagnosis named first")
+        })?;
+        let r = rank_with_fe(
+            &self.locate.cells,
+            sens,
+            model,
+            &self.calibration.best,
+            naming,
+            s,
+            fe,
+            progress,
+            ramp_progress,
+        )?;
+        Ok(self.fe_ranking.insert(r))
+    }
+
+    /// The effect Model and show refits by default: the FE ranking's first when it ran, else
+    /// the Name stage's named effect (none: nothing named).
+    pub fn chosen(&self) -> Option<&str> {
+        match &self.fe_ranking {
+            Some(r) => r.first().map(|c| c.effect.as_str()),
+            None => self
+                .naming()
+                .and_then(|n| n.named())
+                .map(|c| c.effect.as_str()),
+        }
     }
 
     /// Confirms the refit of the Model-and-show stage with the FE model

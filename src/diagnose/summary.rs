@@ -60,6 +60,14 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
             }
         }
     }
+    if let Some(r) = &d.fe_ranking {
+        let hyp = if l.consistent_with_scatter() {
+            " (a hypothesis: Locate finds the residuals consistent with the recorded scatter)"
+        } else {
+            ""
+        };
+        let _ = writeln!(s, "- **Name, ranked by FE**{hyp}: {}", r.verdict);
+    }
     if let Some(c) = d
         .sensitivity_coverage
         .as_ref()
@@ -72,6 +80,9 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
     }
     if let Stage::Named(n) = &d.name {
         naming(&mut s, n);
+    }
+    if let Some(r) = &d.fe_ranking {
+        fe_ranking(&mut s, r);
     }
     if let Some(me) = &d.mesh_error {
         let _ = writeln!(
@@ -105,6 +116,51 @@ pub fn summary_markdown(d: &Diagnosis) -> String {
 
 fn opt(v: Option<f64>, digits: usize) -> String {
     v.map_or("—".to_string(), |x| format!("{x:.digits$}"))
+}
+
+/// The FE-confirmed ranking of the top candidates.
+fn fe_ranking(s: &mut String, r: &super::refit::FeRanking) {
+    let _ = writeln!(
+        s,
+        "\n## Name: the top candidates fitted with FE\n\n{} cells; each candidate refitted \
+         with the material, run on the FE model ({} mesh) at its refitted value and refitted \
+         around the FE; ranked by the FE's χ². z: likelihood ratio of the first's FE fit \
+         against this one's (Vuong), tied below the two-sided normal quantile of α = {}.\n",
+        r.n_cells, r.mesh, r.alpha
+    );
+    let _ = writeln!(
+        s,
+        "| FE rank | effect | linearised rank | linearised Δχ² | value | FE χ² | mean tip BE (mm) \
+         | mean abs. force error (N) | FE − linearised (rms σ) | rounds | z | tied with the \
+         first |"
+    );
+    let _ = writeln!(s, "|---|---|---|---|---|---|---|---|---|---|---|---|");
+    for (i, c) in r.candidates.iter().enumerate() {
+        let _ = writeln!(
+            s,
+            "| {} | {} | {} | {:.1} | {:.4} {} | {:.1} | {} | {} | {:.2}{} | {} | {} | {} |",
+            i + 1,
+            c.effect,
+            c.linear_rank,
+            c.linear_delta_chi2,
+            c.value,
+            c.unit,
+            c.fe_chi2,
+            opt(c.fe_mean_be_mm, 2),
+            opt(c.fe_mean_abs_force_error_n, 3),
+            c.rms_fe_minus_linear,
+            if c.confirmed { "" } else { " (not confirmed)" },
+            c.rounds,
+            opt(c.vuong_z, 2),
+            if i == 0 {
+                "–"
+            } else if c.tied_with_first {
+                "yes"
+            } else {
+                "no"
+            }
+        );
+    }
 }
 
 /// The refit: sizes, fit before and after, held-out designs, FE rounds.

@@ -33,6 +33,7 @@ mod unit {
     mod name;
     mod name_ties;
     mod refit_confirm;
+    mod refit_rank;
     mod setup;
     mod structure;
     mod study_closed_loop;

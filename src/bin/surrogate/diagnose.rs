@@ -11,7 +11,7 @@ use surrogate::calibrate::{CalibrationSettings, Recordings, Selection, Weights};
 use surrogate::diagnose::approx_error::ApproximationError;
 use surrogate::diagnose::measure_design::{MeasurementPlan, PlanSettings};
 use surrogate::diagnose::name::Naming;
-use surrogate::diagnose::refit::{FeConfirmSettings, RefitSettings};
+use surrogate::diagnose::refit::{FeConfirmSettings, FeRankSettings, RefitSettings};
 use surrogate::diagnose::report::Stage;
 use surrogate::diagnose::setup::{
     ApproximationSource, DiagnosisSetup, ResolvedFile, ResolvedSetup, Sensitivities,
@@ -142,6 +142,9 @@ pub fn run(a: DiagnoseArgs) -> Result<()> {
             choices.plan.as_ref(),
             &|line| eprintln!("{line}"),
         )?;
+        if a.rank_fe > 0 {
+            rank_fe(&a, &mut d, sens, &inputs.model, choices.confirm)?;
+        }
         model_and_show(&a, &mut d, sens, &inputs.model, choices.confirm)?;
     } else if refit_asked && !uncovered {
         anyhow::bail!(
@@ -309,7 +312,7 @@ fn model_and_show(
     model: &Surrogate,
     confirm: Option<MeshLevel>,
 ) -> Result<()> {
-    let Some(effects) = refit_effects(&a.refit, d.naming())? else {
+    let Some(effects) = refit_effects(&a.refit, d.chosen())? else {
         return Ok(());
     };
     let rs = RefitSettings::new(effects);
@@ -319,12 +322,8 @@ fn model_and_show(
     );
     d.refit_with(sens, model, &rs)?;
     if let Some(level) = confirm {
-        let cache = a.fe_cache.clone().unwrap_or_else(|| a.out.join("fe_ramps"));
-        let fe = FeConfirmSettings::new(
-            SweepSettings::new(sens.material.clone(), MeshOptions::level(level))
-                .built_as(model.training.built_with.as_ref()),
-            &cache,
-        );
+        let fe = fe_settings(a, sens, model, level);
+        let cache = &fe.cache;
         eprintln!(
             "FE confirmation on the {} mesh, ramps cached in {} (a rerun resumes)",
             level.name(),
@@ -334,6 +333,61 @@ fn model_and_show(
             eprintln!("FE ramp {k} of {n} done")
         })?;
     }
+    Ok(())
+}
+
+/// The FE settings of `--confirm-fe` and `--rank-fe` on `level`: the sweep's actuator,
+/// cached in `--fe-cache` (default `<out>/fe_ramps`).
+fn fe_settings(
+    a: &DiagnoseArgs,
+    sens: &SweepSensitivities,
+    model: &Surrogate,
+    level: MeshLevel,
+) -> FeConfirmSettings {
+    let cache = a.fe_cache.clone().unwrap_or_else(|| a.out.join("fe_ramps"));
+    FeConfirmSettings::new(
+        SweepSettings::new(sens.material.clone(), MeshOptions::level(level))
+            .built_as(model.training.built_with.as_ref()),
+        &cache,
+    )
+}
+
+/// `--rank-fe K`: the Name stage's top K candidates ranked by FE-confirmed fits on the
+/// `--confirm-fe` mesh.
+fn rank_fe(
+    a: &DiagnoseArgs,
+    d: &mut Diagnosis,
+    sens: &SweepSensitivities,
+    model: &Surrogate,
+    confirm: Option<MeshLevel>,
+) -> Result<()> {
+    let level = confirm.ok_or_else(|| {
+        anyhow::anyhow!(
+            "--rank-fe {}: needs the FE mesh to rank on, --confirm-fe coarse or standard",
+            a.rank_fe
+        )
+    })?;
+    let fe = fe_settings(a, sens, model, level);
+    let s = FeRankSettings {
+        top: a.rank_fe,
+        ..FeRankSettings::default()
+    };
+    eprintln!(
+        "FE ranking of the top {} candidates on the {} mesh, ramps cached in {} (a rerun \
+         resumes)",
+        s.top,
+        level.name(),
+        fe.cache.display()
+    );
+    let r = d.rank_with_fe(
+        sens,
+        model,
+        &s,
+        &fe,
+        &|line| eprintln!("{line}"),
+        &|k, n| eprintln!("FE ramp {k} of {n} done"),
+    )?;
+    eprintln!("{}", r.verdict);
     Ok(())
 }
 
@@ -358,6 +412,9 @@ fn print_stages(d: &Diagnosis, uncovered: bool) {
             _ => println!("Name (candidate physics): not run (--sensitivities none)."),
         },
         Some(n) => print_naming(n, d.locate.consistent_with_scatter()),
+    }
+    if let Some(r) = &d.fe_ranking {
+        println!("Name, ranked by FE: {}", r.verdict);
     }
     if let Some(p) = &d.measurement_plan {
         print_plan(p);
@@ -467,14 +524,10 @@ pub fn print_candidates(n: &Naming, top: usize) {
 }
 
 /// The effects `--refit` asks for: the named one (`auto`), none, or a list.
-fn refit_effects(arg: &str, naming: Option<&Naming>) -> Result<Option<Vec<Effect>>> {
+fn refit_effects(arg: &str, chosen: Option<&str>) -> Result<Option<Vec<Effect>>> {
     match arg.trim() {
         "none" => Ok(None),
-        "auto" => Ok(naming
-            .and_then(Naming::named)
-            .map(|c| Effect::from_name(&c.effect))
-            .transpose()?
-            .map(|e| vec![e])),
+        "auto" => Ok(chosen.map(Effect::from_name).transpose()?.map(|e| vec![e])),
         list => {
             let effects = list
                 .split(',')

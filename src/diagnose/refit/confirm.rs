@@ -244,6 +244,12 @@ pub fn confirm_with(
             worst,
             ramps_run,
             failed,
+            z: rows
+                .cells
+                .iter()
+                .zip(&fe_pred)
+                .map(|(c, p)| (p - c.recorded) / c.sigma)
+                .collect(),
         });
         if rms <= tolerance || rounds.len() >= max_rounds.max(1) {
             break;

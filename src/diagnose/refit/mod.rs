@@ -35,6 +35,7 @@ mod held_out;
 mod outcome;
 mod problem;
 mod quality;
+mod rank;
 mod rows;
 mod verdict;
 
@@ -51,6 +52,12 @@ use crate::rom::Surrogate;
 use problem::Problem;
 
 pub use confirm::{confirm_with_fe, FeConfirmSettings, FeEvaluation, FeModel};
+pub use rank::{
+    rank_with_fe, ranked_candidates, vuong_z, FeRankSettings, FeRanked, FeRanking, Picked,
+};
+// public for the tests in tests/diagnose/
+#[doc(hidden)]
+pub use rank::rank_confirmed;
 // public for the tests in tests/diagnose/
 #[doc(hidden)]
 pub use confirm::confirm_with;

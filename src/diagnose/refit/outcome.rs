@@ -186,6 +186,10 @@ pub struct FeRound {
     pub worst: (f64, String),
     /// FE ramps run (the others came from the cache).
     pub ramps_run: usize,
+    /// Each used cell's `(FE − recorded)/σ`, in the refit's cell order (the FE's own
+    /// prediction where its ramp reached the cell's pressure, the linearised one elsewhere).
+    #[serde(default, skip_serializing_if = "Vec::is_empty")]
+    pub z: Vec<f64>,
     /// Ramps that stopped early, in words.
     pub failed: Vec<String>,
 }

@@ -12,7 +12,7 @@ use surrogate::diagnose::DiagnoseError;
 use surrogate::fe::effects::Effect;
 use surrogate::rom::Surrogate;
 
-fn value(model: &Surrogate, m: &OgdenSet, n: u32, t: f64, p: f64, o: Output) -> f64 {
+pub(super) fn value(model: &Surrogate, m: &OgdenSet, n: u32, t: f64, p: f64, o: Output) -> f64 {
     let mut pred = model.new_prediction();
     model
         .predict_scalars_into(&Query::new(n, t, p, *m), &mut pred)
@@ -25,12 +25,12 @@ fn value(model: &Surrogate, m: &OgdenSet, n: u32, t: f64, p: f64, o: Output) -> 
 }
 
 /// The effect's "true" response: `g(θ) = θ + 2θ²` times a fixed pattern over the cells.
-fn g(theta: f64) -> f64 {
+pub(super) fn g(theta: f64) -> f64 {
     theta + 2.0 * theta * theta
 }
 
 /// The coarse shipped model and the literature set the recordings are made at.
-fn coarse_model_and_material() -> (Surrogate, OgdenSet) {
+pub(super) fn coarse_model_and_material() -> (Surrogate, OgdenSet) {
     let model =
         Surrogate::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator_coarse.json"))
             .unwrap();
@@ -39,7 +39,7 @@ fn coarse_model_and_material() -> (Surrogate, OgdenSet) {
 
 /// The effect's fixed pattern over the cells, scaled by `w`: tip Uz `w₀ p (2.7 − t)`,
 /// tip Uy `w₁ p`, angle `w₂ p N / 11`.
-fn pattern(w: [f64; 3], n: u32, t: f64, p: f64, o: Output) -> f64 {
+pub(super) fn pattern(w: [f64; 3], n: u32, t: f64, p: f64, o: Output) -> f64 {
     match o {
         Output::TipUz => w[0] * p * (2.7 - t),
         Output::TipUy => w[1] * p,
@@ -49,7 +49,7 @@ fn pattern(w: [f64; 3], n: u32, t: f64, p: f64, o: Output) -> f64 {
 
 /// Rows of recordings `model` makes at `m` with an effect of response `size` (from the
 /// sweep's value `base`) along the pattern `w` over the cells.
-fn planted(model: &Surrogate, m: &OgdenSet, base: f64, w: [f64; 3], size: f64) -> Rows {
+pub(super) fn planted(model: &Surrogate, m: &OgdenSet, base: f64, w: [f64; 3], size: f64) -> Rows {
     let mut rows = Rows {
         base: vec![base],
         cells: Vec::new(),
@@ -73,7 +73,12 @@ fn planted(model: &Surrogate, m: &OgdenSet, base: f64, w: [f64; 3], size: f64) -
 
 /// The stand-in FE on the cells of `rows`: `model` at `mat` plus the effect's response
 /// `size` along the rows' pattern.
-fn stand_in_fe(rows: &Rows, model: &Surrogate, mat: &OgdenSet, size: f64) -> Vec<Option<f64>> {
+pub(super) fn stand_in_fe(
+    rows: &Rows,
+    model: &Surrogate,
+    mat: &OgdenSet,
+    size: f64,
+) -> Vec<Option<f64>> {
     rows.cells
         .iter()
         .zip(&rows.d)

@@ -105,6 +105,13 @@ pub struct DiagnoseArgs {
     /// around the FE where the two differ (18 ramps per round, cached).
     #[arg(long, default_value = "none")]
     pub confirm_fe: String,
+    /// Rank the Name stage's top K candidates (significant, at a plausible size) by
+    /// FE-confirmed nonlinear fits instead of their linearised Δχ²: each refitted with the
+    /// material, run on the FE model on the `--confirm-fe` mesh and refitted around it (18
+    /// ramps per round and candidate, cached in `<fe-cache>/rank_<effect>/`); `--refit auto`
+    /// then refits the FE's first. 0 (the default) ranks by the linearisation alone.
+    #[arg(long, default_value_t = 0)]
+    pub rank_fe: usize,
     /// FE cache of the confirmation (default: `<out>/fe_ramps`).
     #[arg(long)]
     pub fe_cache: Option<PathBuf>,
