@@ -293,7 +293,12 @@ pub fn write_twin(
     }
     let ramp_dir = settings.ramp_dir();
     let designs = recorded_designs(&noise_from.bending);
-    let ramps = run_ramps(&settings.sweep, &designs, Some(&ramp_dir), progress)?;
+    // recordings without forces need no blocked-force ramps
+    let sweep = SweepSettings {
+        force: !noise_from.force.is_empty(),
+        ..settings.sweep.clone()
+    };
+    let ramps = run_ramps(&sweep, &designs, Some(&ramp_dir), progress)?;
     let ramps_run = ramps.iter().filter(|r| r.source == RampSource::Run).count();
     let (truth, markers, missing) = truth(&ramps, &noise_from.bending);
     let noisy = noisy_recordings(&truth, noise_from, settings.seed, "twin")?;
@@ -368,6 +373,8 @@ fn truth(
     bending: &[BendingRecord],
 ) -> (Vec<TrueOutputs>, Vec<TrueMarkers>, Vec<String>) {
     let (mut truth, mut markers, mut missing) = (Vec::new(), Vec::new(), Vec::new());
+    // a sweep of bending ramps only (recordings without forces): no force in the truth
+    let with_force = ramps.iter().any(|r| r.mode == Mode::Force);
     for rec in bending {
         let (n, t, p) = (rec.n_bellows, rec.wall_thickness_mm, rec.pressure_bar);
         let ramp = |mode: Mode| {
@@ -377,7 +384,11 @@ fn truth(
         };
         let (b, f) = (ramp(Mode::Bending), ramp(Mode::Force));
         let (bs, fs) = (b.and_then(|r| r.at(p)), f.and_then(|r| r.at(p)));
-        let force = fs.and_then(|s| s.force_n);
+        let force = if with_force {
+            fs.and_then(|s| s.force_n)
+        } else {
+            Some(f64::NAN)
+        };
         match (bs, force) {
             (Some(s), Some(force_n)) => {
                 truth.push(TrueOutputs {

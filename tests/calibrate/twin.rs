@@ -93,5 +93,13 @@ fn twins_conceal_their_key_are_reproducible_and_reuse_the_fe_runs() {
         let read = |d: &str| std::fs::read(dir.join(d).join(&f)).unwrap();
         assert_eq!(read("a"), read("c"), "{f}");
     }
+    // a noise source without forces: bending ramps only (the cached one), no force row
+    let mut bending_only = noise.clone();
+    bending_only.force.clear();
+    let d = write_twin(&settings, &bending_only, &dir.join("d"), |_, _| {}).unwrap();
+    assert_eq!((d.ramps_run, d.ramps_cached), (0, 1));
+    assert!(d.missing.is_empty(), "{:?}", d.missing);
+    assert_eq!(d.rows, [1, 0, 9]);
+    assert_eq!(bending("d"), bending("a"));
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -88,7 +88,9 @@ fn sweep(
 ) -> Result<Vec<SweepRamp>, BaselineError> {
     let jobs: Vec<(&SweepDesign, Mode)> = designs
         .iter()
-        .flat_map(|d| [(d, Mode::Bending), (d, Mode::Force)])
+        .flat_map(|d| {
+            std::iter::once((d, Mode::Bending)).chain(settings.force.then_some((d, Mode::Force)))
+        })
         .collect();
     let cases = jobs
         .iter()

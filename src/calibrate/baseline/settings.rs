@@ -69,6 +69,9 @@ pub struct SweepSettings {
     /// The sweep's parameter point, one value per entry of [`Self::sensitivities`] (the step
     /// of a warm start is this minus the pooled ramp's point).
     pub warm_point: Vec<f64>,
+    /// Run each design's blocked-force ramp beside its bending ramp (the default); `false`:
+    /// bending only, for recordings without forces.
+    pub force: bool,
 }
 
 impl SweepSettings {
@@ -86,6 +89,7 @@ impl SweepSettings {
             sensitivities: Vec::new(),
             warm: None,
             warm_point: Vec::new(),
+            force: true,
         }
     }
 

@@ -145,6 +145,8 @@ pub fn confirm_with_fe(
             geometry: sens.geometry.clone(),
             effects,
             sensitivities: Vec::new(),
+            // recordings without forces need no blocked-force ramps
+            force: rows.cells.iter().any(|c| c.output == Output::Force),
             ..fe.sweep.clone()
         };
         let ramps = run_ramps(&settings, &designs, Some(&cache), progress)
