@@ -178,15 +178,29 @@ fn bounds(s: &mut String, cal: &Calibration, extension: Option<&BoxExtension>) {
         );
         return;
     }
-    if let Some(ExtendStop::PhysicalLimit { bounds }) = extension.map(|e| &e.stop) {
+    if let Some(ExtendStop::PhysicalLimit {
+        bounds,
+        undetermined,
+    }) = extension.map(|e| &e.stop)
+    {
         let _ = writeln!(
             s,
             "**The physical limits truncate this optimum**: it ends on {}, and the box was \
              extended up to the physical limits there ({}); beyond them the parametrisation \
-             describes no elastomer. Material alone does not reach the recordings: the \
+             describes no elastomer.{} Material alone does not reach the recordings: the \
              diagnoser (`surrogate diagnose`) looks for what else is missing.",
             cal.active_bounds.join("; "),
-            bounds.join("; ")
+            bounds.join("; "),
+            if undetermined.is_empty() {
+                String::new()
+            } else {
+                format!(
+                    " The bounds of coordinates the recordings do not determine ({}) were \
+                     left: their profiles are open on both sides, so moving them would change \
+                     nothing the recordings see.",
+                    undetermined.join("; ")
+                )
+            }
         );
         return;
     }

@@ -16,7 +16,8 @@
 //! **Designs and pressures** are those of the noise source's bending rows (the 9 experimental
 //! designs at 1, 2, 3 bar for `training_data/`); each design gets one bending and one
 //! blocked-force ramp through 0 and its pressures, gravity and contact on, exactly as the
-//! literature baseline ([`super::baseline`]) runs them.
+//! literature baseline ([`super::baseline`]) runs them. A noise source without forces gives
+//! bending ramps only, and a twin without a force file.
 //!
 //! **Noise** ([`super::synthetic`]): the angle gets `N(0, σ_α)` and the force `N(0, σ_F)`
 //! with the standard deviations of the matching rows of the noise source; the files give none
@@ -312,6 +313,16 @@ pub fn write_twin(
     let mut files = Vec::new();
     for (name, text) in texts {
         let path = out.join(name);
+        // recordings without forces have no force file (the loader says so and goes on);
+        // one left by an earlier twin in the same directory would be read as this one's
+        if name == FORCE_FILE && noisy.force.is_empty() {
+            match std::fs::remove_file(&path) {
+                Ok(()) => {}
+                Err(e) if e.kind() == std::io::ErrorKind::NotFound => {}
+                Err(e) => return Err(TwinError::io(&path, e)),
+            }
+            continue;
+        }
         crate::io::write_atomic(&path, text.as_bytes()).map_err(|e| TwinError::io(&path, e))?;
         files.push(path);
     }

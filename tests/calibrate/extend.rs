@@ -245,7 +245,7 @@ fn an_optimum_beyond_a_physical_limit_stops_there_and_says_so() {
     assert_eq!(e.rounds.len(), 1, "{md}");
     assert_eq!(e.rounds[0].pressed[0].moved_to, Some(4.5), "{md}");
     assert_eq!(e.final_box.mu0_mpa[1], 4.5);
-    let ExtendStop::PhysicalLimit { bounds } = &e.stop else {
+    let ExtendStop::PhysicalLimit { bounds, .. } = &e.stop else {
         panic!("{md}");
     };
     assert!(

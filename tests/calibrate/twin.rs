@@ -101,5 +101,11 @@ fn twins_conceal_their_key_are_reproducible_and_reuse_the_fe_runs() {
     assert!(d.missing.is_empty(), "{:?}", d.missing);
     assert_eq!(d.rows, [1, 0, 9]);
     assert_eq!(bending("d"), bending("a"));
+    assert_eq!(files(&dir.join("d")), [BENDING_FILE, MARKERS_FILE]);
+    let read = Recordings::read_dir(&dir.join("d")).unwrap();
+    assert_eq!((read.bending.len(), read.force.len()), (1, 0));
+    // over a twin with forces, the stale force file goes
+    write_twin(&settings, &bending_only, &dir.join("a"), |_, _| {}).unwrap();
+    assert_eq!(files(&dir.join("a")), [BENDING_FILE, MARKERS_FILE]);
     std::fs::remove_dir_all(&dir).unwrap();
 }

@@ -26,6 +26,11 @@ pub enum ExtendStop {
     PhysicalLimit {
         /// The bounds, in words.
         bounds: Vec<String>,
+        /// Bounds also pressed, of coordinates the recordings do not determine (their
+        /// profiles open on both sides), in words: the box truncates them, and moving them
+        /// would change nothing the recordings see.
+        #[serde(default, skip_serializing_if = "Vec::is_empty")]
+        undetermined: Vec<String>,
     },
     /// The optimum presses only bounds of coordinates the recordings do not determine (their
     /// profiles open on both sides): moving them would change nothing the recordings see.
@@ -42,10 +47,25 @@ impl ExtendStop {
     pub fn describe(&self) -> String {
         match self {
             ExtendStop::Inside => "the optimum lies inside the box (no bound is active)".into(),
-            ExtendStop::PhysicalLimit { bounds } => format!(
-                "every bound the optimum presses is at its physical limit: {}",
-                bounds.join("; ")
-            ),
+            ExtendStop::PhysicalLimit {
+                bounds,
+                undetermined,
+            } => {
+                let mut s = format!(
+                    "every bound the optimum presses that the recordings determine is at its \
+                     physical limit: {}",
+                    bounds.join("; ")
+                );
+                if !undetermined.is_empty() {
+                    s.push_str(&format!(
+                        "; it also presses {}, of coordinates the recordings do not determine \
+                         (their profiles are open on both sides): the box truncates them, and \
+                         moving them would change nothing the recordings see",
+                        undetermined.join("; ")
+                    ));
+                }
+                s
+            }
             ExtendStop::Undetermined { bounds } => format!(
                 "the optimum presses only bounds of coordinates the recordings do not determine \
                  (their profiles are open on both sides), so moving them changes nothing the \

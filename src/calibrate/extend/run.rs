@@ -322,6 +322,7 @@ impl<'a> Extending<'a> {
         if pressed.iter().all(|p| p.moved_to.is_none()) {
             return Next::Stop(ExtendStop::PhysicalLimit {
                 bounds: pressed.iter().map(PressedBound::describe).collect(),
+                undetermined: flat.iter().map(ToString::to_string).collect(),
             });
         }
         if self.rounds.len() >= s.max_rounds {
