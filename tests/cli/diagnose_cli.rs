@@ -267,7 +267,7 @@ fn bad_input_is_named_before_anything_runs() {
     let empty = dir.join("empty");
     std::fs::create_dir_all(&empty).unwrap();
     let empty_s = empty.to_str().unwrap();
-    let cases: [(&[&str], String); 12] = [
+    let cases: [(&[&str], String); 14] = [
         (
             &["--recordings", "no_such_recordings"],
             "--recordings no_such_recordings: not a directory".into(),
@@ -293,6 +293,14 @@ fn bad_input_is_named_before_anything_runs() {
         (
             &["--confirm-fe", "coarsest"],
             "--confirm-fe coarsest: unknown mesh level".into(),
+        ),
+        (
+            &["--rank-fe", "3"],
+            "--rank-fe 3: needs the FE mesh to rank on, --confirm-fe coarse or standard".into(),
+        ),
+        (
+            &["--rank-fe", "1", "--confirm-fe", "coarse"],
+            "--rank-fe 1: a ranking compares candidates".into(),
         ),
         (
             &["--sweep-mesh", "fines"],

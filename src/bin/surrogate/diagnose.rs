@@ -249,6 +249,16 @@ impl Choices {
                     .map_err(|e: String| anyhow::anyhow!("--confirm-fe {other}: {e} (or none)"))?,
             ),
         };
+        // checked before any work: a sweep or a calibration is not run for nothing
+        if a.rank_fe > 0 && confirm.is_none() {
+            anyhow::bail!(
+                "--rank-fe {}: needs the FE mesh to rank on, --confirm-fe coarse or standard",
+                a.rank_fe
+            );
+        }
+        if a.rank_fe == 1 {
+            anyhow::bail!("--rank-fe 1: a ranking compares candidates; give 2 or more (0: off)");
+        }
         let at_calibrated = setup.sensitivities == Sensitivities::Calibrated;
         let sweep_mesh: MeshLevel = a
             .sweep_mesh
