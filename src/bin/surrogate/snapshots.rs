@@ -165,7 +165,7 @@ pub struct PlanArgs {
     /// uniform in [LO, HI] (inside the effect's range), e.g. --effect-range wall_bias=-0.2,0.2.
     #[arg(long, value_name = "NAME=LO,HI", allow_hyphen_values = true)]
     pub effect_range: Vec<String>,
-    /// The unstated dimensions every case is built with: `as_modelled` or a geometry preset
+    /// The unstated dimensions every case is built with: `as_modelled`, `identified` or a geometry preset
     /// file (`identify` writes one, `geometry.json`). It is stored in the plan, and T is
     /// sampled up to each N's buildability limit with it.
     #[arg(long, default_value = "as_modelled")]

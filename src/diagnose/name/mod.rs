@@ -76,6 +76,7 @@ pub use naming::{Candidate, Indistinguishable, NameSettings, Naming, Untestable}
 pub use table::derivs_of;
 pub(crate) use whiten::whitening;
 // public for the tests in tests/diagnose/
+pub(crate) use ties::two_sided_z;
 #[doc(hidden)]
 pub use ties::PairFit;
 

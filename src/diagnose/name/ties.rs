@@ -90,9 +90,14 @@ impl PairFit<'_> {
     // public for the tests in tests/diagnose/
     #[doc(hidden)]
     pub fn tied(&self, p_separation: f64, vuong_z: f64) -> bool {
-        let z_crit = Normal::new(0.0, 1.0).map_or(1.96, |d| d.inverse_cdf(1.0 - 0.5 * self.alpha));
-        p_separation > self.alpha || vuong_z.abs() < z_crit
+        p_separation > self.alpha || vuong_z.abs() < two_sided_z(self.alpha)
     }
+}
+
+/// The two-sided standard normal quantile of level `alpha` (1.96 at 0.05): the |z| above
+/// which a Vuong test separates two fits.
+pub(crate) fn two_sided_z(alpha: f64) -> f64 {
+    Normal::new(0.0, 1.0).map_or(1.96, |d| d.inverse_cdf(1.0 - 0.5 * alpha))
 }
 
 /// The criterion's problem, its candidates' parameters and the measurements it can add.

@@ -17,7 +17,6 @@
 //! two-sided normal quantile of the level, otherwise the two stay tied.
 
 use serde::{Deserialize, Serialize};
-use statrs::distribution::{ContinuousCDF, Normal};
 
 use super::confirm::{confirm_with_fe, FeConfirmSettings};
 use super::outcome::{Refit, RefitSettings};
@@ -25,7 +24,7 @@ use super::refit;
 use crate::calibrate::baseline::SweepSensitivities;
 use crate::case::OgdenSet;
 use crate::diagnose::cells::Cell;
-use crate::diagnose::name::{Candidate, Naming};
+use crate::diagnose::name::{two_sided_z, Candidate, Naming};
 use crate::diagnose::DiagnoseError;
 use crate::fe::effects::Effect;
 use crate::rom::Surrogate;
@@ -308,7 +307,7 @@ pub fn rank_confirmed(
     }
     let mut order: Vec<usize> = (0..ranked.len()).collect();
     order.sort_by(|&a, &b| ranked[a].fe_chi2.total_cmp(&ranked[b].fe_chi2));
-    let z_crit = Normal::new(0.0, 1.0).map_or(1.96, |d| d.inverse_cdf(1.0 - 0.5 * s.alpha));
+    let z_crit = two_sided_z(s.alpha);
     let best = order[0];
     let mut out: Vec<FeRanked> = Vec::with_capacity(ranked.len());
     for &i in &order {

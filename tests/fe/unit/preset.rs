@@ -158,3 +158,17 @@ fn the_largest_buildable_wall_follows_the_wall_law() {
     };
     assert_eq!(closed.max_wall_thickness(15), None);
 }
+
+#[test]
+fn the_identified_preset_is_the_committed_file_and_a_named_preset() {
+    let root = std::path::Path::new(env!("CARGO_MANIFEST_DIR"));
+    let file = Geometry::load(&root.join("data/geometry/identified.json")).unwrap();
+    assert_eq!(Geometry::identified(), file);
+    assert_eq!(Geometry::from_name("identified").unwrap(), file);
+    assert!(!file.is_as_modelled());
+    let err = Geometry::from_name("identfied").unwrap_err().to_string();
+    assert!(
+        err.contains("'identfied'") && err.contains("as_modelled, identified"),
+        "{err}"
+    );
+}

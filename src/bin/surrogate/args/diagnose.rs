@@ -147,7 +147,7 @@ pub struct TwinArgs {
     /// A discretisation other than the diagnosing model's.
     #[command(flatten)]
     pub refinement: MeshRefinementArgs,
-    /// The dimensions the reference study leaves unstated: as_modelled, or a geometry preset
+    /// The dimensions the reference study leaves unstated: as_modelled, identified, or a geometry preset
     /// file such as `surrogate identify` writes (geometry.json); in the key.
     #[arg(long, default_value = "as_modelled")]
     pub geometry: String,

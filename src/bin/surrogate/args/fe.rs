@@ -49,7 +49,7 @@ pub struct SimulateArgs {
     #[arg(long = "t", default_value_t = 2.0)]
     pub t: f64,
     /// The dimensions the reference study leaves unstated (gap, base, duct, side walls, free
-    /// length): as_modelled, or a geometry preset file such as `surrogate identify` writes
+    /// length): as_modelled, identified (the joint identification's), or a geometry preset file such as `surrogate identify` writes
     /// (geometry.json).
     #[arg(long, default_value = "as_modelled")]
     pub geometry: String,
@@ -172,7 +172,7 @@ pub enum SolverArg {
 /// `surrogate validate`.
 #[derive(Debug, Args)]
 pub struct ValidateArgs {
-    /// Geometry preset: as_modelled or a preset file (see `simulate --help`).
+    /// Geometry preset: as_modelled, identified or a preset file (see `simulate --help`).
     #[arg(long, default_value = "as_modelled")]
     pub geometry: String,
     /// Material (see `simulate --help`).
@@ -231,7 +231,7 @@ pub struct IdentifyArgs {
     /// report DIR/report.json.
     #[arg(long, default_value = "ogden_002", value_parser = material_spec)]
     pub material: String,
-    /// Starting geometry: as_modelled or a preset file (.json).
+    /// Starting geometry: as_modelled, identified or a preset file (.json).
     #[arg(long, default_value = "as_modelled")]
     pub geometry: String,
     /// Starting values, NAME=VALUE (repeatable): a dimension (gap=0.5, side_wall=1.2) or an
