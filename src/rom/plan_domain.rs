@@ -22,14 +22,20 @@ impl Surrogate {
         if held {
             let sampled = self.sampled_domain();
             self.training.plan_domain = Some(plan.stated_domain(&sampled, label));
-            let fixed = plan.settings.effects.clone();
-            self.training.built_with = (plan.settings.geometry.is_some()
-                || fixed.iter().next().is_some())
-            .then(|| BuiltWith {
-                geometry: plan.settings.geometry(),
-                effects: fixed,
-            });
+            self.training.built_with = BuiltWith::of_plan(plan);
         }
         held
+    }
+}
+
+impl BuiltWith {
+    /// How the cases of `plan` are built: its geometry preset and fixed effects, or `None`
+    /// for the geometry as modelled without a fixed effect.
+    pub fn of_plan(plan: &Plan) -> Option<Self> {
+        let fixed = plan.settings.effects.clone();
+        (plan.settings.geometry.is_some() || fixed.iter().next().is_some()).then(|| BuiltWith {
+            geometry: plan.settings.geometry(),
+            effects: fixed,
+        })
     }
 }

@@ -632,3 +632,45 @@ fn a_bound_of_a_coordinate_the_recordings_do_not_determine_is_not_extended() {
     assert!(!dir.join("extend").exists());
     let _ = std::fs::remove_dir_all(&dir);
 }
+
+/// The surrogates a box extension retrains are built and trained like the one it extends: the
+/// plan's fixed effects (the force rig's plate) stay stated in them, so that FE runs compared
+/// with them use the same actuator, and a sparse GP with `N` ordinal stays one.
+#[test]
+fn retrained_surrogates_keep_how_the_cases_were_built_and_trained() {
+    let dir = scratch("built_with");
+    let mut plan = narrow_plan();
+    plan.settings.effects = plan
+        .settings
+        .effects
+        .clone()
+        .with(
+            surrogate::fe::effects::Effect::from_name("plate_offset").unwrap(),
+            -2.0,
+        )
+        .unwrap();
+    let rec = recordings(&fe, &plan.settings, &truth());
+    let mut cfg = quick_training();
+    cfg.ordinal_n = true;
+    cfg.gp.inducing = Some(24);
+    let (mut m0, training) = trained_model(plan, &dir, &fe, &cfg);
+    let cases = training.snapshots.clone().into_cases().unwrap();
+    assert!(m0.state_plan_domain(&training.plan, &cases, "narrow"));
+    let built = m0
+        .training
+        .built_with
+        .clone()
+        .expect("the plan fixes the plate");
+    let s = ExtendSettings {
+        train: quick_training().like(&m0.training),
+        ..settings(1)
+    };
+    let e = extend_box(&m0, &training, &rec, &s, &fe, &dir.join("extend"), &|_| {}).unwrap();
+    let r = &e.rounds[0];
+    let m1 = Surrogate::load(&r.model).unwrap();
+    assert_eq!(m1.training.built_with.as_ref(), Some(&built));
+    assert_eq!(m1.training.gp_inducing, Some(24));
+    assert!(m1.training.ordinal_n());
+    assert_eq!(m1.training.n_cases, 30 + 18);
+    let _ = std::fs::remove_dir_all(&dir);
+}

@@ -301,10 +301,10 @@ fn run_refine(
     let training = training_set(a, model)?;
     let settings = RefineSettings {
         max_rounds: a.refine,
+        train: RefineSettings::default().train.like(&model.training),
         calibration,
         threads: a.threads,
         data_tolerance: a.refine_data_tolerance,
-        ..RefineSettings::default()
     };
     std::fs::create_dir_all(&a.out).with_context(|| format!("creating {}", a.out.display()))?;
     let dir = a.out.join("refine");

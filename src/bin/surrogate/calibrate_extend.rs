@@ -36,10 +36,7 @@ pub fn settings(
         step: a.extend_step,
         cases_per_round: a.extend_cases,
         seed: a.extend_seed,
-        train: surrogate::rom::TrainConfig {
-            ordinal_n: model.training.ordinal_n(),
-            ..defaults.train
-        },
+        train: defaults.train.clone().like(&model.training),
         calibration,
         threads: a.threads,
         ..defaults

@@ -7,6 +7,7 @@ use crate::calibrate::fit::{calibrate, Calibration, CalibrationSettings};
 use crate::calibrate::objective::Recordings;
 use crate::calibrate::CalibrateError;
 use crate::rom::data::{SnapshotRow, SnapshotSet};
+use crate::rom::provenance::BuiltWith;
 use crate::rom::{train, Surrogate, TrainConfig};
 use crate::snapshots::merge::merge;
 use crate::snapshots::plan::Plan;
@@ -158,6 +159,9 @@ pub(crate) fn retrain(
     ));
     let mut report = train(&cases, &source, skipped, train_config, &|_, _| {})?;
     report.surrogate.training.correction = correction;
+    // every round's plan builds its cases as the training plan does (its settings are the
+    // rounds'), so the grown set is built as the training set was
+    report.surrogate.training.built_with = BuiltWith::of_plan(&training.plan);
     Ok(report.surrogate)
 }
 

@@ -80,6 +80,23 @@ impl Default for TrainConfig {
     }
 }
 
+impl TrainConfig {
+    /// These settings, with what a model records of how it was trained taken from its
+    /// training information `info`: `N` as an ordinal input and the sparse GP's inducing
+    /// points. A surrogate retrained on a grown set (an adaptive refinement, a box
+    /// extension) is then trained like the one it replaces.
+    pub fn like(self, info: &crate::rom::provenance::TrainingInfo) -> Self {
+        TrainConfig {
+            ordinal_n: info.ordinal_n(),
+            gp: GpParams {
+                inducing: info.gp_inducing,
+                ..self.gp
+            },
+            ..self
+        }
+    }
+}
+
 /// A fitted pipeline (one fold or the final model).
 pub struct Fitted {
     pub(super) features: FeatureScaler,
