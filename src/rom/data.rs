@@ -87,6 +87,31 @@ pub struct CaseSet {
 }
 
 impl SnapshotSet {
+    /// Appends the rows of `other` (another set of the same actuator, such as the cases a
+    /// box extension added): the source becomes `"<self> + <other>"`, the skipped rows add
+    /// up.
+    ///
+    /// # Errors
+    /// [`RomError::Csv`] naming the first case id that both sets hold: two sets that share a
+    /// case would train on it twice.
+    pub fn append(&mut self, other: SnapshotSet) -> Result<(), RomError> {
+        let ids: std::collections::HashSet<&str> =
+            self.rows.iter().map(|r| r.case_id.as_str()).collect();
+        if let Some(r) = other.rows.iter().find(|r| ids.contains(r.case_id.as_str())) {
+            return Err(RomError::Csv {
+                source_name: other.source.clone(),
+                message: format!(
+                    "case `{}` is also in {}: expected sets with distinct cases",
+                    r.case_id, self.source
+                ),
+            });
+        }
+        self.source = format!("{} + {}", self.source, other.source);
+        self.rows.extend(other.rows);
+        self.skipped_unconverged += other.skipped_unconverged;
+        Ok(())
+    }
+
     /// Reads and validates a snapshot CSV file.
     ///
     /// # Errors

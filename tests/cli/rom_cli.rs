@@ -917,3 +917,70 @@ fn predict_check_scores_a_snapshot_set_and_refuses_bad_input() {
     let o = run(&set, &["--n", "9"]);
     fails_with(&o, &["--check", "--n"]);
 }
+
+/// `--add-data` appends a box extension's rounds to a set: sets of the same actuator train
+/// one model that states how they were built; a set built otherwise, or one without its plan,
+/// is refused before any training, and nothing is written.
+#[test]
+fn add_data_appends_sets_built_alike_and_refuses_others() {
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    let ext = |k: usize| {
+        root.join(format!(
+            "fe_reference/identification/design_space/extend/extend_{k}.csv"
+        ))
+    };
+    let out = dir().join("add_data.json");
+    let _ = std::fs::remove_file(&out);
+    let train = |data: &Path, add: &Path| {
+        bin()
+            .args([
+                "train", "--force", "--folds", "2", "--quiet", "--only", "poly",
+            ])
+            .arg("--data")
+            .arg(data)
+            .arg("--add-data")
+            .arg(add)
+            .arg("--out")
+            .arg(&out)
+            .output()
+            .unwrap()
+    };
+    // the shipped as-modelled set and an identified-geometry round
+    let coarse = root.join("training_data/snapshots_coarse.csv");
+    fails_with(
+        &train(&coarse, &ext(1)),
+        &[
+            "--add-data",
+            "extend_1.csv",
+            "builds its cases otherwise than",
+        ],
+    );
+    // a set without its plan beside it
+    let bare = dir().join("bare.csv");
+    std::fs::copy(ext(2), &bare).unwrap();
+    fails_with(
+        &train(&ext(1), &bare),
+        &["bare.csv: no plan beside it", "bare.plan.json"],
+    );
+    assert!(!out.exists(), "a refused set wrote {}", out.display());
+    // the two rounds together: 72 cases of the identified geometry and force rig
+    let o = train(&ext(1), &ext(2));
+    let (stdout, err) = text(&o);
+    assert!(o.status.success(), "{err}");
+    assert!(
+        stdout.contains("domain: the box of the cases (of --data and the 1 appended)"),
+        "{stdout}"
+    );
+    let m = surrogate::rom::Surrogate::load(&out).unwrap();
+    assert_eq!(m.training.n_cases, 72);
+    assert!(
+        m.training.source.ends_with("extend_1.csv + ")
+            || m.training.source.contains("extend_1.csv + ")
+    );
+    let built = m.training.built_with.expect("stated");
+    assert_eq!(
+        built.geometry,
+        surrogate::fe::preset::Geometry::identified()
+    );
+    assert!(built.effects.plate_offset_mm() == -4.5);
+}

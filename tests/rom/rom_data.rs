@@ -149,3 +149,24 @@ fn interior_gap_is_interpolated_and_inconsistent_case_rejected() {
     let e = read(&bad).unwrap().into_cases().unwrap_err().to_string();
     assert!(e.contains("line 4") && e.contains("same design"), "{e}");
 }
+
+#[test]
+fn sets_of_distinct_cases_append_and_a_shared_case_is_named() {
+    let text = rom_common::synthetic_csv(3, 1);
+    let mut a = read(&text).unwrap();
+    let other = text.replace("\ncase", "\next_case");
+    let b = SnapshotSet::from_reader(other.as_bytes(), "ext.csv").unwrap();
+    let (rows_a, rows_b) = (a.rows.len(), b.rows.len());
+    a.append(b).unwrap();
+    assert_eq!(a.rows.len(), rows_a + rows_b);
+    assert_eq!(a.source, "t.csv + ext.csv");
+    assert_eq!(a.clone().into_cases().unwrap().cases.len(), 6);
+    // the same cases again: refused, naming the case and both sets
+    let again = SnapshotSet::from_reader(text.as_bytes(), "again.csv").unwrap();
+    let err = a.append(again).unwrap_err().to_string();
+    assert!(
+        err.starts_with("again.csv: case `case0000` is also in t.csv + ext.csv"),
+        "{err}"
+    );
+    assert_eq!(a.rows.len(), rows_a + rows_b, "a refused set adds nothing");
+}

@@ -4,7 +4,7 @@ use indicatif::{ProgressBar, ProgressStyle};
 use surrogate::rom::data::{CaseSet, SnapshotSet};
 use surrogate::rom::fidelity::correct_low_fidelity;
 use surrogate::rom::held_out_n;
-use surrogate::rom::provenance::CorrectionInfo;
+use surrogate::rom::provenance::{BuiltWith, CorrectionInfo};
 use surrogate::rom::regression::gp::GpParams;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::train::{HeldOutPoint, TrainReport};
@@ -73,6 +73,8 @@ fn plan_beside(data: &std::path::Path) -> Option<Result<(Plan, std::path::PathBu
 /// curve if asked, the surrogate trained, its plan's domain stated, saved and described.
 pub fn run(a: TrainArgs) -> Result<()> {
     check_args(&a)?;
+    // the sets appended with --add-data are checked before minutes of training
+    let appended = appended_built_with(&a)?;
     let set = read_set(&a)?;
     let cfg = train_config(&a);
     let (set, correction) = correct(&a, set, &cfg)?;
@@ -86,7 +88,17 @@ pub fn run(a: TrainArgs) -> Result<()> {
     let mut report = train_with_progress(&cases, &source, skipped, &cfg, a.quiet)?;
     report.surrogate.training.correction = correction;
     report.surrogate.validation.held_out_n = held_out_n;
-    state_plan_domain(&a, &cases, &mut report.surrogate)?;
+    match appended {
+        Some(built) => {
+            report.surrogate.training.built_with = built;
+            println!(
+                "domain: the box of the cases (of --data and the {} appended)",
+                a.add_data.len()
+            );
+            describe_built_with(&report.surrogate);
+        }
+        None => state_plan_domain(&a, &cases, &mut report.surrogate)?,
+    }
     report
         .surrogate
         .save_new(&a.out, a.force)
@@ -149,7 +161,13 @@ fn read_set(a: &TrainArgs) -> Result<SnapshotSet> {
             write_csv(&cfg, &mut buf)?;
             SnapshotSet::from_reader(buf.as_slice(), &format!("synthetic({n_cases} cases)"))?
         }
-        (Some(path), None) => SnapshotSet::read(path)?,
+        (Some(path), None) => {
+            let mut set = SnapshotSet::read(path)?;
+            for more in &a.add_data {
+                set.append(SnapshotSet::read(more)?)?;
+            }
+            set
+        }
         (None, None) => anyhow::bail!("give --data or --synthetic"),
     })
 }
@@ -258,6 +276,41 @@ fn train_with_progress(
     Ok(report)
 }
 
+/// With `--add-data`: how the cases of `--data` and of every added set were built (from the
+/// plans beside them), when they were all built alike; `None` without `--add-data`.
+fn appended_built_with(a: &TrainArgs) -> Result<Option<Option<BuiltWith>>> {
+    let (Some(data), false) = (a.data.as_deref(), a.add_data.is_empty()) else {
+        return Ok(None);
+    };
+    let (plan, path) = plan_beside(data).unwrap_or_else(|| {
+        Err(anyhow::anyhow!(
+            "--add-data needs the plan beside --data ({}), to check that every set was built \
+             alike",
+            sidecar_path(data).display()
+        ))
+    })?;
+    let built = BuiltWith::of_plan(&plan);
+    for more in &a.add_data {
+        let (other, other_path) = plan_beside(more).unwrap_or_else(|| {
+            Err(anyhow::anyhow!(
+                "--add-data {}: no plan beside it ({}): expected the plan its cases were run \
+                 with, to check they were built as --data's",
+                more.display(),
+                sidecar_path(more).display()
+            ))
+        })?;
+        anyhow::ensure!(
+            BuiltWith::of_plan(&other) == built,
+            "--add-data {}: its plan {} builds its cases otherwise than {} (geometry or fixed \
+             effects): expected sets of the same actuator",
+            more.display(),
+            other_path.display(),
+            path.display()
+        );
+    }
+    Ok(Some(built))
+}
+
 /// The domain of the plan beside `--data` stated in the model
 /// ([`Surrogate::state_plan_domain`]), when that plan holds every training case.
 fn state_plan_domain(a: &TrainArgs, cases: &CaseSet, surrogate: &mut Surrogate) -> Result<()> {
@@ -284,20 +337,7 @@ fn state_plan_domain(a: &TrainArgs, cases: &CaseSet, surrogate: &mut Surrogate) 
             ranges.join(", ")
         );
     }
-    if let Some(built) = &surrogate.training.built_with {
-        let effects: Vec<String> = built
-            .effects
-            .iter()
-            .map(|(e, v)| format!("{}={v}", e.name()))
-            .collect();
-        println!(
-            "built with geometry '{}'{}{} (stated in the model: an FE run compared with it must \
-             use the same)",
-            built.geometry.name,
-            if effects.is_empty() { "" } else { " and " },
-            effects.join(", ")
-        );
-    }
+    describe_built_with(surrogate);
     Ok(())
 }
 
@@ -489,6 +529,24 @@ fn held_out_axes(pts: &[&HeldOutPoint]) -> ((f64, f64), (f64, f64)) {
         crate::figure::axis_range(pts.iter().map(|h| h.truth)),
         crate::figure::symmetric_range(pts.iter().map(|h| h.predicted - h.truth)),
     )
+}
+
+/// The geometry and fixed effects the model states it was built with, printed.
+fn describe_built_with(surrogate: &Surrogate) {
+    if let Some(built) = &surrogate.training.built_with {
+        let effects: Vec<String> = built
+            .effects
+            .iter()
+            .map(|(e, v)| format!("{}={v}", e.name()))
+            .collect();
+        println!(
+            "built with geometry '{}'{}{} (stated in the model: an FE run compared with it must \
+             use the same)",
+            built.geometry.name,
+            if effects.is_empty() { "" } else { " and " },
+            effects.join(", ")
+        );
+    }
 }
 
 #[cfg(test)]

@@ -15,6 +15,12 @@ pub struct TrainArgs {
     /// ranges where the cases cover them (stated in the model file).
     #[arg(long, required_unless_present = "synthetic")]
     pub data: Option<PathBuf>,
+    /// Further snapshot CSVs of the same actuator appended to --data (repeatable), such as a
+    /// box extension's rounds (`extend/extend_1.csv`, their plans beside them): each plan
+    /// must build its cases as the plan beside --data does (geometry, fixed effects), and no
+    /// case may repeat. The model's domain is then the box of all the cases.
+    #[arg(long, value_name = "FILE", requires = "data")]
+    pub add_data: Vec<PathBuf>,
     /// Train on a built-in synthetic set of this many cases instead of --data (demos, tests).
     #[arg(long, conflicts_with = "data")]
     pub synthetic: Option<usize>,
