@@ -560,3 +560,50 @@ fn diagnose_and_twin_study_share_the_setup_flags() {
     }
     std::fs::remove_dir_all(dir).unwrap();
 }
+
+/// `--rank-fe` when the Name stage leaves fewer than 2 candidates to rank: said, no FE run,
+/// and the diagnosis written as without it (the identified model on the shipped
+/// experiments, its committed sensitivities at the calibrated material).
+#[test]
+fn rank_fe_with_nothing_to_rank_says_so_and_writes_the_diagnosis() {
+    let dir = scratch("diag_rank_nothing");
+    let out = dir.join("report");
+    let root = repo();
+    let cached = root.join("fe_reference/identification/diagnosis/fe_sensitivities");
+    std::fs::create_dir_all(out.join("fe_sensitivities")).unwrap();
+    for f in std::fs::read_dir(&cached).unwrap() {
+        let f = f.unwrap().path();
+        std::fs::copy(
+            &f,
+            out.join("fe_sensitivities").join(f.file_name().unwrap()),
+        )
+        .unwrap();
+    }
+    let model = root.join("fe_reference/identification/design_space/extend/model_extend_2.json");
+    let (ok, stdout, stderr) = outcome(&[
+        "diagnose",
+        "--model",
+        model.to_str().unwrap(),
+        "--objective",
+        "tip,angle,force",
+        "--sensitivities",
+        "calibrated",
+        "--approximation-error",
+        "none",
+        "--rank-fe",
+        "3",
+        "--confirm-fe",
+        "coarse",
+        "--out",
+        out.to_str().unwrap(),
+    ]);
+    assert!(ok, "{stderr}");
+    assert!(
+        stderr.contains("FE ranking not run: 0 candidates are significant at a plausible size"),
+        "{stderr}"
+    );
+    assert!(stdout.contains("nothing is named"), "{stdout}");
+    assert!(!out.join("fe_ramps").exists(), "no FE was run");
+    let r = report(&out);
+    assert!(r["fe_ranking"].is_null(), "{}", r["fe_ranking"]);
+}

@@ -11,7 +11,9 @@ use surrogate::calibrate::{CalibrationSettings, Recordings, Selection, Weights};
 use surrogate::diagnose::approx_error::ApproximationError;
 use surrogate::diagnose::measure_design::{MeasurementPlan, PlanSettings};
 use surrogate::diagnose::name::Naming;
-use surrogate::diagnose::refit::{FeConfirmSettings, FeRankSettings, RefitSettings};
+use surrogate::diagnose::refit::{
+    ranked_candidates, FeConfirmSettings, FeRankSettings, RefitSettings,
+};
 use surrogate::diagnose::report::Stage;
 use surrogate::diagnose::setup::{
     ApproximationSource, DiagnosisSetup, ResolvedFile, ResolvedSetup, Sensitivities,
@@ -377,11 +379,22 @@ fn rank_fe(
             a.rank_fe
         )
     })?;
-    let fe = fe_settings(a, sens, model, level);
     let s = FeRankSettings {
         top: a.rank_fe,
         ..FeRankSettings::default()
     };
+    // with fewer than 2 candidates there is nothing to rank: said, and the diagnosis is
+    // written as without --rank-fe
+    let picked = d.naming().map_or(0, |n| ranked_candidates(n, s.top).len());
+    if picked < 2 {
+        eprintln!(
+            "FE ranking not run: {picked} candidate{} significant at a plausible size, at least \
+             2 needed to rank",
+            if picked == 1 { " is" } else { "s are" }
+        );
+        return Ok(());
+    }
+    let fe = fe_settings(a, sens, model, level);
     eprintln!(
         "FE ranking of the top {} candidates on the {} mesh, ramps cached in {} (a rerun \
          resumes)",
