@@ -380,3 +380,31 @@ fn the_committed_coarse_round_is_the_plan_the_code_makes() {
     let plan = round_plan(&training, &designs, &set, 1).unwrap();
     assert_eq!(plan.hash(), committed.trim());
 }
+
+/// A model trained on appended sets (`train --add-data`) names them all in its source:
+/// its training set is read back set by set, with the first set's plan.
+#[test]
+fn a_model_of_appended_sets_reads_them_all_back() {
+    let mut m = surrogate::rom::Surrogate::load(std::path::Path::new("models/synthetic_demo.json"))
+        .unwrap();
+    let ext = "fe_reference/identification/design_space/extend";
+    m.training.source = format!("{ext}/extend_1.csv + {ext}/extend_2.csv");
+    m.training.correction = None;
+    let t = TrainingSet::of_model(&m, std::path::Path::new(".")).unwrap();
+    assert_eq!(
+        t.snapshots.source,
+        format!("./{ext}/extend_1.csv + ./{ext}/extend_2.csv")
+    );
+    assert_eq!(t.snapshots.clone().into_cases().unwrap().cases.len(), 72);
+    let first = surrogate::snapshots::plan::Plan::read(std::path::Path::new(&format!(
+        "{ext}/extend_1.plan.json"
+    )))
+    .unwrap();
+    assert_eq!(t.plan.hash(), first.hash());
+    // a part of the source that is no file is named
+    m.training.source = format!("{ext}/extend_1.csv + box extension rounds 1..2");
+    let err = TrainingSet::of_model(&m, std::path::Path::new("."))
+        .unwrap_err()
+        .to_string();
+    assert!(err.contains("box extension rounds 1..2"), "{err}");
+}

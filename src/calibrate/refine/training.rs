@@ -73,9 +73,34 @@ impl TrainingSet {
         })
     }
 
+    /// Reads the sets of a source `"a.csv + b.csv + …"` (`train --add-data`), each with its
+    /// plan beside it, appended in that order; the training plan is the first set's (its FE
+    /// settings are the rounds').
+    ///
+    /// # Errors
+    /// As [`Self::read`]; a case in two of the sets.
+    fn read_appended(files: &[std::path::PathBuf]) -> Result<Self, CalibrateError> {
+        let mut sets = files
+            .iter()
+            .map(|f| Self::read(f, &crate::snapshots::merge::sidecar_path(f)));
+        let Some(first) = sets.next() else {
+            return Err(CalibrateError::input(
+                "model training source",
+                "",
+                "at least one snapshot CSV",
+            ));
+        };
+        let mut set = first?;
+        for more in sets {
+            set.snapshots.append(more?.snapshots)?;
+        }
+        Ok(set)
+    }
+
     /// The set a model was trained on: its recorded sources (relative to `root`; for a
-    /// multi-fidelity model the low- and the high-fidelity set) and the plans beside them
-    /// (`<stem>.plan.json`).
+    /// multi-fidelity model the low- and the high-fidelity set; a low-fidelity source of
+    /// appended sets, `"a.csv + b.csv"`, as `train --add-data` records it, read set by set)
+    /// and the plans beside them (`<stem>.plan.json`).
     ///
     /// # Errors
     /// A source that is not a file, or the errors of [`Self::read`].
@@ -92,11 +117,14 @@ impl TrainingSet {
                 ))
             }
         };
+        let files = |source: &str, what: &str| {
+            source
+                .split(" + ")
+                .map(|name| file(name, what))
+                .collect::<Result<Vec<_>, _>>()
+        };
         match &model.training.correction {
-            None => {
-                let csv = file(&model.training.source, "model training source")?;
-                Self::read(&csv, &crate::snapshots::merge::sidecar_path(&csv))
-            }
+            None => Self::read_appended(&files(&model.training.source, "model training source")?),
             Some(c) => {
                 // "<low> warped in pressure corrected by <high>" (`rom::fidelity`)
                 let src = &model.training.source;
@@ -105,9 +133,8 @@ impl TrainingSet {
                     .next()
                     .and_then(|l| l.split(" corrected by ").next())
                     .unwrap_or(src);
-                let csv = file(low, "model training source (low fidelity)")?;
                 let high = file(&c.high_source, "model training source (high fidelity)")?;
-                Self::read(&csv, &crate::snapshots::merge::sidecar_path(&csv))?
+                Self::read_appended(&files(low, "model training source (low fidelity)")?)?
                     .with_high_fidelity(&high, c.pressure_warp.is_some())
             }
         }
