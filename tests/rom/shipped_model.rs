@@ -230,3 +230,40 @@ fn shipped_multi_fidelity_model_is_reproduced_from_the_shipped_sets() {
         .surrogate;
     assert_reproduced(&shipped, &again, &cases);
 }
+
+/// The design-space coarse set (every N from 7 to 15, the identified geometry) is the complete
+/// merge of its plan, and its model predicts the numbers of bellows it was trained without
+/// (N = 8, 10, 14, stored by `train --hold-out-n`) within the design-space targets: tip 1 mm,
+/// angle 1°, force 0.05 N (mean |error| over every held-out case and pressure above 0).
+#[test]
+fn design_space_model_predicts_held_out_n_within_the_targets() {
+    const DS_SET: &str = "training_data/snapshots_design_space_coarse.csv";
+    const DS_MODEL: &str = "models/design_space_coarse.json";
+    assert_complete_merge(DS_SET, Some(DS_MODEL), "9d6561c9");
+    let m = Surrogate::load(&root(DS_MODEL)).unwrap();
+    assert!(m.training.ordinal_n());
+    assert_eq!(m.n_allowed, (7..=15).collect::<Vec<u32>>());
+    let h = m
+        .validation
+        .held_out_n
+        .as_ref()
+        .expect("trained with --hold-out-n 8,10,14");
+    assert_eq!(h.held_out, [8, 10, 14]);
+    assert_eq!(h.per_n.len(), 3);
+    for (n, e) in h.held_out.iter().zip(&h.per_n) {
+        assert!(e.cases >= 40, "N = {n}: {} cases", e.cases);
+        assert!(
+            e.tip_mm <= 1.0 && e.angle_deg <= 1.0 && e.force_n <= 0.05,
+            "N = {n}: tip {} mm, angle {}°, force {} N",
+            e.tip_mm,
+            e.angle_deg,
+            e.force_n
+        );
+    }
+    // the geometry the cases were built with is stated, for any FE run compared with it
+    let built = m.training.built_with.as_ref().expect("stated");
+    assert_eq!(
+        built.geometry,
+        surrogate::fe::preset::Geometry::identified()
+    );
+}
