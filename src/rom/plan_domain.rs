@@ -29,6 +29,20 @@ impl Surrogate {
 }
 
 impl BuiltWith {
+    /// How the cases of every plan of `plans` are built (as [`Self::of_plan`]), when they are
+    /// all built alike: the sets of several plans can then train one model
+    /// ([`SnapshotSet::append`](super::data::SnapshotSet::append)).
+    ///
+    /// # Errors
+    /// The index of the first plan that builds its cases otherwise than `plans[0]`.
+    pub fn of_plans(plans: &[&Plan]) -> Result<Option<Self>, usize> {
+        let built = plans.first().and_then(|p| Self::of_plan(p));
+        match plans.iter().position(|p| Self::of_plan(p) != built) {
+            Some(i) => Err(i),
+            None => Ok(built),
+        }
+    }
+
     /// How the cases of `plan` are built: its geometry preset and fixed effects, or `None`
     /// for the geometry as modelled without a fixed effect.
     pub fn of_plan(plan: &Plan) -> Option<Self> {

@@ -281,3 +281,21 @@ fn models_state_the_geometry_their_cases_were_built_with() {
     let back = Surrogate::from_json(&m.to_json().unwrap(), "round trip").unwrap();
     assert_eq!(back.training.built_with, Some(built));
 }
+
+/// Plans that build their cases alike (the design-space set and its box extension's rounds:
+/// the identified geometry and plate) share one statement of it; a plan built otherwise (the
+/// as-modelled coarse set) is found by its index.
+#[test]
+fn plans_built_alike_share_one_statement_and_another_is_found() {
+    use surrogate::rom::provenance::BuiltWith;
+    let read = |p: &str| Plan::read(&repo(p)).unwrap();
+    let ds = read("training_data/snapshots_design_space_coarse.plan.json");
+    let ext = read("fe_reference/identification/design_space/extend/extend_1.plan.json");
+    let as_modelled = read("training_data/snapshots_coarse.plan.json");
+    let built = BuiltWith::of_plans(&[&ds, &ext]).unwrap().expect("stated");
+    assert_eq!(built, BuiltWith::of_plan(&ds).unwrap());
+    assert_eq!(BuiltWith::of_plans(&[&ds, &ext, &as_modelled]), Err(2));
+    assert_eq!(BuiltWith::of_plans(&[&as_modelled, &ds]), Err(1));
+    assert_eq!(BuiltWith::of_plans(&[&as_modelled]), Ok(None));
+    assert_eq!(BuiltWith::of_plans(&[]), Ok(None));
+}

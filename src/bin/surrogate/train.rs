@@ -289,25 +289,27 @@ fn appended_built_with(a: &TrainArgs) -> Result<Option<Option<BuiltWith>>> {
             sidecar_path(data).display()
         ))
     })?;
-    let built = BuiltWith::of_plan(&plan);
+    let mut plans = vec![(plan, path)];
     for more in &a.add_data {
-        let (other, other_path) = plan_beside(more).unwrap_or_else(|| {
+        plans.push(plan_beside(more).unwrap_or_else(|| {
             Err(anyhow::anyhow!(
                 "--add-data {}: no plan beside it ({}): expected the plan its cases were run \
                  with, to check they were built as --data's",
                 more.display(),
                 sidecar_path(more).display()
             ))
-        })?;
-        anyhow::ensure!(
-            BuiltWith::of_plan(&other) == built,
+        })?);
+    }
+    let refs: Vec<&Plan> = plans.iter().map(|(p, _)| p).collect();
+    let built = BuiltWith::of_plans(&refs).map_err(|i| {
+        anyhow::anyhow!(
             "--add-data {}: its plan {} builds its cases otherwise than {} (geometry or fixed \
              effects): expected sets of the same actuator",
-            more.display(),
-            other_path.display(),
-            path.display()
-        );
-    }
+            a.add_data[i - 1].display(),
+            plans[i].1.display(),
+            plans[0].1.display()
+        )
+    })?;
     Ok(Some(built))
 }
 
