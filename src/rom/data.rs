@@ -86,6 +86,10 @@ pub struct CaseSet {
     pub off_grid_rows: usize,
 }
 
+/// Between the sources of appended sets in a set's (and so a model's) source:
+/// `"a.csv + b.csv"` ([`SnapshotSet::append`]).
+pub const SOURCE_SEPARATOR: &str = " + ";
+
 impl SnapshotSet {
     /// Appends the rows of `other` (another set of the same actuator, such as the cases a
     /// box extension added): the source becomes `"<self> + <other>"`, the skipped rows add
@@ -106,7 +110,7 @@ impl SnapshotSet {
                 ),
             });
         }
-        self.source = format!("{} + {}", self.source, other.source);
+        self.source = format!("{}{SOURCE_SEPARATOR}{}", self.source, other.source);
         self.rows.extend(other.rows);
         self.skipped_unconverged += other.skipped_unconverged;
         Ok(())

@@ -119,7 +119,7 @@ impl TrainingSet {
         };
         let files = |source: &str, what: &str| {
             source
-                .split(" + ")
+                .split(crate::rom::data::SOURCE_SEPARATOR)
                 .map(|name| file(name, what))
                 .collect::<Result<Vec<_>, _>>()
         };
