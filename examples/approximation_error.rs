@@ -17,7 +17,7 @@ use surrogate::rom::Surrogate;
 
 fn main() -> surrogate::Result<()> {
     let study = Path::new("fe_reference/diagnosis/blind");
-    let model = Surrogate::load(Path::new("models/actuator_coarse.json"))?;
+    let model = Surrogate::load(Path::new("models/as_modelled/actuator_coarse.json"))?;
     let sens = SweepSensitivities::read(Path::new("data/sensitivities/ogden002_coarse.json"))?;
     let plan = StudyPlan::read(&study.join("plan.json"))?;
     let dirs = StudyDirs::under(study);
@@ -27,7 +27,7 @@ fn main() -> surrogate::Result<()> {
         &Recordings::shipped()?,
         &dirs,
         &model,
-        "models/actuator_coarse.json",
+        "models/as_modelled/actuator_coarse.json",
     )?;
     println!(
         "{} samples of the coarse surrogate's error against {}",

@@ -21,7 +21,7 @@ use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 use surrogate::rom::Surrogate;
 
 fn main() -> surrogate::Result<()> {
-    let model = Surrogate::load(Path::new("models/actuator.json"))?;
+    let model = Surrogate::load(Path::new("models/as_modelled/actuator.json"))?;
     let recordings = Recordings::shipped()?;
     // the study's objective (tip alone): the force is then predicted, not fitted
     let cal = calibrate(
@@ -66,8 +66,8 @@ fn main() -> surrogate::Result<()> {
     let sens = SweepSensitivities::read(Path::new("data/sensitivities/calibrated_coarse.json"))?;
     let mut d = Diagnosis::new(&cal, &recordings, loc);
     // the model's own mesh error (its difference to the coarse-mesh model) is a candidate too
-    let coarse = Surrogate::load(Path::new("models/actuator_coarse.json"))?;
-    let me = d.mesh_error_with(&model, &coarse, "models/actuator_coarse.json")?;
+    let coarse = Surrogate::load(Path::new("models/as_modelled/actuator_coarse.json"))?;
+    let me = d.mesh_error_with(&model, &coarse, "models/as_modelled/actuator_coarse.json")?;
     println!("mesh error of the model: {:.2} σ rms", me.rms_sigma);
     let naming = d
         .name_with(&sens, &model, &NameSettings::default())?

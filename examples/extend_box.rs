@@ -25,7 +25,7 @@ fn main() -> surrogate::Result<()> {
     let dir = std::env::args()
         .nth(1)
         .map_or_else(|| PathBuf::from("calibration/extend"), PathBuf::from);
-    let model = Surrogate::load(Path::new("models/actuator_coarse.json"))?;
+    let model = Surrogate::load(Path::new("models/as_modelled/actuator_coarse.json"))?;
     // the snapshots the model was trained on, and their plan (the FE settings of every case)
     let training = TrainingSet::of_model(&model, Path::new("."))?;
     let settings = ExtendSettings {

@@ -1,7 +1,7 @@
 //! How often the calibrator's interval of μ0 covers the true μ0: the recovery of
 //! `tests/calibrate/calibrate.rs` (the coarse-mesh FE at a known material, the 9 designs at 1,
 //! 2 and 3 bar, noise at the experiments' standard deviations, fitted through
-//! `models/actuator_coarse.json`) over noise seeds 1 … 30 at the 95 % level, with the
+//! `models/as_modelled/actuator_coarse.json`) over noise seeds 1 … 30 at the 95 % level, with the
 //! projection of the joint region and with the pointwise profile interval
 //! (`surrogate::calibrate::coverage`). Writes every seed and the counts to
 //! `fe_reference/calibration/interval_coverage.json` (or the file given).
@@ -17,7 +17,7 @@ use surrogate::calibrate::Recordings;
 use surrogate::case::{MaterialCoords, OgdenSet};
 use surrogate::rom::Surrogate;
 
-const MODEL: &str = "models/actuator_coarse.json";
+const MODEL: &str = "models/as_modelled/actuator_coarse.json";
 const CASES: &str = "fe_reference/calibration/synthetic_coarse/cases/cases";
 const COMMAND: &str = "cargo run --release --example interval_coverage";
 

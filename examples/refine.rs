@@ -26,7 +26,7 @@ fn main() -> surrogate::Result<()> {
         || PathBuf::from("fe_reference/calibration/refine_coarse/refine"),
         PathBuf::from,
     );
-    let model = Surrogate::load(Path::new("models/actuator_coarse.json"))?;
+    let model = Surrogate::load(Path::new("models/as_modelled/actuator_coarse.json"))?;
     // the snapshots the model was trained on, and their plan (the FE settings of every round)
     let training = TrainingSet::of_model(&model, Path::new("."))?;
     let r = refine(

@@ -9,8 +9,8 @@
 //! missing physics, and an effect whose signature resembles it would be named for it.
 //!
 //! Mesh refinement measures the error's shape. With a reference surrogate of the same plan on
-//! another mesh (`models/actuator.json`, standard-mesh values, beside the coarse
-//! `models/actuator_coarse.json`), every cell `i` gets
+//! another mesh (`models/as_modelled/actuator.json`, standard-mesh values, beside the coarse
+//! `models/as_modelled/actuator_coarse.json`), every cell `i` gets
 //!
 //! ```text
 //!   dᵢ = ŷᵢ,reference(θ) − ŷᵢ,model(θ)        (unit of the output, at the calibrated material θ)

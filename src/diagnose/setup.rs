@@ -15,7 +15,7 @@
 //!
 //! let root = Path::new("/repo");
 //! let study = DiagnosisSetup::blind_study().resolve(root).unwrap();
-//! assert_eq!(study.model.path, root.join("models/actuator_coarse.json"));
+//! assert_eq!(study.model.path, root.join("models/as_modelled/actuator_coarse.json"));
 //! assert!(study.model.default);
 //!
 //! let mut recordings = DiagnosisSetup::recordings();
@@ -36,6 +36,17 @@ pub const SHIPPED_COARSE_MODEL: &str = "models/actuator_coarse.json";
 /// repository (`surrogate approximation-error --model models/actuator_coarse.json --mesh
 /// coarse --element-size 4 --materials 4`).
 pub const SHIPPED_APPROXIMATION_ERROR: &str = "data/approximation_error/coarse_vs_4mm.json";
+
+/// The coarse-mesh surrogate on the geometry as modelled (`--geometry as_modelled`), in the
+/// repository: the model the blind study scores, because its twins are built on that
+/// geometry.
+pub const AS_MODELLED_COARSE_MODEL: &str = "models/as_modelled/actuator_coarse.json";
+/// The multi-fidelity surrogate on the geometry as modelled, in the repository.
+pub const AS_MODELLED_MODEL: &str = "models/as_modelled/actuator.json";
+/// The approximation error of [`AS_MODELLED_COARSE_MODEL`] against FE on 4 mm elements
+/// (`surrogate approximation-error --model models/as_modelled/actuator_coarse.json --mesh
+/// coarse --element-size 4 --materials 4`; the file records that model's checksum).
+pub const AS_MODELLED_APPROXIMATION_ERROR: &str = "data/approximation_error/coarse_vs_4mm.json";
 
 /// What a setup diagnoses: its defaults and the choices it allows depend on it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -184,18 +195,24 @@ impl DiagnosisSetup {
         }
     }
 
-    /// The setup of the blind study (`surrogate twin-study`): the one of real recordings
-    /// ([`DiagnosisSetup::recordings`]) but for the sensitivities, the committed sweep at
-    /// Ogden 002 (`data/sensitivities/ogden002_coarse.json`), around which the twins'
-    /// materials are drawn. `--approximation-error nulls` samples the error from the null
-    /// twins instead (the study's setup until 2026-12-06).
+    /// The setup of the blind study (`surrogate twin-study`), whose twins are built on the
+    /// geometry as modelled: the coarse-mesh model on that geometry
+    /// ([`AS_MODELLED_COARSE_MODEL`]), the committed sweep at Ogden 002
+    /// (`data/sensitivities/ogden002_coarse.json`), around which the twins' materials are
+    /// drawn, no mesh reference, and that model's approximation error
+    /// ([`AS_MODELLED_APPROXIMATION_ERROR`]). `--approximation-error nulls` samples the error
+    /// from the null twins instead (the study's setup until 2026-12-06).
     pub fn blind_study() -> Self {
         DiagnosisSetup {
             used_for: DiagnosisUse::BlindStudy,
+            model: SetupFile::Repository(AS_MODELLED_COARSE_MODEL),
             sensitivities: Sensitivities::File(SetupFile::Repository(
                 "data/sensitivities/ogden002_coarse.json",
             )),
-            ..Self::recordings()
+            mesh_reference: MeshReference::None,
+            approximation_error: ApproximationSource::File(SetupFile::Repository(
+                AS_MODELLED_APPROXIMATION_ERROR,
+            )),
         }
     }
 

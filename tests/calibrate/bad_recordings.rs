@@ -144,7 +144,8 @@ fn cases() -> Vec<(&'static str, bool, Expect)> {
 }
 
 fn model() -> Surrogate {
-    Surrogate::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator.json")).unwrap()
+    Surrogate::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("models/as_modelled/actuator.json"))
+        .unwrap()
 }
 
 fn quick() -> CalibrationSettings {

@@ -30,7 +30,7 @@ fn true_coords() -> [f64; 4] {
 }
 
 fn model() -> Surrogate {
-    Surrogate::load(Path::new("models/actuator_coarse.json")).unwrap()
+    Surrogate::load(Path::new("models/as_modelled/actuator_coarse.json")).unwrap()
 }
 
 fn settings(objective: &str) -> CalibrationSettings {

@@ -244,7 +244,9 @@ fn sets_along_an_undetermined_direction_are_the_same_in_data_space() {
 
 #[test]
 fn the_shipped_multi_fidelity_model_names_both_of_its_sets() {
-    let m = surrogate::rom::Surrogate::load(std::path::Path::new("models/actuator.json")).unwrap();
+    let m =
+        surrogate::rom::Surrogate::load(std::path::Path::new("models/as_modelled/actuator.json"))
+            .unwrap();
     let t = TrainingSet::of_model(&m, std::path::Path::new(".")).unwrap();
     assert_eq!(t.snapshots.source, "./training_data/snapshots_coarse.csv");
     assert_eq!(t.plan.settings.mesh.level.name(), "coarse");

@@ -178,7 +178,7 @@ fn refinement_reads_its_committed_round_and_reports_it() {
     let (ok, stdout, stderr) = outcome(&[
         "calibrate",
         "--model",
-        "models/actuator_coarse.json",
+        "models/as_modelled/actuator_coarse.json",
         "--refine",
         "3",
         "--out",
@@ -228,7 +228,7 @@ fn refinement_refuses_a_second_mesh_and_a_missing_training_set() {
     let (ok, _, stderr) = outcome(&[
         "calibrate",
         "--model",
-        "models/actuator_coarse.json",
+        "models/as_modelled/actuator_coarse.json",
         "--refine",
         "1",
         "--training",

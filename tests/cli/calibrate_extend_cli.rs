@@ -33,7 +33,11 @@ fn the_help_documents_the_extension_flags() {
 fn bad_extension_input_is_refused_by_name_before_any_fe() {
     let dir = tmp("extend_bad");
     let out = dir.to_str().unwrap();
-    let coarse = ["calibrate", "--model", "models/actuator_coarse.json"];
+    let coarse = [
+        "calibrate",
+        "--model",
+        "models/as_modelled/actuator_coarse.json",
+    ];
     let refused = |extra: &[&str], needle: &str| {
         let args: Vec<&str> = coarse
             .iter()

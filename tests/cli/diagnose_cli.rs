@@ -174,7 +174,7 @@ fn diagnoses_the_shipped_experiments() {
     let (ok, stdout, stderr) = outcome(&[
         "diagnose",
         "--model",
-        "models/actuator.json",
+        "models/as_modelled/actuator.json",
         "--mesh-reference",
         "auto",
         "--approximation-error",
@@ -189,7 +189,10 @@ fn diagnoses_the_shipped_experiments() {
     assert_eq!(r4["model_and_show"]["status"], "not_run");
     assert!(stdout.contains("Model and show: not run ("), "{stdout}");
     // beside the model as given
-    assert_eq!(r4["mesh_error"]["reference"], "models/actuator_coarse.json");
+    assert_eq!(
+        r4["mesh_error"]["reference"],
+        "models/as_modelled/actuator_coarse.json"
+    );
     assert!(r4["name"]["candidates"]
         .as_array()
         .unwrap()
@@ -312,8 +315,8 @@ fn bad_input_is_named_before_anything_runs() {
                 .into(),
         ),
         (
-            &["--approximation-error", "models/actuator.json"],
-            "--approximation-error models/actuator.json".into(),
+            &["--approximation-error", "models/as_modelled/actuator.json"],
+            "--approximation-error models/as_modelled/actuator.json".into(),
         ),
         (
             &["--plan-measurements", "4"],
@@ -505,7 +508,7 @@ fn diagnose_and_twin_study_share_the_setup_flags() {
     let spellings: [&[&str]; 3] = [
         &[
             "--model",
-            "models/actuator_coarse.json",
+            "models/as_modelled/actuator_coarse.json",
             "--sensitivities",
             "no_such_sensitivities.json",
             "--mesh-reference",
@@ -519,7 +522,7 @@ fn diagnose_and_twin_study_share_the_setup_flags() {
             "--approximation-error",
             "e.json",
         ],
-        &["--mesh-reference", "models/actuator.json"],
+        &["--mesh-reference", "models/as_modelled/actuator.json"],
     ];
     let stopped_by: [(&[&str], &str); 2] = [
         (

@@ -144,7 +144,7 @@ fn committed_figures_have_legends_and_units() {
     }
     let diag = std::fs::read_to_string(root.join("fe_reference/diagnosis/README.md")).unwrap();
     assert!(diag.contains(
-        "diagnose --model models/actuator_coarse.json --approximation-error \
+        "diagnose --model models/as_modelled/actuator_coarse.json --approximation-error \
          data/approximation_error/coarse_vs_4mm.json --sensitivities \
          data/sensitivities/calibrated_coarse.json --recordings training_data --out \
          fe_reference/diagnosis/experiments"

@@ -21,7 +21,7 @@ fn predict(material: &str, t: &str) -> Output {
     run(&[
         "predict",
         "--model",
-        "models/actuator.json",
+        "models/as_modelled/actuator.json",
         "--n",
         "11",
         "--t",
@@ -40,7 +40,7 @@ fn a_calibration_report_is_a_material_for_predict_export_and_queries() {
     let (out, err) = text(&o);
     assert!(o.status.success(), "{err}");
     let json: serde_json::Value = serde_json::from_str(&out).unwrap();
-    let m = Surrogate::load(&repo().join("models/actuator.json")).unwrap();
+    let m = Surrogate::load(&repo().join("models/as_modelled/actuator.json")).unwrap();
     let lib = m
         .predict(&Query::new(11, 2.0, 2.0, OgdenSet::from_array(set)))
         .unwrap();
@@ -54,7 +54,7 @@ fn a_calibration_report_is_a_material_for_predict_export_and_queries() {
     let o = run(&[
         "export",
         "--model",
-        "models/actuator.json",
+        "models/as_modelled/actuator.json",
         "--ramp",
         "--n",
         "11",
@@ -85,7 +85,7 @@ fn a_calibration_report_is_a_material_for_predict_export_and_queries() {
     let o = run(&[
         "predict",
         "--model",
-        "models/actuator.json",
+        "models/as_modelled/actuator.json",
         "--csv",
         csv.to_str().unwrap(),
         "--out",
@@ -151,7 +151,7 @@ fn the_summary_prints_the_set_as_the_report_stores_it() {
 #[test]
 fn a_set_printed_to_four_decimals_is_accepted_at_a_bound() {
     let dir = scratch("material_cli_tolerance");
-    let mut m = Surrogate::load(&repo().join("models/actuator.json")).unwrap();
+    let mut m = Surrogate::load(&repo().join("models/as_modelled/actuator.json")).unwrap();
     m.training.plan_domain = None;
     let model = dir.join("cases_box.json");
     m.save(&model).unwrap();

@@ -5,7 +5,7 @@ use std::path::{Path, PathBuf};
 
 use crate::common::{outcome, repo, shared_dir, REPORT};
 
-const SHIPPED: &str = "models/actuator.json";
+const SHIPPED: &str = "models/as_modelled/actuator.json";
 
 fn dir() -> PathBuf {
     shared_dir("model_form_cli")
@@ -139,7 +139,7 @@ fn a_model_without_a_model_form_error_says_so() {
     let (ok, out, err) = outcome(&[
         "predict",
         "--model",
-        s(&repo().join("models/actuator_coarse.json")),
+        s(&repo().join("models/as_modelled/actuator_coarse.json")),
         "--n",
         "11",
         "--t",
@@ -167,7 +167,7 @@ fn model_form_command_stores_it_and_refuses_a_report_of_another_model() {
     let (ok, _, err) = outcome(&[
         "model-form",
         "--model",
-        s(&repo().join("models/actuator_coarse.json")),
+        s(&repo().join("models/as_modelled/actuator_coarse.json")),
         "--calibration",
         s(&repo().join(REPORT)),
         "--out",

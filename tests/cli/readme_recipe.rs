@@ -104,7 +104,7 @@ fn check_rust_and_c(dir: &Path, lib: [f64; 4]) {
 }
 
 fn shipped_model() -> Surrogate {
-    Surrogate::load(&repo().join("models/actuator.json")).unwrap()
+    Surrogate::load(&repo().join("models/as_modelled/actuator.json")).unwrap()
 }
 
 #[test]

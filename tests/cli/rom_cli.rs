@@ -891,7 +891,7 @@ fn predict_check_scores_a_snapshot_set_and_refuses_bad_input() {
     let run = |data: &Path, extra: &[&str]| {
         bin()
             .args(["predict", "--model"])
-            .arg(root.join("models/actuator_coarse.json"))
+            .arg(root.join("models/as_modelled/actuator_coarse.json"))
             .arg("--check")
             .arg(data)
             .args(extra)

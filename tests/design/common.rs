@@ -24,7 +24,7 @@ pub const CALIBRATED: OgdenSet = OgdenSet::from_array([
 pub fn shipped() -> &'static Surrogate {
     static MODEL: OnceLock<Surrogate> = OnceLock::new();
     MODEL.get_or_init(|| {
-        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator.json");
+        let path = Path::new(env!("CARGO_MANIFEST_DIR")).join("models/as_modelled/actuator.json");
         Surrogate::load(&path).unwrap()
     })
 }

@@ -30,7 +30,7 @@ fn identified() -> Geometry {
 
 #[test]
 fn the_committed_sweeps_fit_the_shipped_model() {
-    let model = Surrogate::load(Path::new("models/actuator.json")).unwrap();
+    let model = Surrogate::load(Path::new("models/as_modelled/actuator.json")).unwrap();
     assert_eq!(model.training.built_with, None);
     for f in [SWEEP, "data/sensitivities/ogden002_coarse.json"] {
         let sens = SweepSensitivities::read(Path::new(f)).unwrap();
@@ -112,7 +112,7 @@ fn the_approximation_errors_reference_is_built_as_the_model() {
     use surrogate::diagnose::approx_error::{sample, SampleSettings};
     use surrogate::fe::mesh::{MeshLevel, MeshOptions};
 
-    let mut model = Surrogate::load(Path::new("models/actuator.json")).unwrap();
+    let mut model = Surrogate::load(Path::new("models/as_modelled/actuator.json")).unwrap();
     let rec = Recordings::shipped().unwrap();
     let cache = std::env::temp_dir().join(format!("approx_built_{}", std::process::id()));
     let settings = SampleSettings {

@@ -18,7 +18,7 @@ const STUDY: &str = "fe_reference/diagnosis/blind";
 
 #[test]
 fn a_tied_twin_gets_its_planned_measurements_made_on_its_own_fe() {
-    let model = Surrogate::load(Path::new("models/actuator_coarse.json")).unwrap();
+    let model = Surrogate::load(Path::new("models/as_modelled/actuator_coarse.json")).unwrap();
     let sens =
         SweepSensitivities::read(Path::new("data/sensitivities/ogden002_coarse.json")).unwrap();
     let mut plan = StudyPlan::read(&Path::new(STUDY).join("plan.json"))

@@ -18,7 +18,7 @@ use surrogate::diagnose::{diagnose, locate, DiagnoseSettings, Diagnosis, LocateS
 use surrogate::rom::Surrogate;
 
 fn model() -> Surrogate {
-    Surrogate::load(Path::new("models/actuator.json")).unwrap()
+    Surrogate::load(Path::new("models/as_modelled/actuator.json")).unwrap()
 }
 
 /// The literature set: inside the shipped surrogate's training domain.

@@ -50,8 +50,8 @@ fn settings() -> DiagnoseSettings {
 
 #[test]
 fn a_model_coarser_than_the_actuator_is_told_from_missing_physics() {
-    let coarse = Surrogate::load(Path::new("models/actuator_coarse.json")).unwrap();
-    let standard = Surrogate::load(Path::new("models/actuator.json")).unwrap();
+    let coarse = Surrogate::load(Path::new("models/as_modelled/actuator_coarse.json")).unwrap();
+    let standard = Surrogate::load(Path::new("models/as_modelled/actuator.json")).unwrap();
     let sens = SweepSensitivities::read(Path::new(SWEEP)).unwrap();
     let shipped = Recordings::shipped().unwrap();
     for (share, seed) in [(0.6, 5), (0.0, 6)] {
@@ -64,7 +64,7 @@ fn a_model_coarser_than_the_actuator_is_told_from_missing_physics() {
         .unwrap();
         let mut d = diagnose(&coarse, &rec, &settings(), &|_| {}).unwrap();
         let me = d
-            .mesh_error_with(&coarse, &standard, "models/actuator.json")
+            .mesh_error_with(&coarse, &standard, "models/as_modelled/actuator.json")
             .unwrap()
             .clone();
         // the direction is the two surrogates' difference at the calibrated material

@@ -68,7 +68,7 @@ fn settings() -> DiagnoseSettings {
 
 #[test]
 fn a_linear_effect_is_refitted_with_its_size_and_helps_held_out_designs() {
-    let model = Surrogate::load(Path::new("models/actuator.json")).unwrap();
+    let model = Surrogate::load(Path::new("models/as_modelled/actuator.json")).unwrap();
     let sens = SweepSensitivities::read(Path::new(SWEEP)).unwrap();
     let shipped = Recordings::shipped().unwrap();
     let rec = noisy_recordings(
@@ -113,7 +113,7 @@ fn a_linear_effect_is_refitted_with_its_size_and_helps_held_out_designs() {
 
 #[test]
 fn without_the_effect_its_refitted_size_is_nothing() {
-    let model = Surrogate::load(Path::new("models/actuator.json")).unwrap();
+    let model = Surrogate::load(Path::new("models/as_modelled/actuator.json")).unwrap();
     let sens = SweepSensitivities::read(Path::new(SWEEP)).unwrap();
     let shipped = Recordings::shipped().unwrap();
     let rec = noisy_recordings(

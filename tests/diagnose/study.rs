@@ -100,9 +100,10 @@ fn the_summary_counts_what_each_target_asks() {
 
 #[test]
 fn the_standard_plan_is_reproducible_and_inside_the_domain() {
-    let model =
-        Surrogate::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator_coarse.json"))
-            .unwrap();
+    let model = Surrogate::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("models/as_modelled/actuator_coarse.json"),
+    )
+    .unwrap();
     let domain = ParamSpace::training_domain(&model).unwrap();
     let a = StudyPlan::standard(&domain, 7).unwrap();
     assert_eq!(a, StudyPlan::standard(&domain, 7).unwrap());
@@ -139,9 +140,10 @@ fn seeds(plan: &StudyPlan) -> Vec<(String, u64)> {
 
 #[test]
 fn every_twin_draws_its_own_noise_whichever_groups_a_run_is_given() {
-    let model =
-        Surrogate::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator_coarse.json"))
-            .unwrap();
+    let model = Surrogate::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("models/as_modelled/actuator_coarse.json"),
+    )
+    .unwrap();
     let plan = StudyPlan::standard(&ParamSpace::training_domain(&model).unwrap(), 2026).unwrap();
     let all = seeds(&plan);
     let mut distinct: Vec<u64> = all.iter().map(|s| s.1).collect();

@@ -22,7 +22,10 @@ fn names(v: &[surrogate::case::DomainViolation]) -> Vec<String> {
 #[test]
 fn shipped_plan_and_model_agree() {
     let plan = Plan::read(&repo("training_data/snapshots_coarse.plan.json")).unwrap();
-    for model in ["models/actuator_coarse.json", "models/actuator.json"] {
+    for model in [
+        "models/as_modelled/actuator_coarse.json",
+        "models/as_modelled/actuator.json",
+    ] {
         let m = Surrogate::load(&repo(model)).unwrap();
         assert_eq!(m.domain(), plan.sampled_domain(), "{model}");
         for (name, outside) in plan.literature_in_sampled_domain().unwrap() {
@@ -61,7 +64,7 @@ fn shipped_plan_and_model_agree() {
 /// flagged so); outside the feature box it extrapolates (flagged, not clamped).
 #[test]
 fn violations_say_whether_the_prediction_is_clamped() {
-    let m = Surrogate::load(&repo("models/actuator_coarse.json")).unwrap();
+    let m = Surrogate::load(&repo("models/as_modelled/actuator_coarse.json")).unwrap();
     let base = Query::new(
         11,
         2.0,
@@ -105,7 +108,10 @@ fn violations_say_whether_the_prediction_is_clamped() {
 fn shipped_domain_is_the_plans_nominal_box() {
     let plan_path = "training_data/snapshots_coarse.plan.json";
     let plan = Plan::read(&repo(plan_path)).unwrap();
-    for model in ["models/actuator_coarse.json", "models/actuator.json"] {
+    for model in [
+        "models/as_modelled/actuator_coarse.json",
+        "models/as_modelled/actuator.json",
+    ] {
         let m = Surrogate::load(&repo(model)).unwrap();
         let stated = m.training.plan_domain.clone().expect("stated ranges");
         assert_eq!(stated, plan.stated_domain(&m.sampled_domain(), plan_path));
@@ -198,7 +204,7 @@ fn plan_ends_are_taken_only_where_the_cases_cover_them() {
 /// refused by that box (`term1_share = 0.021607… outside [0.021614…]`); it is accepted now.
 #[test]
 fn values_within_the_tolerance_of_an_end_are_moved_onto_it() {
-    let mut m = Surrogate::load(&repo("models/actuator.json")).unwrap();
+    let mut m = Surrogate::load(&repo("models/as_modelled/actuator.json")).unwrap();
     m.training.plan_domain = None; // the box of the cases: its ends are the calibrated bounds
     let printed = Query::new(
         11,
@@ -266,7 +272,7 @@ fn models_state_the_geometry_their_cases_were_built_with() {
         .unwrap()
         .into_cases()
         .unwrap();
-    let shipped = Surrogate::load(&repo("models/actuator_coarse.json")).unwrap();
+    let shipped = Surrogate::load(&repo("models/as_modelled/actuator_coarse.json")).unwrap();
     assert_eq!(shipped.training.built_with, None);
     let mut m = shipped.clone();
     assert!(m.state_plan_domain(&plan, &cases, plan_path));

@@ -12,7 +12,7 @@ use surrogate::rom::{RomError, Surrogate};
 use crate::rom_common;
 
 const REPORT: &str = "fe_reference/calibration/surrogate/report.json";
-const SHIPPED: &str = "models/actuator.json";
+const SHIPPED: &str = "models/as_modelled/actuator.json";
 
 fn root(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(p)
@@ -118,7 +118,7 @@ fn shipped_model_form_error_is_learned_from_the_committed_report() {
 /// A report whose predictions are not the model's is refused, naming the field and value.
 #[test]
 fn a_report_made_through_another_model_is_refused() {
-    let coarse = Surrogate::load(&root("models/actuator_coarse.json")).unwrap();
+    let coarse = Surrogate::load(&root("models/as_modelled/actuator_coarse.json")).unwrap();
     let e = from_calibration_report(&coarse, &root(REPORT)).unwrap_err();
     let RomError::CalibrationReport {
         field, expected, ..

@@ -1,7 +1,7 @@
 //! The shipped snapshot sets and the models trained on them: each set is committed once, as
 //! the complete merge of its campaign with its plan beside it, each model is what the shipped command makes of its set
-//! (`bash training_data/snapshots/ship.sh --coarse` for `models/actuator_coarse.json`,
-//! `bash training_data/snapshots/ship.sh` for the multi-fidelity `models/actuator.json`), and
+//! (`bash training_data/snapshots/ship.sh --coarse` for `models/as_modelled/actuator_coarse.json`,
+//! `bash training_data/snapshots/ship.sh` for the multi-fidelity `models/as_modelled/actuator.json`), and
 //! their stored held-out errors meet the surrogate's accuracy targets.
 use std::path::{Path, PathBuf};
 
@@ -13,9 +13,9 @@ use surrogate::rom::{train, SnapshotSet, Surrogate, TrainConfig};
 use surrogate::snapshots::merge::{self, check_merged};
 
 const SET: &str = "training_data/snapshots_coarse.csv";
-const MODEL: &str = "models/actuator_coarse.json";
+const MODEL: &str = "models/as_modelled/actuator_coarse.json";
 const STANDARD_SET: &str = "training_data/snapshots_standard.csv";
-const MF_MODEL: &str = "models/actuator.json";
+const MF_MODEL: &str = "models/as_modelled/actuator.json";
 
 fn root(p: &str) -> PathBuf {
     Path::new(env!("CARGO_MANIFEST_DIR")).join(p)

@@ -10,7 +10,7 @@ fn root(p: &str) -> PathBuf {
 
 #[test]
 fn a_model_on_a_snapshot_set_is_scored_per_case_per_n_and_overall() {
-    let model = Surrogate::load(&root("models/actuator_coarse.json")).unwrap();
+    let model = Surrogate::load(&root("models/as_modelled/actuator_coarse.json")).unwrap();
     let set = SnapshotSet::read(&root("training_data/snapshots_coarse.csv"))
         .unwrap()
         .into_cases()

@@ -81,7 +81,7 @@
 //! use surrogate::rom::Surrogate;
 //! use surrogate::snapshots::fe_runner::fe_runner;
 //!
-//! let model = Surrogate::load(Path::new("models/actuator_coarse.json"))?;
+//! let model = Surrogate::load(Path::new("models/as_modelled/actuator_coarse.json"))?;
 //! let training = TrainingSet::of_model(&model, Path::new("."))?;
 //! let rec = Recordings::shipped()?;
 //! let dir = Path::new("calibration/extend");

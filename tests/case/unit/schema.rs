@@ -137,7 +137,7 @@ fn column_lists_are_the_shipped_files_headers() {
         joined(&FORCE_COLUMNS)
     );
     // a model file: inputs with units, outputs, validation groups
-    let text = std::fs::read_to_string(shipped("models/actuator.json")).unwrap();
+    let text = std::fs::read_to_string(shipped("models/as_modelled/actuator.json")).unwrap();
     let model: serde_json::Value = serde_json::from_str(&text).unwrap();
     let model = &model["model"];
     let inputs: Vec<(&str, &str)> = model["inputs"]

@@ -61,7 +61,7 @@ fn mean_and_spread_are_those_of_the_samples() {
 
 #[test]
 fn spread_materials_are_reproducible_and_inside_the_central_domain() {
-    let model = Surrogate::load(Path::new("models/actuator_coarse.json")).unwrap();
+    let model = Surrogate::load(Path::new("models/as_modelled/actuator_coarse.json")).unwrap();
     let domain = ParamSpace::training_domain(&model).unwrap();
     let a = spread_materials(&domain, 6, 7).unwrap();
     assert_eq!(a, spread_materials(&domain, 6, 7).unwrap());

@@ -31,9 +31,10 @@ pub(super) fn g(theta: f64) -> f64 {
 
 /// The coarse shipped model and the literature set the recordings are made at.
 pub(super) fn coarse_model_and_material() -> (Surrogate, OgdenSet) {
-    let model =
-        Surrogate::load(&Path::new(env!("CARGO_MANIFEST_DIR")).join("models/actuator_coarse.json"))
-            .unwrap();
+    let model = Surrogate::load(
+        &Path::new(env!("CARGO_MANIFEST_DIR")).join("models/as_modelled/actuator_coarse.json"),
+    )
+    .unwrap();
     (model, OgdenSet::literature("ogden_002").unwrap())
 }
 

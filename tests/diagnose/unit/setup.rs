@@ -19,12 +19,23 @@ fn defaults_lie_under_the_root_and_given_files_as_given() {
             default: true
         })
     );
+    // the blind study's twins are built on the geometry as modelled: its model and
+    // approximation error are that geometry's
     let b = DiagnosisSetup::blind_study().resolve(root).unwrap();
+    assert_eq!(b.model.path, root.join(AS_MODELLED_COARSE_MODEL));
+    assert!(b.model.default);
+    assert_eq!(b.mesh_reference, None);
     assert_eq!(
-        (&b.model, &b.mesh_reference, &b.approximation_error),
-        (&r.model, &r.mesh_reference, &r.approximation_error)
+        b.approximation_error,
+        ApproximationSource::File(ResolvedFile {
+            path: root.join(AS_MODELLED_APPROXIMATION_ERROR),
+            default: true
+        })
     );
     assert_ne!(b.sensitivities, r.sensitivities);
+    for f in [AS_MODELLED_COARSE_MODEL, AS_MODELLED_MODEL] {
+        assert!(root.join(f).is_file(), "{f}");
+    }
     // auto beside the standard model: the coarse one
     let mut s = DiagnosisSetup::recordings();
     s.model = SetupFile::Repository(SHIPPED_MODEL);

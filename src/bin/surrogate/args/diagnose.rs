@@ -15,8 +15,10 @@ use crate::files::material_spec;
 #[command(next_help_heading = "Diagnosis setup (the same flags in `diagnose` and `twin-study`)")]
 pub struct DiagnosisSetupArgs {
     /// The diagnosing surrogate, through which the calibration and the predictions go
-    /// [default: models/actuator_coarse.json, the model the blind study scores; of the
-    /// repository the program was built from, from any working directory].
+    /// [default: models/actuator_coarse.json for `diagnose`,
+    /// models/as_modelled/actuator_coarse.json for `twin-study` (its twins are built on the
+    /// geometry as modelled); of the repository the program was built from, from any working
+    /// directory].
     #[arg(long, value_name = "FILE")]
     pub model: Option<PathBuf>,
     /// FE sensitivities of the effect library (a file of `validate --sensitivities all`),
@@ -29,8 +31,8 @@ pub struct DiagnosisSetupArgs {
     #[arg(long, value_name = "FILE|calibrated|none")]
     pub sensitivities: Option<String>,
     /// A surrogate on another mesh whose difference to --model at the calibrated material is
-    /// tested as the model's own mesh error: `auto` (the other shipped model beside
-    /// models/actuator.json or models/actuator_coarse.json, else none), `none` or a model
+    /// tested as the model's own mesh error: `auto` (actuator.json beside a model named
+    /// actuator_coarse.json and the other way round, else none), `none` or a model
     /// file; `twin-study` writes its results with one to results*_mesh.* [default: none (the
     /// approximation error holds the model's mesh error)].
     #[arg(long, value_name = "auto|none|FILE")]
@@ -41,8 +43,8 @@ pub struct DiagnosisSetupArgs {
     /// null twins' noise-free FE, each null twin diagnosed without its own group's sample,
     /// written to `<out>/approximation_error.json`); `twin-study` writes its results without
     /// one to results*_no_approx.*, with `nulls` to results*_nulls.* [default:
-    /// data/approximation_error/coarse_vs_4mm.json of the repository: the shipped coarse
-    /// model against FE on 4 mm elements].
+    /// data/approximation_error/coarse_vs_4mm.json of the repository: the default model of
+    /// the command against FE on 4 mm elements].
     #[arg(long, value_name = "none|nulls|FILE")]
     pub approximation_error: Option<String>,
 }
