@@ -196,6 +196,10 @@ pub struct Calibration {
     pub excluded: Vec<Exclusion>,
     /// The study's procedure, if asked for.
     pub per_configuration: Option<PerConfigurationStudy>,
+    /// Why the study's procedure was asked for and not run: its box around the literature
+    /// set leaves the model's training domain (a model trained over another material box).
+    #[serde(default, skip_serializing_if = "Option::is_none")]
+    pub per_configuration_skipped: Option<String>,
     /// Wall time of the fit and the analysis (s).
     pub wall_time_s: f64,
 }
@@ -330,18 +334,34 @@ pub fn calibrate(
     let configurations = compare(model, rec, &set, &s.literature, &best)?;
     let literature_summary = summarize(&as_baseline(&configurations, true));
     let calibrated = summarize(&as_baseline(&configurations, false));
+    // the study's procedure fits each configuration within ±frac of the literature set: a
+    // model whose training domain does not hold that box cannot replicate it, which is said,
+    // not an error after the fit
+    let mut per_configuration_skipped = None;
     let per_configuration = match s.per_configuration {
-        Some(frac) => {
-            progress("the study's procedure: per-configuration fits");
-            Some(per_configuration(
-                model,
-                rec,
-                &s.literature,
-                frac,
-                &selection,
-                &s.multistart,
-            )?)
-        }
+        Some(frac) => match ParamSpace::raw_box(&s.literature, frac, &domain) {
+            Ok(_) => {
+                progress("the study's procedure: per-configuration fits");
+                Some(per_configuration(
+                    model,
+                    rec,
+                    &s.literature,
+                    frac,
+                    &selection,
+                    &s.multistart,
+                )?)
+            }
+            Err(CalibrateError::Input { .. }) if frac > 0.0 && frac <= 0.5 => {
+                per_configuration_skipped = Some(format!(
+                    "its box, ±{:.0} % of the literature set {}, leaves the model's training \
+                     domain",
+                    100.0 * frac,
+                    s.literature.spec()
+                ));
+                None
+            }
+            Err(e) => return Err(e),
+        },
         None => None,
     };
     Ok(Calibration {
@@ -373,6 +393,7 @@ pub fn calibrate(
         flags,
         excluded: set.excluded.clone(),
         per_configuration,
+        per_configuration_skipped,
         wall_time_s: t0.elapsed().as_secs_f64(),
     })
 }

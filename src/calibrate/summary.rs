@@ -49,6 +49,12 @@ pub fn summary_markdown_extended(
     if let Some(st) = &cal.per_configuration {
         per_configuration(&mut s, st);
     }
+    if let Some(why) = &cal.per_configuration_skipped {
+        let _ = writeln!(
+            s,
+            "\nThe study's procedure (one set per configuration): not run: {why}."
+        );
+    }
     if let Some(v) = fe {
         fe_verification(&mut s, v);
     }
