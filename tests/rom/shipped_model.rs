@@ -240,32 +240,41 @@ fn design_space_model_predicts_held_out_n_within_the_targets() {
     const DS_SET: &str = "training_data/snapshots_design_space_coarse.csv";
     const DS_MODEL: &str = "models/design_space_coarse.json";
     assert_complete_merge(DS_SET, Some(DS_MODEL), "9d6561c9");
-    let m = Surrogate::load(&root(DS_MODEL)).unwrap();
-    assert!(m.training.ordinal_n());
-    assert_eq!(m.n_allowed, (7..=15).collect::<Vec<u32>>());
+    assert_design_space_model(DS_MODEL);
+}
+
+/// A design-space model (`path`) covers every N from 7 to 15 as an ordinal input, predicts the
+/// numbers of bellows it was trained without (N = 8, 10, 14, at least 40 cases each) within
+/// the design-space targets (tip 1 mm, angle 1°, force 0.05 N, mean |error|), and states the
+/// identified geometry its cases were built with, for any FE run compared with it.
+fn assert_design_space_model(path: &str) -> Surrogate {
+    let m = Surrogate::load(&root(path)).unwrap();
+    assert!(m.training.ordinal_n(), "{path}");
+    assert_eq!(m.n_allowed, (7..=15).collect::<Vec<u32>>(), "{path}");
     let h = m
         .validation
         .held_out_n
         .as_ref()
         .expect("trained with --hold-out-n 8,10,14");
-    assert_eq!(h.held_out, [8, 10, 14]);
-    assert_eq!(h.per_n.len(), 3);
+    assert_eq!(h.held_out, [8, 10, 14], "{path}");
+    assert_eq!(h.per_n.len(), 3, "{path}");
     for (n, e) in h.held_out.iter().zip(&h.per_n) {
-        assert!(e.cases >= 40, "N = {n}: {} cases", e.cases);
+        assert!(e.cases >= 40, "{path} N = {n}: {} cases", e.cases);
         assert!(
             e.tip_mm <= 1.0 && e.angle_deg <= 1.0 && e.force_n <= 0.05,
-            "N = {n}: tip {} mm, angle {}°, force {} N",
+            "{path} N = {n}: tip {} mm, angle {}°, force {} N",
             e.tip_mm,
             e.angle_deg,
             e.force_n
         );
     }
-    // the geometry the cases were built with is stated, for any FE run compared with it
     let built = m.training.built_with.as_ref().expect("stated");
     assert_eq!(
         built.geometry,
-        surrogate::fe::preset::Geometry::identified()
+        surrogate::fe::preset::Geometry::identified(),
+        "{path}"
     );
+    m
 }
 
 /// The sets of the models on the identified geometry: the design-space coarse set, the box
@@ -301,28 +310,9 @@ fn identified_models_meet_the_targets_on_complete_sets() {
         assert_eq!(summary.failed_cases, 0, "{set}");
     }
     for path in [IDENTIFIED_COARSE_MODEL, IDENTIFIED_MF_MODEL] {
-        let m = Surrogate::load(&root(path)).unwrap();
+        let m = assert_design_space_model(path);
         assert_meets_targets(&m);
-        assert!(m.training.ordinal_n(), "{path}");
-        assert_eq!(m.n_allowed, (7..=15).collect::<Vec<u32>>(), "{path}");
         assert_eq!(m.training.n_cases, 450 + 72, "{path}");
-        let h = m.validation.held_out_n.as_ref().expect("--hold-out-n");
-        assert_eq!(h.held_out, [8, 10, 14], "{path}");
-        for (n, e) in h.held_out.iter().zip(&h.per_n) {
-            assert!(
-                e.tip_mm <= 1.0 && e.angle_deg <= 1.0 && e.force_n <= 0.05,
-                "{path} N = {n}: tip {} mm, angle {}°, force {} N",
-                e.tip_mm,
-                e.angle_deg,
-                e.force_n
-            );
-        }
-        let built = m.training.built_with.as_ref().expect("stated");
-        assert_eq!(
-            built.geometry,
-            surrogate::fe::preset::Geometry::identified(),
-            "{path}"
-        );
     }
 }
 
