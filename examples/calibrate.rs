@@ -2,7 +2,8 @@
 //! and print what the data determine.
 //!
 //! ```sh
-//! cargo run --release --example calibrate
+//! cargo run --release --example calibrate          # tip, angle and force
+//! cargo run --release --example calibrate -- tip   # the tip alone
 //! ```
 use std::path::Path;
 
@@ -13,8 +14,9 @@ fn main() -> surrogate::Result<()> {
     let model = Surrogate::load(Path::new("models/actuator.json"))?;
     let recordings = Recordings::shipped()?;
     let settings = CalibrationSettings {
-        // tip (the study's BE) and blocked force, each residual in units of its noise
-        weights: Weights::parse(&std::env::args().nth(1).unwrap_or("tip".into()))?,
+        // tip (the study's BE), bending angle and blocked force, each residual in units of its
+        // noise (the identification's objective); another as the first argument, e.g. `tip`
+        weights: Weights::parse(&std::env::args().nth(1).unwrap_or("tip,angle,force".into()))?,
         ..CalibrationSettings::default()
     };
     let cal = calibrate(&model, &recordings, &settings, &|stage| {

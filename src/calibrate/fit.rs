@@ -14,8 +14,8 @@ use super::objective::{
     Selection, Term, Weights,
 };
 use super::optimise::{multistart, Bound, LocalFit, MultistartSettings, Stop};
-use super::params::ParamSpace;
-use super::study::{per_configuration, PerConfigurationStudy};
+use super::params::{BoxFit, ParamSpace};
+use super::study::{per_configuration_in, PerConfigurationStudy};
 use super::CalibrateError;
 use crate::case::Query;
 use crate::case::{MaterialCoords, OgdenSet};
@@ -339,19 +339,20 @@ pub fn calibrate(
     // not an error after the fit
     let mut per_configuration_skipped = None;
     let per_configuration = match s.per_configuration {
-        Some(frac) => match ParamSpace::raw_box(&s.literature, frac, &domain) {
-            Ok(_) => {
+        Some(frac) => match ParamSpace::raw_box_in(&s.literature, frac, &domain)? {
+            BoxFit::Inside(space) => {
                 progress("the study's procedure: per-configuration fits");
-                Some(per_configuration(
+                Some(per_configuration_in(
                     model,
                     rec,
                     &s.literature,
                     frac,
+                    space,
                     &selection,
                     &s.multistart,
                 )?)
             }
-            Err(CalibrateError::Input { .. }) if frac > 0.0 && frac <= 0.5 => {
+            BoxFit::Outside { .. } => {
                 per_configuration_skipped = Some(format!(
                     "its box, ±{:.0} % of the literature set {}, leaves the model's training \
                      domain",
@@ -360,7 +361,6 @@ pub fn calibrate(
                 ));
                 None
             }
-            Err(e) => return Err(e),
         },
         None => None,
     };

@@ -56,6 +56,18 @@ pub enum ParamSpace {
     },
 }
 
+/// A box around a set against a domain ([`ParamSpace::raw_box_in`]).
+#[derive(Debug, Clone, PartialEq)]
+pub enum BoxFit {
+    /// Every corner inside: the box.
+    Inside(ParamSpace),
+    /// The first corner found outside the domain.
+    Outside {
+        /// That corner, as a set.
+        corner: OgdenSet,
+    },
+}
+
 impl ParamSpace {
     /// The surrogate's training domain in `(ln μ0, s, α₁, α₂)` (from its feature scaling: the
     /// box the snapshot plan sampled).
@@ -104,6 +116,27 @@ impl ParamSpace {
         fraction: f64,
         domain: &ParamSpace,
     ) -> Result<Self, CalibrateError> {
+        match Self::raw_box_in(center, fraction, domain)? {
+            BoxFit::Inside(space) => Ok(space),
+            BoxFit::Outside { corner } => Err(CalibrateError::input(
+                "box",
+                format!("corner {:?}", corner.as_array()),
+                "inside the surrogate's training domain",
+            )),
+        }
+    }
+
+    /// The box `center · (1 ± fraction)` in the raw parameters, and whether it lies inside
+    /// `domain` (every corner): a box that leaves it is an outcome, not an error, for a caller
+    /// that reports it (`calibrate` skips the study's procedure and says why).
+    ///
+    /// # Errors
+    /// A fraction outside (0, 0.5].
+    pub fn raw_box_in(
+        center: &OgdenSet,
+        fraction: f64,
+        domain: &ParamSpace,
+    ) -> Result<BoxFit, CalibrateError> {
         if !(fraction > 0.0 && fraction <= 0.5) {
             return Err(CalibrateError::input(
                 "box fraction",
@@ -124,14 +157,10 @@ impl ParamSpace {
             let u: [f64; 4] = std::array::from_fn(|i| f64::from((corner >> i) & 1));
             let p = space.ogden(&u)?;
             if !domain.contains(&p) {
-                return Err(CalibrateError::input(
-                    "box",
-                    format!("corner {:?}", p.as_array()),
-                    "inside the surrogate's training domain",
-                ));
+                return Ok(BoxFit::Outside { corner: p });
             }
         }
-        Ok(space)
+        Ok(BoxFit::Inside(space))
     }
 
     /// The unit-box coordinates' names.

@@ -124,6 +124,23 @@ pub fn per_configuration(
 ) -> Result<PerConfigurationStudy, CalibrateError> {
     let domain = ParamSpace::training_domain(model)?;
     let space = ParamSpace::raw_box(center, fraction, &domain)?;
+    per_configuration_in(model, rec, center, fraction, space, selection, ms)
+}
+
+/// [`per_configuration`] in `space`, the box `center · (1 ± fraction)` already built and
+/// checked against the model's domain ([`ParamSpace::raw_box_in`]).
+///
+/// # Errors
+/// An empty selection, or a surrogate error.
+pub fn per_configuration_in(
+    model: &Surrogate,
+    rec: &Recordings,
+    center: &OgdenSet,
+    fraction: f64,
+    space: ParamSpace,
+    selection: &Selection,
+    ms: &MultistartSettings,
+) -> Result<PerConfigurationStudy, CalibrateError> {
     let tip = Weights::default();
     let all = ObservationSet::build(model, rec, &tip, selection)?;
     let local = MultistartSettings {

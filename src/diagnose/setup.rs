@@ -32,10 +32,15 @@ pub const SHIPPED_MODEL: &str = "models/actuator.json";
 /// The shipped surrogate on the coarse mesh, in the repository.
 pub const SHIPPED_COARSE_MODEL: &str = "models/actuator_coarse.json";
 /// The shipped coarse surrogate's approximation error against FE on 4 mm elements, a
-/// discretisation neither the surrogate nor the blind study's twins (5 mm) use, in the
-/// repository (`surrogate approximation-error --model models/actuator_coarse.json --mesh
-/// coarse --element-size 4 --materials 4`).
-pub const SHIPPED_APPROXIMATION_ERROR: &str = "data/approximation_error/coarse_vs_4mm.json";
+/// discretisation neither the surrogate nor a twin (5 mm) uses, in the repository
+/// (`surrogate approximation-error --model models/actuator_coarse.json --mesh coarse
+/// --element-size 4 --materials 4`; the file records that model's checksum).
+pub const SHIPPED_APPROXIMATION_ERROR: &str =
+    "data/approximation_error/identified_coarse_vs_4mm.json";
+/// The committed FE sensitivities of the effect library at the material calibrated through
+/// the shipped model to the shipped experiments, on the shipped models' geometry and force
+/// rig, coarse mesh, in the repository (`data/README.md` gives the command).
+pub const SHIPPED_SENSITIVITIES: &str = "data/sensitivities/identified_calibrated_coarse.json";
 
 /// The coarse-mesh surrogate on the geometry as modelled (`--geometry as_modelled`), in the
 /// repository: the model the blind study scores, because its twins are built on that
@@ -47,6 +52,9 @@ pub const AS_MODELLED_MODEL: &str = "models/as_modelled/actuator.json";
 /// (`surrogate approximation-error --model models/as_modelled/actuator_coarse.json --mesh
 /// coarse --element-size 4 --materials 4`; the file records that model's checksum).
 pub const AS_MODELLED_APPROXIMATION_ERROR: &str = "data/approximation_error/coarse_vs_4mm.json";
+/// The FE sensitivities at the material calibrated through [`AS_MODELLED_MODEL`], on the
+/// geometry as modelled, coarse mesh.
+pub const AS_MODELLED_SENSITIVITIES: &str = "data/sensitivities/calibrated_coarse.json";
 
 /// What a setup diagnoses: its defaults and the choices it allows depend on it.
 #[derive(Clone, Copy, Debug, PartialEq, Eq)]
@@ -176,18 +184,15 @@ pub struct DiagnosisSetup {
 }
 
 impl DiagnosisSetup {
-    /// The setup of real recordings (`surrogate diagnose`), the one the blind study scores:
-    /// the shipped coarse-mesh model, the committed sweep at the shipped experiments'
-    /// calibrated material (`data/sensitivities/calibrated_coarse.json`), no mesh reference
-    /// (the approximation error holds the model's mesh error), the shipped approximation
-    /// error ([`SHIPPED_APPROXIMATION_ERROR`]).
+    /// The setup of real recordings (`surrogate diagnose`): the shipped coarse-mesh model, the
+    /// committed sweep at the shipped experiments' calibrated material
+    /// ([`SHIPPED_SENSITIVITIES`]), no mesh reference (the approximation error holds the
+    /// model's mesh error), the shipped approximation error ([`SHIPPED_APPROXIMATION_ERROR`]).
     pub fn recordings() -> Self {
         DiagnosisSetup {
             used_for: DiagnosisUse::Recordings,
             model: SetupFile::Repository(SHIPPED_COARSE_MODEL),
-            sensitivities: Sensitivities::File(SetupFile::Repository(
-                "data/sensitivities/calibrated_coarse.json",
-            )),
+            sensitivities: Sensitivities::File(SetupFile::Repository(SHIPPED_SENSITIVITIES)),
             mesh_reference: MeshReference::None,
             approximation_error: ApproximationSource::File(SetupFile::Repository(
                 SHIPPED_APPROXIMATION_ERROR,

@@ -309,7 +309,7 @@ fn the_study_procedure_outside_the_models_domain_is_skipped_with_its_reason() {
     let rec = Recordings::shipped().unwrap();
     let mut s = settings("tip,angle,force");
     s.per_configuration = Some(0.1);
-    let identified = Surrogate::load(Path::new("models/identified/actuator.json")).unwrap();
+    let identified = Surrogate::load(Path::new("models/actuator.json")).unwrap();
     let cal = calibrate(&identified, &rec, &s, &|_| {}).unwrap();
     assert!(cal.per_configuration.is_none());
     let why = cal.per_configuration_skipped.as_deref().expect("a reason");

@@ -5,8 +5,12 @@
 use std::path::{Path, PathBuf};
 use std::process::{Command, Output};
 
-/// The committed calibration report (a material wherever one is taken).
+/// The committed calibration report through the model of the geometry as modelled (a material
+/// wherever one is taken with `models/as_modelled/`).
 pub const REPORT: &str = "fe_reference/calibration/surrogate/report.json";
+/// The committed calibration report through the shipped model (a material inside its domain,
+/// wherever one is taken with the default model).
+pub const SHIPPED_REPORT: &str = "fe_reference/identification/shipped_surrogate/report.json";
 
 /// The repository's root, where the program runs unless a test says otherwise.
 pub fn repo() -> &'static Path {

@@ -56,8 +56,8 @@ fn diagnoses_the_shipped_experiments() {
         in_repo("models/actuator_coarse.json"),
         in_repo("training_data/bending_experiments.csv"),
         in_repo("training_data/blocked_force_experiments.csv"),
-        in_repo("data/approximation_error/coarse_vs_4mm.json"),
-        in_repo("data/sensitivities/calibrated_coarse.json"),
+        in_repo("data/approximation_error/identified_coarse_vs_4mm.json"),
+        in_repo("data/sensitivities/identified_calibrated_coarse.json"),
     );
     assert_eq!(
         inputs,
@@ -347,8 +347,8 @@ fn runs_from_any_folder_and_names_the_defaults_it_read() {
         "models/actuator_coarse.json",
         "training_data/bending_experiments.csv",
         "training_data/blocked_force_experiments.csv",
-        "data/approximation_error/coarse_vs_4mm.json",
-        "data/sensitivities/calibrated_coarse.json",
+        "data/approximation_error/identified_coarse_vs_4mm.json",
+        "data/sensitivities/identified_calibrated_coarse.json",
     ] {
         let p = root.join(f);
         assert!(
@@ -500,7 +500,8 @@ fn diagnose_and_twin_study_share_the_setup_flags() {
     ] {
         assert!(help.contains(flag), "{flag}: {help}");
     }
-    assert!(help.contains("data/approximation_error/coarse_vs_4mm.json of the repository"));
+    assert!(help.contains("data/approximation_error/identified_coarse_vs_4mm.json for `diagnose`"));
+    assert!(help.contains("data/approximation_error/coarse_vs_4mm.json for `twin-study`"));
     // both commands parse every spelling: each run is stopped by its own check after parsing
     let dir = scratch("diag_setup_flags");
     let out = dir.join("out");

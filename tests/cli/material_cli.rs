@@ -118,6 +118,8 @@ fn the_summary_prints_the_set_as_the_report_stores_it() {
     let dir = scratch("material_cli_calibrate");
     let o = run(&[
         "calibrate",
+        "--model",
+        "models/as_modelled/actuator.json",
         "--starts",
         "3",
         "--profile-points",

@@ -291,8 +291,8 @@ const IDENTIFIED_EXTENSION: [&str; 2] = [
     "fe_reference/identification/design_space/extend/extend_2.csv",
 ];
 const IDENTIFIED_STANDARD_SET: &str = "training_data/snapshots_design_space_standard.csv";
-const IDENTIFIED_COARSE_MODEL: &str = "models/identified/actuator_coarse.json";
-const IDENTIFIED_MF_MODEL: &str = "models/identified/actuator.json";
+const IDENTIFIED_COARSE_MODEL: &str = "models/actuator_coarse.json";
+const IDENTIFIED_MF_MODEL: &str = "models/actuator.json";
 
 /// The low-fidelity set of the identified models: the coarse set with the extension's rounds
 /// appended, as `train --data … --add-data … --add-data …` reads it.

@@ -105,13 +105,17 @@ fn committed_baseline_ramps_keep_their_keys() {
         .all(|r| r.error.is_empty() && r.be_mm.is_finite()));
 }
 
-/// The committed standard-mesh verification of the calibrated set (what `demo` and
-/// `calibrate --verify-fe standard --fe-cache …` read) is found whole in its cache.
+/// The committed standard-mesh verification of the set calibrated through the shipped model
+/// (what `demo` and `calibrate --verify-fe standard --fe-cache …` read), built as the model's
+/// training cases were (the identified geometry, the force rig's plate), is found whole in its
+/// cache.
 #[test]
 fn committed_verification_ramps_keep_their_keys() {
-    let set = surrogate::case::OgdenSet::new(0.03821, 5.996, -5.195, -1.996).unwrap();
+    let model = surrogate::rom::Surrogate::load(&committed("models/actuator.json")).unwrap();
+    let set = surrogate::case::OgdenSet::new(0.2108, 18.1271, -1.2232, -1.9958).unwrap();
     let material = surrogate::calibrate::verify::fe_material(&set).unwrap();
-    let settings = SweepSettings::new(material, MeshOptions::level(MeshLevel::Standard));
+    let settings = SweepSettings::new(material, MeshOptions::level(MeshLevel::Standard))
+        .built_as(model.training.built_with.as_ref());
     let bending = surrogate::calibrate::experiments::shipped_bending().unwrap();
     let dir = committed("data/demo/fe_standard_ramps");
     let ramps = cached_ramps(&settings, &recorded_designs(&bending), &dir).unwrap();

@@ -71,4 +71,17 @@ fn inadmissible_sets_and_boxes_are_rejected() {
     .unwrap();
     assert!(ParamSpace::raw_box(&edge, 0.5, &domain()).is_err());
     assert!(ParamSpace::raw_box(&p, 0.0, &domain()).is_err());
+    // the same boxes as outcomes: the box inside, the corner outside named, a bad fraction
+    // still an error
+    let inside = ParamSpace::raw_box_in(&p, 0.1, &domain()).unwrap();
+    assert_eq!(
+        inside,
+        BoxFit::Inside(ParamSpace::raw_box(&p, 0.1, &domain()).unwrap())
+    );
+    match ParamSpace::raw_box_in(&edge, 0.5, &domain()).unwrap() {
+        BoxFit::Outside { corner } => assert!(!domain().contains(&corner), "{corner:?}"),
+        other => panic!("{other:?}"),
+    }
+    let e = ParamSpace::raw_box_in(&p, 0.0, &domain()).unwrap_err();
+    assert!(e.to_string().starts_with("box fraction = 0"), "{e}");
 }

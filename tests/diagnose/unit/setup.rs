@@ -83,3 +83,39 @@ fn a_choice_of_the_other_use_names_its_flag() {
         "{e}"
     );
 }
+
+/// Each setup's default files belong to its default model: the approximation error was sampled
+/// from it (its checksum) and the FE sensitivities were run on the actuator its training cases
+/// were built as (geometry, fixed effects). The shipped models are on the identified geometry,
+/// the blind study's on the geometry as modelled, so the two setups' files differ.
+#[test]
+fn each_setups_defaults_belong_to_its_model() {
+    use surrogate::calibrate::baseline::SweepSensitivities;
+    use surrogate::diagnose::approx_error::ApproximationError;
+    use surrogate::diagnose::sweep::check_built_as;
+    use surrogate::rom::Surrogate;
+    let root = Path::new(env!("CARGO_MANIFEST_DIR"));
+    for setup in [DiagnosisSetup::recordings(), DiagnosisSetup::blind_study()] {
+        let r = setup.resolve(root).unwrap();
+        let model = Surrogate::load(&r.model.path).unwrap();
+        let ApproximationSource::File(e) = &r.approximation_error else {
+            panic!("{:?}: no default approximation error", setup.used_for)
+        };
+        ApproximationError::read(&e.path)
+            .unwrap()
+            .check_model(&model)
+            .unwrap();
+        let Sensitivities::File(s) = &r.sensitivities else {
+            panic!("{:?}: no default sensitivities", setup.used_for)
+        };
+        let sens = SweepSensitivities::read(&s.path).unwrap();
+        check_built_as(&sens, model.training.built_with.as_ref())
+            .unwrap_or_else(|e| panic!("{}: {e}", s.path.display()));
+    }
+    let shipped = Surrogate::load(&root.join(SHIPPED_COARSE_MODEL)).unwrap();
+    let built = shipped
+        .training
+        .built_with
+        .expect("the identified geometry");
+    assert_eq!(built.geometry.name, "identified");
+}

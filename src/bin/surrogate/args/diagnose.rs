@@ -25,9 +25,9 @@ pub struct DiagnosisSetupArgs {
     /// with which Name ranks the effects and Model and show refits; `diagnose` also takes
     /// `calibrated` (that sweep run now at the material just calibrated on --sweep-mesh, 18
     /// ramps cached in `<out>/fe_sensitivities`) and `none` (no Name, no Model) [default:
-    /// data/sensitivities/calibrated_coarse.json for `diagnose` (at the shipped experiments'
-    /// calibrated material), data/sensitivities/ogden002_coarse.json for `twin-study`; of
-    /// the repository].
+    /// data/sensitivities/identified_calibrated_coarse.json for `diagnose` (at the shipped
+    /// experiments' calibrated material, on the shipped models' geometry),
+    /// data/sensitivities/ogden002_coarse.json for `twin-study`; of the repository].
     #[arg(long, value_name = "FILE|calibrated|none")]
     pub sensitivities: Option<String>,
     /// A surrogate on another mesh whose difference to --model at the calibrated material is
@@ -42,9 +42,10 @@ pub struct DiagnosisSetupArgs {
     /// file (as `approximation-error` writes) or `nulls` (`twin-study` only: sampled from the
     /// null twins' noise-free FE, each null twin diagnosed without its own group's sample,
     /// written to `<out>/approximation_error.json`); `twin-study` writes its results without
-    /// one to results*_no_approx.*, with `nulls` to results*_nulls.* [default:
-    /// data/approximation_error/coarse_vs_4mm.json of the repository: the default model of
-    /// the command against FE on 4 mm elements].
+    /// one to results*_no_approx.*, with `nulls` to results*_nulls.* [default: the default
+    /// model of the command against FE on 4 mm elements, of the repository:
+    /// data/approximation_error/identified_coarse_vs_4mm.json for `diagnose`,
+    /// data/approximation_error/coarse_vs_4mm.json for `twin-study`].
     #[arg(long, value_name = "none|nulls|FILE")]
     pub approximation_error: Option<String>,
 }
