@@ -168,13 +168,15 @@ fn diagnoses_the_shipped_experiments() {
         "{stdout}"
     );
     // the standard-mesh model with its mesh direction, no approximation error (the setup
-    // before 2026-12-06): the model's own mesh error against the other shipped model is a
-    // candidate too
+    // before 2026-12-06), on the geometry as modelled with that geometry's sweep: the model's
+    // own mesh error against the other model beside it is a candidate too
     let out4 = dir.join("none");
     let (ok, stdout, stderr) = outcome(&[
         "diagnose",
         "--model",
         "models/as_modelled/actuator.json",
+        "--sensitivities",
+        "data/sensitivities/calibrated_coarse.json",
         "--mesh-reference",
         "auto",
         "--approximation-error",
