@@ -34,7 +34,7 @@ pub struct CalibrationSettings {
     pub multistart: MultistartSettings,
     /// Profiles and confidence level.
     pub identify: IdentifySettings,
-    /// The literature set: compared against, and one more start.
+    /// The literature set: compared against, and one more start when the model's domain holds it.
     pub literature: OgdenSet,
     /// Run the study's per-configuration procedure in this relative box around the
     /// literature set (0.1 = ±10 %).

@@ -39,7 +39,9 @@ fn writes_the_report_and_the_plots() {
     }
     let report: serde_json::Value =
         serde_json::from_str(&std::fs::read_to_string(dir.join("report.json")).unwrap()).unwrap();
-    assert_eq!(report["calibration"]["starts"].as_array().unwrap().len(), 4);
+    // the 3 Latin-hypercube starts; the literature set, outside the shipped model's domain, is
+    // not one
+    assert_eq!(report["calibration"]["starts"].as_array().unwrap().len(), 3);
     // the three rows of N = 11, T = 1.6 the data checks flag (a length at 1 bar, tips too far
     // out for their angles at 2 and 3 bar)
     assert_eq!(
@@ -367,7 +369,7 @@ fn recordings_in_other_units_or_signs_are_refused_by_name() {
             "the file looks ;-separated",
         ),
         (
-            &["--bending", &bad("n10.csv")],
+            &["--bending", &bad("n16.csv")],
             "9 recorded rows lie outside the surrogate's domain",
         ),
         (

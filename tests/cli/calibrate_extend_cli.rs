@@ -66,9 +66,11 @@ fn bad_extension_input_is_refused_by_name_before_any_fe() {
         &["--extend-box", "1", "--training", "no/such/snapshots.csv"],
         "no/such/snapshots.csv",
     );
-    // the multi-fidelity model with one of its sets
+    // a multi-fidelity model with one of its sets
     let (ok, _, stderr) = run(&[
         "calibrate",
+        "--model",
+        "models/as_modelled/actuator.json",
         "--extend-box",
         "1",
         "--training",
