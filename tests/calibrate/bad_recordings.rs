@@ -136,6 +136,15 @@ fn cases() -> Vec<(&'static str, bool, Expect)> {
             ]),
         ),
         (
+            "n16.csv",
+            false,
+            NotFitted(&[
+                "9 recorded rows lie outside the surrogate's domain",
+                "column n_bellows: 16 is outside the surrogate's domain (trained N [9, 11, 13])",
+                "--exclude 16,1.6,1",
+            ]),
+        ),
+        (
             "semicolons.csv",
             false,
             Refused(separator, &["line 1: the header is one column", "looks ;-separated"]),
