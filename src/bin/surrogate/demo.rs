@@ -256,7 +256,7 @@ fn committed_fe(v: &FeVerification, cal: &Calibration, cache: &Path) {
     let done = n - v.incomplete;
     if done == 0 {
         println!(
-            "No committed FE ramp of the set {} in {} yet: `surrogate calibrate --objective tip,angle,force --verify-fe standard --out fe_reference/calibration/standard --fe-cache data/demo/fe_standard_ramps` computes them (18 ramps, about 2 core-hours) and caches each one.",
+            "No committed FE ramp of the set {} in {} yet: `surrogate calibrate --objective tip,angle,force --per-configuration --verify-fe standard --fe-cache data/demo/fe_standard_ramps --out fe_reference/calibration/identified_standard` computes them (18 ramps, about 2 core-hours) and caches each one.",
             cal.best.rounded(4).spec(),
             cache.display()
         );
