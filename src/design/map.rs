@@ -142,7 +142,8 @@ fn check_grid(
 /// use surrogate::rom::Surrogate;
 ///
 /// let model = Surrogate::load(std::path::Path::new("models/actuator.json"))?;
-/// let material = OgdenSet::from_array([0.0382, 5.996, -5.195, -1.996]);
+/// // the set calibrated through the shipped model (`fe_reference/identification/shipped_surrogate/`)
+/// let material = OgdenSet::from_array([0.2108, 18.1271, -1.2232, -1.9958]);
 /// let m = map(&model, material, &[Output::AngleDeg], &[2.0], &[9, 13], &[1.4, 2.0, 2.6])?;
 /// // a thinner wall bends more
 /// assert!(m.value(0, 0, 0, 0) > m.value(0, 0, 0, 2));

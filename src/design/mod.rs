@@ -63,7 +63,8 @@
 //! use surrogate::rom::Surrogate;
 //!
 //! let model = Surrogate::load(std::path::Path::new("models/actuator.json"))?;
-//! let material = OgdenSet::from_array([0.0382, 5.996, -5.195, -1.996]);
+//! // the set calibrated through the shipped model (`fe_reference/identification/shipped_surrogate/`)
+//! let material = OgdenSet::from_array([0.2108, 18.1271, -1.2232, -1.9958]);
 //! let targets = [
 //!     Target::new(Output::AngleDeg, 2.0, 40.0, 1.0),
 //!     Target::new(Output::ForceN, 2.0, 1.3, 0.05),

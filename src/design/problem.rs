@@ -123,7 +123,12 @@ fn check_t_bounds(model: &Surrogate, (a, b): (f64, f64)) -> Result<(f64, f64), D
     }
     let inside = |t: f64| {
         check_t(model, "bounds.t_mm", t).map_err(|_| {
+            // shown to 3 decimals, rounded inwards: a range typed from the message is inside
             let [lo, hi] = model_t_range(model);
+            let (lo, hi) = (
+                (lo * 1e3 - 1e-6).ceil() / 1e3,
+                (hi * 1e3 + 1e-6).floor() / 1e3,
+            );
             DesignError::invalid(
                 "bounds.t_mm",
                 &shown,

@@ -93,7 +93,7 @@ fn design_names_the_flag_of_a_bad_range() {
     );
     fails_with(
         &design(&["--angle", "45@2", "--t", "1.0..2.0"]),
-        &["--t 1..=2", "inside the model's T [1.20", "2.79"],
+        &["--t 1..=2", "inside the model's T [1.201, 2.796] mm"],
     );
 }
 
