@@ -14,26 +14,17 @@ use std::time::Duration;
 use criterion::{criterion_group, criterion_main, Criterion};
 use surrogate::case::OgdenSet;
 use surrogate::design::{search, DesignBounds, DesignSearch, Output, Target};
+use surrogate::rom::batch::material_params;
 use surrogate::rom::data::SnapshotSet;
 use surrogate::rom::synthetic::{write_csv, SyntheticConfig};
 use surrogate::rom::{train, Surrogate, TrainConfig};
 
-/// The set calibrated on the shipped experiments through the shipped model
-/// (`fe_reference/identification/shipped_surrogate/`).
-const CALIBRATED: OgdenSet = OgdenSet::from_array([
-    0.2108250339097116,
-    18.127125128702353,
-    -1.2231929807169524,
-    -1.9958255490584975,
-]);
-/// The set calibrated on the shipped experiments through the model of the geometry as
-/// modelled (`fe_reference/calibration/surrogate/`).
-const AS_MODELLED_CALIBRATED: OgdenSet = OgdenSet::from_array([
-    0.03821164173136228,
-    5.99612765572898,
-    -5.194862363697796,
-    -1.996454844367204,
-]);
+/// The set a committed calibration report holds (`calibration.best`, as `--material
+/// DIR/report.json` reads it).
+fn calibrated(report: &str) -> OgdenSet {
+    let path = Path::new(env!("CARGO_MANIFEST_DIR")).join(report);
+    material_params(path.to_str().unwrap()).unwrap()
+}
 /// The identified set (`data/geometry/identified.json`, `fe_reference/identification/`).
 const IDENTIFIED: OgdenSet = OgdenSet::from_array([0.535, 12.0, -0.2776, -0.5]);
 const OGDEN_002: OgdenSet = OgdenSet::from_array([1.13, 3.11, -13.17, -0.6]);
@@ -71,8 +62,17 @@ fn bench(c: &mut Criterion) {
     let mut g = c.benchmark_group("design_search");
     g.measurement_time(Duration::from_secs(8)).sample_size(20);
     for (name, model, material) in [
-        ("shipped_n7_15", shipped, CALIBRATED),
-        ("as_modelled_n9_13", as_modelled, AS_MODELLED_CALIBRATED),
+        // the sets calibrated on the shipped experiments through each model
+        (
+            "shipped_n7_15",
+            shipped,
+            calibrated("fe_reference/identification/shipped_surrogate/report.json"),
+        ),
+        (
+            "as_modelled_n9_13",
+            as_modelled,
+            calibrated("fe_reference/calibration/surrogate/report.json"),
+        ),
         ("design_space_n7_15", design_space, IDENTIFIED),
         ("synthetic_n7_15", synthetic(), OGDEN_002),
     ] {

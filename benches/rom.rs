@@ -142,7 +142,9 @@ fn shipped(c: &mut Criterion) {
     };
     eprintln!("shipped/*: {}", path.display());
     let m = Surrogate::load(&path).unwrap();
-    let calibrated = OgdenSet::from_array([0.2108, 18.1271, -1.2232, -1.9958]);
+    let report = std::path::Path::new(env!("CARGO_MANIFEST_DIR"))
+        .join("fe_reference/identification/shipped_surrogate/report.json");
+    let calibrated = material_params(report.to_str().unwrap()).unwrap();
     let q = [material_params("ogden_002").unwrap(), calibrated]
         .into_iter()
         .map(|material| Query {

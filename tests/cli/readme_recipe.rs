@@ -107,14 +107,12 @@ fn shipped_model() -> Surrogate {
     Surrogate::load(&repo().join("models/actuator.json")).unwrap()
 }
 
-/// The set calibrated through the shipped model, as its report stores it
-/// (`fe_reference/identification/shipped_surrogate/report.json`, the README's material).
-const CALIBRATED: [f64; 4] = [
-    0.2108250339097116,
-    18.127125128702353,
-    -1.2231929807169524,
-    -1.9958255490584975,
-];
+/// The set calibrated through the shipped model, as its report stores it (the README's
+/// material, `--material …/shipped_surrogate/report.json`).
+fn calibrated() -> OgdenSet {
+    let report = repo().join(crate::common::SHIPPED_REPORT);
+    surrogate::rom::batch::material_params(report.to_str().unwrap()).unwrap()
+}
 
 #[test]
 fn readme_export_recipe_builds_and_runs_in_rust_and_c() {
@@ -133,7 +131,7 @@ fn readme_export_recipe_builds_and_runs_in_rust_and_c() {
         ],
     );
     let m = shipped_model();
-    let q = Query::new(11, 2.0, 0.0, OgdenSet::from_array(CALIBRATED));
+    let q = Query::new(11, 2.0, 0.0, calibrated());
     let mut pred = m.new_prediction();
     m.ramp(&q).unwrap().predict_into(2.0, &mut pred).unwrap();
     let lib = [

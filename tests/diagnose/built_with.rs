@@ -12,7 +12,7 @@ use surrogate::fe::preset::Geometry;
 use surrogate::rom::provenance::BuiltWith;
 use surrogate::rom::Surrogate;
 
-const SWEEP: &str = "data/sensitivities/calibrated_coarse.json";
+const SWEEP: &str = surrogate::diagnose::setup::AS_MODELLED_SENSITIVITIES;
 
 fn plate(offset: f64) -> Effects {
     Effects::neutral()

@@ -17,7 +17,7 @@ use surrogate::fe::sensitivity::Parameter;
 use surrogate::fe::simulate::Mode;
 use surrogate::rom::Surrogate;
 
-const SWEEP: &str = "data/sensitivities/calibrated_coarse.json";
+const SWEEP: &str = surrogate::diagnose::setup::AS_MODELLED_SENSITIVITIES;
 
 /// The surrogate's outputs at Ogden 002 plus `size` × the sweep's derivatives of `effect`.
 fn truth(

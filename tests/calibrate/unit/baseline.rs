@@ -112,7 +112,12 @@ fn committed_baseline_ramps_keep_their_keys() {
 #[test]
 fn committed_verification_ramps_keep_their_keys() {
     let model = surrogate::rom::Surrogate::load(&committed("models/actuator.json")).unwrap();
-    let set = surrogate::case::OgdenSet::new(0.2108, 18.13, -1.223, -1.996).unwrap();
+    // the set of the committed calibration as reported (4 significant digits), as `demo` and
+    // `calibrate --verify-fe` run it
+    let report = committed("fe_reference/identification/shipped_surrogate/report.json");
+    let set = surrogate::rom::batch::material_params(report.to_str().unwrap())
+        .unwrap()
+        .rounded(4);
     let material = surrogate::calibrate::verify::fe_material(&set).unwrap();
     let settings = SweepSettings::new(material, MeshOptions::level(MeshLevel::Standard))
         .built_as(model.training.built_with.as_ref());
